@@ -1,0 +1,60 @@
+// step_diagnostics.cpp — overlaps from the new positions, energies, piston balance.
+#include "cdpowder/analysis/step_diagnostics.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace cdpowder {
+
+StepDiagnostics analyse_step(const World& world, const Contacts& contacts) {
+  StepDiagnostics d;
+  const Bodies& bodies = world.bodies;
+  d.contacts = contacts.size();
+  double overlap_sum = 0.0;
+  for (std::size_t k = 0; k < contacts.pairs.size(); ++k) {
+    const PairProblem& p = contacts.pairs[k];
+    const ContactAction& action = contacts.pair_actions[k];
+    const Vec3 d_ab = world.box.minimum_image(bodies.position[p.b] - bodies.position[p.a]);
+    const double overlap = std::max(0.0, p.radius_a + p.radius_b - d_ab.norm());
+    d.max_overlap = std::max(d.max_overlap, overlap);
+    if (contacts.pair_cohesive[k] != 0) ++d.cohesive_contacts;
+    if (action.normal_force + p.cohesion > 0.0) {
+      ++d.closed_contacts;
+      overlap_sum += overlap;
+    }
+  }
+  const Piston& piston = world.walls.piston;
+  for (std::size_t k = 0; k < contacts.walls.size(); ++k) {
+    const WallProblem& w = contacts.walls[k];
+    const ContactAction& action = contacts.wall_actions[k];
+    const double z = bodies.position[w.sphere].z();
+    const double gap = w.wall == WallKind::Bottom ? z - w.radius : piston.height - z - w.radius;
+    const double overlap = std::max(0.0, -gap);
+    d.max_overlap = std::max(d.max_overlap, overlap);
+    if (contacts.wall_cohesive[k] != 0) ++d.cohesive_contacts;
+    if (action.normal_force + w.cohesion > 0.0) {
+      ++d.closed_contacts;
+      overlap_sum += overlap;
+    }
+    // n = −e_z at the piston: the force on the piston is −R, its z part +R_n
+    if (w.wall == WallKind::Piston) d.piston_contact_force += action.normal_force;
+  }
+  d.mean_overlap = d.closed_contacts > 0 ? overlap_sum / static_cast<double>(d.closed_contacts) : 0.0;
+
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    if (bodies.fixed[i] != 0) continue;
+    const double v2 = bodies.velocity[i].squaredNorm();
+    d.max_speed = std::max(d.max_speed, std::sqrt(v2));
+    d.kinetic_energy += 0.5 * bodies.mass(i) * v2 +
+                        0.5 * bodies.inertia(i) * bodies.angular_velocity[i].squaredNorm();
+  }
+  if (piston.enabled) {
+    d.kinetic_energy += 0.5 * piston.mass * piston.velocity * piston.velocity;
+    if (piston.force > 0.0) {
+      d.piston_imbalance = std::abs(d.piston_contact_force - piston.force) / piston.force;
+    }
+  }
+  return d;
+}
+
+}  // namespace cdpowder

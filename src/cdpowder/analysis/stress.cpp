@@ -1,0 +1,45 @@
+// stress.cpp — contact stress from the step's frozen geometry and solved forces.
+#include "cdpowder/analysis/stress.hpp"
+
+namespace cdpowder {
+
+namespace {
+
+void add_contact(StressTensors& s, const Vec3& n, const ContactAction& action, double branch,
+                 double cohesion) {
+  // an open, non-cohesive candidate carries nothing and is neither kind
+  const bool carries = action.normal_force != 0.0 || action.normal_force + cohesion > 0.0;
+  if (!carries) return;
+  const Vec3 force = action.normal_force * n + action.tangential_force;
+  const Mat3 term = force * (branch * n).transpose();
+  s.total += term;
+  if (action.normal_force >= 0.0) {
+    s.compressive += term;
+    ++s.compressive_contacts;
+  } else {
+    s.tensile += term;
+    ++s.tensile_contacts;
+  }
+}
+
+}  // namespace
+
+StressTensors stress_tensors(const Contacts& contacts, double volume) {
+  StressTensors s;
+  for (std::size_t k = 0; k < contacts.pairs.size(); ++k) {
+    const PairProblem& p = contacts.pairs[k];
+    add_contact(s, p.normal, contacts.pair_actions[k], p.radius_a + p.radius_b + p.gap, p.cohesion);
+  }
+  for (std::size_t k = 0; k < contacts.walls.size(); ++k) {
+    const WallProblem& w = contacts.walls[k];
+    add_contact(s, w.normal, contacts.wall_actions[k], w.radius + w.gap, w.cohesion);
+  }
+  if (volume > 0.0) {
+    s.total /= volume;
+    s.compressive /= volume;
+    s.tensile /= volume;
+  }
+  return s;
+}
+
+}  // namespace cdpowder

@@ -1,0 +1,41 @@
+// action_cache.cpp — storing and merge-joining last step's contact actions.
+#include "cdpowder/contact/action_cache.hpp"
+
+namespace cdpowder {
+
+namespace {
+
+bool is_nonzero(const ContactAction& action) {
+  return action.normal_force != 0.0 || action.tangential_force.squaredNorm() != 0.0 ||
+         action.rolling_torque.squaredNorm() != 0.0 || action.twisting_torque != 0.0;
+}
+
+}  // namespace
+
+void ActionCache::store(const Contacts& contacts) {
+  pairs_.clear();
+  walls_.clear();
+  for (std::size_t k = 0; k < contacts.pairs.size(); ++k) {
+    const PairProblem& p = contacts.pairs[k];
+    const bool cohesive = contacts.pair_cohesive[k] != 0;
+    // Zero-force, non-cohesive contacts carry nothing into the next step.
+    if (!cohesive && !is_nonzero(contacts.pair_actions[k])) continue;
+    pairs_.push_back({pair_key(p.a, p.b), contacts.pair_actions[k], cohesive});
+  }
+  for (std::size_t k = 0; k < contacts.walls.size(); ++k) {
+    const WallProblem& w = contacts.walls[k];
+    const bool cohesive = contacts.wall_cohesive[k] != 0;
+    if (!cohesive && !is_nonzero(contacts.wall_actions[k])) continue;
+    walls_.push_back({wall_key(w.wall, w.sphere), contacts.wall_actions[k], cohesive});
+  }
+  rewind();
+}
+
+const CachedAction* ActionCache::find(const std::vector<CachedAction>& entries,
+                                      std::size_t& cursor, std::uint64_t key) {
+  while (cursor < entries.size() && entries[cursor].key < key) ++cursor;
+  if (cursor < entries.size() && entries[cursor].key == key) return &entries[cursor];
+  return nullptr;
+}
+
+}  // namespace cdpowder

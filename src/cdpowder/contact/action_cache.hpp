@@ -1,0 +1,54 @@
+// action_cache.hpp — last step's contact actions, keyed by the contact's bodies, for the
+// warm start (physics.md §7.4) and the history cohesion rule (§6.2).
+// Both the cache and each step's contact list are sorted by key, so the lookup is one
+// merge pass: O(contacts), no hashing, no allocation once capacity is reached.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "cdpowder/contact/local_problem.hpp"
+
+namespace cdpowder {
+
+/// Key of a sphere pair a < b, or of a wall contact (wall kind in the top bits).
+inline std::uint64_t pair_key(BodyIndex a, BodyIndex b) {
+  return (static_cast<std::uint64_t>(a) << 32U) | b;
+}
+
+inline std::uint64_t wall_key(WallKind wall, BodyIndex sphere) {
+  return (static_cast<std::uint64_t>(wall) << 32U) | sphere;
+}
+
+struct CachedAction {
+  std::uint64_t key = 0;
+  ContactAction action;
+  bool cohesive = false;  ///< the contact was cohesion-active in that step
+};
+
+class ActionCache {
+ public:
+  /// Replaces the cache with the actions of a solved step (pairs and walls, each sorted by key).
+  void store(const Contacts& contacts);
+
+  /// Merge-join lookups: call with keys in ascending order within each family.
+  /// Returns nullptr if the contact did not exist in the previous step.
+  const CachedAction* find_pair(std::uint64_t key) { return find(pairs_, pair_cursor_, key); }
+  const CachedAction* find_wall(std::uint64_t key) { return find(walls_, wall_cursor_, key); }
+
+  /// Rewinds the merge cursors before a new step's lookups.
+  void rewind() { pair_cursor_ = wall_cursor_ = 0; }
+
+  [[nodiscard]] std::size_t size() const { return pairs_.size() + walls_.size(); }
+
+ private:
+  static const CachedAction* find(const std::vector<CachedAction>& entries, std::size_t& cursor,
+                                  std::uint64_t key);
+
+  std::vector<CachedAction> pairs_;
+  std::vector<CachedAction> walls_;
+  std::size_t pair_cursor_ = 0;
+  std::size_t wall_cursor_ = 0;
+};
+
+}  // namespace cdpowder

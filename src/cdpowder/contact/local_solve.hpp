@@ -1,0 +1,177 @@
+// local_solve.hpp — the single-contact problem with six relative modes, solved in one
+// block Gauss–Seidel pass per visit (physics.md §5.3–5.5):
+//   1 normal   shifted Signorini with cohesion on g_pos (UK03 eq. 33–34, §5.4 step 1)
+//   2 sliding  |R_t| ≤ μ S                (Bartels et al. eq. Ftmax_coh)
+//   3 rolling  |T_t| ≤ μ_t S r_eff        (Bartels et al. eq. max_torques)
+//   4 torsion  |T_n| ≤ μ_n S r_eff
+// with S = R_n + F_c. Each mode's trial value is its stored value minus its own
+// relative velocity divided by its diagonal Δt w of W, e.g.
+//   R_n,trial = R_n,old − (V_n + g_pos/Δt) / (Δt w_n),
+// which is −(g_pos/Δt + U_n)/(Δt w_n) of §5.4 with U_n = V_n − Δt w_n R_n,old.
+// The change of each mode is pushed into the velocity cache at once, so the next mode
+// (and the next contact) sees it. For equal spheres (c = 0 in §5.2) one pass is the
+// exact local solution; at walls and for unequal spheres sliding and rolling couple and
+// the global iteration converges the pair.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+
+#include "cdpowder/contact/contact_law.hpp"
+#include "cdpowder/contact/local_problem.hpp"
+#include "cdpowder/solver/velocity_cache.hpp"
+
+namespace cdpowder {
+
+/// What one visit changed, for the stopping rules (torques divided by r_eff).
+struct VisitChange {
+  double change = 0.0;     ///< max(|ΔR_n|, |ΔR_t|, |ΔT_t|/r_eff, |ΔT_n|/r_eff) [F_coh]
+  double magnitude = 0.0;  ///< max(|R_n|, |R_t|, |T_t|/r_eff, |T_n|/r_eff) after the visit
+};
+
+/// Velocity change of both spheres from a change (ΔR, ΔT) of the action on b (§5.5):
+/// Δv_b = Δt ΔR/m_b, Δω_b = Δt (l_b × ΔR + ΔT)/I_b, and the opposite on a.
+inline void apply_pair_delta(const PairProblem& p, const Vec3& dR, const Vec3& dT,
+                             SphereVelocity& a, SphereVelocity& b) {
+  const Vec3 n_cross_dR = p.normal.cross(dR);  // l_a × ΔR = R_a n×ΔR, l_b × ΔR = −R_b n×ΔR
+  a.linear -= a.dt_inverse_mass * dR;
+  b.linear += b.dt_inverse_mass * dR;
+  a.angular -= a.dt_inverse_inertia * (p.radius_a * n_cross_dR + dT);
+  b.angular += b.dt_inverse_inertia * (dT - p.radius_b * n_cross_dR);
+}
+
+/// Velocity change of a sphere (body b, lever −R n) and of the wall (body a: only the
+/// piston moves, along z) from a change (ΔR, ΔT) of the action on the sphere.
+inline void apply_wall_delta(const WallProblem& w, const Vec3& dR, const Vec3& dT,
+                             SphereVelocity& s, double& wall_velocity) {
+  s.linear += s.dt_inverse_mass * dR;
+  s.angular += s.dt_inverse_inertia * (dT - w.radius * w.normal.cross(dR));
+  wall_velocity -= w.wall_response * dR.z();
+}
+
+namespace detail {
+
+inline double torque_scale(double r_eff) { return r_eff > 0.0 ? 1.0 / r_eff : 1.0; }
+
+/// Modes 2–4 given S ≥ 0 and the current relative velocities; shared by both kernels.
+/// `relative_angular` must return Ω = ω_b − ω_a after the sliding update.
+template <typename ApplyForce, typename ApplyTorque, typename RelativeAngular>
+inline void solve_friction_modes(const Vec3& n, const Vec3& V_t, double S, double mu,
+                                 double roll_cap, double twist_cap, double inv_dt_w_t,
+                                 double inv_dt_w_r, ContactAction& action, double inv_r,
+                                 VisitChange& out, ApplyForce&& apply_force,
+                                 ApplyTorque&& apply_torque, RelativeAngular&& relative_angular) {
+  // 2 sliding: stick if the trial force is inside the disc μ S, else slide on its rim
+  const Vec3 R_t = clamp_to_disc(action.tangential_force - inv_dt_w_t * V_t, mu * S);
+  const Vec3 dR_t = R_t - action.tangential_force;
+  action.tangential_force = R_t;
+  apply_force(dR_t);
+
+  // 3 rolling and 4 torsion, from Ω after the sliding update (it moved Ω_t if c ≠ 0)
+  const Vec3 Omega = relative_angular();
+  const double Omega_n = Omega.dot(n);
+  const Vec3 Omega_t = Omega - Omega_n * n;
+  const Vec3 T_t = clamp_to_disc(action.rolling_torque - inv_dt_w_r * Omega_t, roll_cap * S);
+  const double T_n =
+      clamp_to_interval(action.twisting_torque - inv_dt_w_r * Omega_n, twist_cap * S);
+  const Vec3 dT_t = T_t - action.rolling_torque;
+  const double dT_n = T_n - action.twisting_torque;
+  action.rolling_torque = T_t;
+  action.twisting_torque = T_n;
+  apply_torque(dT_t + dT_n * n);
+
+  out.change = std::max({out.change, std::sqrt(dR_t.squaredNorm()),
+                         std::sqrt(dT_t.squaredNorm()) * inv_r, std::abs(dT_n) * inv_r});
+  out.magnitude = std::max({out.magnitude, std::sqrt(R_t.squaredNorm()),
+                            std::sqrt(T_t.squaredNorm()) * inv_r, std::abs(T_n) * inv_r});
+}
+
+}  // namespace detail
+
+/// One visit of a sphere–sphere contact. V = v_b + ω_b×l_b − v_a − ω_a×l_a (§5.1).
+inline VisitChange solve_pair(const PairProblem& p, ContactAction& action, SphereVelocity& a,
+                              SphereVelocity& b) {
+  const Vec3& n = p.normal;
+  const Vec3 V = (b.linear - a.linear) - (p.radius_a * a.angular + p.radius_b * b.angular).cross(n);
+  const double V_n = V.dot(n);
+  const double inv_r = detail::torque_scale(p.r_eff);
+  VisitChange out;
+
+  // 1 normal: closed iff the trial force keeps S = R_n + F_c ≥ 0
+  const double R_n_trial = action.normal_force - p.inv_dt_w_n * (V_n + p.gap_rate);
+  if (R_n_trial < -p.cohesion) {
+    // open or opening: R_n = −F_c, every threshold is zero (§5.4 step 1)
+    const Vec3 dR = (-p.cohesion - action.normal_force) * n - action.tangential_force;
+    const Vec3 dT = -action.rolling_torque - action.twisting_torque * n;
+    out.change = std::max({std::abs(-p.cohesion - action.normal_force),
+                           std::sqrt(action.tangential_force.squaredNorm()),
+                           std::sqrt(action.rolling_torque.squaredNorm()) * inv_r,
+                           std::abs(action.twisting_torque) * inv_r});
+    out.magnitude = p.cohesion;
+    action = ContactAction{};
+    action.normal_force = -p.cohesion;
+    apply_pair_delta(p, dR, dT, a, b);
+    return out;
+  }
+  const double dR_n = R_n_trial - action.normal_force;
+  action.normal_force = R_n_trial;
+  // a normal force moves no angular velocity (l × n = 0) and leaves V_t unchanged
+  a.linear -= a.dt_inverse_mass * dR_n * n;
+  b.linear += b.dt_inverse_mass * dR_n * n;
+  out.change = std::abs(dR_n);
+  out.magnitude = std::abs(R_n_trial);
+
+  const double S = R_n_trial + p.cohesion;
+  const Vec3 V_t = V - V_n * n;
+  detail::solve_friction_modes(
+      n, V_t, S, p.mu, p.roll_cap, p.twist_cap, p.inv_dt_w_t, p.inv_dt_w_r, action, inv_r, out,
+      [&](const Vec3& dR_t) { apply_pair_delta(p, dR_t, Vec3::Zero(), a, b); },
+      [&](const Vec3& dT) {
+        a.angular -= a.dt_inverse_inertia * dT;
+        b.angular += b.dt_inverse_inertia * dT;
+      },
+      [&] { return Vec3(b.angular - a.angular); });
+  return out;
+}
+
+/// One visit of a sphere–wall contact (wall = body a, sphere = body b, lever −R n):
+/// V = v_s − R ω_s × n − V_wall e_z, Ω = ω_s.
+inline VisitChange solve_wall(const WallProblem& w, ContactAction& action, SphereVelocity& s,
+                              double& wall_velocity) {
+  const Vec3& n = w.normal;
+  const Vec3 V = s.linear - w.radius * s.angular.cross(n) - Vec3(0.0, 0.0, wall_velocity);
+  const double V_n = V.dot(n);
+  const double inv_r = detail::torque_scale(w.radius);
+  VisitChange out;
+
+  const double R_n_trial = action.normal_force - w.inv_dt_w_n * (V_n + w.gap_rate);
+  if (R_n_trial < -w.cohesion) {
+    const Vec3 dR = (-w.cohesion - action.normal_force) * n - action.tangential_force;
+    const Vec3 dT = -action.rolling_torque - action.twisting_torque * n;
+    out.change = std::max({std::abs(-w.cohesion - action.normal_force),
+                           std::sqrt(action.tangential_force.squaredNorm()),
+                           std::sqrt(action.rolling_torque.squaredNorm()) * inv_r,
+                           std::abs(action.twisting_torque) * inv_r});
+    out.magnitude = w.cohesion;
+    action = ContactAction{};
+    action.normal_force = -w.cohesion;
+    apply_wall_delta(w, dR, dT, s, wall_velocity);
+    return out;
+  }
+  const double dR_n = R_n_trial - action.normal_force;
+  action.normal_force = R_n_trial;
+  apply_wall_delta(w, dR_n * n, Vec3::Zero(), s, wall_velocity);
+  out.change = std::abs(dR_n);
+  out.magnitude = std::abs(R_n_trial);
+
+  const double S = R_n_trial + w.cohesion;
+  const Vec3 V_t = V - V_n * n;
+  detail::solve_friction_modes(
+      n, V_t, S, w.mu, w.roll_cap, w.twist_cap, w.inv_dt_w_t, w.inv_dt_w_r, action, inv_r, out,
+      [&](const Vec3& dR_t) { apply_wall_delta(w, dR_t, Vec3::Zero(), s, wall_velocity); },
+      [&](const Vec3& dT) { s.angular += s.dt_inverse_inertia * dT; },
+      [&] { return Vec3(s.angular); });
+  return out;
+}
+
+}  // namespace cdpowder

@@ -1,0 +1,70 @@
+// cell_grid.hpp — the broad phase: a uniform grid of cells, periodic in x and y and
+// bounded by the spheres' extent in z, rebuilt every step by a counting sort (O(N)).
+// A cell edge ≥ the largest centre distance that can still be a candidate, so every
+// candidate pair sits in the same or a neighbouring cell (physics.md §4.3).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "cdpowder/core/index.hpp"
+#include "cdpowder/core/vec3.hpp"
+#include "cdpowder/model/periodic_box.hpp"
+
+namespace cdpowder {
+
+class CellGrid {
+ public:
+  /// Sorts the positions (already wrapped into the box) into cells of edge ≥ min_cell_edge [R].
+  void rebuild(const std::vector<Vec3>& positions, const PeriodicBox& box, double min_cell_edge);
+
+  /// Calls visit(i, j) once for every pair i < j of spheres in the same or neighbouring
+  /// cells (distinct neighbour cells only, so a box of one or two cells still visits each
+  /// pair once).
+  template <typename Visitor>
+  void for_each_near_pair(Visitor&& visit) const;
+
+  [[nodiscard]] int cells_x() const { return nx_; }
+  [[nodiscard]] int cells_y() const { return ny_; }
+  [[nodiscard]] int cells_z() const { return nz_; }
+
+ private:
+  [[nodiscard]] int cell_index(int cx, int cy, int cz) const { return (cz * ny_ + cy) * nx_ + cx; }
+
+  /// Distinct neighbour cells of (cx, cy, cz) including itself; returns their count.
+  int neighbour_cells(int cx, int cy, int cz, std::array<int, 27>& out) const;
+
+  int nx_ = 1;
+  int ny_ = 1;
+  int nz_ = 1;
+  std::vector<int> cell_of_;               ///< cell of every sphere
+  std::vector<std::uint32_t> cell_start_;  ///< spheres of cell c: sorted_[cell_start_[c] .. cell_start_[c+1])
+  std::vector<BodyIndex> sorted_;          ///< sphere indices ordered by cell
+};
+
+template <typename Visitor>
+void CellGrid::for_each_near_pair(Visitor&& visit) const {
+  std::array<int, 27> neighbours{};
+  for (int cz = 0; cz < nz_; ++cz) {
+    for (int cy = 0; cy < ny_; ++cy) {
+      for (int cx = 0; cx < nx_; ++cx) {
+        const int c = cell_index(cx, cy, cz);
+        if (cell_start_[c] == cell_start_[c + 1]) continue;
+        const int count = neighbour_cells(cx, cy, cz, neighbours);
+        for (std::uint32_t s = cell_start_[c]; s < cell_start_[c + 1]; ++s) {
+          const BodyIndex i = sorted_[s];
+          for (int k = 0; k < count; ++k) {
+            const int nc = neighbours[k];
+            for (std::uint32_t t = cell_start_[nc]; t < cell_start_[nc + 1]; ++t) {
+              const BodyIndex j = sorted_[t];
+              if (j > i) visit(i, j);
+            }
+          }
+        }
+      }
+    }
+  }
+}
+
+}  // namespace cdpowder

@@ -1,0 +1,85 @@
+// detect_contacts.cpp — candidate pairs from the cell grid, sphere–wall candidates,
+// and the start-of-step geometry that stays frozen during the sweeps (physics.md §3).
+#include "cdpowder/detect/detect_contacts.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "cdpowder/contact/action_cache.hpp"
+
+namespace cdpowder {
+
+double candidate_gap(const World& world, const StepSettings& settings) {
+  const Bodies& bodies = world.bodies;
+  double v_max = 0.0;
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    const double surface_speed =
+        bodies.velocity[i].norm() + bodies.radius[i] * bodies.angular_velocity[i].norm();
+    v_max = std::max(v_max, surface_speed);
+  }
+  if (world.walls.piston.enabled) v_max = std::max(v_max, std::abs(world.walls.piston.velocity));
+  const ContactLaws& laws = settings.laws;
+  const double range = std::max(laws.spheres.cohesion_range, laws.walls.cohesion_range);
+  return std::max(range, 2.0 * v_max * settings.solver.dt) + settings.solver.skin;
+}
+
+void detect_contacts(World& world, const StepSettings& settings, CellGrid& grid,
+                     Contacts& contacts) {
+  Bodies& bodies = world.bodies;
+  const PeriodicBox& box = world.box;
+  for (Vec3& p : bodies.position) box.wrap(p);
+
+  const double cutoff = candidate_gap(world, settings);
+  contacts.clear();
+
+  // sphere–sphere: centre distance < R_a + R_b + cutoff
+  grid.rebuild(bodies.position, box, 2.0 * bodies.max_radius() + cutoff);
+  grid.for_each_near_pair([&](BodyIndex a, BodyIndex b) {
+    if (bodies.fixed[a] != 0 && bodies.fixed[b] != 0) return;
+    const Vec3 d = box.minimum_image(bodies.position[b] - bodies.position[a]);
+    const double reach = bodies.radius[a] + bodies.radius[b] + cutoff;
+    const double distance_squared = d.squaredNorm();
+    if (distance_squared >= reach * reach) return;
+    const double distance = std::sqrt(distance_squared);
+    PairProblem p;
+    p.a = a;
+    p.b = b;
+    // coincident centres have no normal; any unit vector keeps the kernel finite
+    p.normal = distance > 0.0 ? Vec3(d / distance) : Vec3::UnitZ();
+    p.gap = distance - bodies.radius[a] - bodies.radius[b];
+    p.radius_a = bodies.radius[a];
+    p.radius_b = bodies.radius[b];
+    contacts.pairs.push_back(p);
+  });
+  std::sort(contacts.pairs.begin(), contacts.pairs.end(),
+            [](const PairProblem& x, const PairProblem& y) {
+              return pair_key(x.a, x.b) < pair_key(y.a, y.b);
+            });
+
+  // sphere–wall, bottom first then piston, each in sphere order (the cache's key order)
+  const auto add_wall = [&](WallKind kind, BodyIndex i, double gap, double normal_z) {
+    WallProblem w;
+    w.sphere = i;
+    w.wall = kind;
+    w.normal = Vec3(0.0, 0.0, normal_z);
+    w.gap = gap;
+    w.radius = bodies.radius[i];
+    contacts.walls.push_back(w);
+  };
+  const auto n = static_cast<BodyIndex>(bodies.size());
+  if (world.walls.bottom.enabled) {
+    for (BodyIndex i = 0; i < n; ++i) {
+      const double gap = bodies.position[i].z() - bodies.radius[i];
+      if (gap < cutoff && bodies.fixed[i] == 0) add_wall(WallKind::Bottom, i, gap, 1.0);
+    }
+  }
+  if (world.walls.piston.enabled) {
+    const double z_piston = world.walls.piston.height;
+    for (BodyIndex i = 0; i < n; ++i) {
+      const double gap = z_piston - bodies.position[i].z() - bodies.radius[i];
+      if (gap < cutoff) add_wall(WallKind::Piston, i, gap, -1.0);
+    }
+  }
+}
+
+}  // namespace cdpowder

@@ -1,0 +1,22 @@
+// detect_contacts.hpp — stage 1 of a step: the candidate contacts and their frozen
+// geometry (physics.md §4.2–4.3).
+#pragma once
+
+#include "cdpowder/contact/local_problem.hpp"
+#include "cdpowder/detect/cell_grid.hpp"
+#include "cdpowder/model/world.hpp"
+#include "cdpowder/solver/settings.hpp"
+
+namespace cdpowder {
+
+/// Largest gap at which a pair is a candidate this step:
+/// max(d_coh, 2 v_max Δt) + skin (physics.md §4.3), v_max the largest surface speed.
+double candidate_gap(const World& world, const StepSettings& settings);
+
+/// Wraps positions into the box, rebuilds the grid and fills the geometry of every
+/// candidate (a, b, n, g, radii) in `contacts`, pairs sorted by (a, b), walls by
+/// (wall, sphere). Pairs of two fixed spheres are skipped: nothing can move them.
+void detect_contacts(World& world, const StepSettings& settings, CellGrid& grid,
+                     Contacts& contacts);
+
+}  // namespace cdpowder

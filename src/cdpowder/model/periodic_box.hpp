@@ -1,0 +1,34 @@
+// periodic_box.hpp — the simulation cell: periodic in x and y, open in z (physics.md §4.2).
+#pragma once
+
+#include <cmath>
+
+#include "cdpowder/core/vec3.hpp"
+
+namespace cdpowder {
+
+struct PeriodicBox {
+  double lx = 25.0;  ///< L_x, period along x [R]
+  double ly = 25.0;  ///< L_y, period along y [R]
+
+  /// Shortest periodic image of a separation vector: d_x -= L_x round(d_x/L_x), same for y;
+  /// z is not periodic.
+  [[nodiscard]] Vec3 minimum_image(Vec3 d) const {
+    d.x() -= lx * std::nearbyint(d.x() / lx);
+    d.y() -= ly * std::nearbyint(d.y() / ly);
+    return d;
+  }
+
+  /// Maps a position into [0, L_x) × [0, L_y) × R.
+  void wrap(Vec3& position) const {
+    position.x() -= lx * std::floor(position.x() / lx);
+    position.y() -= ly * std::floor(position.y() / ly);
+    // floor() of a value just below 0 can land exactly on L; keep the half-open interval.
+    if (position.x() >= lx) position.x() -= lx;
+    if (position.y() >= ly) position.y() -= ly;
+  }
+
+  [[nodiscard]] double area() const { return lx * ly; }
+};
+
+}  // namespace cdpowder

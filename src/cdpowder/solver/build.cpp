@@ -1,0 +1,142 @@
+// build.cpp — per-contact constants, cohesion activity, warm start, predicted velocities.
+#include "cdpowder/solver/build.hpp"
+
+#include "cdpowder/contact/local_solve.hpp"
+
+namespace cdpowder {
+
+namespace {
+
+/// Cohesion activity of a contact from its start-of-step gap (physics.md §6.2). Exactly
+/// touching deposit contacts have |g| ~ 1e-15; `g ≤ d_coh` keeps round-off out of it (§12.11).
+bool is_cohesive(const ContactLaw& law, CohesionRule rule, double gap, const CachedAction* last) {
+  if (law.cohesion_force <= 0.0) return false;
+  switch (rule) {
+    case CohesionRule::Graph:
+      return gap <= law.cohesion_range;
+    case CohesionRule::History:
+      return gap <= 0.0 || (last != nullptr && last->cohesive && gap <= law.cohesion_range);
+  }
+  return false;
+}
+
+/// Warm start: last step's action, with its tangential parts projected onto the new
+/// tangent plane (physics.md §7.4).
+ContactAction warm_start(const CachedAction* last, const Vec3& n, double cohesion) {
+  ContactAction action;
+  if (last == nullptr) return action;
+  action = last->action;
+  action.tangential_force -= action.tangential_force.dot(n) * n;
+  action.rolling_torque -= action.rolling_torque.dot(n) * n;
+  // an attraction may only be warm-started where this step's law allows it
+  if (action.normal_force < -cohesion) action.normal_force = -cohesion;
+  return action;
+}
+
+void predict_velocities(const World& world, double dt, VelocityCache& velocities) {
+  const Bodies& bodies = world.bodies;
+  velocities.spheres.resize(bodies.size());
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    SphereVelocity& s = velocities.spheres[i];
+    if (bodies.fixed[i] != 0) {
+      s = SphereVelocity{};  // fixed: never moves, absorbs any action
+      continue;
+    }
+    s.dt_inverse_mass = dt * bodies.inverse_mass[i];
+    s.dt_inverse_inertia = dt * bodies.inverse_inertia[i];
+    s.linear = bodies.velocity[i] + s.dt_inverse_mass * bodies.external_force[i] + dt * world.gravity;
+    s.angular = bodies.angular_velocity[i] + s.dt_inverse_inertia * bodies.external_torque[i];
+  }
+  const Piston& piston = world.walls.piston;
+  velocities.piston_velocity =
+      piston.enabled ? piston.velocity + dt * (-piston.force * piston.inverse_mass() + world.gravity.z())
+                     : 0.0;
+}
+
+}  // namespace
+
+void build_local_problems(const World& world, const StepSettings& settings, ActionCache& cache,
+                          Contacts& contacts, VelocityCache& velocities) {
+  const double dt = settings.solver.dt;
+  const ContactLaws& laws = settings.laws;
+  predict_velocities(world, dt, velocities);
+  cache.rewind();
+
+  contacts.pair_actions.resize(contacts.pairs.size());
+  contacts.pair_cohesive.resize(contacts.pairs.size());
+  for (std::size_t k = 0; k < contacts.pairs.size(); ++k) {
+    PairProblem& p = contacts.pairs[k];
+    const SphereVelocity& a = velocities.spheres[p.a];
+    const SphereVelocity& b = velocities.spheres[p.b];
+    // W blocks of physics.md §5.2, times Δt: w_n = 1/m_a + 1/m_b,
+    // w_t = w_n + R_a²/I_a + R_b²/I_b, w_r = 1/I_a + 1/I_b
+    const double dt_w_n = a.dt_inverse_mass + b.dt_inverse_mass;
+    const double dt_w_t = dt_w_n + p.radius_a * p.radius_a * a.dt_inverse_inertia +
+                          p.radius_b * p.radius_b * b.dt_inverse_inertia;
+    const double dt_w_r = a.dt_inverse_inertia + b.dt_inverse_inertia;
+    p.inv_dt_w_n = 1.0 / dt_w_n;
+    p.inv_dt_w_t = 1.0 / dt_w_t;
+    p.inv_dt_w_r = 1.0 / dt_w_r;
+    p.gap_rate = (p.gap > 0.0 ? p.gap : 0.0) / dt;
+    p.r_eff = effective_radius(p.radius_a, p.radius_b);
+    p.mu = laws.spheres.mu;
+    p.roll_cap = laws.spheres.mu_roll * p.r_eff;
+    p.twist_cap = laws.spheres.mu_twist * p.r_eff;
+    const CachedAction* last =
+        settings.solver.warm_start || laws.cohesion_rule == CohesionRule::History
+            ? cache.find_pair(pair_key(p.a, p.b))
+            : nullptr;
+    const bool cohesive = is_cohesive(laws.spheres, laws.cohesion_rule, p.gap, last);
+    p.cohesion = cohesive ? laws.spheres.cohesion_force : 0.0;
+    contacts.pair_cohesive[k] = cohesive ? 1 : 0;
+    contacts.pair_actions[k] =
+        settings.solver.warm_start ? warm_start(last, p.normal, p.cohesion) : ContactAction{};
+    apply_pair_action(p, contacts.pair_actions[k], velocities);
+  }
+
+  const double piston_response =
+      world.walls.piston.enabled ? dt * world.walls.piston.inverse_mass() : 0.0;
+  contacts.wall_actions.resize(contacts.walls.size());
+  contacts.wall_cohesive.resize(contacts.walls.size());
+  for (std::size_t k = 0; k < contacts.walls.size(); ++k) {
+    WallProblem& w = contacts.walls[k];
+    const SphereVelocity& s = velocities.spheres[w.sphere];
+    w.wall_response = w.wall == WallKind::Piston ? piston_response : 0.0;
+    // the wall is immobile tangentially and does not rotate; the piston moves along n
+    const double dt_w_n = s.dt_inverse_mass + w.wall_response;
+    const double dt_w_t = s.dt_inverse_mass + w.radius * w.radius * s.dt_inverse_inertia;
+    const double dt_w_r = s.dt_inverse_inertia;
+    w.inv_dt_w_n = dt_w_n > 0.0 ? 1.0 / dt_w_n : 0.0;
+    w.inv_dt_w_t = dt_w_t > 0.0 ? 1.0 / dt_w_t : 0.0;
+    w.inv_dt_w_r = dt_w_r > 0.0 ? 1.0 / dt_w_r : 0.0;
+    w.gap_rate = (w.gap > 0.0 ? w.gap : 0.0) / dt;
+    const double r_eff = laws.wall_r_eff_factor * w.radius;
+    w.mu = laws.walls.mu;
+    w.roll_cap = laws.walls.mu_roll * r_eff;
+    w.twist_cap = laws.walls.mu_twist * r_eff;
+    const CachedAction* last =
+        settings.solver.warm_start || laws.cohesion_rule == CohesionRule::History
+            ? cache.find_wall(wall_key(w.wall, w.sphere))
+            : nullptr;
+    const bool cohesive = is_cohesive(laws.walls, laws.cohesion_rule, w.gap, last);
+    w.cohesion = cohesive ? laws.walls.cohesion_force : 0.0;
+    contacts.wall_cohesive[k] = cohesive ? 1 : 0;
+    contacts.wall_actions[k] =
+        settings.solver.warm_start ? warm_start(last, w.normal, w.cohesion) : ContactAction{};
+    apply_wall_action(w, contacts.wall_actions[k], velocities);
+  }
+}
+
+void apply_pair_action(const PairProblem& p, const ContactAction& delta, VelocityCache& v) {
+  apply_pair_delta(p, delta.normal_force * p.normal + delta.tangential_force,
+                   delta.rolling_torque + delta.twisting_torque * p.normal, v.spheres[p.a],
+                   v.spheres[p.b]);
+}
+
+void apply_wall_action(const WallProblem& w, const ContactAction& delta, VelocityCache& v) {
+  apply_wall_delta(w, delta.normal_force * w.normal + delta.tangential_force,
+                   delta.rolling_torque + delta.twisting_torque * w.normal, v.spheres[w.sphere],
+                   v.piston_velocity);
+}
+
+}  // namespace cdpowder

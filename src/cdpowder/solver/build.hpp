@@ -1,0 +1,24 @@
+// build.hpp — stage 2 of a step: the inverse-mass terms and thresholds of every
+// contact (physics.md §5.2), cohesion activity (§6.2), the warm start (§7.4) and the
+// predicted velocities v* = v + Δt (F_ext/m + g) + Δt W·(warm-start actions) (§5.3, §7.6).
+#pragma once
+
+#include "cdpowder/contact/action_cache.hpp"
+#include "cdpowder/contact/local_problem.hpp"
+#include "cdpowder/model/world.hpp"
+#include "cdpowder/solver/settings.hpp"
+#include "cdpowder/solver/velocity_cache.hpp"
+
+namespace cdpowder {
+
+/// Completes the records that detect_contacts started and fills the velocity cache.
+/// Reads last step's actions from `cache` (merge join; contacts must be sorted by key).
+void build_local_problems(const World& world, const StepSettings& settings, ActionCache& cache,
+                          Contacts& contacts, VelocityCache& velocities);
+
+/// Adds the velocity change that an action on a contact causes to both of its bodies
+/// (physics.md §5.5 "apply Δ"). Used for the warm start and by the kernels.
+void apply_pair_action(const PairProblem& p, const ContactAction& delta, VelocityCache& v);
+void apply_wall_action(const WallProblem& w, const ContactAction& delta, VelocityCache& v);
+
+}  // namespace cdpowder

@@ -1,0 +1,14 @@
+// integrate.hpp — stage 4 of a step: commit the iterated velocities and advance the
+// positions with them (implicit Euler in the velocities, physics.md §3).
+#pragma once
+
+#include "cdpowder/model/world.hpp"
+#include "cdpowder/solver/velocity_cache.hpp"
+
+namespace cdpowder {
+
+/// v ← v*, ω ← ω*, V_P ← V_P*; r ← r + Δt v, Z_P ← Z_P + Δt V_P; t ← t + Δt.
+/// Sphere orientations are not integrated: no law depends on them (§3).
+void integrate(const VelocityCache& velocities, double dt, World& world);
+
+}  // namespace cdpowder

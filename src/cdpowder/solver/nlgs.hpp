@@ -1,0 +1,41 @@
+// nlgs.hpp — stage 3 of a step: nonlinear Gauss–Seidel over the step's contact set
+// (physics.md §7.1–7.3, §17).
+#pragma once
+
+#include "cdpowder/contact/local_problem.hpp"
+#include "cdpowder/core/rng.hpp"
+#include "cdpowder/solver/settings.hpp"
+#include "cdpowder/solver/velocity_cache.hpp"
+
+namespace cdpowder {
+
+/// What the sweeps of one step did.
+struct SolverStats {
+  int sweeps = 0;                ///< sweeps performed
+  bool converged = false;        ///< the stopping rule was met (false: capped at max_sweeps)
+  double residual = 0.0;         ///< largest force correction of the last sweep / force scale
+  double contraction = 0.0;      ///< ρ, measured ratio of residuals per sweep
+  double error_estimate = 0.0;   ///< residual/(1 − ρ): remaining relative force error
+  double relative_change = 0.0;  ///< ⟨|ΔX|⟩/⟨|X|⟩ of the last sweep ([S+12] criterion II)
+  double force_scale = 0.0;      ///< F_ref = max(F_coh, mean |R_n| of closed contacts) [F_coh]
+};
+
+/// Sweeps until the stopping rule holds or max_sweeps is reached. Each visit solves one
+/// contact exactly with the others held fixed and pushes its change into the velocity
+/// cache at once, so later visits in the same sweep see it (§7.1).
+/// `reference_force` is the force scale below which forces count as small (F_coh).
+SolverStats solve_nlgs(Contacts& contacts, VelocityCache& velocities,
+                       const SolverSettings& settings, double reference_force, Rng& rng);
+
+/// One sweep in the given order; returns the sweep's largest change and sums. Exposed for
+/// the benchmark of the kernel.
+struct SweepSums {
+  double max_change = 0.0;
+  double sum_change = 0.0;
+  double sum_magnitude = 0.0;
+  double sum_closed_normal = 0.0;
+  std::size_t closed = 0;
+};
+SweepSums run_sweep(Contacts& contacts, VelocityCache& velocities);
+
+}  // namespace cdpowder

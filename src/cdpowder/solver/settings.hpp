@@ -1,0 +1,46 @@
+// settings.hpp — the inputs of one time step that are not physical state:
+// Δt, the NLGS stopping rule and visiting order, detection skin, the contact laws.
+#pragma once
+
+#include <cstdint>
+
+#include "cdpowder/contact/contact_law.hpp"
+
+namespace cdpowder {
+
+/// How the NLGS decides that a step's contact problem is solved (physics.md §7.2–7.3, §17).
+enum class StoppingRule {
+  /// Default. The largest force correction of a sweep (the natural-map residual of the
+  /// contact laws, torques divided by r_eff) relative to the force scale, divided by
+  /// (1 − ρ) where ρ is the measured contraction per sweep: an estimate of the remaining
+  /// force error rather than of the last change (§17).
+  Residual,
+  /// The group's global test ⟨|ΔR|⟩ ≤ α ⟨|R|⟩ ([S+12] criterion II). Kept for comparison;
+  /// it stops early on slowly converging, piston-loaded problems (§17).
+  RelativeChange,
+};
+
+/// Order in which a sweep visits the contacts (physics.md §7.1).
+enum class VisitOrder {
+  RandomEachSweep,  ///< a fresh seeded permutation every sweep (the group's choice; default)
+  Fixed,            ///< storage order (sorted by body indices); for tests and benchmarks
+};
+
+struct SolverSettings {
+  double dt = 0.01;              ///< Δt [t0] (physics.md §3)
+  double tolerance = 1e-4;       ///< see StoppingRule [-]
+  int min_sweeps = 3;            ///< never stop before this many sweeps
+  int max_sweeps = 2000;         ///< N_max; a capped step is flagged in its report
+  StoppingRule stopping_rule = StoppingRule::Residual;
+  VisitOrder visit_order = VisitOrder::RandomEachSweep;
+  bool warm_start = true;        ///< start from last step's actions (§7.4)
+  double skin = 0.05;            ///< extra candidate distance beyond max(d_coh, 2 v_max Δt) [R]
+  std::uint64_t seed = 1;        ///< seed of the sweep-order stream
+};
+
+struct StepSettings {
+  SolverSettings solver;
+  ContactLaws laws;
+};
+
+}  // namespace cdpowder

@@ -1,0 +1,53 @@
+// step.cpp — the time step as a table of contents. The stages run in this order only;
+// each reads what the one before it wrote. Contact geometry is frozen after stage 1 (§3).
+#include "cdpowder/solver/step.hpp"
+
+#include <chrono>
+
+#include "cdpowder/detect/detect_contacts.hpp"
+#include "cdpowder/solver/build.hpp"
+#include "cdpowder/solver/integrate.hpp"
+
+namespace cdpowder {
+
+namespace {
+
+class StageClock {
+ public:
+  void lap(Stage stage, StageTimes& times) {
+    const auto now = std::chrono::steady_clock::now();
+    times[static_cast<std::size_t>(stage)] += std::chrono::duration<double>(now - last_).count();
+    last_ = now;
+  }
+
+ private:
+  std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
+};
+
+}  // namespace
+
+StepReport step(World& world, StepWorkspace& work, const StepSettings& settings) {
+  StepReport report;
+  StageClock clock;
+
+  detect_contacts(world, settings, work.grid, work.contacts);
+  clock.lap(Stage::DetectContacts, report.times);
+
+  build_local_problems(world, settings, work.action_cache, work.contacts, work.velocities);
+  clock.lap(Stage::BuildLocalProblems, report.times);
+
+  const double reference_force = settings.laws.spheres.cohesion_force;
+  report.solver = solve_nlgs(work.contacts, work.velocities, settings.solver, reference_force,
+                             work.rng);
+  work.action_cache.store(work.contacts);  // warm start of the next step (§7.4)
+  clock.lap(Stage::SolveNlgs, report.times);
+
+  integrate(work.velocities, settings.solver.dt, world);
+  clock.lap(Stage::Integrate, report.times);
+
+  report.diagnostics = analyse_step(world, work.contacts);
+  clock.lap(Stage::Analyse, report.times);
+  return report;
+}
+
+}  // namespace cdpowder

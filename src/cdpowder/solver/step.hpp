@@ -1,0 +1,44 @@
+// step.hpp — one Moreau–Jean time step as five named stages (physics.md §7.6).
+#pragma once
+
+#include <array>
+
+#include "cdpowder/analysis/step_diagnostics.hpp"
+#include "cdpowder/contact/action_cache.hpp"
+#include "cdpowder/contact/local_problem.hpp"
+#include "cdpowder/core/rng.hpp"
+#include "cdpowder/detect/cell_grid.hpp"
+#include "cdpowder/model/world.hpp"
+#include "cdpowder/solver/nlgs.hpp"
+#include "cdpowder/solver/settings.hpp"
+#include "cdpowder/solver/velocity_cache.hpp"
+
+namespace cdpowder {
+
+/// Stages of a step, in execution order; also the slots of StageTimes.
+enum class Stage { DetectContacts, BuildLocalProblems, SolveNlgs, Integrate, Analyse, Count };
+
+/// Wall-clock seconds spent per stage.
+using StageTimes = std::array<double, static_cast<std::size_t>(Stage::Count)>;
+
+struct StepReport {
+  SolverStats solver;
+  StepDiagnostics diagnostics;
+  StageTimes times{};
+};
+
+/// Everything reused from step to step that is not physical state: a checkpoint of a
+/// World does not need it, except the action cache for a bit-identical warm start.
+struct StepWorkspace {
+  explicit StepWorkspace(std::uint64_t seed) : rng(make_rng(seed, RngStream::SweepOrder)) {}
+  CellGrid grid;
+  Contacts contacts;
+  VelocityCache velocities;
+  ActionCache action_cache;
+  Rng rng;
+};
+
+/// Advances `world` by one step of Δt = settings.solver.dt.
+StepReport step(World& world, StepWorkspace& work, const StepSettings& settings);
+
+}  // namespace cdpowder
