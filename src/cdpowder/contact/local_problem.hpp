@@ -63,8 +63,9 @@ struct WallProblem {
   double roll_cap = 0.0;
   double twist_cap = 0.0;
   double wall_response = 0.0;  ///< Δt/M_P for the piston, 0 for the bottom [t0/(ρR³)]
+  double wall_moves = 0.0;     ///< 1 for the piston (its velocity enters V), 0 for the bottom
 };
-static_assert(sizeof(WallProblem) <= 128, "keep WallProblem within two cache lines");
+static_assert(sizeof(WallProblem) == 128, "keep WallProblem at two cache lines");
 
 /// The step's contact set. Index k < pairs.size() is a pair, else wall k − pairs.size().
 struct Contacts {

@@ -135,11 +135,13 @@ inline VisitChange solve_pair(const PairProblem& p, ContactAction& action, Spher
 }
 
 /// One visit of a sphere–wall contact (wall = body a, sphere = body b, lever −R n):
-/// V = v_s − R ω_s × n − V_wall e_z, Ω = ω_s.
+/// V = v_s − R ω_s × n − V_wall e_z, Ω = ω_s. `wall_velocity` is V_P*; it enters only
+/// piston contacts (the bottom wall is immobile).
 inline VisitChange solve_wall(const WallProblem& w, ContactAction& action, SphereVelocity& s,
                               double& wall_velocity) {
   const Vec3& n = w.normal;
-  const Vec3 V = s.linear - w.radius * s.angular.cross(n) - Vec3(0.0, 0.0, wall_velocity);
+  const Vec3 V =
+      s.linear - w.radius * s.angular.cross(n) - Vec3(0.0, 0.0, w.wall_moves * wall_velocity);
   const double V_n = V.dot(n);
   const double inv_r = detail::torque_scale(w.radius);
   VisitChange out;

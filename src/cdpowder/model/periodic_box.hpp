@@ -23,9 +23,10 @@ struct PeriodicBox {
   void wrap(Vec3& position) const {
     position.x() -= lx * std::floor(position.x() / lx);
     position.y() -= ly * std::floor(position.y() / ly);
-    // floor() of a value just below 0 can land exactly on L; keep the half-open interval.
-    if (position.x() >= lx) position.x() -= lx;
-    if (position.y() >= ly) position.y() -= ly;
+    // x − L floor(x/L) can round to exactly L for x just below a multiple of L (and the
+    // minus above can leave −0.0); keep the half-open interval [0, L).
+    if (position.x() >= lx || position.x() < 0.0) position.x() = 0.0;
+    if (position.y() >= ly || position.y() < 0.0) position.y() = 0.0;
   }
 
   [[nodiscard]] double area() const { return lx * ly; }

@@ -102,6 +102,7 @@ void build_local_problems(const World& world, const StepSettings& settings, Acti
     WallProblem& w = contacts.walls[k];
     const SphereVelocity& s = velocities.spheres[w.sphere];
     w.wall_response = w.wall == WallKind::Piston ? piston_response : 0.0;
+    w.wall_moves = w.wall == WallKind::Piston ? 1.0 : 0.0;
     // the wall is immobile tangentially and does not rotate; the piston moves along n
     const double dt_w_n = s.dt_inverse_mass + w.wall_response;
     const double dt_w_t = s.dt_inverse_mass + w.radius * w.radius * s.dt_inverse_inertia;

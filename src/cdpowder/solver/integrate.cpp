@@ -10,6 +10,7 @@ void integrate(const VelocityCache& velocities, double dt, World& world) {
     bodies.velocity[i] = velocities.spheres[i].linear;
     bodies.angular_velocity[i] = velocities.spheres[i].angular;
     bodies.position[i] += dt * bodies.velocity[i];
+    world.box.wrap(bodies.position[i]);
   }
   Piston& piston = world.walls.piston;
   if (piston.enabled) {

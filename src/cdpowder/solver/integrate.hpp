@@ -7,7 +7,8 @@
 
 namespace cdpowder {
 
-/// v ← v*, ω ← ω*, V_P ← V_P*; r ← r + Δt v, Z_P ← Z_P + Δt V_P; t ← t + Δt.
+/// v ← v*, ω ← ω*, V_P ← V_P*; r ← r + Δt v (wrapped into the box), Z_P ← Z_P + Δt V_P;
+/// t ← t + Δt.
 /// Sphere orientations are not integrated: no law depends on them (§3).
 void integrate(const VelocityCache& velocities, double dt, World& world);
 

@@ -4,10 +4,12 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <span>
 
 #include "cdpowder/contact/local_solve.hpp"
+#include "cdpowder/solver/build.hpp"
 
 namespace cdpowder {
 
@@ -18,6 +20,51 @@ namespace {
 constexpr int kContractionWindow = 8;
 /// ρ is capped here, so the error estimate is at most 1000 × the residual.
 constexpr double kMaxContraction = 0.999;
+
+/// A sweep whose residual exceeds the best of the step by this factor discards the
+/// acceleration history: the active set changed and the old differences mislead.
+constexpr double kRestartGrowth = 10.0;
+
+constexpr std::size_t kDoublesPerAction = 8;
+
+void flatten(const Contacts& contacts, std::vector<double>& out) {
+  out.resize(kDoublesPerAction * contacts.size());
+  std::size_t o = 0;
+  const auto put = [&](const ContactAction& a) {
+    out[o++] = a.normal_force;
+    for (int i = 0; i < 3; ++i) out[o++] = a.tangential_force[i];
+    for (int i = 0; i < 3; ++i) out[o++] = a.rolling_torque[i];
+    out[o++] = a.twisting_torque;
+  };
+  for (const ContactAction& a : contacts.pair_actions) put(a);
+  for (const ContactAction& a : contacts.wall_actions) put(a);
+}
+
+/// Replaces the actions by `mixed` and moves the velocity cache by the difference, so
+/// v* stays v_free + Δt M⁻¹ Σ (contact actions) (§5.3).
+void adopt(const std::vector<double>& mixed, Contacts& contacts, VelocityCache& velocities) {
+  std::size_t o = 0;
+  const auto take = [&](ContactAction& a) {
+    ContactAction next;
+    next.normal_force = mixed[o++];
+    for (int i = 0; i < 3; ++i) next.tangential_force[i] = mixed[o++];
+    for (int i = 0; i < 3; ++i) next.rolling_torque[i] = mixed[o++];
+    next.twisting_torque = mixed[o++];
+    ContactAction delta;
+    delta.normal_force = next.normal_force - a.normal_force;
+    delta.tangential_force = next.tangential_force - a.tangential_force;
+    delta.rolling_torque = next.rolling_torque - a.rolling_torque;
+    delta.twisting_torque = next.twisting_torque - a.twisting_torque;
+    a = next;
+    return delta;
+  };
+  for (std::size_t k = 0; k < contacts.pairs.size(); ++k) {
+    apply_pair_action(contacts.pairs[k], take(contacts.pair_actions[k]), velocities);
+  }
+  for (std::size_t k = 0; k < contacts.walls.size(); ++k) {
+    apply_wall_action(contacts.walls[k], take(contacts.wall_actions[k]), velocities);
+  }
+}
 
 }  // namespace
 
@@ -54,10 +101,20 @@ SweepSums run_sweep(Contacts& contacts, VelocityCache& velocities) {
 }
 
 SolverStats solve_nlgs(Contacts& contacts, VelocityCache& velocities,
-                       const SolverSettings& settings, double reference_force, Rng& rng) {
+                       const SolverSettings& settings, double reference_force,
+                       NlgsWorkspace& work) {
   std::vector<ContactIndex>& order = contacts.visit_order;
   order.resize(contacts.size());
   std::iota(order.begin(), order.end(), ContactIndex{0});
+  if (settings.visit_order == VisitOrder::RandomEachStep) {
+    shuffle_indices(std::span<ContactIndex>(order), work.rng);
+  }
+  const bool accelerate = settings.acceleration_depth > 0;
+  if (accelerate) {
+    work.accelerator = AndersonAccelerator(settings.acceleration_depth);
+    flatten(contacts, work.start);
+  }
+  double best_residual = std::numeric_limits<double>::infinity();
 
   SolverStats stats;
   if (contacts.size() == 0) {
@@ -69,7 +126,7 @@ SolverStats solve_nlgs(Contacts& contacts, VelocityCache& velocities,
   for (int sweep = 1; sweep <= settings.max_sweeps; ++sweep) {
     // a fresh order every sweep, so corrections spread without a preferred direction (§7.1)
     if (settings.visit_order == VisitOrder::RandomEachSweep) {
-      shuffle_indices(std::span<ContactIndex>(order), rng);
+      shuffle_indices(std::span<ContactIndex>(order), work.rng);
     }
     const SweepSums sums = run_sweep(contacts, velocities);
     const double mean_closed =
@@ -79,6 +136,18 @@ SolverStats solve_nlgs(Contacts& contacts, VelocityCache& velocities,
     stats.residual = sums.max_change / stats.force_scale;
     stats.relative_change = sums.sum_magnitude > 0.0 ? sums.sum_change / sums.sum_magnitude : 0.0;
     recent[static_cast<std::size_t>(sweep) % recent.size()] = stats.residual;
+
+    if (accelerate) {
+      if (stats.residual > kRestartGrowth * best_residual) work.accelerator.reset();
+      best_residual = std::min(best_residual, stats.residual);
+      flatten(contacts, work.swept);
+      if (work.accelerator.extrapolate(work.start, work.swept, work.mixed)) {
+        adopt(work.mixed, contacts, velocities);
+        work.start.swap(work.mixed);
+      } else {
+        work.start.swap(work.swept);
+      }
+    }
 
     // ρ from the residuals kContractionWindow sweeps apart (fewer in the first sweeps)
     const int window = std::min(kContractionWindow, sweep - 1);

@@ -4,6 +4,7 @@
 
 #include "cdpowder/contact/local_problem.hpp"
 #include "cdpowder/core/rng.hpp"
+#include "cdpowder/solver/anderson.hpp"
 #include "cdpowder/solver/settings.hpp"
 #include "cdpowder/solver/velocity_cache.hpp"
 
@@ -20,12 +21,25 @@ struct SolverStats {
   double force_scale = 0.0;      ///< F_ref = max(F_coh, mean |R_n| of closed contacts) [F_coh]
 };
 
+/// Scratch state of the solver reused across steps: the sweep-order stream and the
+/// buffers of the acceleration (no allocation in steady state).
+struct NlgsWorkspace {
+  explicit NlgsWorkspace(std::uint64_t seed) : rng(make_rng(seed, RngStream::SweepOrder)) {}
+  Rng rng;
+  AndersonAccelerator accelerator;
+  std::vector<double> start;     ///< actions the sweep started from, flattened (8 per contact)
+  std::vector<double> swept;     ///< actions after the sweep
+  std::vector<double> mixed;     ///< accelerated actions
+};
+
 /// Sweeps until the stopping rule holds or max_sweeps is reached. Each visit solves one
 /// contact exactly with the others held fixed and pushes its change into the velocity
-/// cache at once, so later visits in the same sweep see it (§7.1).
+/// cache at once, so later visits in the same sweep see it (§7.1). With
+/// acceleration_depth > 0, every sweep is followed by an Anderson mixing step.
 /// `reference_force` is the force scale below which forces count as small (F_coh).
 SolverStats solve_nlgs(Contacts& contacts, VelocityCache& velocities,
-                       const SolverSettings& settings, double reference_force, Rng& rng);
+                       const SolverSettings& settings, double reference_force,
+                       NlgsWorkspace& work);
 
 /// One sweep in the given order; returns the sweep's largest change and sums. Exposed for
 /// the benchmark of the kernel.

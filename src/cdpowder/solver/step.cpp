@@ -38,7 +38,7 @@ StepReport step(World& world, StepWorkspace& work, const StepSettings& settings)
 
   const double reference_force = settings.laws.spheres.cohesion_force;
   report.solver = solve_nlgs(work.contacts, work.velocities, settings.solver, reference_force,
-                             work.rng);
+                             work.solver);
   work.action_cache.store(work.contacts);  // warm start of the next step (§7.4)
   clock.lap(Stage::SolveNlgs, report.times);
 

@@ -30,12 +30,12 @@ struct StepReport {
 /// Everything reused from step to step that is not physical state: a checkpoint of a
 /// World does not need it, except the action cache for a bit-identical warm start.
 struct StepWorkspace {
-  explicit StepWorkspace(std::uint64_t seed) : rng(make_rng(seed, RngStream::SweepOrder)) {}
+  explicit StepWorkspace(std::uint64_t seed) : solver(seed) {}
   CellGrid grid;
   Contacts contacts;
   VelocityCache velocities;
   ActionCache action_cache;
-  Rng rng;
+  NlgsWorkspace solver;
 };
 
 /// Advances `world` by one step of Δt = settings.solver.dt.

@@ -1,0 +1,176 @@
+// Tests for src/cdpowder/contact/local_solve.hpp: the 6×6 inverse-mass block of
+// physics.md §5.2 against rigid-body kinematics, and the one-pass local solution.
+#include "cdpowder/contact/local_solve.hpp"
+
+#include <gtest/gtest.h>
+
+#include <numbers>
+
+#include "cdpowder/core/rng.hpp"
+
+namespace cdpowder {
+namespace {
+
+// 1e-12: W is applied in closed form, only round-off of O(10) operations remains.
+constexpr double kRoundOff = 1e-12;
+constexpr double kDt = 0.01;
+
+SphereVelocity body(double radius, double density = 1.0) {
+  const double m = density * 4.0 / 3.0 * std::numbers::pi * radius * radius * radius;
+  SphereVelocity s;
+  s.dt_inverse_mass = kDt / m;
+  s.dt_inverse_inertia = kDt / (0.4 * m * radius * radius);
+  return s;
+}
+
+PairProblem pair(const Vec3& n, double ra, double rb, const SphereVelocity& a,
+                 const SphereVelocity& b) {
+  PairProblem p;
+  p.normal = n.normalized();
+  p.radius_a = ra;
+  p.radius_b = rb;
+  const double dt_w_n = a.dt_inverse_mass + b.dt_inverse_mass;
+  p.inv_dt_w_n = 1.0 / dt_w_n;
+  p.inv_dt_w_t =
+      1.0 / (dt_w_n + ra * ra * a.dt_inverse_inertia + rb * rb * b.dt_inverse_inertia);
+  p.inv_dt_w_r = 1.0 / (a.dt_inverse_inertia + b.dt_inverse_inertia);
+  p.r_eff = effective_radius(ra, rb);
+  return p;
+}
+
+// Relative velocities (V, Ω) at the contact point from rigid-body kinematics.
+void relative(const PairProblem& p, const SphereVelocity& a, const SphereVelocity& b, Vec3& V,
+              Vec3& Omega) {
+  const Vec3 l_a = p.radius_a * p.normal;
+  const Vec3 l_b = -p.radius_b * p.normal;
+  V = b.linear + b.angular.cross(l_b) - a.linear - a.angular.cross(l_a);
+  Omega = b.angular - a.angular;
+}
+
+TEST(DelassusBlock, MatchesRigidBodyKinematicsForRandomRadii) {
+  Rng rng = make_rng(7, RngStream::SweepOrder);
+  for (int trial = 0; trial < 20; ++trial) {
+    const double ra = 0.5 + uniform01(rng);
+    const double rb = 0.5 + uniform01(rng);
+    SphereVelocity a = body(ra, 0.5 + uniform01(rng));
+    SphereVelocity b = body(rb, 0.5 + uniform01(rng));
+    const Vec3 n = Vec3(uniform01(rng) - 0.5, uniform01(rng) - 0.5, uniform01(rng) - 0.5);
+    const PairProblem p = pair(n, ra, rb, a, b);
+    const Vec3 R(uniform01(rng), uniform01(rng) - 0.5, 2.0 * uniform01(rng));
+    const Vec3 T(uniform01(rng) - 0.5, uniform01(rng), uniform01(rng) - 0.5);
+
+    Vec3 V0;
+    Vec3 Omega0;
+    relative(p, a, b, V0, Omega0);
+    apply_pair_delta(p, R, T, a, b);
+    Vec3 V1;
+    Vec3 Omega1;
+    relative(p, a, b, V1, Omega1);
+
+    // physics.md §5.2, times Δt
+    const double m_a_inv = a.dt_inverse_mass / kDt;
+    const double m_b_inv = b.dt_inverse_mass / kDt;
+    const double i_a_inv = a.dt_inverse_inertia / kDt;
+    const double i_b_inv = b.dt_inverse_inertia / kDt;
+    const double w_n = m_a_inv + m_b_inv;
+    const double w_t = w_n + ra * ra * i_a_inv + rb * rb * i_b_inv;
+    const double w_r = i_a_inv + i_b_inv;
+    const double c = ra * i_a_inv - rb * i_b_inv;
+    const Vec3& nn = p.normal;
+    const Vec3 R_n = R.dot(nn) * nn;
+    const Vec3 dV = kDt * (w_n * R_n + w_t * (R - R_n) + c * T.cross(nn));
+    const Vec3 dOmega = kDt * (c * nn.cross(R) + w_r * T);
+    EXPECT_LT((V1 - V0 - dV).norm(), kRoundOff) << "trial " << trial;
+    EXPECT_LT((Omega1 - Omega0 - dOmega).norm(), kRoundOff) << "trial " << trial;
+  }
+}
+
+TEST(LocalSolve, OnePassStopsAllSixModesOfEqualSpheres) {
+  SphereVelocity a = body(1.0);
+  SphereVelocity b = body(1.0);
+  a.linear = Vec3(0.01, -0.02, 0.03);
+  a.angular = Vec3(0.2, 0.1, -0.3);
+  b.linear = Vec3(-0.02, 0.01, -0.05);
+  b.angular = Vec3(-0.1, 0.3, 0.2);
+  PairProblem p = pair(Vec3(0.3, -0.2, 0.9), 1.0, 1.0, a, b);
+  p.cohesion = 1.0;
+  p.mu = p.roll_cap = p.twist_cap = 1e6;  // no threshold reached: every mode sticks
+  ContactAction action;
+  solve_pair(p, action, a, b);
+  Vec3 V;
+  Vec3 Omega;
+  relative(p, a, b, V, Omega);
+  EXPECT_LT(V.norm(), kRoundOff);
+  EXPECT_LT(Omega.norm(), kRoundOff);
+}
+
+TEST(LocalSolve, ApproachingPairWithGapClosesExactlyWithinTheStep) {
+  SphereVelocity a = body(1.0);
+  SphereVelocity b = body(1.0);
+  b.linear = Vec3(0.0, 0.0, -1.0);  // approaching at 1 R/t0
+  PairProblem p = pair(Vec3::UnitZ(), 1.0, 1.0, a, b);
+  p.gap = 0.004;  // closes within Δt = 0.01 at this speed
+  p.gap_rate = p.gap / kDt;
+  ContactAction action;
+  solve_pair(p, action, a, b);
+  Vec3 V;
+  Vec3 Omega;
+  relative(p, a, b, V, Omega);
+  EXPECT_NEAR(V.z() * kDt, -p.gap, kRoundOff);  // lands exactly on contact, no overlap
+  EXPECT_GT(action.normal_force, 0.0);
+}
+
+TEST(LocalSolve, SeparatingNonCohesivePairStaysFree) {
+  SphereVelocity a = body(1.0);
+  SphereVelocity b = body(1.0);
+  b.linear = Vec3(0.0, 0.0, 0.1);
+  PairProblem p = pair(Vec3::UnitZ(), 1.0, 1.0, a, b);
+  ContactAction action;
+  const VisitChange change = solve_pair(p, action, a, b);
+  EXPECT_EQ(action.normal_force, 0.0);
+  EXPECT_EQ(change.change, 0.0);
+  EXPECT_EQ(b.linear.z(), 0.1);
+}
+
+// Independence of the modes (c = 0): sliding on the rim of its disc leaves the rolling and
+// torsion solutions exactly where they would be alone, and vice versa.
+TEST(ModeIndependence, SlidingAtThresholdDoesNotTouchRollingOrTorsion) {
+  for (const bool slide : {false, true}) {
+    SphereVelocity a = body(1.0);
+    SphereVelocity b = body(1.0);
+    b.linear = Vec3(slide ? 0.5 : 0.0, 0.0, 0.0);  // tangential slip along x
+    b.angular = Vec3(0.01, 0.0, 0.02);             // rolling about x, torsion about z
+    PairProblem p = pair(Vec3::UnitZ(), 1.0, 1.0, a, b);
+    p.cohesion = 1.0;
+    p.mu = 0.3;
+    p.roll_cap = p.twist_cap = 1e6;
+    ContactAction action;
+    solve_pair(p, action, a, b);
+    const double rolling_alone = -(0.01) * p.inv_dt_w_r;
+    const double torsion_alone = -(0.02) * p.inv_dt_w_r;
+    EXPECT_NEAR(action.rolling_torque.x(), rolling_alone, kRoundOff) << "slide=" << slide;
+    EXPECT_NEAR(action.twisting_torque, torsion_alone, kRoundOff) << "slide=" << slide;
+    if (slide) {
+      EXPECT_DOUBLE_EQ(action.tangential_force.norm(), 0.3 * 1.0);
+    }
+  }
+}
+
+TEST(ModeIndependence, RollingAndTorsionAtThresholdDoNotTouchSliding) {
+  SphereVelocity a = body(1.0);
+  SphereVelocity b = body(1.0);
+  b.linear = Vec3(0.001, 0.0, 0.0);  // small slip: sticks
+  b.angular = Vec3(5.0, 0.0, 5.0);   // strong rolling and torsion: both slip
+  PairProblem p = pair(Vec3::UnitZ(), 1.0, 1.0, a, b);
+  p.cohesion = 1.0;
+  p.mu = 1e6;
+  p.roll_cap = p.twist_cap = 0.1;
+  ContactAction action;
+  solve_pair(p, action, a, b);
+  EXPECT_NEAR(action.tangential_force.x(), -0.001 * p.inv_dt_w_t, kRoundOff);
+  EXPECT_DOUBLE_EQ(action.rolling_torque.norm(), 0.1);
+  EXPECT_DOUBLE_EQ(std::abs(action.twisting_torque), 0.1);
+}
+
+}  // namespace
+}  // namespace cdpowder
