@@ -2,11 +2,11 @@
 // physics.md §5.2 against rigid-body kinematics, and the one-pass local solution.
 #include "cdpowder/contact/local_solve.hpp"
 
+#include "cdpowder/core/rng.hpp"
+
 #include <gtest/gtest.h>
 
 #include <numbers>
-
-#include "cdpowder/core/rng.hpp"
 
 namespace cdpowder {
 namespace {
@@ -31,8 +31,7 @@ PairProblem pair(const Vec3& n, double ra, double rb, const SphereVelocity& a,
   p.radius_b = rb;
   const double dt_w_n = a.dt_inverse_mass + b.dt_inverse_mass;
   p.inv_dt_w_n = 1.0 / dt_w_n;
-  p.inv_dt_w_t =
-      1.0 / (dt_w_n + ra * ra * a.dt_inverse_inertia + rb * rb * b.dt_inverse_inertia);
+  p.inv_dt_w_t = 1.0 / (dt_w_n + ra * ra * a.dt_inverse_inertia + rb * rb * b.dt_inverse_inertia);
   p.inv_dt_w_r = 1.0 / (a.dt_inverse_inertia + b.dt_inverse_inertia);
   p.r_eff = effective_radius(ra, rb);
   return p;
@@ -128,7 +127,7 @@ TEST(LocalSolve, SeparatingNonCohesivePairStaysFree) {
   ContactAction action;
   const VisitChange change = solve_pair(p, action, a, b);
   EXPECT_EQ(action.normal_force, 0.0);
-  EXPECT_EQ(change.change, 0.0);
+  EXPECT_EQ(change.change_sq, 0.0);
   EXPECT_EQ(b.linear.z(), 0.1);
 }
 

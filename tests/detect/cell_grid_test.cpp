@@ -3,12 +3,12 @@
 // two cells, across the periodic boundaries.
 #include "cdpowder/detect/cell_grid.hpp"
 
+#include "cdpowder/core/rng.hpp"
+
 #include <gtest/gtest.h>
 
 #include <set>
 #include <utility>
-
-#include "cdpowder/core/rng.hpp"
 
 namespace cdpowder {
 namespace {
@@ -48,9 +48,13 @@ void check_against_brute_force(double lx, double ly, double height, int n, doubl
   EXPECT_EQ(visits, distinct);
 }
 
-TEST(CellGrid, FindsAllPairsOfARandomGas) { check_against_brute_force(25.0, 20.0, 30.0, 600, 2.1); }
+TEST(CellGrid, FindsAllPairsOfARandomGas) {
+  check_against_brute_force(25.0, 20.0, 30.0, 600, 2.1);
+}
 
-TEST(CellGrid, FindsAllPairsWithOneCellAlongX) { check_against_brute_force(4.5, 12.0, 10.0, 80, 2.2); }
+TEST(CellGrid, FindsAllPairsWithOneCellAlongX) {
+  check_against_brute_force(4.5, 12.0, 10.0, 80, 2.2);
+}
 
 TEST(CellGrid, FindsAllPairsWithTwoCellsAlongEachAxis) {
   check_against_brute_force(4.5, 4.5, 10.0, 60, 2.2);
@@ -58,7 +62,8 @@ TEST(CellGrid, FindsAllPairsWithTwoCellsAlongEachAxis) {
 
 TEST(CellGrid, VisitsEachPairOnceWhenCellsWrap) {
   const PeriodicBox box{4.5, 4.5};
-  const std::vector<Vec3> x = {Vec3(0.1, 0.1, 0.0), Vec3(4.4, 4.4, 0.0)};  // touching through the corner
+  const std::vector<Vec3> x = {Vec3(0.1, 0.1, 0.0),
+                               Vec3(4.4, 4.4, 0.0)};  // touching through the corner
   CellGrid grid;
   grid.rebuild(x, box, 2.2);
   int visits = 0;

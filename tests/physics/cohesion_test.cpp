@@ -1,11 +1,11 @@
 // The cohesion law of physics.md §6 through whole steps (§15 item 2): a pair pulled
 // with less than F_coh holds with R_n = −F_ext; pulled harder it opens, feels −F_coh
 // while the gap is within d_coh, then breaks; the work to break is F_coh d_coh.
+#include "support/tiny_world.hpp"
+
 #include <gtest/gtest.h>
 
 #include <numbers>
-
-#include "support/tiny_world.hpp"
 
 namespace cdpowder::testing {
 namespace {

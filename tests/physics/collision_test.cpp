@@ -1,8 +1,8 @@
 // Free collisions (physics.md §15 item 7): perfectly inelastic contact in two steps,
 // conservation of linear and angular momentum, and contact across a periodic boundary.
-#include <gtest/gtest.h>
-
 #include "support/tiny_world.hpp"
+
+#include <gtest/gtest.h>
 
 namespace cdpowder::testing {
 namespace {
@@ -22,7 +22,7 @@ TEST(HeadOnCollision, ClosesInTheFirstStepAndStopsApproachInTheSecond) {
   const Bodies& b = s.world.bodies;
   EXPECT_NEAR((b.position[1] - b.position[0]).norm(), 2.0, kRoundOff);  // touching, no overlap
   s.run(1);
-  EXPECT_NEAR(b.velocity[1].x() - b.velocity[0].x(), 0.0, kRoundOff);   // stuck together
+  EXPECT_NEAR(b.velocity[1].x() - b.velocity[0].x(), 0.0, kRoundOff);  // stuck together
   EXPECT_LT((total_momentum(b) - p0).norm(), kRoundOff);
 }
 

@@ -1,9 +1,9 @@
 // Analytic threshold tests of the friction laws through whole time steps (physics.md
 // §5.4, §15 items 3–5): just below a threshold the contact holds, just above it gives way
 // and transmits exactly the threshold. Below/above are 0.95× and 1.05×.
-#include <gtest/gtest.h>
-
 #include "support/tiny_world.hpp"
+
+#include <gtest/gtest.h>
 
 namespace cdpowder::testing {
 namespace {
@@ -113,7 +113,8 @@ TEST(RollingBetweenSpheres, HoldsBelowAndRollsAboveMuRollCohesionReff) {
     TinyScene s = twisted_pair(Vec3::UnitY(), factor * threshold);
     s.settings.laws.spheres.mu_roll = mu_roll;
     s.run(kSteps);
-    const double spin = (s.world.bodies.angular_velocity[1] - s.world.bodies.angular_velocity[0]).norm();
+    const double spin =
+        (s.world.bodies.angular_velocity[1] - s.world.bodies.angular_velocity[0]).norm();
     const ContactAction a = s.pair_action(0, 1);
     if (factor < 1.0) {
       EXPECT_LT(spin, kAtRest);
@@ -133,7 +134,8 @@ TEST(TorsionBetweenSpheres, HoldsBelowAndTwistsAboveMuTwistCohesionReff) {
     TinyScene s = twisted_pair(Vec3::UnitX(), factor * threshold);  // about n
     s.settings.laws.spheres.mu_twist = mu_twist;
     s.run(kSteps);
-    const double spin = (s.world.bodies.angular_velocity[1] - s.world.bodies.angular_velocity[0]).norm();
+    const double spin =
+        (s.world.bodies.angular_velocity[1] - s.world.bodies.angular_velocity[0]).norm();
     const ContactAction a = s.pair_action(0, 1);
     if (factor < 1.0) {
       EXPECT_LT(spin, kAtRest);

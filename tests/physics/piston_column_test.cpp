@@ -1,11 +1,11 @@
 // A column of spheres between the bottom wall and a loaded piston (physics.md §15 item 8,
 // §11.2): at rest every contact carries the piston force F, the piston is in force
 // balance and σ_zz = F/(L_x L_y) exactly.
-#include <gtest/gtest.h>
-
 #include "cdpowder/analysis/porosity.hpp"
 #include "cdpowder/analysis/stress.hpp"
 #include "support/tiny_world.hpp"
+
+#include <gtest/gtest.h>
 
 namespace cdpowder::testing {
 namespace {

@@ -2,9 +2,9 @@
 // sphere has, and their mean, the coordination number.
 #pragma once
 
-#include <vector>
-
 #include "cdpowder/contact/local_problem.hpp"
+
+#include <vector>
 
 namespace cdpowder {
 

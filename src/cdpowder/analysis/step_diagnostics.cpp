@@ -39,7 +39,8 @@ StepDiagnostics analyse_step(const World& world, const Contacts& contacts) {
     // n = −e_z at the piston: the force on the piston is −R, its z part +R_n
     if (w.wall == WallKind::Piston) d.piston_contact_force += action.normal_force;
   }
-  d.mean_overlap = d.closed_contacts > 0 ? overlap_sum / static_cast<double>(d.closed_contacts) : 0.0;
+  d.mean_overlap =
+      d.closed_contacts > 0 ? overlap_sum / static_cast<double>(d.closed_contacts) : 0.0;
 
   for (std::size_t i = 0; i < bodies.size(); ++i) {
     if (bodies.fixed[i] != 0) continue;

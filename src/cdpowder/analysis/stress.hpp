@@ -14,9 +14,9 @@
 namespace cdpowder {
 
 struct StressTensors {
-  Mat3 total = Mat3::Zero();        ///< σ [F_coh/R²]
-  Mat3 compressive = Mat3::Zero();  ///< σ⁺
-  Mat3 tensile = Mat3::Zero();      ///< σ⁻
+  Mat3 total = Mat3::Zero();             ///< σ [F_coh/R²]
+  Mat3 compressive = Mat3::Zero();       ///< σ⁺
+  Mat3 tensile = Mat3::Zero();           ///< σ⁻
   std::size_t compressive_contacts = 0;  ///< contacts with F_n > 0 (or = 0 and closed)
   std::size_t tensile_contacts = 0;      ///< contacts with F_n < 0
 };

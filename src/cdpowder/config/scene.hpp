@@ -4,36 +4,36 @@
 // Units: R = ρ = F_coh = 1 unless stated (physics.md §2); docs/config.md lists every key.
 #pragma once
 
+#include "cdpowder/core/vec3.hpp"
+#include "cdpowder/solver/settings.hpp"
+
 #include <cstdint>
 #include <filesystem>
 #include <optional>
 #include <string>
 
-#include "cdpowder/core/vec3.hpp"
-#include "cdpowder/solver/settings.hpp"
-
 namespace cdpowder {
 
 /// [system]: the cell, gravity, the bottom wall and the grain density.
 struct SystemConfig {
-  double lx = 25.0;                 ///< L_x, period along x [R]
-  double ly = 25.0;                 ///< L_y [R]
-  Vec3 gravity = Vec3::Zero();      ///< acceleration of spheres and piston [R/t0²]
-  double density = 1.0;             ///< ρ of every sphere [ρ]
-  bool bottom_wall = true;          ///< the immobile plane z = 0
+  double lx = 25.0;             ///< L_x, period along x [R]
+  double ly = 25.0;             ///< L_y [R]
+  Vec3 gravity = Vec3::Zero();  ///< acceleration of spheres and piston [R/t0²]
+  double density = 1.0;         ///< ρ of every sphere [ρ]
+  bool bottom_wall = true;      ///< the immobile plane z = 0
 };
 
 /// [piston]: the horizontal rigid plate pushed down along −z (physics.md §9).
 struct PistonConfig {
   bool enabled = false;
-  double mass = 1000.0;             ///< M_P [ρR³] (paper: 1000)
+  double mass = 1000.0;  ///< M_P [ρR³] (paper: 1000)
   /// Exactly one of pressure / force sets the constant push; pressure = F/(L_x L_y).
-  std::optional<double> pressure;   ///< [F_coh/R²] (paper: 1/400)
-  std::optional<double> force;      ///< [F_coh]
+  std::optional<double> pressure;  ///< [F_coh/R²] (paper: 1/400)
+  std::optional<double> force;     ///< [F_coh]
   /// Initial Z_P; unset: touching the highest sphere plus start_gap.
-  std::optional<double> height;     ///< [R]
-  double start_gap = 0.0;           ///< gap above the highest sphere when height is unset [R]
-  double velocity = 0.0;            ///< initial V_P [R/t0]
+  std::optional<double> height;  ///< [R]
+  double start_gap = 0.0;        ///< gap above the highest sphere when height is unset [R]
+  double velocity = 0.0;         ///< initial V_P [R/t0]
 
   /// F = pressure × L_x L_y or the given force.
   [[nodiscard]] double push(double area) const {
@@ -44,26 +44,26 @@ struct PistonConfig {
 /// [run.blocked]: the piston has come to rest (physics.md §9) when all of these hold at
 /// every step of a window of `window` time units.
 struct BlockedCriteria {
-  double window = 20.0;             ///< [t0]
-  double piston_speed = 1e-7;       ///< |V_P| below [R/t0]
-  double sphere_speed = 1e-6;       ///< max |v_i| below [R/t0]
-  double force_balance = 1e-3;      ///< |Σ R_c→P·e_z − F|/F below [-]
-  double height_change = 1e-6;      ///< |ΔZ_P|/Z_P over the window below [-]
+  double window = 20.0;         ///< [t0]
+  double piston_speed = 1e-7;   ///< |V_P| below [R/t0]
+  double sphere_speed = 1e-6;   ///< max |v_i| below [R/t0]
+  double force_balance = 1e-3;  ///< |Σ R_c→P·e_z − F|/F below [-]
+  double height_change = 1e-6;  ///< |ΔZ_P|/Z_P over the window below [-]
 };
 
 /// [run]: how long to run and how often to record.
 struct RunConfig {
-  double duration = 10.0;           ///< simulated time when until_blocked is false [t0]
-  bool until_blocked = false;       ///< stop at the blocked state (needs an enabled piston)
-  double max_duration = 1.0e5;      ///< give up on blocking after this simulated time [t0]
-  int timeseries_every = 1;         ///< a timeseries.csv row every K steps
+  double duration = 10.0;       ///< simulated time when until_blocked is false [t0]
+  bool until_blocked = false;   ///< stop at the blocked state (needs an enabled piston)
+  double max_duration = 1.0e5;  ///< give up on blocking after this simulated time [t0]
+  int timeseries_every = 1;     ///< a timeseries.csv row every K steps
   BlockedCriteria blocked;
 };
 
 /// A whole scene as read from TOML (plus --set overrides).
 struct Scene {
   SystemConfig system;
-  StepSettings step;                ///< [solver] and [contact], [contact.wall]
+  StepSettings step;  ///< [solver] and [contact], [contact.wall]
   PistonConfig piston;
   RunConfig run;
   std::filesystem::path particles_file;  ///< [particles] file, resolved against the scene's folder

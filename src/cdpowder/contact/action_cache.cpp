@@ -31,8 +31,8 @@ void ActionCache::store(const Contacts& contacts) {
   rewind();
 }
 
-const CachedAction* ActionCache::find(const std::vector<CachedAction>& entries,
-                                      std::size_t& cursor, std::uint64_t key) {
+const CachedAction* ActionCache::find(const std::vector<CachedAction>& entries, std::size_t& cursor,
+                                      std::uint64_t key) {
   while (cursor < entries.size() && entries[cursor].key < key) ++cursor;
   if (cursor < entries.size() && entries[cursor].key == key) return &entries[cursor];
   return nullptr;

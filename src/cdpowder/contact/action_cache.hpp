@@ -4,10 +4,10 @@
 // merge pass: O(contacts), no hashing, no allocation once capacity is reached.
 #pragma once
 
+#include "cdpowder/contact/local_problem.hpp"
+
 #include <cstdint>
 #include <vector>
-
-#include "cdpowder/contact/local_problem.hpp"
 
 namespace cdpowder {
 
@@ -34,6 +34,7 @@ class ActionCache {
   /// Merge-join lookups: call with keys in ascending order within each family.
   /// Returns nullptr if the contact did not exist in the previous step.
   const CachedAction* find_pair(std::uint64_t key) { return find(pairs_, pair_cursor_, key); }
+
   const CachedAction* find_wall(std::uint64_t key) { return find(walls_, wall_cursor_, key); }
 
   /// Rewinds the merge cursors before a new step's lookups.

@@ -7,20 +7,20 @@
 // contact still resists with μ F_coh, μ_t F_coh r_eff, μ_n F_coh r_eff.
 #pragma once
 
+#include "cdpowder/core/vec3.hpp"
+
 #include <algorithm>
 #include <cmath>
-
-#include "cdpowder/core/vec3.hpp"
 
 namespace cdpowder {
 
 /// Coefficients of one family of contacts (sphere–sphere, or sphere–wall).
 struct ContactLaw {
-  double mu = 0.3;              ///< μ, sliding friction coefficient [-]
-  double mu_roll = 0.0;         ///< μ_t, rolling friction coefficient [-]
-  double mu_twist = 0.0;        ///< μ_n, torsion friction coefficient [-]
-  double cohesion_force = 1.0;  ///< F_coh, constant attraction of a cohesive contact [F_coh]
-  double cohesion_range = 0.01; ///< d_coh, gap up to which the attraction acts [R] (§6.3)
+  double mu = 0.3;               ///< μ, sliding friction coefficient [-]
+  double mu_roll = 0.0;          ///< μ_t, rolling friction coefficient [-]
+  double mu_twist = 0.0;         ///< μ_n, torsion friction coefficient [-]
+  double cohesion_force = 1.0;   ///< F_coh, constant attraction of a cohesive contact [F_coh]
+  double cohesion_range = 0.01;  ///< d_coh, gap up to which the attraction acts [R] (§6.3)
 };
 
 /// Which pairs are cohesion-active in a step (physics.md §6.2).
@@ -31,9 +31,9 @@ enum class CohesionRule {
 
 /// All laws of a scene.
 struct ContactLaws {
-  ContactLaw spheres;                       ///< between two spheres
-  ContactLaw walls;                         ///< sphere–bottom wall and sphere–piston
-  double wall_r_eff_factor = 1.0;           ///< r_eff at a wall = factor × R_sphere (R_wall → ∞ limit)
+  ContactLaw spheres;              ///< between two spheres
+  ContactLaw walls;                ///< sphere–bottom wall and sphere–piston
+  double wall_r_eff_factor = 1.0;  ///< r_eff at a wall = factor × R_sphere (R_wall → ∞ limit)
   CohesionRule cohesion_rule = CohesionRule::Graph;
 };
 

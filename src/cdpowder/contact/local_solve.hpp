@@ -14,19 +14,20 @@
 // the global iteration converges the pair.
 #pragma once
 
-#include <algorithm>
-#include <cmath>
-
 #include "cdpowder/contact/contact_law.hpp"
 #include "cdpowder/contact/local_problem.hpp"
 #include "cdpowder/solver/velocity_cache.hpp"
 
+#include <algorithm>
+#include <cmath>
+
 namespace cdpowder {
 
-/// What one visit changed, for the stopping rules (torques divided by r_eff).
+/// What one visit changed, for the stopping rules (torques divided by r_eff). Squares, so
+/// the kernel takes no square root unless a threshold clamps.
 struct VisitChange {
-  double change = 0.0;     ///< max(|ΔR_n|, |ΔR_t|, |ΔT_t|/r_eff, |ΔT_n|/r_eff) [F_coh]
-  double magnitude = 0.0;  ///< max(|R_n|, |R_t|, |T_t|/r_eff, |T_n|/r_eff) after the visit
+  double change_sq = 0.0;  ///< max(ΔR_n², |ΔR_t|², |ΔT_t|²/r_eff², ΔT_n²/r_eff²) [F_coh²]
+  double magnitude_sq = 0.0;  ///< the same of the action after the visit
 };
 
 /// Velocity change of both spheres from a change (ΔR, ΔT) of the action on b (§5.5):
@@ -51,14 +52,24 @@ inline void apply_wall_delta(const WallProblem& w, const Vec3& dR, const Vec3& d
 
 namespace detail {
 
-inline double torque_scale(double r_eff) { return r_eff > 0.0 ? 1.0 / r_eff : 1.0; }
+/// 1/r_eff², turning squared torques into squared forces for the residuals.
+inline double torque_scale_sq(double r_eff) {
+  return r_eff > 0.0 ? 1.0 / (r_eff * r_eff) : 1.0;
+}
+
+/// Squared size of an action (torques scaled by 1/r_eff²), for the residuals.
+inline double action_size_sq(double R_n, const Vec3& R_t, const Vec3& T_t, double T_n,
+                             double inv_r_sq) {
+  return std::max(
+      {R_n * R_n, R_t.squaredNorm(), T_t.squaredNorm() * inv_r_sq, T_n * T_n * inv_r_sq});
+}
 
 /// Modes 2–4 given S ≥ 0 and the current relative velocities; shared by both kernels.
 /// `relative_angular` must return Ω = ω_b − ω_a after the sliding update.
 template <typename ApplyForce, typename ApplyTorque, typename RelativeAngular>
 inline void solve_friction_modes(const Vec3& n, const Vec3& V_t, double S, double mu,
                                  double roll_cap, double twist_cap, double inv_dt_w_t,
-                                 double inv_dt_w_r, ContactAction& action, double inv_r,
+                                 double inv_dt_w_r, ContactAction& action, double inv_r_sq,
                                  VisitChange& out, ApplyForce&& apply_force,
                                  ApplyTorque&& apply_torque, RelativeAngular&& relative_angular) {
   // 2 sliding: stick if the trial force is inside the disc μ S, else slide on its rim
@@ -80,10 +91,8 @@ inline void solve_friction_modes(const Vec3& n, const Vec3& V_t, double S, doubl
   action.twisting_torque = T_n;
   apply_torque(dT_t + dT_n * n);
 
-  out.change = std::max({out.change, std::sqrt(dR_t.squaredNorm()),
-                         std::sqrt(dT_t.squaredNorm()) * inv_r, std::abs(dT_n) * inv_r});
-  out.magnitude = std::max({out.magnitude, std::sqrt(R_t.squaredNorm()),
-                            std::sqrt(T_t.squaredNorm()) * inv_r, std::abs(T_n) * inv_r});
+  out.change_sq = std::max(out.change_sq, action_size_sq(0.0, dR_t, dT_t, dT_n, inv_r_sq));
+  out.magnitude_sq = std::max(out.magnitude_sq, action_size_sq(0.0, R_t, T_t, T_n, inv_r_sq));
 }
 
 }  // namespace detail
@@ -94,7 +103,7 @@ inline VisitChange solve_pair(const PairProblem& p, ContactAction& action, Spher
   const Vec3& n = p.normal;
   const Vec3 V = (b.linear - a.linear) - (p.radius_a * a.angular + p.radius_b * b.angular).cross(n);
   const double V_n = V.dot(n);
-  const double inv_r = detail::torque_scale(p.r_eff);
+  const double inv_r_sq = detail::torque_scale_sq(p.r_eff);
   VisitChange out;
 
   // 1 normal: closed iff the trial force keeps S = R_n + F_c ≥ 0
@@ -103,11 +112,10 @@ inline VisitChange solve_pair(const PairProblem& p, ContactAction& action, Spher
     // open or opening: R_n = −F_c, every threshold is zero (§5.4 step 1)
     const Vec3 dR = (-p.cohesion - action.normal_force) * n - action.tangential_force;
     const Vec3 dT = -action.rolling_torque - action.twisting_torque * n;
-    out.change = std::max({std::abs(-p.cohesion - action.normal_force),
-                           std::sqrt(action.tangential_force.squaredNorm()),
-                           std::sqrt(action.rolling_torque.squaredNorm()) * inv_r,
-                           std::abs(action.twisting_torque) * inv_r});
-    out.magnitude = p.cohesion;
+    out.change_sq =
+        detail::action_size_sq(-p.cohesion - action.normal_force, action.tangential_force,
+                               action.rolling_torque, action.twisting_torque, inv_r_sq);
+    out.magnitude_sq = p.cohesion * p.cohesion;
     action = ContactAction{};
     action.normal_force = -p.cohesion;
     apply_pair_delta(p, dR, dT, a, b);
@@ -118,13 +126,13 @@ inline VisitChange solve_pair(const PairProblem& p, ContactAction& action, Spher
   // a normal force moves no angular velocity (l × n = 0) and leaves V_t unchanged
   a.linear -= a.dt_inverse_mass * dR_n * n;
   b.linear += b.dt_inverse_mass * dR_n * n;
-  out.change = std::abs(dR_n);
-  out.magnitude = std::abs(R_n_trial);
+  out.change_sq = dR_n * dR_n;
+  out.magnitude_sq = R_n_trial * R_n_trial;
 
   const double S = R_n_trial + p.cohesion;
   const Vec3 V_t = V - V_n * n;
   detail::solve_friction_modes(
-      n, V_t, S, p.mu, p.roll_cap, p.twist_cap, p.inv_dt_w_t, p.inv_dt_w_r, action, inv_r, out,
+      n, V_t, S, p.mu, p.roll_cap, p.twist_cap, p.inv_dt_w_t, p.inv_dt_w_r, action, inv_r_sq, out,
       [&](const Vec3& dR_t) { apply_pair_delta(p, dR_t, Vec3::Zero(), a, b); },
       [&](const Vec3& dT) {
         a.angular -= a.dt_inverse_inertia * dT;
@@ -143,18 +151,17 @@ inline VisitChange solve_wall(const WallProblem& w, ContactAction& action, Spher
   const Vec3 V =
       s.linear - w.radius * s.angular.cross(n) - Vec3(0.0, 0.0, w.wall_moves * wall_velocity);
   const double V_n = V.dot(n);
-  const double inv_r = detail::torque_scale(w.radius);
+  const double inv_r_sq = detail::torque_scale_sq(w.radius);
   VisitChange out;
 
   const double R_n_trial = action.normal_force - w.inv_dt_w_n * (V_n + w.gap_rate);
   if (R_n_trial < -w.cohesion) {
     const Vec3 dR = (-w.cohesion - action.normal_force) * n - action.tangential_force;
     const Vec3 dT = -action.rolling_torque - action.twisting_torque * n;
-    out.change = std::max({std::abs(-w.cohesion - action.normal_force),
-                           std::sqrt(action.tangential_force.squaredNorm()),
-                           std::sqrt(action.rolling_torque.squaredNorm()) * inv_r,
-                           std::abs(action.twisting_torque) * inv_r});
-    out.magnitude = w.cohesion;
+    out.change_sq =
+        detail::action_size_sq(-w.cohesion - action.normal_force, action.tangential_force,
+                               action.rolling_torque, action.twisting_torque, inv_r_sq);
+    out.magnitude_sq = w.cohesion * w.cohesion;
     action = ContactAction{};
     action.normal_force = -w.cohesion;
     apply_wall_delta(w, dR, dT, s, wall_velocity);
@@ -163,13 +170,13 @@ inline VisitChange solve_wall(const WallProblem& w, ContactAction& action, Spher
   const double dR_n = R_n_trial - action.normal_force;
   action.normal_force = R_n_trial;
   apply_wall_delta(w, dR_n * n, Vec3::Zero(), s, wall_velocity);
-  out.change = std::abs(dR_n);
-  out.magnitude = std::abs(R_n_trial);
+  out.change_sq = dR_n * dR_n;
+  out.magnitude_sq = R_n_trial * R_n_trial;
 
   const double S = R_n_trial + w.cohesion;
   const Vec3 V_t = V - V_n * n;
   detail::solve_friction_modes(
-      n, V_t, S, w.mu, w.roll_cap, w.twist_cap, w.inv_dt_w_t, w.inv_dt_w_r, action, inv_r, out,
+      n, V_t, S, w.mu, w.roll_cap, w.twist_cap, w.inv_dt_w_t, w.inv_dt_w_r, action, inv_r_sq, out,
       [&](const Vec3& dR_t) { apply_wall_delta(w, dR_t, Vec3::Zero(), s, wall_velocity); },
       [&](const Vec3& dT) { s.angular += s.dt_inverse_inertia * dT; },
       [&] { return Vec3(s.angular); });

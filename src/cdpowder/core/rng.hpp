@@ -4,8 +4,9 @@
 // sequences differ between standard libraries, ours must not.
 #pragma once
 
-#include <cstdint>
 #include <pcg_random.hpp>
+
+#include <cstdint>
 #include <span>
 #include <utility>
 

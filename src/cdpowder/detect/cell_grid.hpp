@@ -4,13 +4,13 @@
 // candidate pair sits in the same or a neighbouring cell (physics.md §4.3).
 #pragma once
 
-#include <array>
-#include <cstdint>
-#include <vector>
-
 #include "cdpowder/core/index.hpp"
 #include "cdpowder/core/vec3.hpp"
 #include "cdpowder/model/periodic_box.hpp"
+
+#include <array>
+#include <cstdint>
+#include <vector>
 
 namespace cdpowder {
 
@@ -26,7 +26,9 @@ class CellGrid {
   void for_each_near_pair(Visitor&& visit) const;
 
   [[nodiscard]] int cells_x() const { return nx_; }
+
   [[nodiscard]] int cells_y() const { return ny_; }
+
   [[nodiscard]] int cells_z() const { return nz_; }
 
  private:
@@ -38,9 +40,10 @@ class CellGrid {
   int nx_ = 1;
   int ny_ = 1;
   int nz_ = 1;
-  std::vector<int> cell_of_;               ///< cell of every sphere
-  std::vector<std::uint32_t> cell_start_;  ///< spheres of cell c: sorted_[cell_start_[c] .. cell_start_[c+1])
-  std::vector<BodyIndex> sorted_;          ///< sphere indices ordered by cell
+  std::vector<int> cell_of_;  ///< cell of every sphere
+  std::vector<std::uint32_t>
+      cell_start_;  ///< spheres of cell c: sorted_[cell_start_[c] .. cell_start_[c+1])
+  std::vector<BodyIndex> sorted_;  ///< sphere indices ordered by cell
 };
 
 template <typename Visitor>

@@ -2,10 +2,10 @@
 // and the start-of-step geometry that stays frozen during the sweeps (physics.md §3).
 #include "cdpowder/detect/detect_contacts.hpp"
 
+#include "cdpowder/contact/action_cache.hpp"
+
 #include <algorithm>
 #include <cmath>
-
-#include "cdpowder/contact/action_cache.hpp"
 
 namespace cdpowder {
 

@@ -3,34 +3,34 @@
 // masses [ρR³], forces [F_coh], torques [F_coh R] (physics.md §2).
 #pragma once
 
+#include "cdpowder/core/index.hpp"
+#include "cdpowder/core/vec3.hpp"
+
 #include <cstddef>
 #include <cstdint>
 #include <numbers>
 #include <vector>
 
-#include "cdpowder/core/index.hpp"
-#include "cdpowder/core/vec3.hpp"
-
 namespace cdpowder {
 
 struct Bodies {
-  std::vector<Vec3> position;          ///< r_i, sphere centre [R]
-  std::vector<Vec3> velocity;          ///< v_i(t) [R/t0]
-  std::vector<Vec3> angular_velocity;  ///< ω_i(t) [1/t0]
-  std::vector<double> radius;          ///< R_i [R]
-  std::vector<double> inverse_mass;    ///< 1/m_i, 0 for a fixed sphere [1/(ρR³)]
-  std::vector<double> inverse_inertia; ///< 1/I_i, solid sphere I = (2/5) m R², 0 if fixed
-  std::vector<Vec3> external_force;    ///< constant applied force (gravity not included) [F_coh]
-  std::vector<Vec3> external_torque;   ///< constant applied torque [F_coh R]
-  std::vector<std::uint8_t> fixed;     ///< 1: the sphere never moves (infinite mass and inertia)
+  std::vector<Vec3> position;           ///< r_i, sphere centre [R]
+  std::vector<Vec3> velocity;           ///< v_i(t) [R/t0]
+  std::vector<Vec3> angular_velocity;   ///< ω_i(t) [1/t0]
+  std::vector<double> radius;           ///< R_i [R]
+  std::vector<double> inverse_mass;     ///< 1/m_i, 0 for a fixed sphere [1/(ρR³)]
+  std::vector<double> inverse_inertia;  ///< 1/I_i, solid sphere I = (2/5) m R², 0 if fixed
+  std::vector<Vec3> external_force;     ///< constant applied force (gravity not included) [F_coh]
+  std::vector<Vec3> external_torque;    ///< constant applied torque [F_coh R]
+  std::vector<std::uint8_t> fixed;      ///< 1: the sphere never moves (infinite mass and inertia)
 
   [[nodiscard]] std::size_t size() const { return position.size(); }
 
   /// Appends a sphere of the given radius and density at rest; returns its index.
   BodyIndex add_sphere(const Vec3& centre, double sphere_radius, double density,
                        bool is_fixed = false) {
-    const double mass = density * 4.0 / 3.0 * std::numbers::pi * sphere_radius * sphere_radius *
-                        sphere_radius;
+    const double mass =
+        density * 4.0 / 3.0 * std::numbers::pi * sphere_radius * sphere_radius * sphere_radius;
     const double inertia = 0.4 * mass * sphere_radius * sphere_radius;
     position.push_back(centre);
     velocity.push_back(Vec3::Zero());

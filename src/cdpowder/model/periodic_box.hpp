@@ -1,9 +1,9 @@
 // periodic_box.hpp — the simulation cell: periodic in x and y, open in z (physics.md §4.2).
 #pragma once
 
-#include <cmath>
-
 #include "cdpowder/core/vec3.hpp"
+
+#include <cmath>
 
 namespace cdpowder {
 

@@ -2,12 +2,12 @@
 // Scratch buffers reused between steps live in StepWorkspace, not here.
 #pragma once
 
-#include <cstdint>
-
 #include "cdpowder/core/vec3.hpp"
 #include "cdpowder/model/bodies.hpp"
 #include "cdpowder/model/periodic_box.hpp"
 #include "cdpowder/model/walls.hpp"
+
+#include <cstdint>
 
 namespace cdpowder {
 

@@ -44,13 +44,15 @@ void predict_velocities(const World& world, double dt, VelocityCache& velocities
     }
     s.dt_inverse_mass = dt * bodies.inverse_mass[i];
     s.dt_inverse_inertia = dt * bodies.inverse_inertia[i];
-    s.linear = bodies.velocity[i] + s.dt_inverse_mass * bodies.external_force[i] + dt * world.gravity;
+    s.linear =
+        bodies.velocity[i] + s.dt_inverse_mass * bodies.external_force[i] + dt * world.gravity;
     s.angular = bodies.angular_velocity[i] + s.dt_inverse_inertia * bodies.external_torque[i];
   }
   const Piston& piston = world.walls.piston;
   velocities.piston_velocity =
-      piston.enabled ? piston.velocity + dt * (-piston.force * piston.inverse_mass() + world.gravity.z())
-                     : 0.0;
+      piston.enabled
+          ? piston.velocity + dt * (-piston.force * piston.inverse_mass() + world.gravity.z())
+          : 0.0;
 }
 
 }  // namespace

@@ -1,15 +1,15 @@
 // nlgs.cpp — the sweep loop and the stopping rules.
 #include "cdpowder/solver/nlgs.hpp"
 
+#include "cdpowder/contact/local_solve.hpp"
+#include "cdpowder/solver/build.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
 #include <numeric>
 #include <span>
-
-#include "cdpowder/contact/local_solve.hpp"
-#include "cdpowder/solver/build.hpp"
 
 namespace cdpowder {
 
@@ -26,6 +26,27 @@ constexpr double kMaxContraction = 0.999;
 constexpr double kRestartGrowth = 10.0;
 
 constexpr std::size_t kDoublesPerAction = 8;
+
+/// Contacts per block of the per-step order. Contacts are stored sorted by their bodies, so
+/// a block touches a few neighbouring spheres; shuffling blocks instead of single contacts
+/// keeps the order random at every scale above a few spheres while a sweep streams through
+/// memory. Beyond cache, a fully random order costs ≈ 470 ns per update (physics.md §17).
+constexpr std::size_t kVisitBlock = 16;
+
+/// order = a random permutation of blocks of kVisitBlock consecutive contact indices.
+void shuffle_blocks(std::vector<ContactIndex>& order, std::vector<ContactIndex>& blocks, Rng& rng) {
+  const std::size_t n = order.size();
+  const std::size_t block_count = (n + kVisitBlock - 1) / kVisitBlock;
+  blocks.resize(block_count);
+  std::iota(blocks.begin(), blocks.end(), ContactIndex{0});
+  shuffle_indices(std::span<ContactIndex>(blocks), rng);
+  std::size_t o = 0;
+  for (const ContactIndex b : blocks) {
+    const std::size_t first = b * kVisitBlock;
+    const std::size_t last = std::min(n, first + kVisitBlock);
+    for (std::size_t k = first; k < last; ++k) order[o++] = static_cast<ContactIndex>(k);
+  }
+}
 
 void flatten(const Contacts& contacts, std::vector<double>& out) {
   out.resize(kDoublesPerAction * contacts.size());
@@ -89,9 +110,9 @@ SweepSums run_sweep(Contacts& contacts, VelocityCache& velocities) {
       normal_force = action.normal_force;
       cohesion = w.cohesion;
     }
-    sums.max_change = std::max(sums.max_change, change.change);
-    sums.sum_change += change.change;
-    sums.sum_magnitude += change.magnitude;
+    sums.max_change_sq = std::max(sums.max_change_sq, change.change_sq);
+    sums.sum_change_sq += change.change_sq;
+    sums.sum_magnitude_sq += change.magnitude_sq;
     if (normal_force + cohesion > 0.0) {
       sums.sum_closed_normal += std::abs(normal_force);
       ++sums.closed;
@@ -100,15 +121,18 @@ SweepSums run_sweep(Contacts& contacts, VelocityCache& velocities) {
   return sums;
 }
 
+void prepare_visit_order(Contacts& contacts, VisitOrder policy, NlgsWorkspace& work) {
+  std::vector<ContactIndex>& order = contacts.visit_order;
+  order.resize(contacts.size());
+  std::iota(order.begin(), order.end(), ContactIndex{0});
+  if (policy == VisitOrder::RandomEachStep) shuffle_blocks(order, work.blocks, work.rng);
+}
+
 SolverStats solve_nlgs(Contacts& contacts, VelocityCache& velocities,
                        const SolverSettings& settings, double reference_force,
                        NlgsWorkspace& work) {
   std::vector<ContactIndex>& order = contacts.visit_order;
-  order.resize(contacts.size());
-  std::iota(order.begin(), order.end(), ContactIndex{0});
-  if (settings.visit_order == VisitOrder::RandomEachStep) {
-    shuffle_indices(std::span<ContactIndex>(order), work.rng);
-  }
+  prepare_visit_order(contacts, settings.visit_order, work);
   const bool accelerate = settings.acceleration_depth > 0;
   if (accelerate) {
     work.accelerator = AndersonAccelerator(settings.acceleration_depth);
@@ -133,8 +157,9 @@ SolverStats solve_nlgs(Contacts& contacts, VelocityCache& velocities,
         sums.closed > 0 ? sums.sum_closed_normal / static_cast<double>(sums.closed) : 0.0;
     stats.force_scale = std::max({reference_force, mean_closed, 1e-300});
     stats.sweeps = sweep;
-    stats.residual = sums.max_change / stats.force_scale;
-    stats.relative_change = sums.sum_magnitude > 0.0 ? sums.sum_change / sums.sum_magnitude : 0.0;
+    stats.residual = std::sqrt(sums.max_change_sq) / stats.force_scale;
+    stats.relative_change =
+        sums.sum_magnitude_sq > 0.0 ? std::sqrt(sums.sum_change_sq / sums.sum_magnitude_sq) : 0.0;
     recent[static_cast<std::size_t>(sweep) % recent.size()] = stats.residual;
 
     if (accelerate) {

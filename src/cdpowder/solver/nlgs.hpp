@@ -12,24 +12,27 @@ namespace cdpowder {
 
 /// What the sweeps of one step did.
 struct SolverStats {
-  int sweeps = 0;                ///< sweeps performed
-  bool converged = false;        ///< the stopping rule was met (false: capped at max_sweeps)
-  double residual = 0.0;         ///< largest force correction of the last sweep / force scale
-  double contraction = 0.0;      ///< ρ, measured ratio of residuals per sweep
-  double error_estimate = 0.0;   ///< residual/(1 − ρ): remaining relative force error
-  double relative_change = 0.0;  ///< ⟨|ΔX|⟩/⟨|X|⟩ of the last sweep ([S+12] criterion II)
-  double force_scale = 0.0;      ///< F_ref = max(F_coh, mean |R_n| of closed contacts) [F_coh]
+  int sweeps = 0;               ///< sweeps performed
+  bool converged = false;       ///< the stopping rule was met (false: capped at max_sweeps)
+  double residual = 0.0;        ///< largest force correction of the last sweep / force scale
+  double contraction = 0.0;     ///< ρ, measured ratio of residuals per sweep
+  double error_estimate = 0.0;  ///< residual/(1 − ρ): remaining relative force error
+  double relative_change =
+      0.0;  ///< √(Σ|ΔX|²/Σ|X|²) of the last sweep ([S+12] criterion II, RMS form)
+  double force_scale = 0.0;  ///< F_ref = max(F_coh, mean |R_n| of closed contacts) [F_coh]
 };
 
 /// Scratch state of the solver reused across steps: the sweep-order stream and the
 /// buffers of the acceleration (no allocation in steady state).
 struct NlgsWorkspace {
   explicit NlgsWorkspace(std::uint64_t seed) : rng(make_rng(seed, RngStream::SweepOrder)) {}
+
   Rng rng;
   AndersonAccelerator accelerator;
-  std::vector<double> start;     ///< actions the sweep started from, flattened (8 per contact)
-  std::vector<double> swept;     ///< actions after the sweep
-  std::vector<double> mixed;     ///< accelerated actions
+  std::vector<double> start;         ///< actions the sweep started from, flattened (8 per contact)
+  std::vector<double> swept;         ///< actions after the sweep
+  std::vector<double> mixed;         ///< accelerated actions
+  std::vector<ContactIndex> blocks;  ///< block permutation of the per-step order
 };
 
 /// Sweeps until the stopping rule holds or max_sweeps is reached. Each visit solves one
@@ -38,18 +41,22 @@ struct NlgsWorkspace {
 /// acceleration_depth > 0, every sweep is followed by an Anderson mixing step.
 /// `reference_force` is the force scale below which forces count as small (F_coh).
 SolverStats solve_nlgs(Contacts& contacts, VelocityCache& velocities,
-                       const SolverSettings& settings, double reference_force,
-                       NlgsWorkspace& work);
+                       const SolverSettings& settings, double reference_force, NlgsWorkspace& work);
+
+/// Fills contacts.visit_order for a new step: storage order, or a random permutation of
+/// blocks (RandomEachStep; RandomEachSweep reshuffles every sweep inside solve_nlgs).
+void prepare_visit_order(Contacts& contacts, VisitOrder policy, NlgsWorkspace& work);
 
 /// One sweep in the given order; returns the sweep's largest change and sums. Exposed for
 /// the benchmark of the kernel.
 struct SweepSums {
-  double max_change = 0.0;
-  double sum_change = 0.0;
-  double sum_magnitude = 0.0;
+  double max_change_sq = 0.0;  ///< largest squared correction of a visit [F_coh²]
+  double sum_change_sq = 0.0;
+  double sum_magnitude_sq = 0.0;
   double sum_closed_normal = 0.0;
   std::size_t closed = 0;
 };
+
 SweepSums run_sweep(Contacts& contacts, VelocityCache& velocities);
 
 }  // namespace cdpowder

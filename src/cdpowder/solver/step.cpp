@@ -2,11 +2,11 @@
 // each reads what the one before it wrote. Contact geometry is frozen after stage 1 (§3).
 #include "cdpowder/solver/step.hpp"
 
-#include <chrono>
-
 #include "cdpowder/detect/detect_contacts.hpp"
 #include "cdpowder/solver/build.hpp"
 #include "cdpowder/solver/integrate.hpp"
+
+#include <chrono>
 
 namespace cdpowder {
 
@@ -37,8 +37,8 @@ StepReport step(World& world, StepWorkspace& work, const StepSettings& settings)
   clock.lap(Stage::BuildLocalProblems, report.times);
 
   const double reference_force = settings.laws.spheres.cohesion_force;
-  report.solver = solve_nlgs(work.contacts, work.velocities, settings.solver, reference_force,
-                             work.solver);
+  report.solver =
+      solve_nlgs(work.contacts, work.velocities, settings.solver, reference_force, work.solver);
   work.action_cache.store(work.contacts);  // warm start of the next step (§7.4)
   clock.lap(Stage::SolveNlgs, report.times);
 

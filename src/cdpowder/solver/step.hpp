@@ -1,8 +1,6 @@
 // step.hpp — one Moreau–Jean time step as five named stages (physics.md §7.6).
 #pragma once
 
-#include <array>
-
 #include "cdpowder/analysis/step_diagnostics.hpp"
 #include "cdpowder/contact/action_cache.hpp"
 #include "cdpowder/contact/local_problem.hpp"
@@ -12,6 +10,8 @@
 #include "cdpowder/solver/nlgs.hpp"
 #include "cdpowder/solver/settings.hpp"
 #include "cdpowder/solver/velocity_cache.hpp"
+
+#include <array>
 
 namespace cdpowder {
 
@@ -31,6 +31,7 @@ struct StepReport {
 /// World does not need it, except the action cache for a bit-identical warm start.
 struct StepWorkspace {
   explicit StepWorkspace(std::uint64_t seed) : solver(seed) {}
+
   CellGrid grid;
   Contacts contacts;
   VelocityCache velocities;

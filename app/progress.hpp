@@ -1,0 +1,33 @@
+// progress.hpp — the live progress line of long runs on stderr: simulated time, piston
+// height, porosity, sweeps per step, contacts, elapsed and estimated remaining wall time.
+// Redrawn at most every `interval` seconds; silent when quiet.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+
+#include "cdpowder/solver/step.hpp"
+
+namespace cdpowder::app {
+
+class ProgressLine {
+ public:
+  explicit ProgressLine(bool quiet, double interval_seconds = 0.5);
+
+  /// fraction: share of the run's time budget done (0..1).
+  void update(const World& world, const StepReport& report, double fraction);
+
+  /// Ends the line (newline) if anything was drawn.
+  void finish();
+
+ private:
+  bool quiet_;
+  double interval_;
+  bool drawn_ = false;
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+  std::chrono::steady_clock::time_point last_ = start_;
+  std::int64_t sweeps_since_draw_ = 0;
+  std::int64_t steps_since_draw_ = 0;
+};
+
+}  // namespace cdpowder::app

@@ -1,0 +1,99 @@
+// config_error.hpp — bad input (style guide 3.7): one ConfigIssue per mistake, formatted as
+// `file:line:column: key: message`, and the ConfigError that carries all issues of a read
+// at once. Also the "did you mean" suggestion shared by the scene and particle readers.
+// app/main.cpp turns a ConfigError into its text and exit code 2.
+#pragma once
+
+#include <algorithm>
+#include <cstddef>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+namespace cdpowder {
+
+/// One mistake in the input. line/column are 1-based; 0 means unknown or not applicable.
+struct ConfigIssue {
+  std::string file;     ///< the file, or "--set" for a command-line override
+  int line = 0;         ///< line in `file`, 0 if none
+  int column = 0;       ///< column in `line`, 0 if none
+  std::string key;      ///< dotted config key or CSV column name; may be empty
+  std::string message;  ///< what was found and what is allowed
+};
+
+/// `file:line:column: key: message`; line and column are left out when 0, key when empty.
+inline std::string format(const ConfigIssue& issue) {
+  std::string text = issue.file;
+  if (issue.line > 0) {
+    text += ':' + std::to_string(issue.line);
+    if (issue.column > 0) {
+      text += ':' + std::to_string(issue.column);
+    }
+  }
+  text += ": ";
+  if (!issue.key.empty()) {
+    text += issue.key + ": ";
+  }
+  return text + issue.message;
+}
+
+/// Every issue of one read; what() is all of them, one per line.
+class ConfigError : public std::runtime_error {
+ public:
+  explicit ConfigError(std::vector<ConfigIssue> issues)
+      : std::runtime_error(join(issues)), issues_(std::move(issues)) {}
+
+  [[nodiscard]] const std::vector<ConfigIssue>& issues() const { return issues_; }
+
+ private:
+  static std::string join(const std::vector<ConfigIssue>& issues) {
+    std::string text;
+    for (const ConfigIssue& issue : issues) {
+      if (!text.empty()) {
+        text += '\n';
+      }
+      text += format(issue);
+    }
+    return text;
+  }
+
+  std::vector<ConfigIssue> issues_;
+};
+
+/// Levenshtein distance between two names (used only on short key names).
+inline std::size_t edit_distance(std::string_view a, std::string_view b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) {
+    row[j] = j;
+  }
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t above = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = above;
+    }
+  }
+  return row[b.size()];
+}
+
+/// "; did you mean 'x'?" for the first known name closest to `name` within edit distance 2,
+/// or "" when none is that close. A typo must never fall back silently to a default.
+inline std::string did_you_mean(std::string_view name, const std::vector<std::string>& known) {
+  constexpr std::size_t kMaxDistance = 2;
+  const std::string* best = nullptr;
+  std::size_t best_distance = kMaxDistance + 1;
+  for (const std::string& candidate : known) {
+    const std::size_t distance = edit_distance(name, candidate);
+    if (distance < best_distance) {
+      best = &candidate;
+      best_distance = distance;
+    }
+  }
+  return best != nullptr ? "; did you mean '" + *best + "'?" : std::string();
+}
+
+}  // namespace cdpowder

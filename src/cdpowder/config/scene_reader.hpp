@@ -1,0 +1,29 @@
+// scene_reader.hpp — reads a scene TOML file plus `--set section.key=value` overrides into
+// a validated Scene. This is the one place where the scene is checked (style guide 3.8);
+// every mistake becomes a ConfigIssue and all of them are thrown together as a ConfigError.
+// docs/config.md lists every key, its symbol, unit, default and allowed range.
+#pragma once
+
+#include "cdpowder/config/config_error.hpp"
+#include "cdpowder/config/scene.hpp"
+
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace cdpowder {
+
+/// Reads and validates `file` with `overrides` ("section.key=value", applied in order, after
+/// the file and before validation). [particles] file is resolved against the folder of
+/// `file`. Throws ConfigError listing every issue found (unreadable file, TOML syntax,
+/// malformed override, unknown key, wrong type, value out of range, inconsistent keys).
+Scene read_scene(const std::filesystem::path& file, const std::vector<std::string>& overrides);
+
+/// As read_scene, from text already in memory. `source_name` names the text in messages and
+/// becomes Scene::source; a relative [particles] file is resolved against `base_dir`.
+Scene read_scene_text(std::string_view toml_text, std::string_view source_name,
+                      const std::vector<std::string>& overrides,
+                      const std::filesystem::path& base_dir);
+
+}  // namespace cdpowder

@@ -1,0 +1,32 @@
+// run_loop.hpp — steps a world for a duration, or until the blocked state within a
+// maximum duration, and reports every step to an observer (time series, progress).
+// The loop prints nothing; the app decides what to show.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+
+#include "cdpowder/config/scene.hpp"
+#include "cdpowder/solver/step.hpp"
+
+namespace cdpowder {
+
+struct RunResult {
+  bool blocked = false;              ///< the blocked state was reached (until_blocked runs)
+  std::int64_t steps = 0;
+  std::int64_t total_sweeps = 0;
+  std::int64_t capped_steps = 0;     ///< steps whose NLGS hit max_sweeps
+  double max_overlap_seen = 0.0;     ///< largest overlap after any step [R]
+  double wall_seconds = 0.0;
+  StageTimes stage_seconds{};        ///< summed over all steps
+  StepReport last;                   ///< report of the final step
+};
+
+/// Called after every step with the world after the step, its report, and the fraction of
+/// the run's time budget used (duration, or max_duration for until_blocked runs).
+using StepObserver = std::function<void(const World&, const StepReport&, double fraction)>;
+
+RunResult run_simulation(World& world, StepWorkspace& work, const StepSettings& settings,
+                         const RunConfig& run, const StepObserver& observer);
+
+}  // namespace cdpowder

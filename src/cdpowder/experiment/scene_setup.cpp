@@ -1,0 +1,33 @@
+// scene_setup.cpp — Scene → World.
+#include "cdpowder/experiment/scene_setup.hpp"
+
+#include <algorithm>
+
+#include "cdpowder/config/particles_csv.hpp"
+
+namespace cdpowder {
+
+World make_world(const Scene& scene) {
+  World world;
+  world.box = PeriodicBox{scene.system.lx, scene.system.ly};
+  world.gravity = scene.system.gravity;
+  world.walls.bottom.enabled = scene.system.bottom_wall;
+  read_particles_csv(scene.particles_file, scene.system.density, world.bodies);
+  check_box_fits(scene, world.bodies);
+
+  Piston& piston = world.walls.piston;
+  piston.enabled = scene.piston.enabled;
+  if (piston.enabled) {
+    piston.mass = scene.piston.mass;
+    piston.force = scene.piston.push(world.box.area());
+    piston.velocity = scene.piston.velocity;
+    double top = 0.0;
+    for (std::size_t i = 0; i < world.bodies.size(); ++i) {
+      top = std::max(top, world.bodies.position[i].z() + world.bodies.radius[i]);
+    }
+    piston.height = scene.piston.height.value_or(top + scene.piston.start_gap);
+  }
+  return world;
+}
+
+}  // namespace cdpowder

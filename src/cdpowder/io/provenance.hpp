@@ -1,0 +1,15 @@
+// provenance.hpp — what produced an output: program version and commit, scene, seed.
+// Every CSV starts with these as '#' lines (the particle reader skips them), and
+// summary.json carries them as fields, so a result can always be traced and rerun.
+#pragma once
+
+#include <string>
+
+#include "cdpowder/config/scene.hpp"
+
+namespace cdpowder {
+
+/// "# cdpowder 0.1.0 (commit abc123)\n# scene: …\n# seed: 1\n"
+std::string provenance_header(const Scene& scene);
+
+}  // namespace cdpowder

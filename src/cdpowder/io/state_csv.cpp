@@ -1,0 +1,66 @@
+// state_csv.cpp — CSV text of spheres and contacts. Numbers use fmt's shortest exact form,
+// so re-reading a file gives the same doubles.
+#include "cdpowder/io/state_csv.hpp"
+
+#include <fmt/format.h>
+
+#include <iterator>
+
+#include "cdpowder/core/index.hpp"
+
+namespace cdpowder {
+
+namespace {
+
+void append_vec(std::string& out, const Vec3& v) {
+  fmt::format_to(std::back_inserter(out), ",{},{},{}", v.x(), v.y(), v.z());
+}
+
+void append_contact(std::string& out, std::int64_t a, std::int64_t b, const Vec3& n,
+                    const ContactAction& action, double gap, bool cohesive, double cohesion) {
+  fmt::format_to(std::back_inserter(out), "{},{}", a, b);
+  append_vec(out, n);
+  fmt::format_to(std::back_inserter(out), ",{}", action.normal_force);
+  append_vec(out, action.tangential_force);
+  append_vec(out, action.rolling_torque);
+  const bool closed = action.normal_force + cohesion > 0.0;
+  fmt::format_to(std::back_inserter(out), ",{},{},{},{}\n", action.twisting_torque, gap,
+                 cohesive ? 1 : 0, closed ? "closed" : "open");
+}
+
+}  // namespace
+
+std::string particles_csv(const Bodies& bodies, const std::string& header) {
+  std::string out = header;
+  out += "id,x,y,z,r,vx,vy,vz,wx,wy,wz,fx,fy,fz,tx,ty,tz,fixed\n";
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    fmt::format_to(std::back_inserter(out), "{}", i);
+    append_vec(out, bodies.position[i]);
+    fmt::format_to(std::back_inserter(out), ",{}", bodies.radius[i]);
+    append_vec(out, bodies.velocity[i]);
+    append_vec(out, bodies.angular_velocity[i]);
+    append_vec(out, bodies.external_force[i]);
+    append_vec(out, bodies.external_torque[i]);
+    fmt::format_to(std::back_inserter(out), ",{}\n", static_cast<int>(bodies.fixed[i]));
+  }
+  return out;
+}
+
+std::string contacts_csv(const Contacts& contacts, const std::string& header) {
+  std::string out = header;
+  out += "a,b,nx,ny,nz,normal_force,tx,ty,tz,rx,ry,rz,twist,gap,cohesive,state\n";
+  for (std::size_t k = 0; k < contacts.pairs.size(); ++k) {
+    const PairProblem& p = contacts.pairs[k];
+    append_contact(out, p.a, p.b, p.normal, contacts.pair_actions[k], p.gap,
+                   contacts.pair_cohesive[k] != 0, p.cohesion);
+  }
+  for (std::size_t k = 0; k < contacts.walls.size(); ++k) {
+    const WallProblem& w = contacts.walls[k];
+    const std::int64_t wall = w.wall == WallKind::Bottom ? kBottomWallId : kPistonId;
+    append_contact(out, wall, w.sphere, w.normal, contacts.wall_actions[k], w.gap,
+                   contacts.wall_cohesive[k] != 0, w.cohesion);
+  }
+  return out;
+}
+
+}  // namespace cdpowder

@@ -1,0 +1,97 @@
+// summary.cpp — assembling summary.json with nlohmann::json (escaping, number formatting).
+#include "cdpowder/io/summary.hpp"
+
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <toml++/toml.h>
+
+#include "cdpowder/analysis/coordination.hpp"
+#include "cdpowder/analysis/porosity.hpp"
+#include "cdpowder/analysis/stress.hpp"
+#include "cdpowder/version.hpp"
+
+namespace cdpowder {
+
+namespace {
+
+nlohmann::json matrix(const Mat3& m) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (int i = 0; i < 3; ++i) rows.push_back({m(i, 0), m(i, 1), m(i, 2)});
+  return rows;
+}
+
+/// The effective scene as a JSON object (toml++ converts), so tools need no TOML parser.
+nlohmann::json scene_json(const Scene& scene) {
+  std::ostringstream text;
+  text << toml::json_formatter{toml::parse(scene.effective_toml)};
+  return nlohmann::json::parse(text.str());
+}
+
+}  // namespace
+
+std::string summary_json(const Scene& scene, const World& world, const Contacts& contacts,
+                         const RunResult& result) {
+  const double volume = packing_volume(world);
+  const StressTensors sigma = stress_tensors(contacts, volume);
+  const StepDiagnostics& d = result.last.diagnostics;
+  const Piston& piston = world.walls.piston;
+  const double pressure = piston.enabled ? piston.force / world.box.area() : 0.0;
+
+  nlohmann::json j;
+  j["program"] = {{"name", "cdpowder"}, {"version", kVersion}, {"commit", kGitCommit}};
+  j["seed"] = scene.step.solver.seed;
+  j["porosity"] = porosity(world);
+  j["packing_volume"] = volume;
+  j["spheres"] = world.bodies.size();
+  j["time"] = world.time;
+  j["piston"] = {{"enabled", piston.enabled},
+                 {"height", piston.height},
+                 {"velocity", piston.velocity},
+                 {"applied_force", piston.force},
+                 {"applied_pressure", pressure},
+                 {"contact_force", d.piston_contact_force},
+                 {"force_imbalance", d.piston_imbalance}};
+  j["stress"] = {{"volume", volume},
+                 {"sigma", matrix(sigma.total)},
+                 {"sigma_compressive", matrix(sigma.compressive)},
+                 {"sigma_tensile", matrix(sigma.tensile)},
+                 {"compressive_contacts", sigma.compressive_contacts},
+                 {"tensile_contacts", sigma.tensile_contacts}};
+  if (pressure > 0.0) {
+    j["stress"]["sigma_zz_over_pressure"] = sigma.total(2, 2) / pressure;
+    j["stress"]["sigma_zz_compressive_over_pressure"] = sigma.compressive(2, 2) / pressure;
+    j["stress"]["sigma_zz_tensile_over_pressure"] = sigma.tensile(2, 2) / pressure;
+  }
+  j["contacts"] = {{"candidates", d.contacts},
+                   {"closed", d.closed_contacts},
+                   {"cohesive", d.cohesive_contacts},
+                   {"coordination_number", coordination_number(contacts, world.bodies.size())}};
+  j["accuracy"] = {{"mean_overlap", d.mean_overlap},
+                   {"max_overlap", d.max_overlap},
+                   {"max_overlap_during_run", result.max_overlap_seen},
+                   {"last_step_residual", result.last.solver.residual},
+                   {"last_step_error_estimate", result.last.solver.error_estimate},
+                   {"last_step_converged", result.last.solver.converged},
+                   {"capped_steps", result.capped_steps}};
+  j["kinetic_energy"] = d.kinetic_energy;
+  j["max_speed"] = d.max_speed;
+  j["run"] = {{"blocked", result.blocked},
+              {"until_blocked", scene.run.until_blocked},
+              {"steps", result.steps},
+              {"total_sweeps", result.total_sweeps},
+              {"sweeps_per_step", result.steps > 0 ? static_cast<double>(result.total_sweeps) /
+                                                         static_cast<double>(result.steps)
+                                                   : 0.0},
+              {"wall_seconds", result.wall_seconds},
+              {"stage_seconds",
+               {{"detect_contacts", result.stage_seconds[0]},
+                {"build_local_problems", result.stage_seconds[1]},
+                {"solve_nlgs", result.stage_seconds[2]},
+                {"integrate", result.stage_seconds[3]},
+                {"analyse", result.stage_seconds[4]}}}};
+  j["scene"] = scene_json(scene);
+  j["scene_toml"] = scene.effective_toml;
+  return j.dump(2) + "\n";
+}
+
+}  // namespace cdpowder

@@ -1,0 +1,32 @@
+// timeseries.cpp — rows of the per-step diagnostics.
+#include "cdpowder/io/timeseries.hpp"
+
+#include <fmt/format.h>
+
+#include "cdpowder/analysis/porosity.hpp"
+
+namespace cdpowder {
+
+TimeseriesWriter::TimeseriesWriter(const std::filesystem::path& path, const std::string& header,
+                                   int every)
+    : file_(path), every_(every) {
+  file_.stream() << header
+                 << "step,time,piston_height,piston_velocity,porosity,kinetic_energy,sweeps,"
+                    "converged,residual,error_estimate,contacts,closed_contacts,mean_overlap,"
+                    "max_overlap,piston_imbalance\n";
+}
+
+void TimeseriesWriter::record(const World& world, const StepReport& r, bool force) {
+  if (world.step == last_step_) return;
+  if (!force && world.step % every_ != 0) return;
+  last_step_ = world.step;
+  const StepDiagnostics& d = r.diagnostics;
+  file_.stream() << fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", world.step,
+                                world.time, world.walls.piston.height, world.walls.piston.velocity,
+                                porosity(world), d.kinetic_energy, r.solver.sweeps,
+                                r.solver.converged ? 1 : 0, r.solver.residual,
+                                r.solver.error_estimate, d.contacts, d.closed_contacts,
+                                d.mean_overlap, d.max_overlap, d.piston_imbalance);
+}
+
+}  // namespace cdpowder

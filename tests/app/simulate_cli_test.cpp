@@ -1,0 +1,136 @@
+// Tests of app/ (the `cdpowder simulate` command) run as a user would: the program is
+// started as a process, its exit status and its output folder are checked.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+
+const fs::path kExamples = CDPOWDER_SOURCE_DIR "/examples";
+
+struct ProcessResult {
+  int status = 0;
+  std::string out;
+  std::string err;
+};
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+ProcessResult cdpowder(const std::string& arguments, const fs::path& scratch) {
+  const fs::path out = scratch / "stdout.txt";
+  const fs::path err = scratch / "stderr.txt";
+  const std::string command = std::string(CDPOWDER_EXE) + " " + arguments + " >" + out.string() +
+                              " 2>" + err.string();
+  const int raw = std::system(command.c_str());
+  return {WEXITSTATUS(raw), slurp(out), slurp(err)};
+}
+
+class SimulateCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    scratch_ = fs::temp_directory_path() /
+               ("cdpowder_cli_" + std::string(::testing::UnitTest::GetInstance()
+                                                  ->current_test_info()
+                                                  ->name()));
+    fs::remove_all(scratch_);
+    fs::create_directories(scratch_);
+  }
+  void TearDown() override { fs::remove_all(scratch_); }
+  fs::path scratch_;
+};
+
+// A short run of the example lattice (the quick start compacts it to the end).
+const std::string kShort = "--set run.until_blocked=false --set run.duration=2.0 --quiet";
+
+TEST_F(SimulateCli, WritesEveryOutputAndAResultLine) {
+  const ProcessResult r = cdpowder("simulate " + (kExamples / "lattice/scene.toml").string() + " --out " +
+                             (scratch_ / "out").string() + " " + kShort,
+                         scratch_);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("porosity="));
+  for (const char* name :
+       {"summary.json", "particles.csv", "contacts.csv", "timeseries.csv", "scene.toml"}) {
+    EXPECT_TRUE(fs::exists(scratch_ / "out" / name)) << name;
+  }
+  const auto summary = nlohmann::json::parse(slurp(scratch_ / "out/summary.json"));
+  EXPECT_EQ(summary["seed"], 1);
+  EXPECT_EQ(summary["spheres"], 216);
+  EXPECT_EQ(summary["run"]["steps"], 200);
+  EXPECT_EQ(summary["scene"]["run"]["duration"], 2.0);
+  EXPECT_FALSE(summary["program"]["version"].get<std::string>().empty());
+  // no temporary files are left behind
+  for (const auto& entry : fs::directory_iterator(scratch_ / "out")) {
+    EXPECT_NE(entry.path().filename().string().front(), '.') << entry.path();
+  }
+}
+
+TEST_F(SimulateCli, SameSeedGivesIdenticalStateAnotherSeedADifferentOne) {
+  const std::string scene = (kExamples / "lattice/scene.toml").string();
+  for (const char* run : {"a", "b"}) {
+    ASSERT_EQ(cdpowder("simulate " + scene + " --out " + (scratch_ / run).string() + " " + kShort,
+                       scratch_)
+                  .status,
+              0);
+  }
+  ASSERT_EQ(cdpowder("simulate " + scene + " --out " + (scratch_ / "c").string() + " " + kShort +
+                         " --set solver.seed=2",
+                     scratch_)
+                .status,
+            0);
+  EXPECT_EQ(slurp(scratch_ / "a/particles.csv"), slurp(scratch_ / "b/particles.csv"));
+  EXPECT_EQ(slurp(scratch_ / "a/contacts.csv"), slurp(scratch_ / "b/contacts.csv"));
+  EXPECT_NE(slurp(scratch_ / "a/contacts.csv"), slurp(scratch_ / "c/contacts.csv"));
+}
+
+TEST_F(SimulateCli, ParticlesOutputReadsBackAsInput) {
+  const std::string scene = (kExamples / "lattice/scene.toml").string();
+  ASSERT_EQ(cdpowder("simulate " + scene + " --out " + (scratch_ / "a").string() + " " + kShort,
+                     scratch_)
+                .status,
+            0);
+  const ProcessResult again = cdpowder("simulate " + scene + " --out " + (scratch_ / "b").string() + " " +
+                                 kShort + " --set 'particles.file=\"" +
+                                 (scratch_ / "a/particles.csv").string() + "\"'",
+                             scratch_);
+  EXPECT_EQ(again.status, 0) << again.err;
+}
+
+TEST_F(SimulateCli, BadInputExitsWithTwoNamesTheKeyAndWritesNothing) {
+  const ProcessResult r = cdpowder("simulate " + (kExamples / "lattice/scene.toml").string() + " --out " +
+                             (scratch_ / "out").string() + " --set contact.mu_roll=-0.2",
+                         scratch_);
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.err, HasSubstr("contact.mu_roll"));
+  EXPECT_THAT(r.err, HasSubstr("-0.2"));
+  EXPECT_FALSE(fs::exists(scratch_ / "out"));
+}
+
+TEST_F(SimulateCli, MissingSceneFileExitsWithTwo) {
+  const ProcessResult r =
+      cdpowder("simulate " + (scratch_ / "nope.toml").string() + " --out " +
+                   (scratch_ / "out").string(),
+               scratch_);
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.err, HasSubstr("nope.toml"));
+}
+
+TEST_F(SimulateCli, MissingOutOptionExitsWithTwo) {
+  EXPECT_EQ(cdpowder("simulate " + (kExamples / "lattice/scene.toml").string(), scratch_).status,
+            2);
+}
+
+}  // namespace

@@ -1,0 +1,171 @@
+// Tests for src/cdpowder/config/particles_csv.cpp: columns by name, skipped lines, every
+// CSV mistake named with file, line and column, and the cell-width check.
+#include "cdpowder/config/particles_csv.hpp"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace cdpowder {
+namespace {
+
+using ::testing::AllOf;
+using ::testing::HasSubstr;
+namespace fs = std::filesystem;
+
+/// A fresh directory for the CSV files of one test, removed at its end.
+class ParticlesCsv : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir = fs::temp_directory_path() /
+          ("cdpowder_particles_csv_" + std::to_string(std::random_device{}()));
+    fs::create_directories(dir);
+  }
+
+  void TearDown() override { fs::remove_all(dir); }
+
+  fs::path write(const std::string& text) {
+    fs::path file = dir / "p.csv";
+    std::ofstream(file) << text;
+    return file;
+  }
+
+  /// The formatted issues of a CSV text that must fail to read; bodies must stay untouched.
+  std::vector<std::string> issues(const std::string& text) {
+    std::vector<std::string> result;
+    Bodies bodies;
+    try {
+      read_particles_csv(write(text), 1.0, bodies);
+      ADD_FAILURE() << "no ConfigError for:\n" << text;
+    } catch (const ConfigError& error) {
+      for (const ConfigIssue& issue : error.issues()) {
+        result.push_back(format(issue));
+      }
+    }
+    EXPECT_EQ(bodies.size(), 0U);
+    return result;
+  }
+
+  fs::path dir;
+};
+
+TEST_F(ParticlesCsv, ReadsColumnsByNameInAnyOrderSkippingCommentsAndBlanks) {
+  const fs::path file = write(
+      "# written by cdpowder\n"
+      "r, z,x,y,vx,wz,fy,tz,fixed\n"
+      "\n"
+      "1.0,2,3,4,0.5,-1,2e-3,7,0\n"
+      "# a comment between rows\n"
+      "0.5,1,0,0,0,0,0,0,true\r\n");
+  constexpr double kDensity = 2.0;
+  Bodies bodies;
+  read_particles_csv(file, kDensity, bodies);
+  ASSERT_EQ(bodies.size(), 2U);
+  EXPECT_EQ(bodies.position[0], Vec3(3.0, 4.0, 2.0));
+  EXPECT_EQ(bodies.radius[0], 1.0);
+  EXPECT_EQ(bodies.velocity[0], Vec3(0.5, 0.0, 0.0));
+  EXPECT_EQ(bodies.angular_velocity[0], Vec3(0.0, 0.0, -1.0));
+  EXPECT_EQ(bodies.external_force[0], Vec3(0.0, 2e-3, 0.0));
+  EXPECT_EQ(bodies.external_torque[0], Vec3(0.0, 0.0, 7.0));
+  EXPECT_DOUBLE_EQ(bodies.mass(0), kDensity * 4.0 / 3.0 * std::numbers::pi);
+  EXPECT_EQ(bodies.fixed[0], 0);
+  EXPECT_EQ(bodies.fixed[1], 1);
+  EXPECT_EQ(bodies.inverse_mass[1], 0.0);
+}
+
+TEST_F(ParticlesCsv, AppendsToExistingBodies) {
+  Bodies bodies;
+  bodies.add_sphere(Vec3::Zero(), 1.0, 1.0);
+  read_particles_csv(write("x,y,z,r\n5,5,5,2\n"), 1.0, bodies);
+  ASSERT_EQ(bodies.size(), 2U);
+  EXPECT_EQ(bodies.radius[1], 2.0);
+}
+
+TEST_F(ParticlesCsv, ReportsMissingRequiredColumn) {
+  const auto found = issues("# header\nx,y,r\n1,2,3\n");
+  ASSERT_EQ(found.size(), 1U);
+  EXPECT_EQ(found[0], (dir / "p.csv").string() + ":2: z: missing required column (x, y, z, r)");
+}
+
+TEST_F(ParticlesCsv, ReportsUnknownAndDuplicateColumns) {
+  const auto found = issues("x,y,z,r,vxx,x\n1,2,3,1,0,1\n");
+  ASSERT_EQ(found.size(), 2U);
+  EXPECT_THAT(found[0], AllOf(HasSubstr(":1: vxx: unknown column"), HasSubstr("'vx'")));
+  EXPECT_THAT(found[1], HasSubstr(":1: x: column appears twice"));
+}
+
+TEST_F(ParticlesCsv, ReportsBadNumberWithLineAndColumn) {
+  const auto found = issues("x,y,z,r\n1,2,3,1\n1,2,abc,1\n");
+  ASSERT_EQ(found.size(), 1U);
+  EXPECT_THAT(found[0], AllOf(HasSubstr("p.csv:3: z:"), HasSubstr("'abc'")));
+}
+
+TEST_F(ParticlesCsv, RejectsNonPositiveRadiusAndNonFiniteValues) {
+  const auto found = issues("x,y,z,r,vx\n1,2,3,0,0\n1,2,3,-1,0\n1,2,3,1,nan\n1,2,3,1,0\n");
+  ASSERT_EQ(found.size(), 3U);
+  EXPECT_THAT(found[0], AllOf(HasSubstr(":2: r: got 0"), HasSubstr("> 0")));
+  EXPECT_THAT(found[1], HasSubstr(":3: r: got -1"));
+  EXPECT_THAT(found[2], AllOf(HasSubstr(":4: vx: got nan"), HasSubstr("finite")));
+}
+
+TEST_F(ParticlesCsv, RejectsWrongFieldCount) {
+  const auto found = issues("x,y,z,r\n1,2,3\n");
+  ASSERT_EQ(found.size(), 1U);
+  EXPECT_THAT(found[0], HasSubstr(":2: got 3 fields, expected 4"));
+}
+
+TEST_F(ParticlesCsv, RejectsBadFixedFlag) {
+  const auto found = issues("x,y,z,r,fixed\n1,2,3,1,2\n");
+  ASSERT_EQ(found.size(), 1U);
+  EXPECT_THAT(found[0], HasSubstr(":2: fixed: cannot read '2' as 0, 1, true or false"));
+}
+
+TEST_F(ParticlesCsv, RejectsAFileWithoutParticles) {
+  EXPECT_THAT(issues("x,y,z,r\n# nothing\n"), ::testing::ElementsAre(HasSubstr("no particles")));
+  EXPECT_THAT(issues(""), ::testing::ElementsAre(HasSubstr("no header")));
+}
+
+TEST_F(ParticlesCsv, ReportsAMissingFile) {
+  Bodies bodies;
+  EXPECT_THROW(read_particles_csv(dir / "absent.csv", 1.0, bodies), ConfigError);
+}
+
+/// A scene whose spheres need L ≥ 2 (2·1 + 0.01 + 0.05) = 4.12.
+Scene small_scene(double lx, double ly) {
+  Scene scene;
+  scene.system.lx = lx;
+  scene.system.ly = ly;
+  scene.source = "scene.toml";
+  return scene;
+}
+
+TEST(CheckBoxFits, AcceptsACellWideEnough) {
+  Bodies bodies;
+  bodies.add_sphere(Vec3(0.0, 0.0, 0.5), 1.0, 1.0);  // z < r: an overlap, not an error
+  EXPECT_NO_THROW(check_box_fits(small_scene(4.13, 4.13), bodies));
+}
+
+TEST(CheckBoxFits, NamesTheSideThatIsTooShort) {
+  Bodies bodies;
+  bodies.add_sphere(Vec3(0.0, 0.0, 2.0), 1.0, 1.0);
+  Scene scene = small_scene(25.0, 4.1);
+  scene.step.laws.walls.cohesion_range = 0.02;  // the larger range counts: L ≥ 4.14
+  try {
+    check_box_fits(scene, bodies);
+    FAIL() << "no ConfigError";
+  } catch (const ConfigError& error) {
+    ASSERT_EQ(error.issues().size(), 1U);
+    const std::string text = format(error.issues()[0]);
+    EXPECT_THAT(text, AllOf(HasSubstr("scene.toml: system.ly: got 4.1"), HasSubstr("= 4.14"),
+                            HasSubstr("solver.skin"), HasSubstr("contact.cohesion_range")));
+  }
+}
+
+}  // namespace
+}  // namespace cdpowder

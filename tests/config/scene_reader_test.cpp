@@ -1,0 +1,361 @@
+// Tests for src/cdpowder/config/scene_reader.cpp: defaults, overrides, every class of bad
+// input (message names file:line:column, key, value and allowed range) and the effective
+// TOML re-reading to the same Scene.
+#include "cdpowder/config/scene_reader.hpp"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace cdpowder {
+namespace {
+
+using ::testing::AllOf;
+using ::testing::HasSubstr;
+namespace fs = std::filesystem;
+
+constexpr const char* kParticles = "[particles]\nfile = \"p.csv\"\n";
+
+/// A fresh directory holding a valid particles file p.csv, removed at the end of the test.
+class SceneReader : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir = fs::temp_directory_path() /
+          ("cdpowder_scene_reader_" + std::to_string(std::random_device{}()));
+    fs::create_directories(dir);
+    std::ofstream(dir / "p.csv") << "x,y,z,r\n1,1,1,1\n";
+  }
+
+  void TearDown() override { fs::remove_all(dir); }
+
+  Scene read(const std::string& text, const std::vector<std::string>& overrides = {}) {
+    return read_scene_text(text, "scene.toml", overrides, dir);
+  }
+
+  /// The formatted issues of a text that must fail to read.
+  std::vector<std::string> issues(const std::string& text,
+                                  const std::vector<std::string>& overrides = {}) {
+    std::vector<std::string> result;
+    try {
+      read(text, overrides);
+      ADD_FAILURE() << "no ConfigError for:\n" << text;
+    } catch (const ConfigError& error) {
+      for (const ConfigIssue& issue : error.issues()) {
+        result.push_back(format(issue));
+      }
+    }
+    return result;
+  }
+
+  fs::path dir;
+};
+
+TEST_F(SceneReader, UsesTheStructDefaultsForAbsentKeys) {
+  const Scene s = read(kParticles);
+  const Scene d;  // the in-class defaults of scene.hpp and settings.hpp
+  EXPECT_EQ(s.system.lx, d.system.lx);
+  EXPECT_EQ(s.system.ly, d.system.ly);
+  EXPECT_EQ(s.system.gravity, d.system.gravity);
+  EXPECT_EQ(s.system.density, d.system.density);
+  EXPECT_EQ(s.system.bottom_wall, d.system.bottom_wall);
+  const ContactLaws& laws = s.step.laws;
+  EXPECT_EQ(laws.spheres.mu, d.step.laws.spheres.mu);
+  EXPECT_EQ(laws.spheres.mu_roll, d.step.laws.spheres.mu_roll);
+  EXPECT_EQ(laws.spheres.cohesion_force, d.step.laws.spheres.cohesion_force);
+  EXPECT_EQ(laws.spheres.cohesion_range, d.step.laws.spheres.cohesion_range);
+  EXPECT_EQ(laws.cohesion_rule, d.step.laws.cohesion_rule);
+  EXPECT_EQ(laws.walls.mu, laws.spheres.mu);
+  EXPECT_EQ(laws.walls.cohesion_range, laws.spheres.cohesion_range);
+  EXPECT_EQ(laws.wall_r_eff_factor, d.step.laws.wall_r_eff_factor);
+  const SolverSettings& solver = s.step.solver;
+  EXPECT_EQ(solver.dt, d.step.solver.dt);
+  EXPECT_EQ(solver.tolerance, d.step.solver.tolerance);
+  EXPECT_EQ(solver.min_sweeps, d.step.solver.min_sweeps);
+  EXPECT_EQ(solver.max_sweeps, d.step.solver.max_sweeps);
+  EXPECT_EQ(solver.stopping_rule, d.step.solver.stopping_rule);
+  EXPECT_EQ(solver.visit_order, d.step.solver.visit_order);
+  EXPECT_EQ(solver.acceleration_depth, d.step.solver.acceleration_depth);
+  EXPECT_EQ(solver.skin, d.step.solver.skin);
+  EXPECT_EQ(solver.seed, d.step.solver.seed);
+  EXPECT_EQ(s.piston.enabled, d.piston.enabled);
+  EXPECT_EQ(s.piston.mass, d.piston.mass);
+  EXPECT_FALSE(s.piston.pressure.has_value());
+  EXPECT_FALSE(s.piston.force.has_value());
+  EXPECT_FALSE(s.piston.height.has_value());
+  EXPECT_EQ(s.run.duration, d.run.duration);
+  EXPECT_EQ(s.run.max_duration, d.run.max_duration);
+  EXPECT_EQ(s.run.timeseries_every, d.run.timeseries_every);
+  EXPECT_EQ(s.run.blocked.window, d.run.blocked.window);
+  EXPECT_EQ(s.run.blocked.sphere_speed, d.run.blocked.sphere_speed);
+  EXPECT_EQ(s.particles_file, dir / "p.csv");
+  EXPECT_EQ(s.source, fs::path("scene.toml"));
+}
+
+TEST_F(SceneReader, ReadsValuesAndAcceptsIntegersForNumbers) {
+  const Scene s = read(std::string(kParticles) +
+                       "[system]\nlx = 30\ngravity = [0, 0, -1.5]\n"
+                       "[contact]\nmu_roll = 0.25\ncohesion_rule = \"history\"\n"
+                       "[solver]\nstopping_rule = \"relative_change\"\n"
+                       "visit_order = \"random_each_sweep\"\nacceleration_depth = 0\n"
+                       "seed = 7\nwarm_start = false\n"
+                       "[run.blocked]\nwindow = 5\n");
+  EXPECT_EQ(s.system.lx, 30.0);
+  EXPECT_EQ(s.system.gravity, Vec3(0.0, 0.0, -1.5));
+  EXPECT_EQ(s.step.laws.spheres.mu_roll, 0.25);
+  EXPECT_EQ(s.step.laws.cohesion_rule, CohesionRule::History);
+  EXPECT_EQ(s.step.solver.stopping_rule, StoppingRule::RelativeChange);
+  EXPECT_EQ(s.step.solver.visit_order, VisitOrder::RandomEachSweep);
+  EXPECT_EQ(s.step.solver.acceleration_depth, 0);
+  EXPECT_EQ(s.step.solver.seed, 7U);
+  EXPECT_FALSE(s.step.solver.warm_start);
+  EXPECT_EQ(s.run.blocked.window, 5.0);
+}
+
+TEST_F(SceneReader, WallLawDefaultsToContactLawAfterOverrides) {
+  const Scene s = read(std::string(kParticles) + "[contact]\nmu = 0.4\nmu_twist = 0.2\n" +
+                           "[contact.wall]\nmu_twist = 0.0\nr_eff_factor = 0.5\n",
+                       {"contact.mu=0.6"});
+  EXPECT_EQ(s.step.laws.spheres.mu, 0.6);
+  EXPECT_EQ(s.step.laws.walls.mu, 0.6);
+  EXPECT_EQ(s.step.laws.walls.mu_twist, 0.0);
+  EXPECT_EQ(s.step.laws.wall_r_eff_factor, 0.5);
+}
+
+TEST_F(SceneReader, NamesFileLineKeyValueAndRangeOfOutOfRangeValue) {
+  const auto found = issues(std::string(kParticles) + "[contact]\nmu_roll =  -0.2\n");
+  ASSERT_EQ(found.size(), 1U);
+  EXPECT_EQ(found[0], "scene.toml:4:12: contact.mu_roll: got -0.2, expected a number ≥ 0");
+}
+
+TEST_F(SceneReader, RejectsZeroWhereAPositiveNumberIsNeeded) {
+  const auto found = issues(std::string(kParticles) + "[solver]\ndt = 0\n");
+  ASSERT_EQ(found.size(), 1U);
+  EXPECT_EQ(found[0], "scene.toml:4:6: solver.dt: got 0, expected a number > 0");
+}
+
+TEST_F(SceneReader, RejectsNonFiniteNumbers) {
+  const auto found = issues(std::string(kParticles) + "[system]\nlx = inf\n");
+  ASSERT_EQ(found.size(), 1U);
+  EXPECT_THAT(found[0], AllOf(HasSubstr("system.lx"), HasSubstr("got inf"), HasSubstr("finite")));
+}
+
+TEST_F(SceneReader, ReportsWrongTypes) {
+  const auto found = issues(std::string(kParticles) +
+                            "[contact]\nmu = \"high\"\n"
+                            "[solver]\nmax_sweeps = 2.5\nwarm_start = 1\n"
+                            "[system]\ngravity = [0, -1]\n");
+  ASSERT_EQ(found.size(), 4U);
+  EXPECT_EQ(found[0], "scene.toml:4:6: contact.mu: got \"high\", expected a number ≥ 0");
+  EXPECT_THAT(found[1], AllOf(HasSubstr("scene.toml:6:"), HasSubstr("solver.max_sweeps"),
+                              HasSubstr("got 2.5, expected an integer ≥ 1")));
+  EXPECT_THAT(found[2], AllOf(HasSubstr("solver.warm_start"), HasSubstr("true or false")));
+  EXPECT_THAT(found[3], AllOf(HasSubstr("system.gravity"), HasSubstr("array of 3 numbers")));
+}
+
+TEST_F(SceneReader, RejectsIntegersOutsideTheirRange) {
+  const auto found = issues(std::string(kParticles) +
+                            "[solver]\nseed = -1\nmax_sweeps = 3000000000\n"
+                            "[run]\ntimeseries_every = 0\n");
+  ASSERT_EQ(found.size(), 3U);
+  EXPECT_EQ(found[0], "scene.toml:4:8: solver.seed: got -1, expected an integer ≥ 0");
+  EXPECT_THAT(found[1], HasSubstr("got 3000000000, expected an integer ≤ 2147483647"));
+  EXPECT_THAT(found[2], HasSubstr("run.timeseries_every: got 0, expected an integer ≥ 1"));
+}
+
+TEST_F(SceneReader, ReportsAKnownTableThatIsNotATable) {
+  const auto found = issues(std::string("solver = 3\n") + kParticles);
+  ASSERT_EQ(found.size(), 1U);
+  EXPECT_EQ(found[0], "scene.toml:1:1: solver: got 3, expected a table");
+}
+
+TEST_F(SceneReader, RejectsUnknownKeysWithSuggestion) {
+  const auto found = issues(std::string(kParticles) +
+                            "[solver]\ntolerence = 1e-6\n[solvr]\ndt = 0.1\n[piston]\nmu = 1\n"
+                            "[system]\nspheres = 10\n");
+  ASSERT_EQ(found.size(), 4U);
+  EXPECT_EQ(found[0],
+            "scene.toml:4:1: solver.tolerence: unknown key; did you mean "
+            "'solver.tolerance'?");
+  EXPECT_THAT(found[1], AllOf(HasSubstr("scene.toml:5:"), HasSubstr("did you mean 'solver'?")));
+  EXPECT_THAT(found[2], HasSubstr("piston.mu: unknown key; did you mean 'contact.mu'?"));
+  EXPECT_THAT(found[3], HasSubstr("system.spheres: unknown key"));
+  EXPECT_THAT(found[3], ::testing::Not(HasSubstr("did you mean")));
+}
+
+TEST_F(SceneReader, RejectsBadEnumStringListingTheAllowedOnes) {
+  const auto found = issues(std::string(kParticles) +
+                            "[contact]\ncohesion_rule = \"grpah\"\n"
+                            "[solver]\nvisit_order = \"sorted\"\n");
+  ASSERT_EQ(found.size(), 2U);
+  EXPECT_EQ(found[0],
+            "scene.toml:4:17: contact.cohesion_rule: got \"grpah\", expected one of "
+            "\"graph\", \"history\"; did you mean 'graph'?");
+  EXPECT_THAT(found[1], HasSubstr("expected one of \"random_each_step\", \"random_each_sweep\", "
+                                  "\"fixed\""));
+}
+
+TEST_F(SceneReader, RejectsPressureAndForceTogether) {
+  const auto found = issues(std::string(kParticles) +
+                            "[piston]\nenabled = true\npressure = 0.0025\nforce = 1.5\n");
+  ASSERT_EQ(found.size(), 1U);
+  EXPECT_THAT(found[0], AllOf(HasSubstr("scene.toml:6:"), HasSubstr("piston.force"),
+                              HasSubstr("piston.pressure")));
+}
+
+TEST_F(SceneReader, RejectsEnabledPistonWithoutPush) {
+  const auto found = issues(std::string(kParticles) + "[piston]\nenabled = true\n");
+  ASSERT_EQ(found.size(), 1U);
+  EXPECT_THAT(found[0], AllOf(HasSubstr("piston.enabled"), HasSubstr("piston.pressure"),
+                              HasSubstr("piston.force")));
+}
+
+TEST_F(SceneReader, RejectsUntilBlockedWithoutPiston) {
+  const auto found = issues(std::string(kParticles) + "[run]\nuntil_blocked = true\n");
+  ASSERT_EQ(found.size(), 1U);
+  EXPECT_THAT(found[0], AllOf(HasSubstr("scene.toml:4:"), HasSubstr("run.until_blocked"),
+                              HasSubstr("piston.enabled")));
+}
+
+TEST_F(SceneReader, RejectsMinSweepsAboveMaxSweeps) {
+  const auto found =
+      issues(std::string(kParticles) + "[solver]\nmin_sweeps = 50\nmax_sweeps = 10\n");
+  ASSERT_EQ(found.size(), 1U);
+  EXPECT_THAT(found[0],
+              AllOf(HasSubstr("solver.min_sweeps: got 50"), HasSubstr("solver.max_sweeps = 10")));
+}
+
+TEST_F(SceneReader, ReportsEveryIssueOfAFileAtOnce) {
+  const auto found = issues("[contact]\nmu = -1\nmu_roll = -1\n[solver]\ndt = -1\nbad = 1\n");
+  // Three ranges, one unknown key, and the missing [particles] file.
+  EXPECT_EQ(found.size(), 5U);
+}
+
+TEST_F(SceneReader, RequiresTheParticlesFile) {
+  const auto found = issues("[system]\nlx = 30\n");
+  ASSERT_EQ(found.size(), 1U);
+  EXPECT_EQ(found[0], "scene.toml: particles.file: missing; this key is required");
+}
+
+TEST_F(SceneReader, ReportsAParticlesFileThatDoesNotExist) {
+  const auto found = issues("[particles]\nfile = \"missing.csv\"\n");
+  ASSERT_EQ(found.size(), 1U);
+  EXPECT_THAT(found[0], AllOf(HasSubstr("scene.toml:2:8: particles.file: no such file"),
+                              HasSubstr("missing.csv")));
+}
+
+TEST_F(SceneReader, ReportsTomlSyntaxErrorWithLineAndColumn) {
+  const auto found = issues("[system]\nlx = = 3\n");
+  ASSERT_EQ(found.size(), 1U);
+  EXPECT_THAT(found[0], HasSubstr("scene.toml:2:"));
+  EXPECT_THAT(found[0], HasSubstr("TOML syntax error"));
+}
+
+TEST_F(SceneReader, OverrideReplacesFileValueAndCreatesTables) {
+  const Scene s = read(
+      std::string(kParticles) + "[contact]\nmu_roll = 0.1\n",
+      {"contact.mu_roll=0.5", "solver.seed = 7", "piston.enabled=true", "piston.pressure=0.0025",
+       "system.gravity=[0,0,-1]", "contact.wall.mu_roll=0", "solver.visit_order=\"fixed\""});
+  EXPECT_EQ(s.step.laws.spheres.mu_roll, 0.5);
+  EXPECT_EQ(s.step.laws.walls.mu_roll, 0.0);
+  EXPECT_EQ(s.step.solver.seed, 7U);
+  EXPECT_TRUE(s.piston.enabled);
+  EXPECT_EQ(s.piston.pressure, 0.0025);
+  EXPECT_EQ(s.system.gravity, Vec3(0.0, 0.0, -1.0));
+  EXPECT_EQ(s.step.solver.visit_order, VisitOrder::Fixed);
+  EXPECT_THAT(s.effective_toml, HasSubstr("mu_roll = 0.5"));
+}
+
+TEST_F(SceneReader, LaterOverrideWins) {
+  const Scene s = read(kParticles, {"solver.dt=0.1", "solver.dt=0.005"});
+  EXPECT_EQ(s.step.solver.dt, 0.005);
+}
+
+TEST_F(SceneReader, ReportsMalformedOverrides) {
+  const auto found =
+      issues(kParticles, {"contact.mu_roll", "contact.mu_roll=0..5", "=3", "contact..mu=1",
+                          "contact.mu=", "solver.visit_order=fixed"});
+  ASSERT_EQ(found.size(), 6U);
+  EXPECT_EQ(found[0],
+            "--set: contact.mu_roll: malformed override, expected section.key=value "
+            "(e.g. contact.mu_roll=0.5)");
+  EXPECT_THAT(found[1], AllOf(HasSubstr("--set: contact.mu_roll: malformed override"),
+                              HasSubstr("'contact.mu_roll=0..5'")));
+  EXPECT_THAT(found[2], HasSubstr("--set: =3: malformed override"));
+  EXPECT_THAT(found[3], HasSubstr("--set: contact..mu=1: malformed override"));
+  EXPECT_THAT(found[4], HasSubstr("--set: contact.mu: malformed override"));
+  EXPECT_THAT(found[5], HasSubstr("strings need quotes: \"fixed\""));
+}
+
+TEST_F(SceneReader, ReportsOverrideOfUnknownKeyAsSet) {
+  const auto found = issues(kParticles, {"contact.mu_rol=0.5", "compaction.pressure=1"});
+  ASSERT_EQ(found.size(), 2U);
+  EXPECT_EQ(found[0], "--set: compaction: unknown key");
+  EXPECT_EQ(found[1], "--set: contact.mu_rol: unknown key; did you mean 'contact.mu_roll'?");
+}
+
+TEST_F(SceneReader, ReportsBadOverrideValueAsSet) {
+  const auto found = issues(kParticles, {"contact.mu_roll=-0.5", "particles.file.x=1"});
+  ASSERT_EQ(found.size(), 2U);
+  EXPECT_THAT(found[0], AllOf(HasSubstr("--set: particles.file.x"), HasSubstr("not a table")));
+  EXPECT_EQ(found[1], "--set: contact.mu_roll: got -0.5, expected a number ≥ 0");
+}
+
+TEST_F(SceneReader, ReadsAFileAndResolvesParticlesAgainstItsFolder) {
+  fs::create_directories(dir / "scenes");
+  std::ofstream(dir / "scenes" / "s.toml") << "[particles]\nfile = \"../p.csv\"\n";
+  const Scene s = read_scene(dir / "scenes" / "s.toml", {});
+  EXPECT_EQ(s.particles_file, dir / "p.csv");
+  EXPECT_EQ(s.source, dir / "scenes" / "s.toml");
+}
+
+TEST_F(SceneReader, ReportsAMissingSceneFile) {
+  try {
+    read_scene(dir / "nope.toml", {});
+    FAIL() << "no ConfigError";
+  } catch (const ConfigError& error) {
+    ASSERT_EQ(error.issues().size(), 1U);
+    EXPECT_EQ(error.issues()[0].file, (dir / "nope.toml").string());
+    EXPECT_THAT(error.what(), HasSubstr("nope.toml: cannot open"));
+  }
+}
+
+TEST_F(SceneReader, EffectiveTomlRereadsToTheSameScene) {
+  const Scene a = read(std::string(kParticles) +
+                           "[system]\nlx = 12.5\ngravity = [0.1, 0, -9.81]\nbottom_wall = false\n"
+                           "[contact]\nmu = 0.3\nmu_roll = 0.1\ncohesion_rule = \"history\"\n"
+                           "[contact.wall]\ncohesion_force = 2\n"
+                           "[solver]\ntolerance = 1e-7\nvisit_order = \"fixed\"\nseed = 42\n"
+                           "[piston]\nenabled = true\nforce = 1.5625\nheight = 40.25\n"
+                           "[run]\nuntil_blocked = true\ntimeseries_every = 10\n",
+                       {"run.blocked.height_change=3e-6"});
+  EXPECT_THAT(a.effective_toml, AllOf(HasSubstr("mu = 0.3\n"), HasSubstr("tolerance = 1e-07")));
+  const Scene b = read_scene_text(a.effective_toml, "effective.toml", {}, "/elsewhere");
+  EXPECT_EQ(b.effective_toml, a.effective_toml);
+  EXPECT_EQ(b.system.lx, 12.5);
+  EXPECT_EQ(b.system.gravity, a.system.gravity);
+  EXPECT_FALSE(b.system.bottom_wall);
+  EXPECT_EQ(b.step.laws.spheres.mu, a.step.laws.spheres.mu);
+  EXPECT_EQ(b.step.laws.spheres.mu_roll, 0.1);
+  EXPECT_EQ(b.step.laws.walls.cohesion_force, 2.0);
+  EXPECT_EQ(b.step.laws.walls.mu_roll, 0.1);
+  EXPECT_EQ(b.step.laws.cohesion_rule, CohesionRule::History);
+  EXPECT_EQ(b.step.solver.tolerance, 1e-7);
+  EXPECT_EQ(b.step.solver.visit_order, VisitOrder::Fixed);
+  EXPECT_EQ(b.step.solver.seed, 42U);
+  EXPECT_TRUE(b.piston.enabled);
+  EXPECT_EQ(b.piston.force, 1.5625);
+  EXPECT_FALSE(b.piston.pressure.has_value());
+  EXPECT_EQ(b.piston.height, 40.25);
+  EXPECT_TRUE(b.run.until_blocked);
+  EXPECT_EQ(b.run.timeseries_every, 10);
+  EXPECT_EQ(b.run.blocked.height_change, 3e-6);
+  EXPECT_EQ(b.particles_file, a.particles_file);
+}
+
+}  // namespace
+}  // namespace cdpowder

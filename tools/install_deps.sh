@@ -1,0 +1,24 @@
+#!/usr/bin/env bash
+# Installs everything cdpowder needs to build, test, benchmark and plot, from Debian's
+# packages only. Idempotent; run as root (or with sudo available).
+set -euo pipefail
+packages=(
+  build-essential cmake ninja-build git clang-format
+  libeigen3-dev libtomlplusplus-dev libcli11-dev libfmt-dev libpcg-cpp-dev nlohmann-json3-dev
+  libgtest-dev libgmock-dev libbenchmark-dev
+  python3 python3-numpy python3-matplotlib
+)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install_deps: all ${#packages[@]} packages present"
+  exit 0
+fi
+sudo_cmd=""
+[ "$(id -u)" -eq 0 ] || sudo_cmd="sudo"
+export DEBIAN_FRONTEND=noninteractive
+$sudo_cmd apt-get update -qq
+$sudo_cmd apt-get install -y -qq --no-install-recommends "${missing[@]}"
+echo "install_deps: installed ${missing[*]}"
