@@ -1,12 +1,14 @@
 // main.cpp — the cdpowder command line. The only place that turns exceptions into text
 // and exit codes: 0 done, 1 the run failed, 2 bad input (nothing written).
-#include <CLI/CLI.hpp>
-#include <cstdio>
-#include <exception>
+#include "commands/simulate.hpp"
 
 #include "cdpowder/config/config_error.hpp"
 #include "cdpowder/version.hpp"
-#include "commands/simulate.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <exception>
 
 namespace {
 
@@ -18,8 +20,8 @@ constexpr int kExitBadInput = 2;
 int main(int argc, char** argv) {
   using cdpowder::app::SimulateOptions;
   CLI::App cli{"cdpowder — contact dynamics of cohesive powders of rigid spheres"};
-  cli.set_version_flag("--version", std::string(cdpowder::kVersion) + " (commit " +
-                                        cdpowder::kGitCommit + ")");
+  cli.set_version_flag("--version",
+                       std::string(cdpowder::kVersion) + " (commit " + cdpowder::kGitCommit + ")");
   cli.require_subcommand(1);
 
   SimulateOptions simulate;

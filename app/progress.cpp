@@ -1,11 +1,11 @@
 // progress.cpp — formatting the progress line.
 #include "progress.hpp"
 
+#include "cdpowder/analysis/porosity.hpp"
+
 #include <fmt/format.h>
 
 #include <cstdio>
-
-#include "cdpowder/analysis/porosity.hpp"
 
 namespace cdpowder::app {
 

@@ -3,10 +3,10 @@
 // Redrawn at most every `interval` seconds; silent when quiet.
 #pragma once
 
+#include "cdpowder/solver/step.hpp"
+
 #include <chrono>
 #include <cstdint>
-
-#include "cdpowder/solver/step.hpp"
 
 namespace cdpowder::app {
 

@@ -1,9 +1,9 @@
 // Benchmarks of contact detection (physics.md §4.3): ns per particle for the cell grid and
 // the candidate geometry of a dense packing.
-#include <benchmark/benchmark.h>
-
 #include "cdpowder/detect/detect_contacts.hpp"
 #include "support/packings.hpp"
+
+#include <benchmark/benchmark.h>
 
 namespace cdpowder::bench {
 namespace {
@@ -22,6 +22,7 @@ void BM_DetectContacts(benchmark::State& state) {
       benchmark::Counter(static_cast<double>(state.iterations()) * n,
                          benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
+
 BENCHMARK(BM_DetectContacts)->Arg(1000)->Arg(100000)->Unit(benchmark::kMicrosecond);
 
 }  // namespace

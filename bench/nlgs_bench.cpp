@@ -1,10 +1,9 @@
 // Benchmarks of the NLGS stage (physics.md §7): ns per contact update of one sweep, and the
 // sweeps a cold-started solve of a frozen packing needs (a counter, not a time).
-#include <benchmark/benchmark.h>
-
-
 #include "cdpowder/solver/nlgs.hpp"
 #include "support/packings.hpp"
+
+#include <benchmark/benchmark.h>
 
 namespace cdpowder::bench {
 namespace {
@@ -29,6 +28,7 @@ void BM_NlgsSweep(benchmark::State& state) {
       static_cast<double>(state.iterations()) * static_cast<double>(contacts.size()),
       benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
+
 BENCHMARK(BM_NlgsSweep)
     ->Args({1000, 0})
     ->Args({100000, 0})
@@ -54,6 +54,7 @@ void BM_NlgsSolveColdStart(benchmark::State& state) {
   state.counters["sweeps"] = stats.sweeps;
   state.counters["converged"] = stats.converged ? 1 : 0;
 }
+
 BENCHMARK(BM_NlgsSolveColdStart)
     ->Args({1015, 5})
     ->Args({1015, 0})

@@ -2,9 +2,7 @@
 // then write every output atomically. Prints one result line on stdout.
 #include "commands/simulate.hpp"
 
-#include <fmt/format.h>
-
-#include <cstdio>
+#include "progress.hpp"
 
 #include "cdpowder/analysis/porosity.hpp"
 #include "cdpowder/analysis/stress.hpp"
@@ -16,7 +14,10 @@
 #include "cdpowder/io/state_csv.hpp"
 #include "cdpowder/io/summary.hpp"
 #include "cdpowder/io/timeseries.hpp"
-#include "progress.hpp"
+
+#include <fmt/format.h>
+
+#include <cstdio>
 
 namespace cdpowder::app {
 
@@ -48,9 +49,9 @@ int run_simulate(const SimulateOptions& options) {
                         summary_json(scene, world, work.contacts, result));
 
   const StressTensors sigma = stress_tensors(work.contacts, packing_volume(world));
-  std::string line = fmt::format("porosity={:.5f} sigma_zz={:.6g} sigma_zz+={:.6g} sigma_zz-={:.6g}",
-                                 porosity(world), sigma.total(2, 2), sigma.compressive(2, 2),
-                                 sigma.tensile(2, 2));
+  std::string line =
+      fmt::format("porosity={:.5f} sigma_zz={:.6g} sigma_zz+={:.6g} sigma_zz-={:.6g}",
+                  porosity(world), sigma.total(2, 2), sigma.compressive(2, 2), sigma.tensile(2, 2));
   if (scene.run.until_blocked) line += fmt::format(" blocked={}", result.blocked ? "yes" : "no");
   line += fmt::format(" steps={} sweeps/step={:.1f} wall={:.2f}s", result.steps,
                       static_cast<double>(result.total_sweeps) /

@@ -1,14 +1,14 @@
 // packings.cpp — the FCC-with-vacancies packing.
 #include "support/packings.hpp"
 
+#include "cdpowder/core/rng.hpp"
+#include "cdpowder/detect/detect_contacts.hpp"
+#include "cdpowder/solver/build.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <numeric>
 #include <vector>
-
-#include "cdpowder/core/rng.hpp"
-#include "cdpowder/detect/detect_contacts.hpp"
-#include "cdpowder/solver/build.hpp"
 
 namespace cdpowder::bench {
 
@@ -18,8 +18,8 @@ Packing fcc_packing_with_vacancies(int spheres, std::uint64_t seed) {
   const double sites_needed = spheres / (1.0 - kVacancy);
   // cells_xy² × cells_z × 4 ≥ sites, with the height about equal to the width
   const int cells = std::max(3, static_cast<int>(std::ceil(std::cbrt(sites_needed / 4.0))));
-  const int cells_z = std::max(
-      1, static_cast<int>(std::ceil(sites_needed / (4.0 * cells * cells))));
+  const int cells_z =
+      std::max(1, static_cast<int>(std::ceil(sites_needed / (4.0 * cells * cells))));
   const Vec3 basis[4] = {Vec3(0, 0, 0), Vec3(0.5, 0.5, 0), Vec3(0.5, 0, 0.5), Vec3(0, 0.5, 0.5)};
   std::vector<Vec3> sites;
   for (int k = 0; k < cells_z; ++k) {
@@ -45,8 +45,8 @@ Packing fcc_packing_with_vacancies(int spheres, std::uint64_t seed) {
   for (const Vec3& p : sites) {
     const BodyIndex i = world.bodies.add_sphere(p, 1.0, 1.0);
     // small random motion so that every contact has work to do
-    world.bodies.velocity[i] = 1e-3 * Vec3(uniform01(rng) - 0.5, uniform01(rng) - 0.5,
-                                           uniform01(rng) - 0.5);
+    world.bodies.velocity[i] =
+        1e-3 * Vec3(uniform01(rng) - 0.5, uniform01(rng) - 0.5, uniform01(rng) - 0.5);
     top = std::max(top, p.z() + 1.0);
   }
   Piston& piston = world.walls.piston;

@@ -4,9 +4,9 @@
 // fully cohesive network with coordination ≈ 7 (a compacted cohesive powder has 3–6).
 #pragma once
 
-#include <cstdint>
-
 #include "cdpowder/solver/step.hpp"
+
+#include <cstdint>
 
 namespace cdpowder::bench {
 

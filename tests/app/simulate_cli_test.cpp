@@ -2,11 +2,11 @@
 // started as a process, its exit status and its output folder are checked.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 
@@ -33,8 +33,8 @@ std::string slurp(const fs::path& p) {
 ProcessResult cdpowder(const std::string& arguments, const fs::path& scratch) {
   const fs::path out = scratch / "stdout.txt";
   const fs::path err = scratch / "stderr.txt";
-  const std::string command = std::string(CDPOWDER_EXE) + " " + arguments + " >" + out.string() +
-                              " 2>" + err.string();
+  const std::string command =
+      std::string(CDPOWDER_EXE) + " " + arguments + " >" + out.string() + " 2>" + err.string();
   const int raw = std::system(command.c_str());
   return {WEXITSTATUS(raw), slurp(out), slurp(err)};
 }
@@ -43,13 +43,14 @@ class SimulateCli : public ::testing::Test {
  protected:
   void SetUp() override {
     scratch_ = fs::temp_directory_path() /
-               ("cdpowder_cli_" + std::string(::testing::UnitTest::GetInstance()
-                                                  ->current_test_info()
-                                                  ->name()));
+               ("cdpowder_cli_" +
+                std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
     fs::remove_all(scratch_);
     fs::create_directories(scratch_);
   }
+
   void TearDown() override { fs::remove_all(scratch_); }
+
   fs::path scratch_;
 };
 
@@ -57,9 +58,9 @@ class SimulateCli : public ::testing::Test {
 const std::string kShort = "--set run.until_blocked=false --set run.duration=2.0 --quiet";
 
 TEST_F(SimulateCli, WritesEveryOutputAndAResultLine) {
-  const ProcessResult r = cdpowder("simulate " + (kExamples / "lattice/scene.toml").string() + " --out " +
-                             (scratch_ / "out").string() + " " + kShort,
-                         scratch_);
+  const ProcessResult r = cdpowder("simulate " + (kExamples / "lattice/scene.toml").string() +
+                                       " --out " + (scratch_ / "out").string() + " " + kShort,
+                                   scratch_);
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_THAT(r.out, HasSubstr("porosity="));
   for (const char* name :
@@ -98,21 +99,22 @@ TEST_F(SimulateCli, SameSeedGivesIdenticalStateAnotherSeedADifferentOne) {
 
 TEST_F(SimulateCli, ParticlesOutputReadsBackAsInput) {
   const std::string scene = (kExamples / "lattice/scene.toml").string();
-  ASSERT_EQ(cdpowder("simulate " + scene + " --out " + (scratch_ / "a").string() + " " + kShort,
-                     scratch_)
-                .status,
-            0);
-  const ProcessResult again = cdpowder("simulate " + scene + " --out " + (scratch_ / "b").string() + " " +
-                                 kShort + " --set 'particles.file=\"" +
-                                 (scratch_ / "a/particles.csv").string() + "\"'",
-                             scratch_);
+  ASSERT_EQ(
+      cdpowder("simulate " + scene + " --out " + (scratch_ / "a").string() + " " + kShort, scratch_)
+          .status,
+      0);
+  const ProcessResult again =
+      cdpowder("simulate " + scene + " --out " + (scratch_ / "b").string() + " " + kShort +
+                   " --set 'particles.file=\"" + (scratch_ / "a/particles.csv").string() + "\"'",
+               scratch_);
   EXPECT_EQ(again.status, 0) << again.err;
 }
 
 TEST_F(SimulateCli, BadInputExitsWithTwoNamesTheKeyAndWritesNothing) {
-  const ProcessResult r = cdpowder("simulate " + (kExamples / "lattice/scene.toml").string() + " --out " +
-                             (scratch_ / "out").string() + " --set contact.mu_roll=-0.2",
-                         scratch_);
+  const ProcessResult r =
+      cdpowder("simulate " + (kExamples / "lattice/scene.toml").string() + " --out " +
+                   (scratch_ / "out").string() + " --set contact.mu_roll=-0.2",
+               scratch_);
   EXPECT_EQ(r.status, 2);
   EXPECT_THAT(r.err, HasSubstr("contact.mu_roll"));
   EXPECT_THAT(r.err, HasSubstr("-0.2"));
@@ -120,10 +122,9 @@ TEST_F(SimulateCli, BadInputExitsWithTwoNamesTheKeyAndWritesNothing) {
 }
 
 TEST_F(SimulateCli, MissingSceneFileExitsWithTwo) {
-  const ProcessResult r =
-      cdpowder("simulate " + (scratch_ / "nope.toml").string() + " --out " +
-                   (scratch_ / "out").string(),
-               scratch_);
+  const ProcessResult r = cdpowder(
+      "simulate " + (scratch_ / "nope.toml").string() + " --out " + (scratch_ / "out").string(),
+      scratch_);
   EXPECT_EQ(r.status, 2);
   EXPECT_THAT(r.err, HasSubstr("nope.toml"));
 }

@@ -23,9 +23,9 @@ namespace {
 // index is its row.
 enum Column : std::size_t { X, Y, Z, R, Vx, Vy, Vz, Wx, Wy, Wz, Fx, Fy, Fz, Tx, Ty, Tz, Fixed, Id };
 
-constexpr std::array<std::string_view, 18> kColumnNames = {
-    "x",  "y",  "z",  "r",  "vx", "vy", "vz", "wx",    "wy",
-    "wz", "fx", "fy", "fz", "tx", "ty", "tz", "fixed", "id"};
+constexpr std::array<std::string_view, 18> kColumnNames = {"x",  "y",  "z",  "r",  "vx",    "vy",
+                                                           "vz", "wx", "wy", "wz", "fx",    "fy",
+                                                           "fz", "tx", "ty", "tz", "fixed", "id"};
 constexpr std::size_t kRequiredColumns = 4;  // x, y, z, r
 // A file with a systematic mistake would repeat it on every line; the first ones suffice.
 constexpr std::size_t kMaxIssues = 50;

@@ -3,11 +3,11 @@
 // of a window; the piston height may drift by at most height_change × Z_P over it.
 #pragma once
 
-#include <cstdint>
-
 #include "cdpowder/analysis/step_diagnostics.hpp"
 #include "cdpowder/config/scene.hpp"
 #include "cdpowder/model/world.hpp"
+
+#include <cstdint>
 
 namespace cdpowder {
 

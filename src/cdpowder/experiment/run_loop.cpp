@@ -1,11 +1,11 @@
 // run_loop.cpp — the time loop with its stop conditions.
 #include "cdpowder/experiment/run_loop.hpp"
 
+#include "cdpowder/experiment/blocked_state.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-
-#include "cdpowder/experiment/blocked_state.hpp"
 
 namespace cdpowder {
 
@@ -24,7 +24,8 @@ RunResult run_simulation(World& world, StepWorkspace& work, const StepSettings& 
     ++result.steps;
     result.total_sweeps += result.last.solver.sweeps;
     if (!result.last.solver.converged) ++result.capped_steps;
-    result.max_overlap_seen = std::max(result.max_overlap_seen, result.last.diagnostics.max_overlap);
+    result.max_overlap_seen =
+        std::max(result.max_overlap_seen, result.last.diagnostics.max_overlap);
     for (std::size_t s = 0; s < result.stage_seconds.size(); ++s) {
       result.stage_seconds[s] += result.last.times[s];
     }

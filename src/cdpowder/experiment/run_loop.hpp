@@ -3,23 +3,23 @@
 // The loop prints nothing; the app decides what to show.
 #pragma once
 
-#include <cstdint>
-#include <functional>
-
 #include "cdpowder/config/scene.hpp"
 #include "cdpowder/solver/step.hpp"
+
+#include <cstdint>
+#include <functional>
 
 namespace cdpowder {
 
 struct RunResult {
-  bool blocked = false;              ///< the blocked state was reached (until_blocked runs)
+  bool blocked = false;  ///< the blocked state was reached (until_blocked runs)
   std::int64_t steps = 0;
   std::int64_t total_sweeps = 0;
-  std::int64_t capped_steps = 0;     ///< steps whose NLGS hit max_sweeps
-  double max_overlap_seen = 0.0;     ///< largest overlap after any step [R]
+  std::int64_t capped_steps = 0;  ///< steps whose NLGS hit max_sweeps
+  double max_overlap_seen = 0.0;  ///< largest overlap after any step [R]
   double wall_seconds = 0.0;
-  StageTimes stage_seconds{};        ///< summed over all steps
-  StepReport last;                   ///< report of the final step
+  StageTimes stage_seconds{};  ///< summed over all steps
+  StepReport last;             ///< report of the final step
 };
 
 /// Called after every step with the world after the step, its report, and the fraction of

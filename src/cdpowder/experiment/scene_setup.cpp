@@ -1,9 +1,9 @@
 // scene_setup.cpp — Scene → World.
 #include "cdpowder/experiment/scene_setup.hpp"
 
-#include <algorithm>
-
 #include "cdpowder/config/particles_csv.hpp"
+
+#include <algorithm>
 
 namespace cdpowder {
 

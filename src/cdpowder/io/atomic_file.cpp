@@ -2,10 +2,10 @@
 #include "cdpowder/io/atomic_file.hpp"
 
 #include <fmt/format.h>
-#include <unistd.h>
 
 #include <stdexcept>
 #include <system_error>
+#include <unistd.h>
 
 namespace cdpowder {
 

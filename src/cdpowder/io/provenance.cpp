@@ -1,9 +1,9 @@
 // provenance.cpp — the '#' header of CSV outputs.
 #include "cdpowder/io/provenance.hpp"
 
-#include <fmt/format.h>
-
 #include "cdpowder/version.hpp"
+
+#include <fmt/format.h>
 
 namespace cdpowder {
 

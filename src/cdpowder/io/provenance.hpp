@@ -3,9 +3,9 @@
 // summary.json carries them as fields, so a result can always be traced and rerun.
 #pragma once
 
-#include <string>
-
 #include "cdpowder/config/scene.hpp"
+
+#include <string>
 
 namespace cdpowder {
 

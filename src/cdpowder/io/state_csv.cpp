@@ -2,11 +2,11 @@
 // so re-reading a file gives the same doubles.
 #include "cdpowder/io/state_csv.hpp"
 
+#include "cdpowder/core/index.hpp"
+
 #include <fmt/format.h>
 
 #include <iterator>
-
-#include "cdpowder/core/index.hpp"
 
 namespace cdpowder {
 

@@ -2,10 +2,10 @@
 // again as a scene's [particles] file) and contacts.csv (one row per candidate contact).
 #pragma once
 
-#include <string>
-
 #include "cdpowder/contact/local_problem.hpp"
 #include "cdpowder/model/world.hpp"
+
+#include <string>
 
 namespace cdpowder {
 

@@ -1,14 +1,15 @@
 // summary.cpp — assembling summary.json with nlohmann::json (escaping, number formatting).
 #include "cdpowder/io/summary.hpp"
 
-#include <nlohmann/json.hpp>
-#include <sstream>
-#include <toml++/toml.h>
-
 #include "cdpowder/analysis/coordination.hpp"
 #include "cdpowder/analysis/porosity.hpp"
 #include "cdpowder/analysis/stress.hpp"
 #include "cdpowder/version.hpp"
+
+#include <nlohmann/json.hpp>
+#include <toml++/toml.h>
+
+#include <sstream>
 
 namespace cdpowder {
 

@@ -2,11 +2,11 @@
 // gauges (physics.md §17), how the run went, and everything needed to rerun it.
 #pragma once
 
-#include <string>
-
 #include "cdpowder/config/scene.hpp"
 #include "cdpowder/experiment/run_loop.hpp"
 #include "cdpowder/model/world.hpp"
+
+#include <string>
 
 namespace cdpowder {
 

@@ -1,9 +1,9 @@
 // timeseries.cpp — rows of the per-step diagnostics.
 #include "cdpowder/io/timeseries.hpp"
 
-#include <fmt/format.h>
-
 #include "cdpowder/analysis/porosity.hpp"
+
+#include <fmt/format.h>
 
 namespace cdpowder {
 
@@ -21,12 +21,11 @@ void TimeseriesWriter::record(const World& world, const StepReport& r, bool forc
   if (!force && world.step % every_ != 0) return;
   last_step_ = world.step;
   const StepDiagnostics& d = r.diagnostics;
-  file_.stream() << fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", world.step,
-                                world.time, world.walls.piston.height, world.walls.piston.velocity,
-                                porosity(world), d.kinetic_energy, r.solver.sweeps,
-                                r.solver.converged ? 1 : 0, r.solver.residual,
-                                r.solver.error_estimate, d.contacts, d.closed_contacts,
-                                d.mean_overlap, d.max_overlap, d.piston_imbalance);
+  file_.stream() << fmt::format(
+      "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", world.step, world.time,
+      world.walls.piston.height, world.walls.piston.velocity, porosity(world), d.kinetic_energy,
+      r.solver.sweeps, r.solver.converged ? 1 : 0, r.solver.residual, r.solver.error_estimate,
+      d.contacts, d.closed_contacts, d.mean_overlap, d.max_overlap, d.piston_imbalance);
 }
 
 }  // namespace cdpowder

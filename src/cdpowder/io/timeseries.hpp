@@ -2,11 +2,11 @@
 // and renamed into place when it ends (a killed run leaves no half file under that name).
 #pragma once
 
-#include <filesystem>
-#include <string>
-
 #include "cdpowder/io/atomic_file.hpp"
 #include "cdpowder/solver/step.hpp"
+
+#include <filesystem>
+#include <string>
 
 namespace cdpowder {
 
