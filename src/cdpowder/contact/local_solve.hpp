@@ -57,42 +57,70 @@ inline double torque_scale_sq(double r_eff) {
   return r_eff > 0.0 ? 1.0 / (r_eff * r_eff) : 1.0;
 }
 
-/// Squared size of an action (torques scaled by 1/r_eff²), for the residuals.
+/// Squared size of an action change (torques scaled by 1/r_eff²), for the residuals.
 inline double action_size_sq(double R_n, const Vec3& R_t, const Vec3& T_t, double T_n,
                              double inv_r_sq) {
   return std::max(
       {R_n * R_n, R_t.squaredNorm(), T_t.squaredNorm() * inv_r_sq, T_n * T_n * inv_r_sq});
 }
 
-/// Modes 2–4 given S ≥ 0 and the current relative velocities; shared by both kernels.
-/// `relative_angular` must return Ω = ω_b − ω_a after the sliding update.
-template <typename ApplyForce, typename ApplyTorque, typename RelativeAngular>
-inline void solve_friction_modes(const Vec3& n, const Vec3& V_t, double S, double mu,
-                                 double roll_cap, double twist_cap, double inv_dt_w_t,
-                                 double inv_dt_w_r, ContactAction& action, double inv_r_sq,
-                                 VisitChange& out, ApplyForce&& apply_force,
-                                 ApplyTorque&& apply_torque, RelativeAngular&& relative_angular) {
+/// Constants of one visit that differ between the pair and the wall kernel.
+struct ModeBlock {
+  double inv_dt_w_n, inv_dt_w_t, inv_dt_w_r;  ///< 1/(Δt w) of the three blocks (§5.2)
+  double cohesion, mu, roll_cap, twist_cap;   ///< F_c, μ, μ_t r_eff, μ_n r_eff
+  double gap_rate;                            ///< g_pos/Δt
+  double coupling;  ///< Δt c: a sliding change ΔR_t moves Ω by Δt c (n × ΔR_t) (§5.2)
+  double inv_r_sq;  ///< 1/r_eff² for the residual
+};
+
+/// The four modes of §5.4 for relative velocities V, Ω of the contact points. Writes the
+/// new action and returns the change (ΔR, ΔT) to apply to the bodies, so each body is
+/// updated once per visit. The normal change moves neither V_t nor Ω, and the sliding
+/// change moves Ω only through the coupling, so the modes can be solved on local copies.
+[[gnu::always_inline]] inline VisitChange solve_modes(const Vec3& n, const Vec3& V,
+                                                      const Vec3& Omega, const ModeBlock& m,
+                                                      ContactAction& action, Vec3& dR, Vec3& dT) {
+  VisitChange out;
+  const double V_n = V.dot(n);
+  // 1 normal: closed iff the trial force keeps S = R_n + F_c ≥ 0
+  const double R_n_trial = action.normal_force - m.inv_dt_w_n * (V_n + m.gap_rate);
+  if (R_n_trial < -m.cohesion) {
+    // open or opening: R_n = −F_c, every threshold is zero (§5.4 step 1)
+    const double dR_n = -m.cohesion - action.normal_force;
+    dR = dR_n * n - action.tangential_force;
+    dT = -action.rolling_torque - action.twisting_torque * n;
+    out.change_sq = action_size_sq(dR_n, action.tangential_force, action.rolling_torque,
+                                   action.twisting_torque, m.inv_r_sq);
+    action = ContactAction{};
+    action.normal_force = -m.cohesion;
+    return out;
+  }
+  const double dR_n = R_n_trial - action.normal_force;
+  action.normal_force = R_n_trial;
+  const double S = R_n_trial + m.cohesion;
+
   // 2 sliding: stick if the trial force is inside the disc μ S, else slide on its rim
-  const Vec3 R_t = clamp_to_disc(action.tangential_force - inv_dt_w_t * V_t, mu * S);
+  const Vec3 V_t = V - V_n * n;
+  const Vec3 R_t = clamp_to_disc(action.tangential_force - m.inv_dt_w_t * V_t, m.mu * S);
   const Vec3 dR_t = R_t - action.tangential_force;
   action.tangential_force = R_t;
-  apply_force(dR_t);
 
-  // 3 rolling and 4 torsion, from Ω after the sliding update (it moved Ω_t if c ≠ 0)
-  const Vec3 Omega = relative_angular();
-  const double Omega_n = Omega.dot(n);
-  const Vec3 Omega_t = Omega - Omega_n * n;
-  const Vec3 T_t = clamp_to_disc(action.rolling_torque - inv_dt_w_r * Omega_t, roll_cap * S);
+  // 3 rolling and 4 torsion, from Ω after the sliding change (it moves Ω_t if c ≠ 0)
+  const Vec3 Omega_1 = Omega + m.coupling * n.cross(dR_t);
+  const double Omega_n = Omega_1.dot(n);
+  const Vec3 Omega_t = Omega_1 - Omega_n * n;
+  const Vec3 T_t = clamp_to_disc(action.rolling_torque - m.inv_dt_w_r * Omega_t, m.roll_cap * S);
   const double T_n =
-      clamp_to_interval(action.twisting_torque - inv_dt_w_r * Omega_n, twist_cap * S);
+      clamp_to_interval(action.twisting_torque - m.inv_dt_w_r * Omega_n, m.twist_cap * S);
   const Vec3 dT_t = T_t - action.rolling_torque;
   const double dT_n = T_n - action.twisting_torque;
   action.rolling_torque = T_t;
   action.twisting_torque = T_n;
-  apply_torque(dT_t + dT_n * n);
 
-  out.change_sq = std::max(out.change_sq, action_size_sq(0.0, dR_t, dT_t, dT_n, inv_r_sq));
-  out.magnitude_sq = std::max(out.magnitude_sq, action_size_sq(0.0, R_t, T_t, T_n, inv_r_sq));
+  dR = dR_n * n + dR_t;
+  dT = dT_t + dT_n * n;
+  out.change_sq = action_size_sq(dR_n, dR_t, dT_t, dT_n, m.inv_r_sq);
+  return out;
 }
 
 }  // namespace detail
@@ -102,43 +130,21 @@ inline VisitChange solve_pair(const PairProblem& p, ContactAction& action, Spher
                               SphereVelocity& b) {
   const Vec3& n = p.normal;
   const Vec3 V = (b.linear - a.linear) - (p.radius_a * a.angular + p.radius_b * b.angular).cross(n);
-  const double V_n = V.dot(n);
-  const double inv_r_sq = detail::torque_scale_sq(p.r_eff);
-  VisitChange out;
-
-  // 1 normal: closed iff the trial force keeps S = R_n + F_c ≥ 0
-  const double R_n_trial = action.normal_force - p.inv_dt_w_n * (V_n + p.gap_rate);
-  if (R_n_trial < -p.cohesion) {
-    // open or opening: R_n = −F_c, every threshold is zero (§5.4 step 1)
-    const Vec3 dR = (-p.cohesion - action.normal_force) * n - action.tangential_force;
-    const Vec3 dT = -action.rolling_torque - action.twisting_torque * n;
-    out.change_sq =
-        detail::action_size_sq(-p.cohesion - action.normal_force, action.tangential_force,
-                               action.rolling_torque, action.twisting_torque, inv_r_sq);
-    out.magnitude_sq = p.cohesion * p.cohesion;
-    action = ContactAction{};
-    action.normal_force = -p.cohesion;
-    apply_pair_delta(p, dR, dT, a, b);
-    return out;
-  }
-  const double dR_n = R_n_trial - action.normal_force;
-  action.normal_force = R_n_trial;
-  // a normal force moves no angular velocity (l × n = 0) and leaves V_t unchanged
-  a.linear -= a.dt_inverse_mass * dR_n * n;
-  b.linear += b.dt_inverse_mass * dR_n * n;
-  out.change_sq = dR_n * dR_n;
-  out.magnitude_sq = R_n_trial * R_n_trial;
-
-  const double S = R_n_trial + p.cohesion;
-  const Vec3 V_t = V - V_n * n;
-  detail::solve_friction_modes(
-      n, V_t, S, p.mu, p.roll_cap, p.twist_cap, p.inv_dt_w_t, p.inv_dt_w_r, action, inv_r_sq, out,
-      [&](const Vec3& dR_t) { apply_pair_delta(p, dR_t, Vec3::Zero(), a, b); },
-      [&](const Vec3& dT) {
-        a.angular -= a.dt_inverse_inertia * dT;
-        b.angular += b.dt_inverse_inertia * dT;
-      },
-      [&] { return Vec3(b.angular - a.angular); });
+  const Vec3 Omega = b.angular - a.angular;
+  const detail::ModeBlock m{p.inv_dt_w_n,
+                            p.inv_dt_w_t,
+                            p.inv_dt_w_r,
+                            p.cohesion,
+                            p.mu,
+                            p.roll_cap,
+                            p.twist_cap,
+                            p.gap_rate,
+                            p.radius_a * a.dt_inverse_inertia - p.radius_b * b.dt_inverse_inertia,
+                            detail::torque_scale_sq(p.r_eff)};
+  Vec3 dR;
+  Vec3 dT;
+  const VisitChange out = detail::solve_modes(n, V, Omega, m, action, dR, dT);
+  apply_pair_delta(p, dR, dT, a, b);
   return out;
 }
 
@@ -150,36 +156,20 @@ inline VisitChange solve_wall(const WallProblem& w, ContactAction& action, Spher
   const Vec3& n = w.normal;
   const Vec3 V =
       s.linear - w.radius * s.angular.cross(n) - Vec3(0.0, 0.0, w.wall_moves * wall_velocity);
-  const double V_n = V.dot(n);
-  const double inv_r_sq = detail::torque_scale_sq(w.radius);
-  VisitChange out;
-
-  const double R_n_trial = action.normal_force - w.inv_dt_w_n * (V_n + w.gap_rate);
-  if (R_n_trial < -w.cohesion) {
-    const Vec3 dR = (-w.cohesion - action.normal_force) * n - action.tangential_force;
-    const Vec3 dT = -action.rolling_torque - action.twisting_torque * n;
-    out.change_sq =
-        detail::action_size_sq(-w.cohesion - action.normal_force, action.tangential_force,
-                               action.rolling_torque, action.twisting_torque, inv_r_sq);
-    out.magnitude_sq = w.cohesion * w.cohesion;
-    action = ContactAction{};
-    action.normal_force = -w.cohesion;
-    apply_wall_delta(w, dR, dT, s, wall_velocity);
-    return out;
-  }
-  const double dR_n = R_n_trial - action.normal_force;
-  action.normal_force = R_n_trial;
-  apply_wall_delta(w, dR_n * n, Vec3::Zero(), s, wall_velocity);
-  out.change_sq = dR_n * dR_n;
-  out.magnitude_sq = R_n_trial * R_n_trial;
-
-  const double S = R_n_trial + w.cohesion;
-  const Vec3 V_t = V - V_n * n;
-  detail::solve_friction_modes(
-      n, V_t, S, w.mu, w.roll_cap, w.twist_cap, w.inv_dt_w_t, w.inv_dt_w_r, action, inv_r_sq, out,
-      [&](const Vec3& dR_t) { apply_wall_delta(w, dR_t, Vec3::Zero(), s, wall_velocity); },
-      [&](const Vec3& dT) { s.angular += s.dt_inverse_inertia * dT; },
-      [&] { return Vec3(s.angular); });
+  const detail::ModeBlock m{w.inv_dt_w_n,
+                            w.inv_dt_w_t,
+                            w.inv_dt_w_r,
+                            w.cohesion,
+                            w.mu,
+                            w.roll_cap,
+                            w.twist_cap,
+                            w.gap_rate,
+                            -w.radius * s.dt_inverse_inertia,
+                            detail::torque_scale_sq(w.radius)};
+  Vec3 dR;
+  Vec3 dT;
+  const VisitChange out = detail::solve_modes(n, V, s.angular, m, action, dR, dT);
+  apply_wall_delta(w, dR, dT, s, wall_velocity);
   return out;
 }
 

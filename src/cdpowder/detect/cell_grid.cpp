@@ -45,6 +45,7 @@ void CellGrid::rebuild(const std::vector<Vec3>& positions, const PeriodicBox& bo
 
 int CellGrid::neighbour_cells(int cx, int cy, int cz, std::array<int, 27>& out) const {
   int count = 0;
+  const bool may_repeat = nx_ < 3 || ny_ < 3;
   for (int dz = -1; dz <= 1; ++dz) {
     const int z = cz + dz;
     if (z < 0 || z >= nz_) continue;  // z is not periodic
@@ -54,7 +55,7 @@ int CellGrid::neighbour_cells(int cx, int cy, int cz, std::array<int, 27>& out) 
         const int x = (cx + dx + nx_) % nx_;
         const int c = cell_index(x, y, z);
         // with fewer than three cells along x or y, offsets ±1 wrap onto the same cell
-        if (std::find(out.begin(), out.begin() + count, c) == out.begin() + count) {
+        if (!may_repeat || std::find(out.begin(), out.begin() + count, c) == out.begin() + count) {
           out[count++] = c;
         }
       }

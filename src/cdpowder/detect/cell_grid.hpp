@@ -25,6 +25,11 @@ class CellGrid {
   template <typename Visitor>
   void for_each_near_pair(Visitor&& visit) const;
 
+  /// Calls visit(j) for every sphere j in the same or a neighbouring cell of sphere i
+  /// (each once; i itself included), in cell order.
+  template <typename Visitor>
+  void for_each_near(BodyIndex i, Visitor&& visit) const;
+
   [[nodiscard]] int cells_x() const { return nx_; }
 
   [[nodiscard]] int cells_y() const { return ny_; }
@@ -67,6 +72,20 @@ void CellGrid::for_each_near_pair(Visitor&& visit) const {
         }
       }
     }
+  }
+}
+
+template <typename Visitor>
+void CellGrid::for_each_near(BodyIndex i, Visitor&& visit) const {
+  const int c = cell_of_[i];
+  const int cx = c % nx_;
+  const int cy = (c / nx_) % ny_;
+  const int cz = c / (nx_ * ny_);
+  std::array<int, 27> neighbours{};
+  const int count = neighbour_cells(cx, cy, cz, neighbours);
+  for (int k = 0; k < count; ++k) {
+    const int nc = neighbours[k];
+    for (std::uint32_t t = cell_start_[nc]; t < cell_start_[nc + 1]; ++t) visit(sorted_[t]);
   }
 }
 

@@ -2,8 +2,6 @@
 // and the start-of-step geometry that stays frozen during the sweeps (physics.md §3).
 #include "cdpowder/detect/detect_contacts.hpp"
 
-#include "cdpowder/contact/action_cache.hpp"
-
 #include <algorithm>
 #include <cmath>
 
@@ -32,29 +30,33 @@ void detect_contacts(World& world, const StepSettings& settings, CellGrid& grid,
   const double cutoff = candidate_gap(world, settings);
   contacts.clear();
 
-  // sphere–sphere: centre distance < R_a + R_b + cutoff
+  // sphere–sphere: centre distance < R_a + R_b + cutoff. Visiting a in index order and
+  // sorting each sphere's few partners b gives the list sorted by (a, b) — the order of the
+  // warm-start cache — without sorting the whole list.
   grid.rebuild(bodies.position, box, 2.0 * bodies.max_radius() + cutoff);
-  grid.for_each_near_pair([&](BodyIndex a, BodyIndex b) {
-    if (bodies.fixed[a] != 0 && bodies.fixed[b] != 0) return;
-    const Vec3 d = box.minimum_image(bodies.position[b] - bodies.position[a]);
-    const double reach = bodies.radius[a] + bodies.radius[b] + cutoff;
-    const double distance_squared = d.squaredNorm();
-    if (distance_squared >= reach * reach) return;
-    const double distance = std::sqrt(distance_squared);
-    PairProblem p;
-    p.a = a;
-    p.b = b;
-    // coincident centres have no normal; any unit vector keeps the kernel finite
-    p.normal = distance > 0.0 ? Vec3(d / distance) : Vec3::UnitZ();
-    p.gap = distance - bodies.radius[a] - bodies.radius[b];
-    p.radius_a = bodies.radius[a];
-    p.radius_b = bodies.radius[b];
-    contacts.pairs.push_back(p);
-  });
-  std::sort(contacts.pairs.begin(), contacts.pairs.end(),
-            [](const PairProblem& x, const PairProblem& y) {
-              return pair_key(x.a, x.b) < pair_key(y.a, y.b);
-            });
+  const auto sphere_count = static_cast<BodyIndex>(bodies.size());
+  for (BodyIndex a = 0; a < sphere_count; ++a) {
+    const std::size_t first = contacts.pairs.size();
+    grid.for_each_near(a, [&](BodyIndex b) {
+      if (b <= a || (bodies.fixed[a] != 0 && bodies.fixed[b] != 0)) return;
+      const Vec3 d = box.minimum_image(bodies.position[b] - bodies.position[a]);
+      const double reach = bodies.radius[a] + bodies.radius[b] + cutoff;
+      const double distance_squared = d.squaredNorm();
+      if (distance_squared >= reach * reach) return;
+      const double distance = std::sqrt(distance_squared);
+      PairProblem p;
+      p.a = a;
+      p.b = b;
+      // coincident centres have no normal; any unit vector keeps the kernel finite
+      p.normal = distance > 0.0 ? Vec3(d / distance) : Vec3::UnitZ();
+      p.gap = distance - bodies.radius[a] - bodies.radius[b];
+      p.radius_a = bodies.radius[a];
+      p.radius_b = bodies.radius[b];
+      contacts.pairs.push_back(p);
+    });
+    std::sort(contacts.pairs.begin() + static_cast<std::ptrdiff_t>(first), contacts.pairs.end(),
+              [](const PairProblem& x, const PairProblem& y) { return x.b < y.b; });
+  }
 
   // sphere–wall, bottom first then piston, each in sphere order (the cache's key order)
   const auto add_wall = [&](WallKind kind, BodyIndex i, double gap, double normal_z) {
@@ -66,16 +68,15 @@ void detect_contacts(World& world, const StepSettings& settings, CellGrid& grid,
     w.radius = bodies.radius[i];
     contacts.walls.push_back(w);
   };
-  const auto n = static_cast<BodyIndex>(bodies.size());
   if (world.walls.bottom.enabled) {
-    for (BodyIndex i = 0; i < n; ++i) {
+    for (BodyIndex i = 0; i < sphere_count; ++i) {
       const double gap = bodies.position[i].z() - bodies.radius[i];
       if (gap < cutoff && bodies.fixed[i] == 0) add_wall(WallKind::Bottom, i, gap, 1.0);
     }
   }
   if (world.walls.piston.enabled) {
     const double z_piston = world.walls.piston.height;
-    for (BodyIndex i = 0; i < n; ++i) {
+    for (BodyIndex i = 0; i < sphere_count; ++i) {
       const double gap = z_piston - bodies.position[i].z() - bodies.radius[i];
       if (gap < cutoff) add_wall(WallKind::Piston, i, gap, -1.0);
     }

@@ -52,7 +52,6 @@ void prepare_visit_order(Contacts& contacts, VisitOrder policy, NlgsWorkspace& w
 struct SweepSums {
   double max_change_sq = 0.0;  ///< largest squared correction of a visit [F_coh²]
   double sum_change_sq = 0.0;
-  double sum_magnitude_sq = 0.0;
   double sum_closed_normal = 0.0;
   std::size_t closed = 0;
 };

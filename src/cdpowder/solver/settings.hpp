@@ -22,8 +22,9 @@ enum class StoppingRule {
 
 /// Order in which a sweep visits the contacts (physics.md §7.1).
 enum class VisitOrder {
-  /// A fresh seeded permutation of blocks of 16 contacts every step, kept for all sweeps of
-  /// the step (default). Random across steps, so no direction is preferred; a stationary
+  /// A fresh seeded permutation of blocks of contacts every step (≥ 1024 blocks, ≤ 256
+  /// contacts each), kept for all sweeps of the step (default). Random across steps, so no
+  /// direction is preferred; a stationary
   /// sweep map within the step, which Anderson acceleration needs; blocks of contacts that
   /// share spheres, which keeps large systems cache friendly.
   RandomEachStep,

@@ -1,0 +1,337 @@
+// table_reader.cpp — typed reads at dotted keys with one issue per bad value, the unknown-key
+// check with its suggestions, and the `--set` overrides (table_reader.hpp). Numbers in
+// messages are formatted with fmt, which prints the shortest form that reads back exactly,
+// so a message echoes what the user typed (style guide 3.7).
+#include "cdpowder/config/table_reader.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <tuple>
+
+namespace cdpowder::detail {
+namespace {
+
+/// A number node's value; TOML integers are accepted where numbers are expected.
+std::optional<double> number_value(const toml::node& node) {
+  if (const auto* integer = node.as_integer()) {
+    return static_cast<double>(integer->get());
+  }
+  if (const auto* floating = node.as_floating_point()) {
+    return floating->get();
+  }
+  return std::nullopt;
+}
+
+std::string_view trim(std::string_view s) {
+  const std::size_t first = s.find_first_not_of(" \t");
+  if (first == std::string_view::npos) {
+    return {};
+  }
+  return s.substr(first, s.find_last_not_of(" \t") - first + 1);
+}
+
+/// An override split into its dotted key and its value, parsed as the TOML `v = value` with
+/// source "--set" so that its nodes are reported as such.
+struct Override {
+  std::string key;
+  toml::table parsed;
+};
+
+/// Parses one "section.key=value"; nullopt, and an issue naming it, when it is malformed.
+std::optional<Override> parse_override(const std::string& text, std::vector<ConfigIssue>& issues) {
+  const auto fail = [&issues](std::string_view key, std::string message) {
+    issues.push_back({std::string(kOverrideSource), 0, 0, std::string(key), std::move(message)});
+    return std::nullopt;
+  };
+  constexpr std::string_view kBareKeyCharacters =
+      "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-";
+  const std::size_t equals = text.find('=');
+  const std::string_view key =
+      trim(std::string_view(text).substr(0, equals == std::string::npos ? 0 : equals));
+  const bool key_ok =
+      !key.empty() && key.front() != '.' && key.back() != '.' &&
+      key.find("..") == std::string_view::npos &&
+      key.find_first_not_of(std::string(kBareKeyCharacters) + ".") == std::string_view::npos;
+  if (equals == std::string::npos || !key_ok) {
+    return fail(text, "malformed override, expected section.key=value (e.g. contact.mu_roll=0.5)");
+  }
+  const std::string_view value = trim(std::string_view(text).substr(equals + 1));
+  Override result{std::string(key), {}};
+  try {
+    result.parsed = toml::parse("v = " + std::string(value), std::string(kOverrideSource));
+  } catch (const toml::parse_error& error) {
+    const bool bare_word =
+        !value.empty() && value.find_first_not_of(kBareKeyCharacters) == std::string_view::npos;
+    return fail(key,
+                fmt::format("malformed override '{}': the value is not TOML ({}){}", text,
+                            error.description(),
+                            bare_word ? fmt::format("; strings need quotes: \"{}\"", value) : ""));
+  }
+  if (value.empty() || result.parsed.size() != 1) {
+    return fail(key, fmt::format("malformed override '{}': expected one value", text));
+  }
+  return result;
+}
+
+}  // namespace
+
+bool Range::contains(double value) const {
+  if (!std::isfinite(value)) {
+    return false;
+  }
+  switch (kind) {
+    case Kind::AtLeast:
+      return value >= bound;
+    case Kind::Above:
+      return value > bound;
+    case Kind::Any:
+      break;
+  }
+  return true;
+}
+
+std::string Range::describe() const {
+  switch (kind) {
+    case Kind::AtLeast:
+      return fmt::format("a number ≥ {}", bound);
+    case Kind::Above:
+      return fmt::format("a number > {}", bound);
+    case Kind::Any:
+      break;
+  }
+  return "a finite number";
+}
+
+std::string describe(const toml::node& node) {
+  if (const auto* integer = node.as_integer()) {
+    return fmt::format("{}", integer->get());
+  }
+  if (const auto* floating = node.as_floating_point()) {
+    return fmt::format("{}", floating->get());
+  }
+  if (const auto* boolean = node.as_boolean()) {
+    return boolean->get() ? "true" : "false";
+  }
+  if (const auto* string = node.as_string()) {
+    return fmt::format("\"{}\"", string->get());
+  }
+  if (node.is_array()) {
+    return "an array";
+  }
+  if (node.is_table()) {
+    return "a table";
+  }
+  return "a date or time";
+}
+
+const toml::node* TableReader::find(std::string_view key) {
+  known_.emplace(key);
+  const toml::table* table = &root_;
+  const toml::node* node = nullptr;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t dot = key.find('.', start);
+    node = table->get(key.substr(start, dot == std::string_view::npos ? dot : dot - start));
+    if (node == nullptr || dot == std::string_view::npos) {
+      return node;
+    }
+    table = node->as_table();
+    if (table == nullptr) {
+      return nullptr;  // reported by check_unknown_keys: "expected a table"
+    }
+    start = dot + 1;
+  }
+}
+
+std::optional<double> TableReader::optional_number(std::string_view key, Range range) {
+  const toml::node* node = find(key);
+  if (node == nullptr) {
+    return std::nullopt;
+  }
+  const std::optional<double> value = number_value(*node);
+  if (!value || !range.contains(*value)) {
+    // TOML allows inf and nan.
+    const bool infinite = value && !std::isfinite(*value) && range.kind != Range::Kind::Any;
+    add_issue(key, node->source(),
+              fmt::format("got {}, expected {}{}", describe(*node),
+                          infinite ? "a finite number, " : "", range.describe()));
+    return std::nullopt;
+  }
+  return value;
+}
+
+std::int64_t TableReader::integer(std::string_view key, std::int64_t fallback, std::int64_t minimum,
+                                  std::int64_t maximum) {
+  const toml::node* node = find(key);
+  if (node == nullptr) {
+    return fallback;
+  }
+  const auto* integer = node->as_integer();
+  if (integer == nullptr || integer->get() < minimum || integer->get() > maximum) {
+    const bool too_large = integer != nullptr && integer->get() > maximum;
+    const std::string allowed = too_large ? fmt::format("an integer ≤ {}", maximum)
+                                          : fmt::format("an integer ≥ {}", minimum);
+    add_issue(key, node->source(), fmt::format("got {}, expected {}", describe(*node), allowed));
+    return fallback;
+  }
+  return integer->get();
+}
+
+bool TableReader::boolean(std::string_view key, bool fallback) {
+  const toml::node* node = find(key);
+  if (node == nullptr) {
+    return fallback;
+  }
+  if (const auto* value = node->as_boolean()) {
+    return value->get();
+  }
+  add_issue(key, node->source(), fmt::format("got {}, expected true or false", describe(*node)));
+  return fallback;
+}
+
+Vec3 TableReader::vector3(std::string_view key, const Vec3& fallback) {
+  const toml::node* node = find(key);
+  if (node == nullptr) {
+    return fallback;
+  }
+  const toml::array* array = node->as_array();
+  if (array == nullptr || array->size() != 3) {
+    const std::string got =
+        array == nullptr ? describe(*node) : fmt::format("{} elements", array->size());
+    add_issue(key, node->source(), fmt::format("got {}, expected an array of 3 numbers", got));
+    return fallback;
+  }
+  Vec3 result = fallback;
+  bool ok = true;
+  for (std::size_t i = 0; i < 3; ++i) {
+    const std::optional<double> value = number_value((*array)[i]);
+    if (!value || !std::isfinite(*value)) {
+      add_issue(
+          key, (*array)[i].source(),
+          fmt::format("element {} is {}, expected a finite number", i + 1, describe((*array)[i])));
+      ok = false;
+    } else {
+      result[static_cast<Eigen::Index>(i)] = *value;
+    }
+  }
+  return ok ? result : fallback;
+}
+
+std::string TableReader::required_string(std::string_view key) {
+  const toml::node* node = find(key);
+  if (node == nullptr) {
+    add_issue(key, toml::source_region{}, "missing; this key is required", /*in_file=*/true);
+    return {};
+  }
+  const auto* value = node->as_string();
+  if (value == nullptr || value->get().empty()) {
+    add_issue(key, node->source(),
+              fmt::format("got {}, expected a non-empty string", describe(*node)));
+    return {};
+  }
+  return value->get();
+}
+
+void TableReader::add_issue(std::string_view key, const toml::source_region& where,
+                            std::string message, bool in_file) {
+  failed_.emplace(key);
+  ConfigIssue issue{source_name_, 0, 0, std::string(key), std::move(message)};
+  const bool from_override =
+      !in_file && (where.begin.line == 0 || (where.path && *where.path == kOverrideSource));
+  if (from_override) {
+    issue.file = kOverrideSource;
+  } else if (!in_file) {
+    issue.line = static_cast<int>(where.begin.line);
+    issue.column = static_cast<int>(where.begin.column);
+  }
+  issues_.push_back(std::move(issue));
+}
+
+// A prefix of a known key names a table, e.g. "contact.wall" of "contact.wall.mu".
+bool TableReader::is_known_table(const std::string& key) const {
+  const auto it = known_.lower_bound(key + ".");
+  return it != known_.end() && it->starts_with(key + ".");
+}
+
+std::string TableReader::suggest(const std::string& key) const {
+  std::vector<std::string> candidates;
+  for (const std::string& known : known_) {
+    candidates.push_back(known);
+    for (std::size_t dot = known.find('.'); dot != std::string::npos;
+         dot = known.find('.', dot + 1)) {
+      candidates.push_back(known.substr(0, dot));
+    }
+  }
+  std::string hint = did_you_mean(key, candidates);
+  if (hint.empty()) {
+    // The right name in the wrong table: `solver.mu` → 'contact.mu'.
+    const std::string leaf = key.substr(key.rfind('.') + 1);
+    for (const std::string& known : known_) {
+      if (known.substr(known.rfind('.') + 1) == leaf) {
+        return "; did you mean '" + known + "'?";
+      }
+    }
+  }
+  return hint;
+}
+
+void TableReader::check_table(const toml::table& table, const std::string& prefix) {
+  for (const auto& [name, node] : table) {
+    const std::string key =
+        prefix.empty() ? std::string(name.str()) : prefix + "." + std::string(name.str());
+    if (known_.count(key) > 0) {
+      continue;  // a value key; its type was checked when it was read
+    }
+    const toml::source_region& where = name.source().begin.line > 0 ? name.source() : node.source();
+    if (!is_known_table(key)) {
+      add_issue(key, where, "unknown key" + suggest(key));
+    } else if (const toml::table* sub = node.as_table()) {
+      check_table(*sub, key);
+    } else {
+      add_issue(key, where, fmt::format("got {}, expected a table", describe(node)));
+    }
+  }
+}
+
+void apply_overrides(toml::table& root, const std::vector<std::string>& overrides,
+                     std::vector<ConfigIssue>& issues) {
+  for (const std::string& text : overrides) {
+    std::optional<Override> change = parse_override(text, issues);
+    if (!change) {
+      continue;
+    }
+    const std::string_view key = change->key;
+    toml::table* table = &root;
+    std::size_t start = 0;
+    for (std::size_t dot = key.find('.'); dot != std::string_view::npos;
+         start = dot + 1, dot = key.find('.', start)) {
+      toml::node* node = table->get(key.substr(start, dot - start));
+      if (node == nullptr) {
+        node =
+            &table->insert_or_assign(key.substr(start, dot - start), toml::table{}).first->second;
+      }
+      table = node->as_table();
+      if (table == nullptr) {
+        issues.push_back({std::string(kOverrideSource), 0, 0, change->key,
+                          fmt::format("cannot set '{}': {} is {}, not a table", text,
+                                      key.substr(0, dot), describe(*node))});
+        break;
+      }
+    }
+    if (table != nullptr) {
+      table->insert_or_assign(key.substr(start), std::move(*change->parsed.get("v")));
+    }
+  }
+}
+
+void sort_issues(std::vector<ConfigIssue>& issues) {
+  const auto rank = [](const ConfigIssue& issue) {
+    const int group = issue.file == kOverrideSource ? 2 : (issue.line > 0 ? 0 : 1);
+    return std::tuple(group, issue.line, issue.column);
+  };
+  std::stable_sort(
+      issues.begin(), issues.end(),
+      [&rank](const ConfigIssue& a, const ConfigIssue& b) { return rank(a) < rank(b); });
+}
+
+}  // namespace cdpowder::detail
