@@ -7,6 +7,7 @@
 
 #include "cdpowder/config/scene_writer.hpp"
 #include "cdpowder/config/table_reader.hpp"
+#include "cdpowder/solver/anderson.hpp"
 
 #include <fmt/format.h>
 #include <toml++/toml.h>
@@ -69,8 +70,8 @@ Scene read_values(TableReader& in, const std::filesystem::path& base_dir) {
       in.choice("solver.stopping_rule", solver.stopping_rule, detail::kStoppingRuleNames);
   solver.visit_order =
       in.choice("solver.visit_order", solver.visit_order, detail::kVisitOrderNames);
-  solver.acceleration_depth = static_cast<int>(
-      in.integer("solver.acceleration_depth", solver.acceleration_depth, 0, kIntMax));
+  solver.acceleration_depth = static_cast<int>(in.integer(
+      "solver.acceleration_depth", solver.acceleration_depth, 0, AndersonAccelerator::kMaxDepth));
   solver.warm_start = in.boolean("solver.warm_start", solver.warm_start);
   solver.skin = in.number("solver.skin", solver.skin, kNonNegative);
   solver.seed = static_cast<std::uint64_t>(

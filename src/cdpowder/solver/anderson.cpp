@@ -46,13 +46,24 @@ bool AndersonAccelerator::extrapolate(const std::vector<double>& x, const std::v
       df[i] = f[i] - last_f_[i];
       dg[i] = g[i] - last_g_[i];
     }
-    delta_f_.push_back(std::move(df));
-    delta_g_.push_back(std::move(dg));
-    if (static_cast<int>(delta_f_.size()) > depth_) {
+    if (static_cast<int>(delta_f_.size()) == depth_) {
+      // drop the oldest difference and shift its Gram products out
       spare_.push_back(std::move(delta_f_.front()));
       spare_.push_back(std::move(delta_g_.front()));
       delta_f_.pop_front();
       delta_g_.pop_front();
+      const std::size_t kept = delta_f_.size();
+      for (std::size_t i = 0; i < kept; ++i) {
+        for (std::size_t j = 0; j < kept; ++j) {
+          gram_[i * kMaxDepth + j] = gram_[(i + 1) * kMaxDepth + (j + 1)];
+        }
+      }
+    }
+    delta_f_.push_back(std::move(df));
+    delta_g_.push_back(std::move(dg));
+    const std::size_t last = delta_f_.size() - 1;
+    for (std::size_t j = 0; j <= last; ++j) {
+      gram_[last * kMaxDepth + j] = gram_[j * kMaxDepth + last] = dot(delta_f_[last], delta_f_[j]);
     }
   } else {
     last_f_.resize(n);
@@ -66,19 +77,21 @@ bool AndersonAccelerator::extrapolate(const std::vector<double>& x, const std::v
   const auto k = static_cast<Eigen::Index>(delta_f_.size());
   if (k == 0) return false;
   // normal equations (ΔFᵀΔF + λ I) γ = ΔFᵀ f, λ a relative Tikhonov term against
-  // nearly parallel differences
-  Eigen::MatrixXd normal(k, k);
-  Eigen::VectorXd rhs(k);
+  // nearly parallel differences; fixed-capacity matrices, no allocation
+  using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxDepth, kMaxDepth>;
+  using SmallVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxDepth, 1>;
+  Small normal(k, k);
+  SmallVector rhs(k);
   for (Eigen::Index a = 0; a < k; ++a) {
     const auto ua = static_cast<std::size_t>(a);
     rhs(a) = dot(delta_f_[ua], last_f_);
-    for (Eigen::Index b = 0; b <= a; ++b) {
-      normal(a, b) = normal(b, a) = dot(delta_f_[ua], delta_f_[static_cast<std::size_t>(b)]);
+    for (Eigen::Index b = 0; b < k; ++b) {
+      normal(a, b) = gram_[ua * kMaxDepth + static_cast<std::size_t>(b)];
     }
   }
   const double lambda = 1e-12 * normal.trace();
   normal.diagonal().array() += lambda > 0.0 ? lambda : 1e-300;
-  const Eigen::VectorXd gamma = normal.ldlt().solve(rhs);
+  const SmallVector gamma = normal.ldlt().solve(rhs);
   if (!gamma.allFinite()) return false;
   for (Eigen::Index a = 0; a < k; ++a) {
     const std::vector<double>& dg = delta_g_[static_cast<std::size_t>(a)];

@@ -10,6 +10,7 @@
 // It needs a stationary map, so the visiting order is fixed within a step.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <deque>
 #include <vector>
@@ -18,8 +19,11 @@ namespace cdpowder {
 
 class AndersonAccelerator {
  public:
-  /// depth m: how many past differences enter the least-squares fit.
-  explicit AndersonAccelerator(int depth = 5) : depth_(depth) {}
+  static constexpr int kMaxDepth = 16;  ///< the fit is a kMaxDepth × kMaxDepth problem at most
+
+  /// depth m (clamped to [1, kMaxDepth]): how many past differences enter the fit.
+  explicit AndersonAccelerator(int depth = 5)
+      : depth_(depth < 1 ? 1 : (depth > kMaxDepth ? kMaxDepth : depth)) {}
 
   /// Forgets the history (start of a step, or after a rejected extrapolation).
   void reset();
@@ -37,6 +41,9 @@ class AndersonAccelerator {
   std::deque<std::vector<double>> delta_f_;  ///< f_{j+1} − f_j
   std::deque<std::vector<double>> delta_g_;  ///< g_{j+1} − g_j
   std::vector<std::vector<double>> spare_;   ///< recycled buffers: no allocation in steady state
+  /// ΔF_iᵀΔF_j of the stored differences, kept up to date as differences come and go, so
+  /// a sweep computes only the new products (row-major, kMaxDepth × kMaxDepth).
+  std::array<double, kMaxDepth * kMaxDepth> gram_{};
 };
 
 }  // namespace cdpowder
