@@ -5,6 +5,7 @@
 #pragma once
 
 #include "cdpowder/core/vec3.hpp"
+#include "cdpowder/experiment/deposition.hpp"
 #include "cdpowder/solver/settings.hpp"
 
 #include <cstdint>
@@ -66,9 +67,13 @@ struct Scene {
   StepSettings step;  ///< [solver] and [contact], [contact.wall]
   PistonConfig piston;
   RunConfig run;
-  std::filesystem::path particles_file;  ///< [particles] file, resolved against the scene's folder
-  std::filesystem::path source;          ///< the scene file itself
-  std::string effective_toml;            ///< the fully resolved scene (defaults filled in) as TOML
+  /// Where the spheres come from: exactly one of a particles CSV ([particles] file, resolved
+  /// against the scene's folder) and a ballistic deposit ([deposition]; its L_x, L_y are
+  /// those of [system]).
+  std::filesystem::path particles_file;
+  std::optional<DepositionConfig> deposition;
+  std::filesystem::path source;  ///< the scene file itself
+  std::string effective_toml;    ///< the fully resolved scene (defaults filled in) as TOML
 };
 
 }  // namespace cdpowder

@@ -86,7 +86,23 @@ Scene read_values(TableReader& in, const std::filesystem::path& base_dir) {
   piston.start_gap = in.number("piston.start_gap", piston.start_gap, kNonNegative);
   piston.velocity = in.number("piston.velocity", piston.velocity, kAnyNumber);
 
-  const std::string particles = in.required_string("particles.file");
+  if (in.find("deposition") != nullptr) {
+    DepositionConfig d;
+    d.spheres = static_cast<int>(in.integer("deposition.spheres", d.spheres, 1, kIntMax));
+    // `radius` sets both ends of a monodisperse deposit; radius_min/max a uniform spread
+    const double radius = in.number("deposition.radius", 1.0, kPositive);
+    d.radius_min = in.number("deposition.radius_min", radius, kPositive);
+    d.radius_max = in.number("deposition.radius_max", radius, kPositive);
+    d.capture_radius = in.number("deposition.capture_radius", d.capture_radius, kPositive);
+    d.capture_rule =
+        in.choice("deposition.capture_rule", d.capture_rule, detail::kCaptureRuleNames);
+    d.seed = static_cast<std::uint64_t>(
+        in.integer("deposition.seed", static_cast<std::int64_t>(d.seed), 0));
+    d.lx = system.lx;
+    d.ly = system.ly;
+    s.deposition = d;
+  }
+  const std::string particles = s.deposition ? std::string() : in.required_string("particles.file");
   if (!particles.empty()) {
     s.particles_file = (base_dir / std::filesystem::path(particles)).lexically_normal();
     std::error_code error;
@@ -134,6 +150,28 @@ void check_consistency(TableReader& in, const Scene& s) {
     in.add_issue("run.until_blocked", where("run.until_blocked"),
                  "is true but piston.enabled is false; the blocked state needs the piston",
                  in_file("run.until_blocked"));
+  }
+  if (s.deposition && in.find("particles") != nullptr) {
+    in.add_issue("particles", where("particles"),
+                 "given together with [deposition]; the spheres come from exactly one of them");
+  }
+  if (s.deposition) {
+    const DepositionConfig& d = *s.deposition;
+    if (d.radius_min > d.radius_max && !in.failed("deposition.radius_min") &&
+        !in.failed("deposition.radius_max")) {
+      in.add_issue("deposition.radius_min", where("deposition.radius_min"),
+                   fmt::format("got {}, expected at most deposition.radius_max = {}", d.radius_min,
+                               d.radius_max),
+                   in_file("deposition.radius_min"));
+    }
+    if (d.capture_rule == CaptureRule::CentreDistance && d.capture_gap() < 0.0 &&
+        !in.failed("deposition.capture_radius")) {
+      in.add_issue("deposition.capture_radius", where("deposition.capture_radius"),
+                   fmt::format("got {}, expected ≥ radius_min + radius_max = {} for the "
+                               "centre_distance rule (below it captured spheres would overlap)",
+                               d.capture_radius, d.radius_min + d.radius_max),
+                   in_file("deposition.capture_radius"));
+    }
   }
   const SolverSettings& solver = s.step.solver;
   if (solver.min_sweeps > solver.max_sweeps && !in.failed("solver.min_sweeps") &&

@@ -97,7 +97,7 @@ std::string write_effective_toml(const Scene& s) {
     }
   }
   const BlockedCriteria& blocked = s.run.blocked;
-  const toml::table root{
+  toml::table root{
       {"system", toml::table{{"lx", s.system.lx},
                              {"ly", s.system.ly},
                              {"gravity", toml::array{g.x(), g.y(), g.z()}},
@@ -115,7 +115,6 @@ std::string write_effective_toml(const Scene& s) {
                              {"skin", solver.skin},
                              {"seed", static_cast<std::int64_t>(solver.seed)}}},
       {"piston", std::move(piston)},
-      {"particles", toml::table{{"file", s.particles_file.string()}}},
       {"run", toml::table{{"duration", s.run.duration},
                           {"until_blocked", s.run.until_blocked},
                           {"max_duration", s.run.max_duration},
@@ -125,6 +124,18 @@ std::string write_effective_toml(const Scene& s) {
                                                   {"sphere_speed", blocked.sphere_speed},
                                                   {"force_balance", blocked.force_balance},
                                                   {"height_change", blocked.height_change}}}}}};
+  if (s.deposition) {
+    const DepositionConfig& d = *s.deposition;
+    root.insert("deposition",
+                toml::table{{"spheres", d.spheres},
+                            {"radius_min", d.radius_min},
+                            {"radius_max", d.radius_max},
+                            {"capture_radius", d.capture_radius},
+                            {"capture_rule", name_of(d.capture_rule, kCaptureRuleNames)},
+                            {"seed", static_cast<std::int64_t>(d.seed)}});
+  } else {
+    root.insert("particles", toml::table{{"file", s.particles_file.string()}});
+  }
   // Basic single-line strings only, so shorten_floats can tell strings from numbers.
   const toml::format_flags flags =
       toml::toml_formatter::default_flags &

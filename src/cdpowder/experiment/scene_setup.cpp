@@ -2,6 +2,7 @@
 #include "cdpowder/experiment/scene_setup.hpp"
 
 #include "cdpowder/config/particles_csv.hpp"
+#include "cdpowder/experiment/deposition.hpp"
 
 #include <algorithm>
 
@@ -12,7 +13,11 @@ World make_world(const Scene& scene) {
   world.box = PeriodicBox{scene.system.lx, scene.system.ly};
   world.gravity = scene.system.gravity;
   world.walls.bottom.enabled = scene.system.bottom_wall;
-  read_particles_csv(scene.particles_file, scene.system.density, world.bodies);
+  if (scene.deposition) {
+    deposit_ballistically(*scene.deposition, scene.system.density, world.bodies);
+  } else {
+    read_particles_csv(scene.particles_file, scene.system.density, world.bodies);
+  }
   check_box_fits(scene, world.bodies);
 
   Piston& piston = world.walls.piston;

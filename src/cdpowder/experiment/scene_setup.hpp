@@ -1,5 +1,6 @@
 // scene_setup.hpp — turns a validated Scene into the World it describes: spheres from the
-// particles CSV, the cell, gravity, the bottom wall and the piston at its start height.
+// particles CSV or a ballistic deposit, the cell, gravity, the bottom wall and the piston at
+// its start height.
 #pragma once
 
 #include "cdpowder/config/scene.hpp"
