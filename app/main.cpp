@@ -1,5 +1,6 @@
 // main.cpp — the cdpowder command line. The only place that turns exceptions into text
 // and exit codes: 0 done, 1 the run failed, 2 bad input (nothing written).
+#include "commands/deposit.hpp"
 #include "commands/simulate.hpp"
 
 #include "cdpowder/config/config_error.hpp"
@@ -15,25 +16,47 @@ namespace {
 constexpr int kExitRunFailed = 1;
 constexpr int kExitBadInput = 2;
 
+/// The options shared by simulate and compact.
+void add_run_options(CLI::App& command, cdpowder::app::RunOptions& options) {
+  command.add_option("scene", options.scene, "Scene file (TOML); see docs/config.md")->required();
+  command.add_option("--out,-o", options.out, "Output folder (created if missing)")->required();
+  command.add_option("--set", options.overrides,
+                     "Override a scene key: --set section.key=value (repeatable)");
+  command.add_option("--particles", options.particles,
+                     "Start from this particles CSV (e.g. a deposit's particles.csv) instead of "
+                     "the scene's [particles] or [deposition]");
+  command.add_flag("--quiet,-q", options.quiet, "No progress line on stderr");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  using cdpowder::app::SimulateOptions;
   CLI::App cli{"cdpowder — contact dynamics of cohesive powders of rigid spheres"};
   cli.set_version_flag("--version",
                        std::string(cdpowder::kVersion) + " (commit " + cdpowder::kGitCommit + ")");
   cli.require_subcommand(1);
 
-  SimulateOptions simulate;
-  CLI::App* simulate_cmd =
-      cli.add_subcommand("simulate", "Run a scene (TOML) and write its outputs to a folder");
-  simulate_cmd->add_option("scene", simulate.scene, "Scene file (TOML); see docs/config.md")
+  cdpowder::app::RunOptions simulate;
+  CLI::App* simulate_cmd = cli.add_subcommand(
+      "simulate", "Run a scene (TOML) for its duration or until it blocks; write the outputs");
+  add_run_options(*simulate_cmd, simulate);
+
+  cdpowder::app::RunOptions compact;
+  CLI::App* compact_cmd = cli.add_subcommand(
+      "compact",
+      "Compact a deposit (or a particles CSV) with the piston until the blocked state; "
+      "write porosity, stress and the packing");
+  add_run_options(*compact_cmd, compact);
+
+  cdpowder::app::DepositOptions deposit;
+  CLI::App* deposit_cmd = cli.add_subcommand(
+      "deposit", "Ballistic deposition with a capture radius ([deposition]); write particles.csv");
+  deposit_cmd->add_option("scene", deposit.scene, "Scene file (TOML) with a [deposition] section")
       ->required();
-  simulate_cmd->add_option("--out,-o", simulate.out, "Output folder (created if missing)")
+  deposit_cmd->add_option("--out,-o", deposit.out, "Output folder (created if missing)")
       ->required();
-  simulate_cmd->add_option("--set", simulate.overrides,
-                           "Override a scene key: --set section.key=value (repeatable)");
-  simulate_cmd->add_flag("--quiet,-q", simulate.quiet, "No progress line on stderr");
+  deposit_cmd->add_option("--set", deposit.overrides,
+                          "Override a scene key: --set section.key=value (repeatable)");
 
   try {
     cli.parse(argc, argv);
@@ -44,6 +67,8 @@ int main(int argc, char** argv) {
 
   try {
     if (simulate_cmd->parsed()) return cdpowder::app::run_simulate(simulate);
+    if (compact_cmd->parsed()) return cdpowder::app::run_compact(compact);
+    if (deposit_cmd->parsed()) return cdpowder::app::run_deposit(deposit);
   } catch (const cdpowder::ConfigError& e) {
     for (const cdpowder::ConfigIssue& issue : e.issues()) {
       std::fprintf(stderr, "error: %s\n", cdpowder::format(issue).c_str());

@@ -1,5 +1,5 @@
-// simulate.cpp — the simulate command: read and validate everything first, then run,
-// then write every output atomically. Prints one result line on stdout.
+// simulate.cpp — the simulate and compact commands: read and validate everything first,
+// then run, then write every output atomically. Prints one result line on stdout.
 #include "commands/simulate.hpp"
 
 #include "progress.hpp"
@@ -14,51 +14,111 @@
 #include "cdpowder/io/state_csv.hpp"
 #include "cdpowder/io/summary.hpp"
 #include "cdpowder/io/timeseries.hpp"
+#include "cdpowder/io/vtk.hpp"
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <atomic>
+#include <csignal>
 #include <cstdio>
 
 namespace cdpowder::app {
 
-int run_simulate(const SimulateOptions& options) {
-  // all input is checked before DIR is touched
-  const Scene scene = read_scene(options.scene, options.overrides);
-  World world = make_world(scene);
+namespace {
 
-  std::filesystem::create_directories(options.out);
-  const std::string header = provenance_header(scene);
-  write_file_atomically(options.out / "scene.toml", scene.effective_toml);
-  TimeseriesWriter timeseries(options.out / "timeseries.csv", header, scene.run.timeseries_every);
+/// Set by SIGINT/SIGTERM: the run stops after the current step and writes its outputs,
+/// flagged interrupted, instead of losing them.
+std::atomic<bool> g_stop_requested{false};
 
-  StepWorkspace work(scene.step.solver.seed);
-  ProgressLine progress(options.quiet);
-  const RunResult result =
-      run_simulation(world, work, scene.step, scene.run,
-                     [&](const World& w, const StepReport& report, double fraction) {
-                       timeseries.record(w, report);
-                       progress.update(w, report, fraction);
-                     });
-  progress.finish();
-  timeseries.record(world, result.last, /*force=*/true);
-  timeseries.commit();
+extern "C" void request_stop(int /*signal*/) {
+  g_stop_requested.store(true);
+}
 
-  write_file_atomically(options.out / "particles.csv", particles_csv(world.bodies, header));
-  write_file_atomically(options.out / "contacts.csv", contacts_csv(work.contacts, header));
-  write_file_atomically(options.out / "summary.json",
-                        summary_json(scene, world, work.contacts, result));
-
-  const StressTensors sigma = stress_tensors(work.contacts, packing_volume(world));
-  std::string line =
-      fmt::format("porosity={:.5f} sigma_zz={:.6g} sigma_zz+={:.6g} sigma_zz-={:.6g}",
-                  porosity(world), sigma.total(2, 2), sigma.compressive(2, 2), sigma.tensile(2, 2));
+/// "porosity=… sigma_zz…" — normalised by the applied pressure when there is one (the
+/// paper's Table 1 quantities), in F_coh/R² otherwise.
+std::string result_line(const Scene& scene, const World& world, const Contacts& contacts,
+                        const RunResult& result) {
+  const StressTensors sigma = stress_tensors(contacts, packing_volume(world));
+  const Piston& piston = world.walls.piston;
+  const double pressure = piston.enabled ? piston.force / world.box.area() : 0.0;
+  std::string line = fmt::format("porosity={:.5f}", porosity(world));
+  if (pressure > 0.0) {
+    line += fmt::format(" sigma_zz/p={:.4f} sigma_zz+/p={:.4f} sigma_zz-/p={:.4f}",
+                        sigma.total(2, 2) / pressure, sigma.compressive(2, 2) / pressure,
+                        sigma.tensile(2, 2) / pressure);
+  } else {
+    line += fmt::format(" sigma_zz={:.6g} sigma_zz+={:.6g} sigma_zz-={:.6g}", sigma.total(2, 2),
+                        sigma.compressive(2, 2), sigma.tensile(2, 2));
+  }
   if (scene.run.until_blocked) line += fmt::format(" blocked={}", result.blocked ? "yes" : "no");
+  if (result.interrupted) line += " interrupted=yes";
   line += fmt::format(" steps={} sweeps/step={:.1f} wall={:.2f}s", result.steps,
                       static_cast<double>(result.total_sweeps) /
                           static_cast<double>(std::max<std::int64_t>(1, result.steps)),
                       result.wall_seconds);
-  std::printf("%s\n", line.c_str());
-  return 0;
+  return line;
+}
+
+int run_scene(const RunOptions& options, const SceneReadOptions& read_options) {
+  // all input is checked before DIR is touched
+  SceneReadOptions how = read_options;
+  how.particles_file = options.particles;
+  const Scene scene = read_scene(options.scene, options.overrides, how);
+  World world = make_world(scene);
+  const double initial_porosity = porosity(world);
+
+  std::filesystem::create_directories(options.out);
+  const std::string header = provenance_header(scene);
+  write_file_atomically(options.out / "scene.toml", scene.effective_toml);
+  write_file_atomically(options.out / "initial_particles.csv", particles_csv(world.bodies, header));
+  TimeseriesWriter timeseries(options.out / "timeseries.csv", header, scene.run.timeseries_every);
+
+  StepWorkspace work(scene.step.solver.seed);
+  VtkSnapshotSeries snapshots(options.out);
+  const int snapshot_every = scene.run.snapshot_every;
+  if (snapshot_every > 0) snapshots.write(world, work.contacts);  // t = 0, no contacts yet
+  ProgressLine progress(options.quiet);
+  std::signal(SIGINT, request_stop);
+  std::signal(SIGTERM, request_stop);
+  const RunResult result = run_simulation(
+      world, work, scene.step, scene.run,
+      [&](const World& w, const StepReport& report, double fraction) {
+        timeseries.record(w, report);
+        progress.update(w, report, fraction);
+        if (snapshot_every > 0 && w.step % snapshot_every == 0) {
+          snapshots.write(w, work.contacts);
+        }
+      },
+      [] { return g_stop_requested.load(); });
+  std::signal(SIGINT, SIG_DFL);
+  std::signal(SIGTERM, SIG_DFL);
+  progress.finish();
+  timeseries.record(world, result.last, /*force=*/true);
+  timeseries.commit();
+  if (snapshot_every > 0 && world.step % snapshot_every != 0) snapshots.write(world, work.contacts);
+
+  write_file_atomically(options.out / "particles.csv", particles_csv(world.bodies, header));
+  write_file_atomically(options.out / "contacts.csv", contacts_csv(work.contacts, header));
+  write_file_atomically(options.out / "particles.vtp", particles_vtp(world, work.contacts));
+  write_file_atomically(options.out / "contacts.vtp", contacts_vtp(world, work.contacts));
+  write_file_atomically(options.out / "summary.json",
+                        summary_json(scene, world, work.contacts, result, initial_porosity));
+
+  std::printf("%s\n", result_line(scene, world, work.contacts, result).c_str());
+  return result.interrupted ? 1 : 0;  // outputs written, but the run is incomplete
+}
+
+}  // namespace
+
+int run_simulate(const RunOptions& options) {
+  return run_scene(options, SceneReadOptions{});
+}
+
+int run_compact(const RunOptions& options) {
+  SceneReadOptions how;
+  how.compaction = true;
+  return run_scene(options, how);
 }
 
 }  // namespace cdpowder::app

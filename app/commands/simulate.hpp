@@ -1,22 +1,32 @@
-// simulate.hpp — `cdpowder simulate SCENE --out DIR`: run a scene, write its outputs.
+// simulate.hpp — `cdpowder simulate SCENE --out DIR` (run a scene for its duration or until
+// it blocks) and `cdpowder compact SCENE --out DIR` (the paper's compaction: the piston
+// pushes until the blocked state). Both write the same outputs.
 #pragma once
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
 namespace cdpowder::app {
 
-struct SimulateOptions {
+struct RunOptions {
   std::filesystem::path scene;
   std::filesystem::path out;
-  std::vector<std::string> overrides;  ///< --set section.key=value
+  std::vector<std::string> overrides;              ///< --set section.key=value
+  std::optional<std::filesystem::path> particles;  ///< --particles: a CSV replaces the scene's
   bool quiet = false;
 };
 
-/// Runs the scene and writes particles.csv, contacts.csv, timeseries.csv and summary.json
-/// to `out`. Throws ConfigError for bad input before anything is written.
+/// Runs the scene and writes to `out`: scene.toml, initial_particles.csv, particles.csv,
+/// contacts.csv, timeseries.csv, summary.json, particles.vtp, contacts.vtp, and with
+/// [run] snapshot_every > 0 snapshots/ with particles.pvd and contacts.pvd. Prints one
+/// result line on stdout. Throws ConfigError for bad input before anything is written.
 /// Returns the process exit code (0: done).
-int run_simulate(const SimulateOptions& options);
+int run_simulate(const RunOptions& options);
+
+/// As run_simulate, but the scene must have an enabled piston and always runs until the
+/// blocked state (or [run] max_duration, after which the summary says it did not block).
+int run_compact(const RunOptions& options);
 
 }  // namespace cdpowder::app

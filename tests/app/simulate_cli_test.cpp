@@ -1,5 +1,7 @@
 // Tests of app/ (the `cdpowder simulate` command) run as a user would: the program is
 // started as a process, its exit status and its output folder are checked.
+#include "support/cli_process.hpp"
+
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -17,42 +19,14 @@ using ::testing::HasSubstr;
 
 const fs::path kExamples = CDPOWDER_SOURCE_DIR "/examples";
 
-struct ProcessResult {
-  int status = 0;
-  std::string out;
-  std::string err;
-};
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using cdpowder::testing::ProcessResult;
+using cdpowder::testing::slurp;
 
 ProcessResult cdpowder(const std::string& arguments, const fs::path& scratch) {
-  const fs::path out = scratch / "stdout.txt";
-  const fs::path err = scratch / "stderr.txt";
-  const std::string command =
-      std::string(CDPOWDER_EXE) + " " + arguments + " >" + out.string() + " 2>" + err.string();
-  const int raw = std::system(command.c_str());
-  return {WEXITSTATUS(raw), slurp(out), slurp(err)};
+  return cdpowder::testing::run_process(CDPOWDER_EXE, arguments, scratch);
 }
 
-class SimulateCli : public ::testing::Test {
- protected:
-  void SetUp() override {
-    scratch_ = fs::temp_directory_path() /
-               ("cdpowder_cli_" +
-                std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(scratch_);
-    fs::create_directories(scratch_);
-  }
-
-  void TearDown() override { fs::remove_all(scratch_); }
-
-  fs::path scratch_;
-};
+using SimulateCli = cdpowder::testing::ScratchFolderTest;
 
 // A short run of the example lattice (the quick start compacts it to the end).
 const std::string kShort = "--set run.until_blocked=false --set run.duration=2.0 --quiet";

@@ -58,6 +58,7 @@ struct RunConfig {
   bool until_blocked = false;   ///< stop at the blocked state (needs an enabled piston)
   double max_duration = 1.0e5;  ///< give up on blocking after this simulated time [t0]
   int timeseries_every = 1;     ///< a timeseries.csv row every K steps
+  int snapshot_every = 0;       ///< a VTK snapshot (.vtp + .pvd) every K steps; 0 = none
   BlockedCriteria blocked;
 };
 

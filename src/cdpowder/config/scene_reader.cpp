@@ -30,7 +30,8 @@ using detail::TableReader;
 constexpr std::int64_t kIntMax = std::numeric_limits<int>::max();  // keys stored as int
 
 /// All values of the scene, each checked where it is read; defaults come from scene.hpp.
-Scene read_values(TableReader& in, const std::filesystem::path& base_dir) {
+Scene read_values(TableReader& in, const std::filesystem::path& base_dir,
+                  const SceneReadOptions& options) {
   Scene s;
   SystemConfig& system = s.system;
   system.lx = in.number("system.lx", system.lx, kPositive);
@@ -102,7 +103,9 @@ Scene read_values(TableReader& in, const std::filesystem::path& base_dir) {
     d.ly = system.ly;
     s.deposition = d;
   }
-  const std::string particles = s.deposition ? std::string() : in.required_string("particles.file");
+  const bool spheres_elsewhere = s.deposition.has_value() || options.deposition_required;
+  const std::string particles =
+      spheres_elsewhere ? std::string() : in.required_string("particles.file");
   if (!particles.empty()) {
     s.particles_file = (base_dir / std::filesystem::path(particles)).lexically_normal();
     std::error_code error;
@@ -118,6 +121,8 @@ Scene read_values(TableReader& in, const std::filesystem::path& base_dir) {
   run.max_duration = in.number("run.max_duration", run.max_duration, kPositive);
   run.timeseries_every =
       static_cast<int>(in.integer("run.timeseries_every", run.timeseries_every, 1, kIntMax));
+  run.snapshot_every =
+      static_cast<int>(in.integer("run.snapshot_every", run.snapshot_every, 0, kIntMax));
   BlockedCriteria& blocked = run.blocked;
   blocked.window = in.number("run.blocked.window", blocked.window, kPositive);
   blocked.piston_speed = in.number("run.blocked.piston_speed", blocked.piston_speed, kPositive);
@@ -129,7 +134,7 @@ Scene read_values(TableReader& in, const std::filesystem::path& base_dir) {
 
 /// Checks between keys, after the single values; each message names both keys. A pair
 /// with an already reported value is skipped, so one mistake gives one message.
-void check_consistency(TableReader& in, const Scene& s) {
+void check_consistency(TableReader& in, const Scene& s, const SceneReadOptions& options) {
   const auto where = [&in](std::string_view key) {
     const toml::node* node = in.find(key);
     return node != nullptr ? node->source() : toml::source_region{};
@@ -146,7 +151,12 @@ void check_consistency(TableReader& in, const Scene& s) {
                  "is true but neither piston.pressure nor piston.force is set; set exactly one",
                  in_file("piston.enabled"));
   }
-  if (s.run.until_blocked && !s.piston.enabled && !in.failed("piston.enabled")) {
+  if (options.compaction && !s.piston.enabled && !in.failed("piston.enabled")) {
+    in.add_issue("piston.enabled", where("piston.enabled"),
+                 "is false, but compaction needs the piston: set [piston] enabled = true and "
+                 "a pressure or force",
+                 in_file("piston.enabled"));
+  } else if (s.run.until_blocked && !s.piston.enabled && !in.failed("piston.enabled")) {
     in.add_issue("run.until_blocked", where("run.until_blocked"),
                  "is true but piston.enabled is false; the blocked state needs the piston",
                  in_file("run.until_blocked"));
@@ -183,11 +193,29 @@ void check_consistency(TableReader& in, const Scene& s) {
   }
 }
 
+/// The command's demands (SceneReadOptions) as edits of the parsed scene, before it is read.
+void apply_read_options(toml::table& root, const SceneReadOptions& options) {
+  if (options.particles_file) {
+    std::error_code error;
+    const std::filesystem::path absolute =
+        std::filesystem::absolute(*options.particles_file, error);
+    root.erase("deposition");
+    root.insert_or_assign(
+        "particles", toml::table{{"file", (error ? *options.particles_file : absolute).string()}});
+  }
+  if (options.compaction) {
+    if (!root.contains("run")) root.insert("run", toml::table{});
+    if (toml::table* run = root.get("run")->as_table(); run != nullptr) {
+      run->insert_or_assign("until_blocked", true);
+    }
+  }
+}
+
 }  // namespace
 
 Scene read_scene_text(std::string_view toml_text, std::string_view source_name,
                       const std::vector<std::string>& overrides,
-                      const std::filesystem::path& base_dir) {
+                      const std::filesystem::path& base_dir, const SceneReadOptions& options) {
   std::vector<ConfigIssue> issues;
   toml::table root;
   try {
@@ -201,10 +229,15 @@ Scene read_scene_text(std::string_view toml_text, std::string_view source_name,
     throw ConfigError(std::move(issues));
   }
   detail::apply_overrides(root, overrides, issues);
+  apply_read_options(root, options);
   TableReader in(root, std::string(source_name), issues);
-  Scene scene = read_values(in, base_dir);
+  if (options.deposition_required && root.get("deposition") == nullptr) {
+    in.add_issue("deposition", toml::source_region{},
+                 "missing: deposit needs a [deposition] section (docs/config.md)", true);
+  }
+  Scene scene = read_values(in, base_dir, options);
   in.check_unknown_keys();
-  check_consistency(in, scene);
+  check_consistency(in, scene, options);
   if (!issues.empty()) {
     detail::sort_issues(issues);
     throw ConfigError(std::move(issues));
@@ -214,7 +247,8 @@ Scene read_scene_text(std::string_view toml_text, std::string_view source_name,
   return scene;
 }
 
-Scene read_scene(const std::filesystem::path& file, const std::vector<std::string>& overrides) {
+Scene read_scene(const std::filesystem::path& file, const std::vector<std::string>& overrides,
+                 const SceneReadOptions& options) {
   std::ifstream stream(file, std::ios::binary);
   if (!stream) {
     throw ConfigError({{file.string(), 0, 0, "", "cannot open the scene file"}});
@@ -224,7 +258,7 @@ Scene read_scene(const std::filesystem::path& file, const std::vector<std::strin
   std::error_code error;
   const std::filesystem::path absolute = std::filesystem::absolute(file, error);
   Scene scene = read_scene_text(text.str(), file.string(), overrides,
-                                error ? file.parent_path() : absolute.parent_path());
+                                error ? file.parent_path() : absolute.parent_path(), options);
   scene.source = file;
   return scene;
 }

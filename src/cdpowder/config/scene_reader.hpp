@@ -8,22 +8,35 @@
 #include "cdpowder/config/scene.hpp"
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
 namespace cdpowder {
 
+/// What the command reading a scene needs of it, beyond the scene's own rules.
+struct SceneReadOptions {
+  /// Take the spheres from this particles CSV instead of the scene's [particles] or
+  /// [deposition] (both are dropped). A relative path is taken from the working folder.
+  std::optional<std::filesystem::path> particles_file;
+  /// `compact`: the piston must be enabled, and the run goes until the blocked state.
+  bool compaction = false;
+  /// `deposit`: the scene must have a [deposition] section.
+  bool deposition_required = false;
+};
+
 /// Reads and validates `file` with `overrides` ("section.key=value", applied in order, after
 /// the file and before validation). [particles] file is resolved against the folder of
 /// `file`. Throws ConfigError listing every issue found (unreadable file, TOML syntax,
 /// malformed override, unknown key, wrong type, value out of range, inconsistent keys).
-Scene read_scene(const std::filesystem::path& file, const std::vector<std::string>& overrides);
+Scene read_scene(const std::filesystem::path& file, const std::vector<std::string>& overrides,
+                 const SceneReadOptions& options = {});
 
 /// As read_scene, from text already in memory. `source_name` names the text in messages and
 /// becomes Scene::source; a relative [particles] file is resolved against `base_dir`.
 Scene read_scene_text(std::string_view toml_text, std::string_view source_name,
                       const std::vector<std::string>& overrides,
-                      const std::filesystem::path& base_dir);
+                      const std::filesystem::path& base_dir, const SceneReadOptions& options = {});
 
 }  // namespace cdpowder

@@ -119,6 +119,7 @@ std::string write_effective_toml(const Scene& s) {
                           {"until_blocked", s.run.until_blocked},
                           {"max_duration", s.run.max_duration},
                           {"timeseries_every", s.run.timeseries_every},
+                          {"snapshot_every", s.run.snapshot_every},
                           {"blocked", toml::table{{"window", blocked.window},
                                                   {"piston_speed", blocked.piston_speed},
                                                   {"sphere_speed", blocked.sphere_speed},

@@ -125,11 +125,16 @@ void deposit_ballistically(const DepositionConfig& config, double density, Bodie
   }
 }
 
-double deposit_porosity(const Bodies& bodies, const PeriodicBox& box) {
+double deposit_height(const Bodies& bodies) {
   double top = 0.0;
   for (std::size_t i = 0; i < bodies.size(); ++i) {
     top = std::max(top, bodies.position[i].z() + bodies.radius[i]);
   }
+  return top;
+}
+
+double deposit_porosity(const Bodies& bodies, const PeriodicBox& box) {
+  const double top = deposit_height(bodies);
   return top > 0.0 ? 1.0 - grain_volume(bodies) / (box.area() * top) : 0.0;
 }
 

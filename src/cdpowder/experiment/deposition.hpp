@@ -42,6 +42,9 @@ struct DepositionConfig {
 /// it; none overlaps another (up to round-off).
 void deposit_ballistically(const DepositionConfig& config, double density, Bodies& bodies);
 
+/// Height of a deposit: max_i (z_i + R_i), 0 when empty [R].
+double deposit_height(const Bodies& bodies);
+
 /// Porosity of a deposit: 1 − V_grains / (L_x L_y (max_i z_i + R_i)) (physics.md §8.2).
 double deposit_porosity(const Bodies& bodies, const PeriodicBox& box);
 

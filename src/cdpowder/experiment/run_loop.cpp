@@ -10,7 +10,8 @@
 namespace cdpowder {
 
 RunResult run_simulation(World& world, StepWorkspace& work, const StepSettings& settings,
-                         const RunConfig& run, const StepObserver& observer) {
+                         const RunConfig& run, const StepObserver& observer,
+                         const StopRequest& stop_requested) {
   RunResult result;
   const auto start = std::chrono::steady_clock::now();
   const double dt = settings.solver.dt;
@@ -35,6 +36,10 @@ RunResult run_simulation(World& world, StepWorkspace& work, const StepSettings& 
     }
     if (blocked) {
       result.blocked = true;
+      break;
+    }
+    if (stop_requested && stop_requested()) {
+      result.interrupted = true;
       break;
     }
   }

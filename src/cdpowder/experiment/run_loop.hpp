@@ -12,7 +12,8 @@
 namespace cdpowder {
 
 struct RunResult {
-  bool blocked = false;  ///< the blocked state was reached (until_blocked runs)
+  bool blocked = false;      ///< the blocked state was reached (until_blocked runs)
+  bool interrupted = false;  ///< stopped early on request (stop_requested returned true)
   std::int64_t steps = 0;
   std::int64_t total_sweeps = 0;
   std::int64_t capped_steps = 0;  ///< steps whose NLGS hit max_sweeps
@@ -26,7 +27,11 @@ struct RunResult {
 /// the run's time budget used (duration, or max_duration for until_blocked runs).
 using StepObserver = std::function<void(const World&, const StepReport&, double fraction)>;
 
+/// Asked after every step; true ends the run there, as a complete but interrupted run.
+using StopRequest = std::function<bool()>;
+
 RunResult run_simulation(World& world, StepWorkspace& work, const StepSettings& settings,
-                         const RunConfig& run, const StepObserver& observer);
+                         const RunConfig& run, const StepObserver& observer,
+                         const StopRequest& stop_requested = {});
 
 }  // namespace cdpowder

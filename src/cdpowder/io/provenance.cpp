@@ -8,8 +8,10 @@
 namespace cdpowder {
 
 std::string provenance_header(const Scene& scene) {
-  return fmt::format("# cdpowder {} (commit {})\n# scene: {}\n# seed: {}\n", kVersion, kGitCommit,
-                     scene.source.string(), scene.step.solver.seed);
+  std::string header = fmt::format("# cdpowder {} (commit {})\n# scene: {}\n# seed: {}\n", kVersion,
+                                   kGitCommit, scene.source.string(), scene.step.solver.seed);
+  if (scene.deposition) header += fmt::format("# deposition seed: {}\n", scene.deposition->seed);
+  return header;
 }
 
 }  // namespace cdpowder

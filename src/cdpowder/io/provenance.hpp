@@ -9,7 +9,8 @@
 
 namespace cdpowder {
 
-/// "# cdpowder 0.1.0 (commit abc123)\n# scene: …\n# seed: 1\n"
+/// "# cdpowder 0.1.0 (commit abc123)\n# scene: …\n# seed: 1\n", plus "# deposition seed: …"
+/// when the spheres come from a deposit.
 std::string provenance_header(const Scene& scene);
 
 }  // namespace cdpowder

@@ -4,6 +4,7 @@
 #include "cdpowder/analysis/coordination.hpp"
 #include "cdpowder/analysis/porosity.hpp"
 #include "cdpowder/analysis/stress.hpp"
+#include "cdpowder/experiment/deposition.hpp"
 #include "cdpowder/version.hpp"
 
 #include <nlohmann/json.hpp>
@@ -31,7 +32,7 @@ nlohmann::json scene_json(const Scene& scene) {
 }  // namespace
 
 std::string summary_json(const Scene& scene, const World& world, const Contacts& contacts,
-                         const RunResult& result) {
+                         const RunResult& result, double initial_porosity) {
   const double volume = packing_volume(world);
   const StressTensors sigma = stress_tensors(contacts, volume);
   const StepDiagnostics& d = result.last.diagnostics;
@@ -42,6 +43,7 @@ std::string summary_json(const Scene& scene, const World& world, const Contacts&
   j["program"] = {{"name", "cdpowder"}, {"version", kVersion}, {"commit", kGitCommit}};
   j["seed"] = scene.step.solver.seed;
   j["porosity"] = porosity(world);
+  j["initial_porosity"] = initial_porosity;
   j["packing_volume"] = volume;
   j["spheres"] = world.bodies.size();
   j["time"] = world.time;
@@ -77,6 +79,7 @@ std::string summary_json(const Scene& scene, const World& world, const Contacts&
   j["kinetic_energy"] = d.kinetic_energy;
   j["max_speed"] = d.max_speed;
   j["run"] = {{"blocked", result.blocked},
+              {"interrupted", result.interrupted},
               {"until_blocked", scene.run.until_blocked},
               {"steps", result.steps},
               {"total_sweeps", result.total_sweeps},
@@ -90,6 +93,19 @@ std::string summary_json(const Scene& scene, const World& world, const Contacts&
                 {"solve_nlgs", result.stage_seconds[2]},
                 {"integrate", result.stage_seconds[3]},
                 {"analyse", result.stage_seconds[4]}}}};
+  j["scene"] = scene_json(scene);
+  j["scene_toml"] = scene.effective_toml;
+  return j.dump(2) + "\n";
+}
+
+std::string deposit_summary_json(const Scene& scene, const World& world) {
+  nlohmann::json j;
+  j["program"] = {{"name", "cdpowder"}, {"version", kVersion}, {"commit", kGitCommit}};
+  j["seed"] = scene.deposition ? scene.deposition->seed : 0;
+  j["spheres"] = world.bodies.size();
+  j["porosity"] = deposit_porosity(world.bodies, world.box);
+  j["height"] = deposit_height(world.bodies);
+  j["grain_volume"] = grain_volume(world.bodies);
   j["scene"] = scene_json(scene);
   j["scene_toml"] = scene.effective_toml;
   return j.dump(2) + "\n";

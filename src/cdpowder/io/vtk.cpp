@@ -1,0 +1,195 @@
+// vtk.cpp — writing .vtp and .pvd documents with fmt (VTK XML file format, PolyData).
+#include "cdpowder/io/vtk.hpp"
+
+#include "cdpowder/analysis/coordination.hpp"
+#include "cdpowder/io/atomic_file.hpp"
+
+#include <fmt/format.h>
+
+#include <iterator>
+
+namespace cdpowder {
+
+namespace {
+
+using Buffer = fmt::memory_buffer;
+
+/// Contact kinds in the contact network's "kind" array.
+constexpr int kKindPair = 0;
+constexpr int kKindBottom = 1;
+constexpr int kKindPiston = 2;
+
+void begin_polydata(Buffer& out, std::size_t points, std::size_t verts, std::size_t lines) {
+  fmt::format_to(std::back_inserter(out),
+                 "<?xml version=\"1.0\"?>\n"
+                 "<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\" "
+                 "header_type=\"UInt64\">\n"
+                 "<PolyData>\n"
+                 "<Piece NumberOfPoints=\"{}\" NumberOfVerts=\"{}\" NumberOfLines=\"{}\" "
+                 "NumberOfStrips=\"0\" NumberOfPolys=\"0\">\n",
+                 points, verts, lines);
+}
+
+void end_polydata(Buffer& out) {
+  fmt::format_to(std::back_inserter(out), "</Piece>\n</PolyData>\n</VTKFile>\n");
+}
+
+/// <DataArray> with the values produced by value(i) for i < count, `components` each.
+template <typename ValueOf>
+void data_array(Buffer& out, const char* type, const char* name, int components, std::size_t count,
+                ValueOf&& value) {
+  fmt::format_to(std::back_inserter(out),
+                 "<DataArray type=\"{}\" Name=\"{}\" NumberOfComponents=\"{}\" "
+                 "format=\"ascii\">\n",
+                 type, name, components);
+  for (std::size_t i = 0; i < count; ++i) value(out, i);
+  fmt::format_to(std::back_inserter(out), "</DataArray>\n");
+}
+
+void put_vec(Buffer& out, const Vec3& v) {
+  fmt::format_to(std::back_inserter(out), "{:.9g} {:.9g} {:.9g}\n", v.x(), v.y(), v.z());
+}
+
+/// Connectivity and offsets of `cells` cells of `size` consecutive points each.
+void cell_arrays(Buffer& out, const char* section, std::size_t cells, std::size_t size) {
+  fmt::format_to(std::back_inserter(out), "<{}>\n", section);
+  data_array(out, "Int64", "connectivity", 1, cells * size,
+             [](Buffer& b, std::size_t i) { fmt::format_to(std::back_inserter(b), "{}\n", i); });
+  data_array(out, "Int64", "offsets", 1, cells, [size](Buffer& b, std::size_t i) {
+    fmt::format_to(std::back_inserter(b), "{}\n", (i + 1) * size);
+  });
+  fmt::format_to(std::back_inserter(out), "</{}>\n", section);
+}
+
+/// One closed contact of the network, in output form.
+struct NetworkLine {
+  Vec3 from;
+  Vec3 to;
+  double normal_force;
+  double tangential_force;
+  bool cohesive;
+  int kind;
+};
+
+std::vector<NetworkLine> network_lines(const World& world, const Contacts& contacts) {
+  std::vector<NetworkLine> lines;
+  const Bodies& bodies = world.bodies;
+  for (std::size_t k = 0; k < contacts.pairs.size(); ++k) {
+    const PairProblem& p = contacts.pairs[k];
+    const ContactAction& action = contacts.pair_actions[k];
+    if (action.normal_force + p.cohesion <= 0.0) continue;
+    const Vec3& a = bodies.position[p.a];
+    const Vec3 b = a + world.box.minimum_image(bodies.position[p.b] - a);
+    lines.push_back({a, b, action.normal_force, action.tangential_force.norm(),
+                     contacts.pair_cohesive[k] != 0, kKindPair});
+  }
+  for (std::size_t k = 0; k < contacts.walls.size(); ++k) {
+    const WallProblem& w = contacts.walls[k];
+    const ContactAction& action = contacts.wall_actions[k];
+    if (action.normal_force + w.cohesion <= 0.0) continue;
+    const Vec3& centre = bodies.position[w.sphere];
+    // n points from the wall into the sphere: the contact point is R behind the centre
+    lines.push_back({centre, centre - w.radius * w.normal, action.normal_force,
+                     action.tangential_force.norm(), contacts.wall_cohesive[k] != 0,
+                     w.wall == WallKind::Bottom ? kKindBottom : kKindPiston});
+  }
+  return lines;
+}
+
+std::string pvd(const std::vector<std::pair<double, std::string>>& entries,
+                const std::string& prefix) {
+  Buffer out;
+  fmt::format_to(std::back_inserter(out),
+                 "<?xml version=\"1.0\"?>\n"
+                 "<VTKFile type=\"Collection\" version=\"1.0\" byte_order=\"LittleEndian\">\n"
+                 "<Collection>\n");
+  for (const auto& [time, suffix] : entries) {
+    fmt::format_to(std::back_inserter(out),
+                   "<DataSet timestep=\"{:.9g}\" group=\"\" part=\"0\" "
+                   "file=\"snapshots/{}_{}.vtp\"/>\n",
+                   time, prefix, suffix);
+  }
+  fmt::format_to(std::back_inserter(out), "</Collection>\n</VTKFile>\n");
+  return fmt::to_string(out);
+}
+
+}  // namespace
+
+std::string particles_vtp(const World& world, const Contacts& contacts) {
+  const Bodies& bodies = world.bodies;
+  const std::size_t n = bodies.size();
+  const std::vector<int> coordination = contacts_per_sphere(contacts, n);
+  Buffer out;
+  begin_polydata(out, n, n, 0);
+  fmt::format_to(std::back_inserter(out), "<Points>\n");
+  data_array(out, "Float64", "Points", 3, n,
+             [&](Buffer& b, std::size_t i) { put_vec(b, bodies.position[i]); });
+  fmt::format_to(std::back_inserter(out), "</Points>\n");
+  cell_arrays(out, "Verts", n, 1);
+  fmt::format_to(std::back_inserter(out), "<PointData Scalars=\"radius\" Vectors=\"velocity\">\n");
+  data_array(out, "Int64", "id", 1, n,
+             [](Buffer& b, std::size_t i) { fmt::format_to(std::back_inserter(b), "{}\n", i); });
+  data_array(out, "Float64", "radius", 1, n, [&](Buffer& b, std::size_t i) {
+    fmt::format_to(std::back_inserter(b), "{:.9g}\n", bodies.radius[i]);
+  });
+  data_array(out, "Float64", "velocity", 3, n,
+             [&](Buffer& b, std::size_t i) { put_vec(b, bodies.velocity[i]); });
+  data_array(out, "Float64", "angular_velocity", 3, n,
+             [&](Buffer& b, std::size_t i) { put_vec(b, bodies.angular_velocity[i]); });
+  data_array(out, "Int32", "coordination", 1, n, [&](Buffer& b, std::size_t i) {
+    fmt::format_to(std::back_inserter(b), "{}\n", coordination[i]);
+  });
+  fmt::format_to(std::back_inserter(out), "</PointData>\n");
+  end_polydata(out);
+  return fmt::to_string(out);
+}
+
+std::string contacts_vtp(const World& world, const Contacts& contacts) {
+  const std::vector<NetworkLine> lines = network_lines(world, contacts);
+  const std::size_t n = lines.size();
+  Buffer out;
+  begin_polydata(out, 2 * n, 0, n);
+  fmt::format_to(std::back_inserter(out), "<Points>\n");
+  data_array(out, "Float64", "Points", 3, 2 * n, [&](Buffer& b, std::size_t i) {
+    put_vec(b, i % 2 == 0 ? lines[i / 2].from : lines[i / 2].to);
+  });
+  fmt::format_to(std::back_inserter(out), "</Points>\n");
+  cell_arrays(out, "Lines", n, 2);
+  fmt::format_to(std::back_inserter(out), "<CellData Scalars=\"normal_force\">\n");
+  data_array(out, "Float64", "normal_force", 1, n, [&](Buffer& b, std::size_t i) {
+    fmt::format_to(std::back_inserter(b), "{:.9g}\n", lines[i].normal_force);
+  });
+  data_array(out, "Int32", "tensile", 1, n, [&](Buffer& b, std::size_t i) {
+    fmt::format_to(std::back_inserter(b), "{}\n", lines[i].normal_force < 0.0 ? 1 : 0);
+  });
+  data_array(out, "Float64", "tangential_force", 1, n, [&](Buffer& b, std::size_t i) {
+    fmt::format_to(std::back_inserter(b), "{:.9g}\n", lines[i].tangential_force);
+  });
+  data_array(out, "Int32", "cohesive", 1, n, [&](Buffer& b, std::size_t i) {
+    fmt::format_to(std::back_inserter(b), "{}\n", lines[i].cohesive ? 1 : 0);
+  });
+  data_array(out, "Int32", "kind", 1, n, [&](Buffer& b, std::size_t i) {
+    fmt::format_to(std::back_inserter(b), "{}\n", lines[i].kind);
+  });
+  fmt::format_to(std::back_inserter(out), "</CellData>\n");
+  end_polydata(out);
+  return fmt::to_string(out);
+}
+
+VtkSnapshotSeries::VtkSnapshotSeries(std::filesystem::path out_dir)
+    : out_dir_(std::move(out_dir)) {}
+
+void VtkSnapshotSeries::write(const World& world, const Contacts& contacts) {
+  const std::filesystem::path folder = out_dir_ / "snapshots";
+  std::filesystem::create_directories(folder);
+  const std::string suffix = fmt::format("{:06d}", entries_.size());
+  write_file_atomically(folder / fmt::format("particles_{}.vtp", suffix),
+                        particles_vtp(world, contacts));
+  write_file_atomically(folder / fmt::format("contacts_{}.vtp", suffix),
+                        contacts_vtp(world, contacts));
+  entries_.emplace_back(world.time, suffix);
+  write_file_atomically(out_dir_ / "particles.pvd", pvd(entries_, "particles"));
+  write_file_atomically(out_dir_ / "contacts.pvd", pvd(entries_, "contacts"));
+}
+
+}  // namespace cdpowder

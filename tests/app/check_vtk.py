@@ -1,0 +1,116 @@
+#!/usr/bin/env python3
+"""Reads back the VTK files of a cdpowder output folder with an XML parser of Python's
+standard library and checks them against particles.csv and contacts.csv: every array has
+the declared length, points are the sphere centres, radii match, and the contact network
+holds exactly the closed contacts. Usage: check_vtk.py OUTPUT_DIR. Exit status 0 = valid.
+"""
+import csv
+import math
+import sys
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+
+def fail(message):
+    print(f"check_vtk: {message}", file=sys.stderr)
+    sys.exit(1)
+
+
+def read_polydata(path):
+    """Returns (piece attributes, {array name: list of tuples}) of a .vtp file."""
+    root = ET.parse(path).getroot()
+    if root.tag != "VTKFile" or root.get("type") != "PolyData":
+        fail(f"{path}: not a VTK PolyData file")
+    piece = root.find("PolyData/Piece")
+    if piece is None:
+        fail(f"{path}: no Piece")
+    arrays = {}
+    for array in piece.iter("DataArray"):
+        components = int(array.get("NumberOfComponents", "1"))
+        values = [float(v) for v in (array.text or "").split()]
+        if len(values) % components != 0:
+            fail(f"{path}: array {array.get('Name')} has {len(values)} values, "
+                 f"not a multiple of {components}")
+        arrays[array.get("Name")] = [tuple(values[i:i + components])
+                                     for i in range(0, len(values), components)]
+    return piece.attrib, arrays
+
+
+def read_csv(path):
+    with open(path) as f:
+        return list(csv.DictReader(line for line in f if not line.startswith("#")))
+
+
+def check_particles(out):
+    spheres = read_csv(out / "particles.csv")
+    attributes, arrays = read_polydata(out / "particles.vtp")
+    n = len(spheres)
+    if int(attributes["NumberOfPoints"]) != n or int(attributes["NumberOfVerts"]) != n:
+        fail(f"particles.vtp: {attributes['NumberOfPoints']} points for {n} spheres")
+    for name in ("Points", "id", "radius", "velocity", "angular_velocity", "coordination",
+                 "connectivity", "offsets"):
+        if len(arrays.get(name, [])) != n:
+            fail(f"particles.vtp: array {name} has {len(arrays.get(name, []))} entries, not {n}")
+    for i, row in enumerate(spheres):
+        centre = (float(row["x"]), float(row["y"]), float(row["z"]))
+        if any(abs(a - b) > 1e-6 * max(1.0, abs(b)) for a, b in zip(arrays["Points"][i], centre)):
+            fail(f"particles.vtp: point {i} is {arrays['Points'][i]}, particles.csv says {centre}")
+        if abs(arrays["radius"][i][0] - float(row["r"])) > 1e-9:
+            fail(f"particles.vtp: radius {i} differs from particles.csv")
+    return n
+
+
+def check_contacts(out):
+    rows = read_csv(out / "contacts.csv")
+    closed = [r for r in rows if r["state"] == "closed"]
+    attributes, arrays = read_polydata(out / "contacts.vtp")
+    lines = int(attributes["NumberOfLines"])
+    if lines != len(closed):
+        fail(f"contacts.vtp: {lines} lines, contacts.csv has {len(closed)} closed contacts")
+    if int(attributes["NumberOfPoints"]) != 2 * lines or len(arrays.get("Points", [])) != 2 * lines:
+        fail("contacts.vtp: expected two points per line")
+    for name in ("normal_force", "tensile", "tangential_force", "cohesive", "kind"):
+        if len(arrays.get(name, [])) != lines:
+            fail(f"contacts.vtp: cell array {name} has the wrong length")
+    for k in range(lines):
+        force = arrays["normal_force"][k][0]
+        if int(arrays["tensile"][k][0]) != (1 if force < 0 else 0):
+            fail(f"contacts.vtp: line {k} tensile flag disagrees with its force {force}")
+        a, b = arrays["Points"][2 * k], arrays["Points"][2 * k + 1]
+        if math.dist(a, b) > 2.5:  # at most R_a + R_b (+ d_coh) for unit spheres
+            fail(f"contacts.vtp: line {k} spans {math.dist(a, b)} R: wrong periodic image?")
+    forces_csv = sorted(float(r["normal_force"]) for r in closed)
+    forces_vtp = sorted(f[0] for f in arrays["normal_force"])
+    if any(abs(x - y) > 1e-6 * max(1.0, abs(x)) for x, y in zip(forces_csv, forces_vtp)):
+        fail("contacts.vtp: normal forces differ from contacts.csv")
+    return lines
+
+
+def check_collection(out):
+    pvd = out / "particles.pvd"
+    if not pvd.exists():
+        return 0
+    root = ET.parse(pvd).getroot()
+    datasets = root.findall("Collection/DataSet")
+    times = [float(d.get("timestep")) for d in datasets]
+    if times != sorted(times):
+        fail("particles.pvd: time steps are not increasing")
+    for d in datasets:
+        read_polydata(out / d.get("file"))
+    for d in ET.parse(out / "contacts.pvd").getroot().findall("Collection/DataSet"):
+        read_polydata(out / d.get("file"))
+    return len(datasets)
+
+
+def main():
+    if len(sys.argv) != 2:
+        fail("usage: check_vtk.py OUTPUT_DIR")
+    out = Path(sys.argv[1])
+    spheres = check_particles(out)
+    lines = check_contacts(out)
+    snapshots = check_collection(out)
+    print(f"check_vtk: {spheres} spheres, {lines} contact lines, {snapshots} snapshots: valid")
+
+
+if __name__ == "__main__":
+    main()

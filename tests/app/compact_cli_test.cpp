@@ -1,0 +1,188 @@
+// Tests of the `cdpowder deposit` and `cdpowder compact` commands, run as processes: the
+// quick example compacts to the blocked state with σzz equal to the applied pressure, the
+// VTK files read back, results are reproducible, a deposit feeds a compaction, and bad
+// configurations are refused before anything is written.
+#include "support/cli_process.hpp"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <string>
+
+namespace {
+
+namespace fs = std::filesystem;
+using cdpowder::testing::ProcessResult;
+using cdpowder::testing::slurp;
+using ::testing::HasSubstr;
+
+const fs::path kQuick = CDPOWDER_SOURCE_DIR "/examples/quick/scene.toml";
+const fs::path kPaper = CDPOWDER_SOURCE_DIR "/examples/paper/scene.toml";
+const fs::path kCheckVtk = CDPOWDER_SOURCE_DIR "/tests/app/check_vtk.py";
+
+ProcessResult cdpowder(const std::string& arguments, const fs::path& scratch) {
+  return cdpowder::testing::run_process(CDPOWDER_EXE, arguments, scratch);
+}
+
+nlohmann::json summary_of(const fs::path& out) {
+  return nlohmann::json::parse(slurp(out / "summary.json"));
+}
+
+/// The summary without what legitimately differs between identical runs (timings).
+nlohmann::json without_timings(nlohmann::json j) {
+  j["run"].erase("wall_seconds");
+  j["run"].erase("stage_seconds");
+  return j;
+}
+
+using CompactCli = cdpowder::testing::ScratchFolderTest;
+
+// A short, deterministic piece of the quick example's compaction (it does not block yet).
+const std::string kShort = "--quiet --set run.max_duration=5";
+
+TEST_F(CompactCli, QuickExampleBlocksWithStressEqualToThePressure) {
+  const fs::path out = scratch_ / "out";
+  const ProcessResult r = cdpowder("compact " + kQuick.string() + " --out " + out.string() +
+                                       " --quiet --set run.snapshot_every=2000",
+                                   scratch_);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("blocked=yes"));
+  EXPECT_THAT(r.out, HasSubstr("porosity="));
+  const nlohmann::json s = summary_of(out);
+  EXPECT_TRUE(s["run"]["blocked"].get<bool>());
+  EXPECT_FALSE(s["run"]["interrupted"].get<bool>());
+  // Blocked: the packing carries the piston. σzz = F/(L_x L_y) (force balance of a slab)
+  // within 1 %, and the piston's own balance within the blocked-state threshold 1e-3.
+  EXPECT_NEAR(s["stress"]["sigma_zz_over_pressure"].get<double>(), 1.0, 0.01);
+  EXPECT_LT(s["piston"]["force_imbalance"].get<double>(), 1e-3);
+  // σ = σ⁺ + σ⁻ and the split has the right signs
+  const double plus = s["stress"]["sigma_zz_compressive_over_pressure"].get<double>();
+  const double minus = s["stress"]["sigma_zz_tensile_over_pressure"].get<double>();
+  EXPECT_GE(plus, 0.0);
+  EXPECT_LE(minus, 0.0);
+  EXPECT_NEAR(plus + minus, s["stress"]["sigma_zz_over_pressure"].get<double>(), 1e-9);
+  // the piston compacted the deposit: porosity fell, and stays in the physical range
+  EXPECT_LT(s["porosity"].get<double>(), s["initial_porosity"].get<double>());
+  EXPECT_GT(s["porosity"].get<double>(), 0.5);
+  EXPECT_LT(s["accuracy"]["mean_overlap"].get<double>(), 1e-3);
+  EXPECT_GT(s["contacts"]["coordination_number"].get<double>(), 1.0);
+  EXPECT_EQ(s["spheres"], 100);
+
+  for (const char* name :
+       {"summary.json", "particles.csv", "initial_particles.csv", "contacts.csv", "timeseries.csv",
+        "scene.toml", "particles.vtp", "contacts.vtp", "particles.pvd", "contacts.pvd"}) {
+    EXPECT_TRUE(fs::exists(out / name)) << name;
+  }
+  // ParaView's files, read back by an independent reader and checked against the CSVs
+  const ProcessResult vtk =
+      cdpowder::testing::run_process("python3", kCheckVtk.string() + " " + out.string(), scratch_);
+  EXPECT_EQ(vtk.status, 0) << vtk.err;
+  EXPECT_THAT(vtk.out, HasSubstr("valid"));
+}
+
+TEST_F(CompactCli, SameSeedGivesIdenticalSummariesAnotherSeedADifferentOne) {
+  const auto run = [&](const std::string& name, const std::string& extra) {
+    const ProcessResult r = cdpowder("compact " + kQuick.string() + " --out " +
+                                         (scratch_ / name).string() + " " + kShort + extra,
+                                     scratch_);
+    EXPECT_EQ(r.status, 0) << r.err;
+    return without_timings(summary_of(scratch_ / name));
+  };
+  const nlohmann::json a = run("a", "");
+  const nlohmann::json b = run("b", "");
+  const nlohmann::json c = run("c", " --set deposition.seed=2");
+  EXPECT_EQ(a, b);
+  EXPECT_NE(a["porosity"], c["porosity"]);
+  EXPECT_EQ(slurp(scratch_ / "a/particles.csv"), slurp(scratch_ / "b/particles.csv"));
+}
+
+TEST_F(CompactCli, DepositFeedsACompactionThatStartsFromTheSameSpheres) {
+  const ProcessResult d = cdpowder(
+      "deposit " + kQuick.string() + " --out " + (scratch_ / "deposit").string(), scratch_);
+  ASSERT_EQ(d.status, 0) << d.err;
+  EXPECT_THAT(d.out, HasSubstr("porosity="));
+  const nlohmann::json deposit = summary_of(scratch_ / "deposit");
+  EXPECT_EQ(deposit["spheres"], 100);
+
+  const ProcessResult from_csv =
+      cdpowder("compact " + kQuick.string() + " --out " + (scratch_ / "from_csv").string() +
+                   " --particles " + (scratch_ / "deposit/particles.csv").string() + " " + kShort,
+               scratch_);
+  ASSERT_EQ(from_csv.status, 0) << from_csv.err;
+  const ProcessResult direct = cdpowder(
+      "compact " + kQuick.string() + " --out " + (scratch_ / "direct").string() + " " + kShort,
+      scratch_);
+  ASSERT_EQ(direct.status, 0) << direct.err;
+  const nlohmann::json a = summary_of(scratch_ / "from_csv");
+  const nlohmann::json b = summary_of(scratch_ / "direct");
+  EXPECT_DOUBLE_EQ(a["initial_porosity"].get<double>(), deposit["porosity"].get<double>());
+  EXPECT_DOUBLE_EQ(a["initial_porosity"].get<double>(), b["initial_porosity"].get<double>());
+  EXPECT_DOUBLE_EQ(a["porosity"].get<double>(), b["porosity"].get<double>());
+}
+
+TEST_F(CompactCli, PaperExampleCarriesThePapersParameters) {
+  const ProcessResult d = cdpowder(
+      "deposit " + kPaper.string() + " --out " + (scratch_ / "deposit").string(), scratch_);
+  ASSERT_EQ(d.status, 0) << d.err;
+  const nlohmann::json s = summary_of(scratch_ / "deposit");
+  const nlohmann::json& scene = s["scene"];
+  EXPECT_EQ(s["spheres"], 1015);
+  EXPECT_EQ(scene["system"]["lx"], 25.0);
+  EXPECT_EQ(scene["system"]["ly"], 25.0);
+  EXPECT_EQ(scene["deposition"]["capture_radius"], 3.0);
+  EXPECT_EQ(scene["deposition"]["capture_rule"], "centre_distance");
+  EXPECT_EQ(scene["contact"]["mu"], 0.3);
+  EXPECT_EQ(scene["contact"]["cohesion_force"], 1.0);
+  EXPECT_EQ(scene["piston"]["mass"], 1000.0);
+  EXPECT_EQ(scene["piston"]["pressure"], 1.0 / 400.0);
+  EXPECT_EQ(scene["system"]["gravity"], nlohmann::json::array({0.0, 0.0, 0.0}));
+  // the independent estimate of the initial porosity is 0.926 ± 0.005 over seeds
+  EXPECT_NEAR(s["porosity"].get<double>(), 0.926, 0.015);
+}
+
+TEST_F(CompactCli, CompactWithoutAPistonIsRefusedAndWritesNothing) {
+  const fs::path out = scratch_ / "out";
+  const ProcessResult r = cdpowder("compact " + kQuick.string() + " --out " + out.string() +
+                                       " --quiet --set piston.enabled=false",
+                                   scratch_);
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.err, HasSubstr("piston.enabled"));
+  EXPECT_THAT(r.err, HasSubstr("compaction needs the piston"));
+  EXPECT_FALSE(fs::exists(out));
+}
+
+TEST_F(CompactCli, DepositWithoutADepositionSectionIsRefusedAndWritesNothing) {
+  const fs::path out = scratch_ / "out";
+  const fs::path lattice = CDPOWDER_SOURCE_DIR "/examples/lattice/scene.toml";
+  const ProcessResult r =
+      cdpowder("deposit " + lattice.string() + " --out " + out.string(), scratch_);
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.err, HasSubstr("deposition"));
+  EXPECT_THAT(r.err, HasSubstr("[deposition] section"));
+  EXPECT_FALSE(fs::exists(out));
+}
+
+TEST_F(CompactCli, BadDepositionValueNamesTheKeyTheValueAndWhatIsAllowed) {
+  const ProcessResult r =
+      cdpowder("deposit " + kQuick.string() + " --out " + (scratch_ / "out").string() +
+                   " --set deposition.capture_radius=1.5",
+               scratch_);
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.err, HasSubstr("deposition.capture_radius"));
+  EXPECT_THAT(r.err, HasSubstr("got 1.5"));
+  EXPECT_FALSE(fs::exists(scratch_ / "out"));
+}
+
+TEST_F(CompactCli, MissingParticlesFileIsNamed) {
+  const ProcessResult r = cdpowder("compact " + kQuick.string() + " --out " +
+                                       (scratch_ / "out").string() + " --particles nowhere.csv",
+                                   scratch_);
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.err, HasSubstr("particles.file"));
+  EXPECT_THAT(r.err, HasSubstr("nowhere.csv"));
+}
+
+}  // namespace
