@@ -1,11 +1,13 @@
 #!/usr/bin/env bash
 # The README's first command: install the dependencies (Debian packages), build the
-# release preset, and run the quick example: a loose cohesive packing compacted by the
-# paper's piston until it blocks. Prints the result line (porosity, σ_zz and its parts).
+# release preset, and run the quick example: the paper's experiment with 100 spheres
+# (ballistic deposit, piston compaction until the blocked state). Prints the result line
+# (porosity, σ_zz and its compressive and tensile parts over the applied pressure).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash tools/install_deps.sh
 cmake --preset release >/dev/null
 cmake --build build/release --target cdpowder
-build/release/app/cdpowder simulate examples/lattice/scene.toml --out runs/lattice "$@"
-echo "outputs in runs/lattice: summary.json, particles.csv, contacts.csv, timeseries.csv"
+build/release/app/cdpowder compact examples/quick/scene.toml --out runs/quick "$@"
+echo "outputs in runs/quick: summary.json, particles.csv, contacts.csv, timeseries.csv,"
+echo "particles.vtp and contacts.vtp (ParaView)"
