@@ -53,6 +53,15 @@ double smallest_gap(const Bodies& bodies, const PeriodicBox& box, std::size_t i)
   return gap;
 }
 
+/// Every sphere touches the deposit or the substrate and overlaps nothing.
+void expect_touching_without_overlap(const Bodies& bodies, const PeriodicBox& box) {
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    const double gap = smallest_gap(bodies, box, i);
+    EXPECT_GT(gap, -kContactSlack) << "sphere " << i << " overlaps";
+    EXPECT_LT(gap, kContactSlack) << "sphere " << i << " touches nothing";
+  }
+}
+
 TEST(Deposition, PaperCaptureRadiusGivesThePorosityOfTheIndependentEstimate) {
   EXPECT_NEAR(mean_porosity_over_seeds(paper_config(1)), 0.926, kMeanTolerance);
 }
@@ -86,11 +95,7 @@ TEST(Deposition, NoOverlapsAndEverySphereTouchesTheDepositOrTheSubstrate) {
     Bodies bodies;
     deposit_ballistically(config, kDensity, bodies);
     ASSERT_EQ(bodies.size(), static_cast<std::size_t>(config.spheres));
-    for (std::size_t i = 0; i < bodies.size(); ++i) {
-      const double gap = smallest_gap(bodies, box, i);
-      EXPECT_GT(gap, -kContactSlack) << "sphere " << i << " overlaps";
-      EXPECT_LT(gap, kContactSlack) << "sphere " << i << " touches nothing";
-    }
+    expect_touching_without_overlap(bodies, box);
   }
 }
 
@@ -105,10 +110,8 @@ TEST(Deposition, PolydisperseDepositHasNoOverlapsAndRadiiInRange) {
   for (std::size_t i = 0; i < bodies.size(); ++i) {
     EXPECT_GE(bodies.radius[i], config.radius_min);
     EXPECT_LE(bodies.radius[i], config.radius_max);
-    const double gap = smallest_gap(bodies, box, i);
-    EXPECT_GT(gap, -kContactSlack);
-    EXPECT_LT(gap, kContactSlack);
   }
+  expect_touching_without_overlap(bodies, box);
 }
 
 TEST(Deposition, IsPeriodicInXAndY) {

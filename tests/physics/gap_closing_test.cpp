@@ -1,6 +1,6 @@
 // The approach target of an open gap (physics.md §5.4 step 1, UK03 eq. 33): a contact may
 // close a gap g > 0 within one step, at speed g/Δt, and no faster. Gaps below the touching
-// dead band (1e-8 R, solver/build.cpp) count as closed: round-off gaps in a loop of
+// dead band (1e-6 R, solver/build.cpp) count as closed: round-off gaps in a loop of
 // sticking contacts otherwise make the normal constraints inconsistent and the NLGS drifts.
 #include "support/tiny_world.hpp"
 
@@ -30,8 +30,8 @@ TEST(GapClosing, AnOpenGapMayCloseWithinOneStep) {
 
 TEST(GapClosing, ARoundOffGapCountsAsTouching) {
   EXPECT_EQ(pair_after_one_step(3e-10).gap_rate, 0.0);  // as found in a capped compaction step
-  EXPECT_EQ(pair_after_one_step(0.95e-8).gap_rate, 0.0);
-  EXPECT_GT(pair_after_one_step(1.05e-8).gap_rate, 0.0);
+  EXPECT_EQ(pair_after_one_step(0.95e-6).gap_rate, 0.0);
+  EXPECT_GT(pair_after_one_step(1.05e-6).gap_rate, 0.0);
 }
 
 TEST(GapClosing, CohesiveSpheresAtAGapAttractAndClose) {
