@@ -25,12 +25,6 @@ constexpr double kMaxContraction = 0.999;
 /// acceleration history: the active set changed and the old differences mislead.
 constexpr double kRestartGrowth = 10.0;
 
-/// Sweeps without a new best residual after which the acceleration is switched off for the
-/// rest of the step. On hard frictional-cohesive clusters (many contacts at the Coulomb
-/// limit) the extrapolation can hover at a residual of 1e-4 for 100 000 sweeps where plain
-/// NLGS converges in 5 000 (measured on capped compaction steps, docs/performance.md).
-constexpr int kAccelerationStallSweeps = 200;
-
 constexpr std::size_t kDoublesPerAction = 8;
 
 /// Blocks of the per-step order. Contacts are stored sorted by their bodies, so a block of
@@ -159,8 +153,7 @@ SolverStats solve_nlgs(Contacts& contacts, VelocityCache& velocities,
                        NlgsWorkspace& work) {
   std::vector<ContactIndex>& order = contacts.visit_order;
   prepare_visit_order(contacts, settings.visit_order, work);
-  bool accelerate = settings.acceleration_depth > 0;
-  int last_best_sweep = 0;
+  const bool accelerate = settings.acceleration_depth > 0;
   if (accelerate) {
     work.accelerator = AndersonAccelerator(settings.acceleration_depth);
     flatten(contacts, work.start);
@@ -191,16 +184,9 @@ SolverStats solve_nlgs(Contacts& contacts, VelocityCache& velocities,
     }
     recent[static_cast<std::size_t>(sweep) % recent.size()] = stats.residual;
 
-    if (stats.residual < best_residual) {
-      best_residual = stats.residual;
-      last_best_sweep = sweep;
-    }
-    if (accelerate && sweep - last_best_sweep > kAccelerationStallSweeps) {
-      accelerate = false;  // plain NLGS from here on (the iterate is consistent: see adopt)
-      ++stats.acceleration_stalls;
-    }
     if (accelerate) {
       if (stats.residual > kRestartGrowth * best_residual) work.accelerator.reset();
+      best_residual = std::min(best_residual, stats.residual);
       flatten(contacts, work.swept);
       if (work.accelerator.extrapolate(work.start, work.swept, work.mixed)) {
         adopt(work.mixed, contacts, velocities);

@@ -19,8 +19,7 @@ struct SolverStats {
   double error_estimate = 0.0;  ///< residual/(1 − ρ): remaining relative force error
   double relative_change =
       0.0;  ///< √(Σ|ΔX|²/Σ|X|²) of the last sweep ([S+12] criterion II, RMS form)
-  int acceleration_stalls = 0;  ///< 1 if the acceleration stalled and was switched off
-  double force_scale = 0.0;     ///< F_ref = max(F_coh, mean |R_n| of closed contacts) [F_coh]
+  double force_scale = 0.0;  ///< F_ref = max(F_coh, mean |R_n| of closed contacts) [F_coh]
 };
 
 /// Scratch state of the solver reused across steps: the sweep-order stream and the
