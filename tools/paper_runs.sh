@@ -9,7 +9,10 @@ set -euo pipefail
 cd "$(git rev-parse --show-toplevel)"
 cmake --preset release >/dev/null
 cmake --build build/release --target cdpowder >/dev/null
+stop=0
+trap 'stop=1' INT TERM   # Ctrl-C: the current run writes its outputs, then no further run
 for point in "0 0" "1 1"; do
+  [ "$stop" -eq 0 ] || break
   read -r mu_t mu_n <<<"$point"
   out="runs/paper_${mu_t}_${mu_n}"
   build/release/app/cdpowder compact examples/paper/scene.toml --out "$out" \

@@ -31,7 +31,7 @@ int run_deposit(const DepositOptions& options) {
   const std::string header = provenance_header(scene);
   write_file_atomically(options.out / "scene.toml", scene.effective_toml);
   write_file_atomically(options.out / "particles.csv", particles_csv(world.bodies, header));
-  write_file_atomically(options.out / "particles.vtp", particles_vtp(world, Contacts{}));
+  write_file_atomically(options.out / "particles.vtp", particles_vtp(world, nullptr));
   write_file_atomically(options.out / "summary.json", deposit_summary_json(scene, world));
 
   std::printf("%s\n", fmt::format("porosity={:.5f} spheres={} height={:.4f} wall={:.3f}s",

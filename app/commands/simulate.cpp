@@ -20,8 +20,8 @@
 
 #include <algorithm>
 #include <atomic>
-#include <csignal>
 #include <cstdio>
+#include <signal.h>
 
 namespace cdpowder::app {
 
@@ -34,6 +34,37 @@ std::atomic<bool> g_stop_requested{false};
 extern "C" void request_stop(int /*signal*/) {
   g_stop_requested.store(true);
 }
+
+/// Installs request_stop for SIGINT and SIGTERM for its lifetime. One-shot (SA_RESETHAND):
+/// a second Ctrl-C during a long step ends the program at once. Restores the previous
+/// handlers on every exit path, exceptions included.
+class StopRequestGuard {
+ public:
+  StopRequestGuard() {
+    struct sigaction action {};
+
+    action.sa_handler = request_stop;
+    sigemptyset(&action.sa_mask);
+    action.sa_flags = SA_RESETHAND;
+    sigaction(SIGINT, &action, &previous_int_);
+    sigaction(SIGTERM, &action, &previous_term_);
+  }
+
+  ~StopRequestGuard() {
+    sigaction(SIGINT, &previous_int_, nullptr);
+    sigaction(SIGTERM, &previous_term_, nullptr);
+  }
+
+  StopRequestGuard(const StopRequestGuard&) = delete;
+  StopRequestGuard& operator=(const StopRequestGuard&) = delete;
+  StopRequestGuard(StopRequestGuard&&) = delete;
+  StopRequestGuard& operator=(StopRequestGuard&&) = delete;
+
+ private:
+  struct sigaction previous_int_ {};
+
+  struct sigaction previous_term_ {};
+};
 
 /// "porosity=… sigma_zz…" — normalised by the applied pressure when there is one (the
 /// paper's Table 1 quantities), in F_coh/R² otherwise.
@@ -61,6 +92,8 @@ std::string result_line(const Scene& scene, const World& world, const Contacts& 
 }
 
 int run_scene(const RunOptions& options, const SceneReadOptions& read_options) {
+  // from the start, so that a signal during setup also ends the run cleanly (first step)
+  const StopRequestGuard stop_on_signal;
   // all input is checked before DIR is touched
   SceneReadOptions how = read_options;
   how.particles_file = options.particles;
@@ -79,8 +112,6 @@ int run_scene(const RunOptions& options, const SceneReadOptions& read_options) {
   const int snapshot_every = scene.run.snapshot_every;
   if (snapshot_every > 0) snapshots.write(world, work.contacts);  // t = 0, no contacts yet
   ProgressLine progress(options.quiet);
-  std::signal(SIGINT, request_stop);
-  std::signal(SIGTERM, request_stop);
   const RunResult result = run_simulation(
       world, work, scene.step, scene.run,
       [&](const World& w, const StepReport& report, double fraction) {
@@ -91,8 +122,6 @@ int run_scene(const RunOptions& options, const SceneReadOptions& read_options) {
         }
       },
       [] { return g_stop_requested.load(); });
-  std::signal(SIGINT, SIG_DFL);
-  std::signal(SIGTERM, SIG_DFL);
   progress.finish();
   timeseries.record(world, result.last, /*force=*/true);
   timeseries.commit();
@@ -100,7 +129,7 @@ int run_scene(const RunOptions& options, const SceneReadOptions& read_options) {
 
   write_file_atomically(options.out / "particles.csv", particles_csv(world.bodies, header));
   write_file_atomically(options.out / "contacts.csv", contacts_csv(work.contacts, header));
-  write_file_atomically(options.out / "particles.vtp", particles_vtp(world, work.contacts));
+  write_file_atomically(options.out / "particles.vtp", particles_vtp(world, &work.contacts));
   write_file_atomically(options.out / "contacts.vtp", contacts_vtp(world, work.contacts));
   write_file_atomically(options.out / "summary.json",
                         summary_json(scene, world, work.contacts, result, initial_porosity));

@@ -36,6 +36,16 @@ def read_polydata(path):
     return piece.attrib, arrays
 
 
+def check_cells(path, arrays, cells, size):
+    """Connectivity 0, 1, 2, … and end offsets size, 2 size, … of `cells` cells."""
+    connectivity = [int(v[0]) for v in arrays.get("connectivity", [])]
+    offsets = [int(v[0]) for v in arrays.get("offsets", [])]
+    if connectivity != list(range(cells * size)):
+        fail(f"{path}: connectivity is not 0 … {cells * size - 1}")
+    if offsets != [(k + 1) * size for k in range(cells)]:
+        fail(f"{path}: offsets are not the ends of {cells} cells of {size} points")
+
+
 def read_csv(path):
     with open(path) as f:
         return list(csv.DictReader(line for line in f if not line.startswith("#")))
@@ -51,6 +61,7 @@ def check_particles(out):
                  "connectivity", "offsets"):
         if len(arrays.get(name, [])) != n:
             fail(f"particles.vtp: array {name} has {len(arrays.get(name, []))} entries, not {n}")
+    check_cells("particles.vtp", arrays, n, 1)
     for i, row in enumerate(spheres):
         centre = (float(row["x"]), float(row["y"]), float(row["z"]))
         if any(abs(a - b) > 1e-6 * max(1.0, abs(b)) for a, b in zip(arrays["Points"][i], centre)):
@@ -69,6 +80,7 @@ def check_contacts(out):
         fail(f"contacts.vtp: {lines} lines, contacts.csv has {len(closed)} closed contacts")
     if int(attributes["NumberOfPoints"]) != 2 * lines or len(arrays.get("Points", [])) != 2 * lines:
         fail("contacts.vtp: expected two points per line")
+    check_cells("contacts.vtp", arrays, lines, 2)
     for name in ("normal_force", "tensile", "tangential_force", "cohesive", "kind"):
         if len(arrays.get(name, [])) != lines:
             fail(f"contacts.vtp: cell array {name} has the wrong length")

@@ -10,6 +10,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <string>
 
 namespace {
@@ -121,6 +122,28 @@ TEST_F(CompactCli, DepositFeedsACompactionThatStartsFromTheSameSpheres) {
   EXPECT_DOUBLE_EQ(a["initial_porosity"].get<double>(), deposit["porosity"].get<double>());
   EXPECT_DOUBLE_EQ(a["initial_porosity"].get<double>(), b["initial_porosity"].get<double>());
   EXPECT_DOUBLE_EQ(a["porosity"].get<double>(), b["porosity"].get<double>());
+}
+
+TEST_F(CompactCli, InterruptWritesEveryOutputFlaggedInterrupted) {
+  // SIGINT once the run has started (scene.toml is written just before the first step):
+  // the step finishes, then every output is written
+  const fs::path out = scratch_ / "out";
+  const fs::path script = scratch_ / "interrupt.sh";
+  std::ofstream(script) << CDPOWDER_EXE << " compact " << kQuick.string() << " --out "
+                        << out.string() << " --quiet --set run.max_duration=1e5 &\n"
+                        << "pid=$!\n"
+                        << "for i in $(seq 1 1200); do [ -f " << (out / "scene.toml").string()
+                        << " ] && break; sleep 0.05; done\n"
+                        << "sleep 0.5\nkill -INT $pid\nwait $pid\n";
+  const ProcessResult r = cdpowder::testing::run_process("sh", script.string(), scratch_);
+  EXPECT_EQ(r.status, 1) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("interrupted=yes"));
+  const nlohmann::json s = summary_of(out);
+  EXPECT_TRUE(s["run"]["interrupted"].get<bool>());
+  EXPECT_FALSE(s["run"]["blocked"].get<bool>());
+  for (const char* name : {"particles.csv", "contacts.csv", "timeseries.csv", "particles.vtp"}) {
+    EXPECT_TRUE(fs::exists(out / name)) << name;
+  }
 }
 
 TEST_F(CompactCli, PaperExampleCarriesThePapersParameters) {

@@ -359,3 +359,73 @@ TEST_F(SceneReader, EffectiveTomlRereadsToTheSameScene) {
 
 }  // namespace
 }  // namespace cdpowder
+
+namespace cdpowder {
+namespace {
+
+using ::testing::HasSubstr;
+
+/// The formatted issues of a scene text read with `options` (empty if it reads).
+std::vector<std::string> issues_with(const std::string& text, const SceneReadOptions& options) {
+  std::vector<std::string> result;
+  try {
+    read_scene_text(text, "scene.toml", {}, std::filesystem::temp_directory_path(), options);
+  } catch (const ConfigError& error) {
+    for (const ConfigIssue& issue : error.issues()) result.push_back(format(issue));
+  }
+  return result;
+}
+
+TEST(DepositionSection, ReadsEveryKeyAndDerivesTheCell) {
+  const Scene s = read_scene_text(
+      "[system]\nlx = 12.0\nly = 8.0\n[deposition]\nspheres = 50\nradius_min = 0.5\n"
+      "radius_max = 1.5\ncapture_radius = 0.5\ncapture_rule = \"surface_gap\"\nseed = 9\n",
+      "scene.toml", {}, std::filesystem::temp_directory_path());
+  ASSERT_TRUE(s.deposition.has_value());
+  EXPECT_EQ(s.deposition->spheres, 50);
+  EXPECT_EQ(s.deposition->lx, 12.0);
+  EXPECT_EQ(s.deposition->ly, 8.0);
+  EXPECT_EQ(s.deposition->capture_rule, CaptureRule::SurfaceGap);
+  EXPECT_EQ(s.deposition->capture_gap(), 0.5);
+  EXPECT_EQ(s.deposition->seed, 9U);
+}
+
+TEST(DepositionSection, AMisspeltKeyIsAnUnknownKey) {
+  const auto found = issues_with("[deposition]\ncapture_raduis = 2.0\n", {});
+  ASSERT_EQ(found.size(), 1U);
+  EXPECT_THAT(found[0], HasSubstr("deposition.capture_raduis: unknown key"));
+  EXPECT_THAT(found[0], HasSubstr("did you mean 'deposition.capture_radius'"));
+}
+
+TEST(DepositionSection, MustBeATable) {
+  const auto found = issues_with("deposition = 5\n[particles]\nfile = \"x.csv\"\n", {});
+  EXPECT_THAT(found, ::testing::Contains(HasSubstr("deposition: got 5, expected a table")));
+}
+
+TEST(DepositionSection, RadiusAndARangeTogetherAreRefused) {
+  const auto found =
+      issues_with("[deposition]\nradius = 1.0\nradius_min = 0.5\nradius_max = 1.5\n", {});
+  ASSERT_EQ(found.size(), 1U);
+  EXPECT_THAT(found[0], HasSubstr("deposition.radius: set together with radius_min"));
+}
+
+TEST(DepositionSection, BesideParticlesIsReportedOnce) {
+  const auto found = issues_with("[deposition]\n[particles]\nfile = \"x.csv\"\n", {});
+  ASSERT_EQ(found.size(), 1U);
+  EXPECT_THAT(found[0], HasSubstr("given together with [deposition]"));
+}
+
+TEST(CompactionOptions, AnExplicitFixedDurationIsRefused) {
+  SceneReadOptions compaction;
+  compaction.compaction = true;
+  const auto found = issues_with(
+      "[deposition]\n[piston]\nenabled = true\npressure = 0.0025\n[run]\nuntil_blocked = false\n",
+      compaction);
+  ASSERT_EQ(found.size(), 1U);
+  EXPECT_THAT(found[0], HasSubstr("run.until_blocked: is false, but compact always runs"));
+  EXPECT_TRUE(issues_with("[deposition]\n[piston]\nenabled = true\npressure = 0.0025\n", compaction)
+                  .empty());
+}
+
+}  // namespace
+}  // namespace cdpowder

@@ -87,7 +87,7 @@ Scene read_values(TableReader& in, const std::filesystem::path& base_dir,
   piston.start_gap = in.number("piston.start_gap", piston.start_gap, kNonNegative);
   piston.velocity = in.number("piston.velocity", piston.velocity, kAnyNumber);
 
-  if (in.find("deposition") != nullptr) {
+  if (in.has("deposition")) {
     DepositionConfig d;
     d.spheres = static_cast<int>(in.integer("deposition.spheres", d.spheres, 1, kIntMax));
     // `radius` sets both ends of a monodisperse deposit; radius_min/max a uniform spread
@@ -104,6 +104,9 @@ Scene read_values(TableReader& in, const std::filesystem::path& base_dir,
     s.deposition = d;
   }
   const bool spheres_elsewhere = s.deposition.has_value() || options.deposition_required;
+  if (spheres_elsewhere && in.has("particles.file")) {
+    in.find("particles.file");  // known: a [particles] beside [deposition] is reported once, below
+  }
   const std::string particles =
       spheres_elsewhere ? std::string() : in.required_string("particles.file");
   if (!particles.empty()) {
@@ -161,7 +164,17 @@ void check_consistency(TableReader& in, const Scene& s, const SceneReadOptions& 
                  "is true but piston.enabled is false; the blocked state needs the piston",
                  in_file("run.until_blocked"));
   }
-  if (s.deposition && in.find("particles") != nullptr) {
+  if (options.compaction && !s.run.until_blocked && !in.failed("run.until_blocked")) {
+    in.add_issue("run.until_blocked", where("run.until_blocked"),
+                 "is false, but compact always runs until the blocked state (use simulate for a "
+                 "fixed duration)");
+  }
+  if (in.has("deposition.radius") && in.has("deposition.radius_min") &&
+      in.has("deposition.radius_max")) {
+    in.add_issue("deposition.radius", where("deposition.radius"),
+                 "set together with radius_min and radius_max; give either radius or the range");
+  }
+  if (s.deposition && in.has("particles")) {
     in.add_issue("particles", where("particles"),
                  "given together with [deposition]; the spheres come from exactly one of them");
   }
@@ -205,8 +218,9 @@ void apply_read_options(toml::table& root, const SceneReadOptions& options) {
   }
   if (options.compaction) {
     if (!root.contains("run")) root.insert("run", toml::table{});
+    // an explicit value is kept, so that `false` is reported (check_consistency)
     if (toml::table* run = root.get("run")->as_table(); run != nullptr) {
-      run->insert_or_assign("until_blocked", true);
+      run->insert("until_blocked", true);
     }
   }
 }

@@ -69,6 +69,12 @@ class TableReader {
   /// The node at a dotted key, or nullptr; marks the key as known.
   const toml::node* find(std::string_view key);
 
+  /// Whether a dotted key is present. Does not mark it known, so the keys inside a table
+  /// asked about this way are still checked.
+  [[nodiscard]] bool has(std::string_view key) const {
+    return root_.at_path(key).node() != nullptr;
+  }
+
   /// Whether an issue has been recorded for `key`.
   [[nodiscard]] bool failed(std::string_view key) const { return failed_.count(key) > 0; }
 

@@ -115,10 +115,11 @@ std::string pvd(const std::vector<std::pair<double, std::string>>& entries,
 
 }  // namespace
 
-std::string particles_vtp(const World& world, const Contacts& contacts) {
+std::string particles_vtp(const World& world, const Contacts* contacts) {
   const Bodies& bodies = world.bodies;
   const std::size_t n = bodies.size();
-  const std::vector<int> coordination = contacts_per_sphere(contacts, n);
+  const std::vector<int> coordination =
+      contacts != nullptr ? contacts_per_sphere(*contacts, n) : std::vector<int>{};
   Buffer out;
   begin_polydata(out, n, n, 0);
   fmt::format_to(std::back_inserter(out), "<Points>\n");
@@ -136,9 +137,11 @@ std::string particles_vtp(const World& world, const Contacts& contacts) {
              [&](Buffer& b, std::size_t i) { put_vec(b, bodies.velocity[i]); });
   data_array(out, "Float64", "angular_velocity", 3, n,
              [&](Buffer& b, std::size_t i) { put_vec(b, bodies.angular_velocity[i]); });
-  data_array(out, "Int32", "coordination", 1, n, [&](Buffer& b, std::size_t i) {
-    fmt::format_to(std::back_inserter(b), "{}\n", coordination[i]);
-  });
+  if (contacts != nullptr) {
+    data_array(out, "Int32", "coordination", 1, n, [&](Buffer& b, std::size_t i) {
+      fmt::format_to(std::back_inserter(b), "{}\n", coordination[i]);
+    });
+  }
   fmt::format_to(std::back_inserter(out), "</PointData>\n");
   end_polydata(out);
   return fmt::to_string(out);
@@ -184,7 +187,7 @@ void VtkSnapshotSeries::write(const World& world, const Contacts& contacts) {
   std::filesystem::create_directories(folder);
   const std::string suffix = fmt::format("{:06d}", entries_.size());
   write_file_atomically(folder / fmt::format("particles_{}.vtp", suffix),
-                        particles_vtp(world, contacts));
+                        particles_vtp(world, &contacts));
   write_file_atomically(folder / fmt::format("contacts_{}.vtp", suffix),
                         contacts_vtp(world, contacts));
   entries_.emplace_back(world.time, suffix);

@@ -24,8 +24,9 @@
 
 namespace cdpowder {
 
-/// The particles of `world` as a .vtp document; coordination from `contacts`.
-std::string particles_vtp(const World& world, const Contacts& contacts);
+/// The particles of `world` as a .vtp document; coordination from `contacts`, or no
+/// coordination array when `contacts` is null (a deposit, whose contacts are not detected).
+std::string particles_vtp(const World& world, const Contacts* contacts);
 
 /// The closed contacts of `contacts` as a .vtp document of lines.
 std::string contacts_vtp(const World& world, const Contacts& contacts);
