@@ -3,100 +3,122 @@
 
 #include <Eigen/Dense>
 
+#include <algorithm>
+
 namespace cdpowder {
 
-namespace {
-
-double dot(const std::vector<double>& a, const std::vector<double>& b) {
-  double s = 0.0;
-  for (std::size_t i = 0; i < a.size(); ++i) s += a[i] * b[i];
-  return s;
+void AndersonAccelerator::set_depth(int depth) {
+  depth_ = std::clamp(depth, 1, kMaxDepth);
+  size_ = 0;  // the slot layout depends on the depth: lay out again on next use
+  reset();
 }
 
-}  // namespace
-
 void AndersonAccelerator::reset() {
-  for (auto& v : delta_f_) spare_.push_back(std::move(v));
-  for (auto& v : delta_g_) spare_.push_back(std::move(v));
-  delta_f_.clear();
-  delta_g_.clear();
-  last_f_.clear();
-  last_g_.clear();
+  has_last_ = false;
+  count_ = 0;
+  newest_ = 0;
 }
 
 bool AndersonAccelerator::extrapolate(const std::vector<double>& x, const std::vector<double>& g,
                                       std::vector<double>& next) {
   const std::size_t n = x.size();
-  const auto take = [&]() {
-    std::vector<double> v;
-    if (!spare_.empty()) {
-      v = std::move(spare_.back());
-      spare_.pop_back();
-    }
-    v.resize(n);
-    return v;
-  };
-  // f = g − x; store the differences to the previous sweep
-  std::vector<double> f = take();
-  for (std::size_t i = 0; i < n; ++i) f[i] = g[i] - x[i];
-  if (last_f_.size() == n) {
-    std::vector<double> df = take();
-    std::vector<double> dg = take();
-    for (std::size_t i = 0; i < n; ++i) {
-      df[i] = f[i] - last_f_[i];
-      dg[i] = g[i] - last_g_[i];
-    }
-    if (static_cast<int>(delta_f_.size()) == depth_) {
-      // drop the oldest difference and shift its Gram products out
-      spare_.push_back(std::move(delta_f_.front()));
-      spare_.push_back(std::move(delta_g_.front()));
-      delta_f_.pop_front();
-      delta_g_.pop_front();
-      const std::size_t kept = delta_f_.size();
-      for (std::size_t i = 0; i < kept; ++i) {
-        for (std::size_t j = 0; j < kept; ++j) {
-          gram_[i * kMaxDepth + j] = gram_[(i + 1) * kMaxDepth + (j + 1)];
-        }
-      }
-    }
-    delta_f_.push_back(std::move(df));
-    delta_g_.push_back(std::move(dg));
-    const std::size_t last = delta_f_.size() - 1;
-    for (std::size_t j = 0; j <= last; ++j) {
-      gram_[last * kMaxDepth + j] = gram_[j * kMaxDepth + last] = dot(delta_f_[last], delta_f_[j]);
-    }
-  } else {
+  if (n != size_) {
+    size_ = n;
     last_f_.resize(n);
     last_g_.resize(n);
+    delta_f_.resize(n * static_cast<std::size_t>(depth_));
+    delta_g_.resize(n * static_cast<std::size_t>(depth_));
+    reset();
   }
-  last_f_.swap(f);
-  spare_.push_back(std::move(f));
-  last_g_.assign(g.begin(), g.end());
+  next.resize(n);
+  if (!has_last_) {
+    for (std::size_t i = 0; i < n; ++i) {
+      last_f_[i] = g[i] - x[i];
+      last_g_[i] = g[i];
+      next[i] = g[i];
+    }
+    has_last_ = true;
+    return false;
+  }
 
-  next.assign(g.begin(), g.end());
-  const auto k = static_cast<Eigen::Index>(delta_f_.size());
-  if (k == 0) return false;
-  // normal equations (ΔFᵀΔF + λ I) γ = ΔFᵀ f, λ a relative Tikhonov term against
-  // nearly parallel differences; fixed-capacity matrices, no allocation
+  // the new difference goes to a free slot, or over the oldest one
+  const int slot = count_ < depth_ ? count_ : (newest_ + 1) % depth_;
+  count_ = std::min(count_ + 1, depth_);
+  newest_ = slot;
+  std::array<int, kMaxDepth> others{};  // the other slots in the fit
+  int n_others = 0;
+  for (int s = 0; s < count_; ++s) {
+    if (s != slot) others[static_cast<std::size_t>(n_others++)] = s;
+  }
+  std::array<const double*, kMaxDepth> other_f{};
+  for (int j = 0; j < n_others; ++j) {
+    other_f[static_cast<std::size_t>(j)] =
+        delta_f_.data() + static_cast<std::size_t>(others[static_cast<std::size_t>(j)]) * n;
+  }
+  double* new_f = delta_f_.data() + static_cast<std::size_t>(slot) * n;
+  double* new_g = delta_g_.data() + static_cast<std::size_t>(slot) * n;
+
+  // pass 1: f = g − x, the new differences, ΔF_newᵀΔF_s and ΔF_sᵀ f for every slot
+  std::array<double, kMaxDepth> cross{};  // ΔF_newᵀ ΔF_other[j]
+  std::array<double, kMaxDepth> rhs{};    // ΔF_other[j]ᵀ f
+  double new_new = 0.0;
+  double new_rhs = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double f = g[i] - x[i];
+    const double df = f - last_f_[i];
+    new_f[i] = df;
+    new_g[i] = g[i] - last_g_[i];
+    last_f_[i] = f;
+    last_g_[i] = g[i];
+    new_new += df * df;
+    new_rhs += df * f;
+    for (int j = 0; j < n_others; ++j) {
+      const double d = other_f[static_cast<std::size_t>(j)][i];
+      cross[static_cast<std::size_t>(j)] += df * d;
+      rhs[static_cast<std::size_t>(j)] += d * f;
+    }
+  }
+  const auto at = [](int s, int t) { return static_cast<std::size_t>(s * kMaxDepth + t); };
+  gram_[at(slot, slot)] = new_new;
+  for (int j = 0; j < n_others; ++j) {
+    const int s = others[static_cast<std::size_t>(j)];
+    gram_[at(slot, s)] = gram_[at(s, slot)] = cross[static_cast<std::size_t>(j)];
+  }
+
+  // normal equations (ΔFᵀΔF + λ I) γ = ΔFᵀ f over the slots [others..., slot], λ a
+  // relative Tikhonov term against nearly parallel differences; fixed capacity, no allocation
   using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxDepth, kMaxDepth>;
   using SmallVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxDepth, 1>;
+  const int k = n_others + 1;
+  others[static_cast<std::size_t>(n_others)] = slot;
+  rhs[static_cast<std::size_t>(n_others)] = new_rhs;
   Small normal(k, k);
-  SmallVector rhs(k);
-  for (Eigen::Index a = 0; a < k; ++a) {
-    const auto ua = static_cast<std::size_t>(a);
-    rhs(a) = dot(delta_f_[ua], last_f_);
-    for (Eigen::Index b = 0; b < k; ++b) {
-      normal(a, b) = gram_[ua * kMaxDepth + static_cast<std::size_t>(b)];
+  SmallVector right(k);
+  for (int a = 0; a < k; ++a) {
+    right(a) = rhs[static_cast<std::size_t>(a)];
+    for (int b = 0; b < k; ++b) {
+      normal(a, b) =
+          gram_[at(others[static_cast<std::size_t>(a)], others[static_cast<std::size_t>(b)])];
     }
   }
   const double lambda = 1e-12 * normal.trace();
   normal.diagonal().array() += lambda > 0.0 ? lambda : 1e-300;
-  const SmallVector gamma = normal.ldlt().solve(rhs);
-  if (!gamma.allFinite()) return false;
-  for (Eigen::Index a = 0; a < k; ++a) {
-    const std::vector<double>& dg = delta_g_[static_cast<std::size_t>(a)];
-    const double c = gamma(a);
-    for (std::size_t i = 0; i < n; ++i) next[i] -= c * dg[i];
+  const SmallVector gamma = normal.ldlt().solve(right);
+  if (!gamma.allFinite()) {
+    std::copy(g.begin(), g.end(), next.begin());
+    return false;
+  }
+
+  // pass 2: next = g − Σ γ_s ΔG_s
+  std::array<const double*, kMaxDepth> slot_g{};
+  for (int a = 0; a < k; ++a) {
+    slot_g[static_cast<std::size_t>(a)] =
+        delta_g_.data() + static_cast<std::size_t>(others[static_cast<std::size_t>(a)]) * n;
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    double v = g[i];
+    for (int a = 0; a < k; ++a) v -= gamma(a) * slot_g[static_cast<std::size_t>(a)][i];
+    next[i] = v;
   }
   return true;
 }

@@ -8,11 +8,16 @@
 // takes the combination of iterates whose residual is smallest (Walker & Ni, SIAM J.
 // Numer. Anal. 49 (2011) 1715, "type II"). Same column: 31 sweeps with m = 5.
 // It needs a stationary map, so the visiting order is fixed within a step.
+//
+// Cost: the vectors hold 8 doubles per contact, so for a paper-size packing they leave the
+// L1/L2 caches and the mixing is bound by memory traffic. The history is a ring of
+// contiguous slots (no shifting, no allocation after the first step of a size), and one
+// pass computes the new differences together with all their inner products; a second pass
+// forms the mixed iterate: ≈ 2m + 10 doubles moved per entry instead of ≈ 7m + 12.
 #pragma once
 
 #include <array>
 #include <cstddef>
-#include <deque>
 #include <vector>
 
 namespace cdpowder {
@@ -22,27 +27,39 @@ class AndersonAccelerator {
   static constexpr int kMaxDepth = 16;  ///< the fit is a kMaxDepth × kMaxDepth problem at most
 
   /// depth m (clamped to [1, kMaxDepth]): how many past differences enter the fit.
-  explicit AndersonAccelerator(int depth = 5)
-      : depth_(depth < 1 ? 1 : (depth > kMaxDepth ? kMaxDepth : depth)) {}
+  explicit AndersonAccelerator(int depth = 5) { set_depth(depth); }
 
-  /// Forgets the history (start of a step, or after a rejected extrapolation).
+  /// Changes m (clamped) and forgets the history; buffers are kept.
+  void set_depth(int depth);
+
+  int depth() const { return depth_; }
+
+  /// Forgets the history (start of a step, or after the active set changed); keeps the
+  /// buffers, so a new step of the same size allocates nothing.
   void reset();
 
   /// Given the iterate x the sweep started from and g = G(x) the sweep produced, returns
   /// in `next` the accelerated iterate g − ΔG γ, γ = argmin |f − ΔF γ|, f = g − x.
-  /// Returns false (and next = g) while there is no history yet.
+  /// Returns false (and next = g) while there is no history yet or the fit failed.
+  /// `next` must not alias x or g.
   bool extrapolate(const std::vector<double>& x, const std::vector<double>& g,
                    std::vector<double>& next);
 
+  /// Differences currently in the fit (≤ depth).
+  int history() const { return count_; }
+
  private:
-  int depth_;
+  int depth_ = 5;
+  std::size_t size_ = 0;  ///< length n of the iterates the buffers are laid out for
+  bool has_last_ = false;
+  int count_ = 0;   ///< stored differences
+  int newest_ = 0;  ///< ring slot of the newest difference
   std::vector<double> last_f_;
   std::vector<double> last_g_;
-  std::deque<std::vector<double>> delta_f_;  ///< f_{j+1} − f_j
-  std::deque<std::vector<double>> delta_g_;  ///< g_{j+1} − g_j
-  std::vector<std::vector<double>> spare_;   ///< recycled buffers: no allocation in steady state
-  /// ΔF_iᵀΔF_j of the stored differences, kept up to date as differences come and go, so
-  /// a sweep computes only the new products (row-major, kMaxDepth × kMaxDepth).
+  std::vector<double> delta_f_;  ///< slot s holds f_{j+1} − f_j in [s n, (s+1) n)
+  std::vector<double> delta_g_;  ///< slot s holds g_{j+1} − g_j
+  /// ΔF_sᵀΔF_t between ring slots s and t (row-major, kMaxDepth × kMaxDepth): a sweep
+  /// computes only the products of its new difference.
   std::array<double, kMaxDepth * kMaxDepth> gram_{};
 };
 
