@@ -2,6 +2,7 @@
 // and exit codes: 0 done, 1 the run failed, 2 bad input (nothing written).
 #include "commands/deposit.hpp"
 #include "commands/simulate.hpp"
+#include "commands/sweep.hpp"
 
 #include "cdpowder/config/config_error.hpp"
 #include "cdpowder/version.hpp"
@@ -58,6 +59,21 @@ int main(int argc, char** argv) {
   deposit_cmd->add_option("--set", deposit.overrides,
                           "Override a scene key: --set section.key=value (repeatable)");
 
+  cdpowder::app::SweepOptions sweep;
+  CLI::App* sweep_cmd = cli.add_subcommand(
+      "sweep",
+      "Compact every parameter point × seed of a sweep file, in parallel and resumable; write "
+      "results.csv and points.csv (docs/sweeps.md)");
+  sweep_cmd->add_option("sweep", sweep.sweep, "Sweep file (TOML); see docs/sweeps.md")->required();
+  sweep_cmd->add_option("--out,-o", sweep.out, "Output folder (created if missing)")->required();
+  sweep_cmd->add_option("--set", sweep.overrides,
+                        "Override a scene key in every run: --set section.key=value (repeatable)");
+  sweep_cmd->add_option("--jobs,-j", sweep.jobs, "Runs at a time (default: the number of cores)")
+      ->check(CLI::NonNegativeNumber);
+  sweep_cmd->add_flag("--quiet,-q", sweep.quiet, "No progress lines on stderr");
+  sweep_cmd->add_flag("--dry-run", sweep.dry_run,
+                      "List the runs and whether each is finished; run nothing");
+
   try {
     cli.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -69,6 +85,7 @@ int main(int argc, char** argv) {
     if (simulate_cmd->parsed()) return cdpowder::app::run_simulate(simulate);
     if (compact_cmd->parsed()) return cdpowder::app::run_compact(compact);
     if (deposit_cmd->parsed()) return cdpowder::app::run_deposit(deposit);
+    if (sweep_cmd->parsed()) return cdpowder::app::run_sweep(sweep);
   } catch (const cdpowder::ConfigError& e) {
     for (const cdpowder::ConfigIssue& issue : e.issues()) {
       std::fprintf(stderr, "error: %s\n", cdpowder::format(issue).c_str());

@@ -10,6 +10,7 @@
 #include <sstream>
 #include <string>
 #include <sys/wait.h>
+#include <unistd.h>
 
 namespace cdpowder::testing {
 
@@ -41,9 +42,12 @@ inline ProcessResult run_process(const std::string& program, const std::string& 
 class ScratchFolderTest : public ::testing::Test {
  protected:
   void SetUp() override {
+    // the process id keeps two test runs apart (two build trees tested at once shared a
+    // folder, and one's clean-up deleted the other's outputs mid-run)
     scratch_ = std::filesystem::temp_directory_path() /
                ("cdpowder_cli_" +
-                std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+                std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + "_" +
+                std::to_string(::getpid()));
     std::filesystem::remove_all(scratch_);
     std::filesystem::create_directories(scratch_);
   }

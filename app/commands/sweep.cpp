@@ -1,0 +1,279 @@
+// sweep.cpp — the sweep command: validate all runs, skip finished ones, run the rest as
+// child processes (`cdpowder compact … --quiet`), collect their summaries.
+#include "commands/sweep.hpp"
+
+#include "cdpowder/config/config_error.hpp"
+#include "cdpowder/config/scene_reader.hpp"
+#include "cdpowder/io/atomic_file.hpp"
+#include "cdpowder/sweep/sweep_plan.hpp"
+#include "cdpowder/sweep/sweep_results.hpp"
+#include "cdpowder/version.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <cstring>
+#include <fcntl.h>
+#include <fstream>
+#include <map>
+#include <set>
+#include <spawn.h>
+#include <sstream>
+#include <sys/wait.h>
+#include <thread>
+#include <unistd.h>
+
+extern char** environ;
+
+namespace cdpowder::app {
+
+namespace {
+
+/// Signals received: the first stops the sweep gracefully, the second kills the runs.
+std::atomic<int> g_signals{0};
+
+extern "C" void count_signal(int /*signal*/) {
+  g_signals.fetch_add(1);
+}
+
+class SignalCounter {
+ public:
+  SignalCounter() {
+    struct sigaction action {};
+
+    action.sa_handler = count_signal;
+    sigemptyset(&action.sa_mask);
+    sigaction(SIGINT, &action, &previous_int_);
+    sigaction(SIGTERM, &action, &previous_term_);
+  }
+
+  ~SignalCounter() {
+    sigaction(SIGINT, &previous_int_, nullptr);
+    sigaction(SIGTERM, &previous_term_, nullptr);
+  }
+
+  SignalCounter(const SignalCounter&) = delete;
+  SignalCounter& operator=(const SignalCounter&) = delete;
+  SignalCounter(SignalCounter&&) = delete;
+  SignalCounter& operator=(SignalCounter&&) = delete;
+
+ private:
+  struct sigaction previous_int_ {};
+
+  struct sigaction previous_term_ {};
+};
+
+std::string clock_text(double seconds) {
+  const auto s = static_cast<long>(seconds + 0.5);
+  return fmt::format("{}:{:02}:{:02}", s / 3600, (s / 60) % 60, s % 60);
+}
+
+std::string read_text(const std::filesystem::path& file) {
+  std::ifstream stream(file, std::ios::binary);
+  std::ostringstream text;
+  text << stream.rdbuf();
+  return text.str();
+}
+
+/// This program, to run each point as `cdpowder compact`.
+std::filesystem::path own_executable() {
+  std::error_code error;
+  std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", error);
+  if (error) throw std::runtime_error("cannot find the cdpowder executable (/proc/self/exe)");
+  return self;
+}
+
+/// Starts `exe compact scene --out folder --quiet --set …` in its own process group (so a
+/// Ctrl-C reaches only the sweep, which forwards one SIGTERM), stdout and stderr into
+/// folder/log.txt.
+pid_t start_run(const std::filesystem::path& exe, const std::filesystem::path& scene,
+                const std::filesystem::path& folder, const std::vector<std::string>& overrides) {
+  std::vector<std::string> args{exe.string(), "compact",       scene.string(),
+                                "--out",      folder.string(), "--quiet"};
+  for (const std::string& o : overrides) {
+    args.emplace_back("--set");
+    args.push_back(o);
+  }
+  std::vector<char*> argv;
+  argv.reserve(args.size() + 1);
+  for (std::string& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+
+  const std::string log = (folder / "log.txt").string();
+  posix_spawn_file_actions_t files;
+  posix_spawn_file_actions_init(&files);
+  posix_spawn_file_actions_addopen(&files, STDOUT_FILENO, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC,
+                                   0644);
+  posix_spawn_file_actions_adddup2(&files, STDOUT_FILENO, STDERR_FILENO);
+  posix_spawnattr_t attributes;
+  posix_spawnattr_init(&attributes);
+  posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETPGROUP);
+  posix_spawnattr_setpgroup(&attributes, 0);
+  pid_t pid = 0;
+  const int failed = posix_spawn(&pid, exe.c_str(), &files, &attributes, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&files);
+  posix_spawnattr_destroy(&attributes);
+  if (failed != 0) {
+    throw std::runtime_error(
+        fmt::format("cannot start {}: {}", exe.string(), std::strerror(failed)));
+  }
+  return pid;
+}
+
+std::string sweep_header(const SweepPlan& plan) {
+  return fmt::format("# cdpowder {} (commit {})\n# sweep: {}\n# scene: {}\n", kVersion, kGitCommit,
+                     plan.source.string(), plan.scene.string());
+}
+
+void write_tables(const SweepOptions& options, const SweepPlan& plan,
+                  const std::vector<std::optional<RunRecord>>& records) {
+  const std::string header = sweep_header(plan);
+  write_file_atomically(options.out / "results.csv", results_csv(plan, records, header));
+  write_file_atomically(options.out / "points.csv", points_csv(plan, records, header));
+}
+
+}  // namespace
+
+int run_sweep(const SweepOptions& options) {
+  const SignalCounter signals;
+  g_signals.store(0);
+  const SweepPlan plan = read_sweep_plan(options.sweep, options.overrides);
+
+  // every run's scene is checked before anything starts; each distinct mistake once
+  std::vector<std::string> scene_texts(plan.runs.size());
+  std::vector<ConfigIssue> issues;
+  std::set<std::string> seen;
+  SceneReadOptions compaction;
+  compaction.compaction = true;
+  for (std::size_t i = 0; i < plan.runs.size(); ++i) {
+    try {
+      scene_texts[i] = read_scene(plan.scene, plan.runs[i].overrides, compaction).effective_toml;
+    } catch (const ConfigError& error) {
+      for (const ConfigIssue& issue : error.issues()) {
+        if (seen.insert(format(issue)).second) issues.push_back(issue);
+      }
+    }
+  }
+  if (!issues.empty()) throw ConfigError(std::move(issues));
+
+  std::vector<std::optional<RunRecord>> records(plan.runs.size());
+  std::vector<std::size_t> pending;
+  for (std::size_t i = 0; i < plan.runs.size(); ++i) {
+    std::optional<RunRecord> record =
+        read_run_record(options.out / plan.runs[i].folder / "summary.json");
+    if (is_reusable(record, scene_texts[i])) {
+      records[i] = std::move(record);
+    } else {
+      pending.push_back(i);
+    }
+  }
+  const std::size_t total = plan.runs.size();
+  if (options.dry_run) {
+    std::printf("%zu runs (%zu points × %zu seeds), %zu finished, %zu to run\n", total,
+                plan.points.size(), plan.seeds.size(), total - pending.size(), pending.size());
+    for (std::size_t i = 0; i < total; ++i) {
+      std::printf("%s  %s\n", records[i] ? "done   " : "pending",
+                  plan.runs[i].folder.generic_string().c_str());
+    }
+    return 0;
+  }
+
+  std::filesystem::create_directories(options.out);
+  write_file_atomically(options.out / "sweep.toml", read_text(options.sweep));
+  write_tables(options, plan, records);
+
+  const int jobs = options.jobs > 0
+                       ? options.jobs
+                       : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  if (!options.quiet) {
+    std::fprintf(stderr,
+                 "sweep: %zu runs (%zu points × %zu seeds), %zu already finished, %d jobs\n", total,
+                 plan.points.size(), plan.seeds.size(), total - pending.size(), jobs);
+  }
+  const std::filesystem::path exe = own_executable();
+  const auto start = std::chrono::steady_clock::now();
+  std::map<pid_t, std::size_t> running;
+  std::size_t next = 0;
+  std::size_t done_now = 0;
+  std::size_t failed = 0;
+  int signals_acted_on = 0;
+  while (next < pending.size() || !running.empty()) {
+    const int received = g_signals.load();
+    if (received > signals_acted_on) {
+      // first signal: ask every run to stop after its step (it writes its outputs, flagged
+      // interrupted, and is rerun next time); second: kill them
+      for (const auto& [pid, index] : running) kill(pid, received >= 2 ? SIGKILL : SIGTERM);
+      signals_acted_on = received;
+    }
+    while (received == 0 && next < pending.size() && static_cast<int>(running.size()) < jobs) {
+      const std::size_t i = pending[next++];
+      const std::filesystem::path folder = options.out / plan.runs[i].folder;
+      std::filesystem::create_directories(folder);
+      running[start_run(exe, plan.scene, folder, plan.runs[i].overrides)] = i;
+    }
+    if (received > 0 && running.empty()) break;
+    int status = 0;
+    const pid_t pid = waitpid(-1, &status, WNOHANG);
+    if (pid <= 0) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+      continue;
+    }
+    const auto it = running.find(pid);
+    if (it == running.end()) continue;
+    const std::size_t i = it->second;
+    running.erase(it);
+    const SweepRun& run = plan.runs[i];
+    const std::filesystem::path folder = options.out / run.folder;
+    std::optional<RunRecord> record = read_run_record(folder / "summary.json");
+    const bool ok =
+        WIFEXITED(status) && WEXITSTATUS(status) == 0 && is_reusable(record, scene_texts[i]);
+    if (ok) {
+      records[i] = std::move(record);
+      ++done_now;
+      write_tables(options, plan, records);
+    } else if (g_signals.load() == 0) {
+      ++failed;
+    }
+    if (options.quiet) continue;
+    const double elapsed =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const std::size_t finished = total - pending.size() + done_now;
+    const std::size_t left = pending.size() - done_now - failed;
+    // throughput so far (runs finished per wall second, all jobs together) × runs left
+    const std::string eta =
+        done_now > 0 && g_signals.load() == 0
+            ? fmt::format(", ≈{} left", clock_text(elapsed * static_cast<double>(left) /
+                                                   static_cast<double>(done_now)))
+            : "";
+    if (ok) {
+      const RunRecord& r = *records[i];
+      std::fprintf(stderr,
+                   "[%zu/%zu] %s seed %lld: porosity=%.5f blocked=%s wall=%.1fs (elapsed %s%s)\n",
+                   finished, total, plan.points[run.point].name.c_str(),
+                   static_cast<long long>(run.seed), r.porosity, r.blocked ? "yes" : "no",
+                   r.wall_seconds, clock_text(elapsed).c_str(), eta.c_str());
+    } else {
+      std::fprintf(stderr, "[%zu/%zu] %s seed %lld: %s, see %s\n", finished, total,
+                   plan.points[run.point].name.c_str(), static_cast<long long>(run.seed),
+                   g_signals.load() > 0 ? "interrupted" : "FAILED",
+                   (folder / "log.txt").string().c_str());
+    }
+  }
+  write_tables(options, plan, records);
+  const std::size_t finished = total - pending.size() + done_now;
+  std::string state;
+  if (g_signals.load() > 0) {
+    state = " (interrupted: run the same command to resume)";
+  } else if (failed > 0) {
+    state = fmt::format(", {} failed (see their log.txt)", failed);
+  }
+  std::printf("sweep: %zu of %zu runs finished%s; results in %s\n", finished, total, state.c_str(),
+              (options.out / "results.csv").string().c_str());
+  return finished == total ? 0 : 1;
+}
+
+}  // namespace cdpowder::app

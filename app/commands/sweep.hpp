@@ -1,0 +1,28 @@
+// sweep.hpp — `cdpowder sweep SWEEP --out DIR`: the parameter studies of docs/sweeps.md.
+// Every (point, seed) of the sweep file is one `compact` run in its own process, up to
+// --jobs at a time; results.csv and points.csv are rewritten (atomically) after every run.
+// Restarting the same command reruns only the runs that have no finished result for
+// exactly their scene.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace cdpowder::app {
+
+struct SweepOptions {
+  std::filesystem::path sweep;         ///< the sweep file (TOML)
+  std::filesystem::path out;           ///< output folder
+  std::vector<std::string> overrides;  ///< --set: extra fixed overrides of every run
+  int jobs = 0;                        ///< runs at a time; 0 = the number of cores
+  bool quiet = false;                  ///< no progress lines
+  bool dry_run = false;                ///< list the runs and their state, run nothing
+};
+
+/// Checks every run's scene first (ConfigError, nothing written), then runs what is missing.
+/// Returns 0 when every run finished, 1 when one failed or the sweep was interrupted
+/// (SIGINT/SIGTERM: running runs stop after their step, a second signal kills them).
+int run_sweep(const SweepOptions& options);
+
+}  // namespace cdpowder::app

@@ -1,0 +1,329 @@
+// sweep_plan.cpp — reading a sweep file and expanding it into runs.
+#include "cdpowder/sweep/sweep_plan.hpp"
+
+#include "cdpowder/config/config_error.hpp"
+
+#include <fmt/format.h>
+#include <toml++/toml.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+namespace cdpowder {
+
+namespace {
+
+constexpr std::int64_t kMaxSeedCount = 100000;
+const std::vector<std::string> kTopLevelKeys{"scene", "seeds", "seed_keys",
+                                             "set",   "grid",  "points"};
+
+class PlanReader {
+ public:
+  PlanReader(std::string source, std::vector<ConfigIssue>& issues)
+      : source_(std::move(source)), issues_(issues) {}
+
+  void issue(const std::string& key, const toml::node* where, std::string message) {
+    int line = 0;
+    int column = 0;
+    if (where != nullptr) {
+      line = static_cast<int>(where->source().begin.line);
+      column = static_cast<int>(where->source().begin.column);
+    }
+    issues_.push_back({source_, line, column, key, std::move(message)});
+  }
+
+  /// The value of a sweep parameter as the TOML text `--set` expects; "" after an issue.
+  std::string value_text(const std::string& key, const toml::node& node) {
+    if (const auto* d = node.as_floating_point()) {
+      const double v = d->get();
+      if (!std::isfinite(v)) {
+        issue(key, &node, fmt::format("got {}, expected a finite number", v));
+        return "";
+      }
+      std::string text = fmt::format("{}", v);
+      if (text.find_first_of(".eE") == std::string::npos) text += ".0";
+      return text;
+    }
+    if (const auto* i = node.as_integer()) return fmt::format("{}", i->get());
+    if (const auto* b = node.as_boolean()) return b->get() ? "true" : "false";
+    if (const auto* s = node.as_string()) {
+      const std::string& v = s->get();
+      if (v.find_first_of("\"\\\n,=/") != std::string::npos || v.empty()) {
+        issue(key, &node,
+              fmt::format("got \"{}\", expected a non-empty string without quotes, "
+                          "backslashes, newlines, ',', '=' or '/'",
+                          v));
+        return "";
+      }
+      return "\"" + v + "\"";
+    }
+    issue(key, &node,
+          fmt::format("got a {}, expected a number, a boolean or a string",
+                      node.is_array() ? "list" : (node.is_table() ? "table" : "date or time")));
+    return "";
+  }
+
+  /// Flattens nested tables into dotted keys: [grid.contact] mu_roll = … → contact.mu_roll.
+  void flatten(const toml::table& table, const std::string& prefix,
+               std::vector<std::pair<std::string, const toml::node*>>& out) {
+    for (const auto& [name, node] : table) {
+      const std::string key =
+          prefix.empty() ? std::string(name.str()) : prefix + "." + std::string(name.str());
+      if (const auto* inner = node.as_table()) {
+        flatten(*inner, key, out);
+      } else {
+        out.emplace_back(key, &node);
+      }
+    }
+  }
+
+ private:
+  std::string source_;
+  std::vector<ConfigIssue>& issues_;
+};
+
+std::string point_name(const std::vector<SweepSetting>& settings) {
+  if (settings.empty()) return "base";
+  std::string name;
+  for (const SweepSetting& s : settings) {
+    if (!name.empty()) name += ',';
+    std::string value = s.value;
+    value.erase(std::remove(value.begin(), value.end(), '"'), value.end());
+    name += s.key + "=" + value;
+  }
+  return name;
+}
+
+}  // namespace
+
+SweepPlan read_sweep_plan_text(std::string_view text, std::string_view source_name,
+                               const std::filesystem::path& base_dir,
+                               const std::vector<std::string>& extra_fixed) {
+  std::vector<ConfigIssue> issues;
+  const std::string source(source_name);
+  toml::table root;
+  try {
+    root = toml::parse(text, source);
+  } catch (const toml::parse_error& error) {
+    throw ConfigError({{source, static_cast<int>(error.source().begin.line),
+                        static_cast<int>(error.source().begin.column), "",
+                        fmt::format("TOML syntax error: {}", error.description())}});
+  }
+  PlanReader in(source, issues);
+  SweepPlan plan;
+  plan.source = std::filesystem::path(source_name);
+
+  for (const auto& [name, node] : root) {
+    const std::string key(name.str());
+    if (std::find(kTopLevelKeys.begin(), kTopLevelKeys.end(), key) == kTopLevelKeys.end()) {
+      in.issue(key, &node,
+               "unknown key; allowed: scene, seeds, seed_keys, set, [grid], [[points]]" +
+                   did_you_mean(key, kTopLevelKeys));
+    }
+  }
+
+  // scene
+  if (const auto* scene = root.get("scene"); scene == nullptr) {
+    in.issue("scene", nullptr, "missing: the base scene file (TOML), relative to the sweep file");
+  } else if (const auto* path = scene->as_string(); path == nullptr || path->get().empty()) {
+    in.issue("scene", scene, "expected a non-empty string: the base scene file");
+  } else {
+    const std::filesystem::path p(path->get());
+    plan.scene = p.is_absolute() ? p : base_dir / p;
+  }
+
+  // seeds: n (1..n) or a list of distinct integers
+  if (const auto* seeds = root.get("seeds"); seeds == nullptr) {
+    plan.seeds = {1};
+  } else if (const auto* n = seeds->as_integer()) {
+    if (n->get() < 1 || n->get() > kMaxSeedCount) {
+      in.issue("seeds", seeds,
+               fmt::format("got {}, expected a count in [1, {}] or a list of seeds", n->get(),
+                           kMaxSeedCount));
+    } else {
+      for (std::int64_t s = 1; s <= n->get(); ++s) plan.seeds.push_back(s);
+    }
+  } else if (const auto* list = seeds->as_array(); list != nullptr && !list->empty()) {
+    std::set<std::int64_t> seen;
+    for (const auto& item : *list) {
+      const auto* s = item.as_integer();
+      if (s == nullptr || s->get() < 0) {
+        in.issue("seeds", &item, "expected non-negative integers");
+      } else if (!seen.insert(s->get()).second) {
+        in.issue("seeds", &item, fmt::format("seed {} is listed twice", s->get()));
+      } else {
+        plan.seeds.push_back(s->get());
+      }
+    }
+  } else {
+    in.issue("seeds", seeds, "expected a count (e.g. 3) or a non-empty list of seeds");
+  }
+
+  // seed_keys
+  plan.seed_keys = {"deposition.seed", "solver.seed"};
+  if (const auto* keys = root.get("seed_keys")) {
+    plan.seed_keys.clear();
+    const auto* list = keys->as_array();
+    if (list == nullptr) in.issue("seed_keys", keys, "expected a list of scene keys");
+    if (list != nullptr) {
+      for (const auto& item : *list) {
+        if (const auto* k = item.as_string(); k != nullptr && !k->get().empty()) {
+          plan.seed_keys.push_back(k->get());
+        } else {
+          in.issue("seed_keys", &item, "expected scene keys such as \"solver.seed\"");
+        }
+      }
+    }
+  }
+
+  // set
+  if (const auto* fixed = root.get("set")) {
+    const auto* list = fixed->as_array();
+    if (list == nullptr) in.issue("set", fixed, "expected a list of \"section.key=value\"");
+    if (list != nullptr) {
+      for (const auto& item : *list) {
+        if (const auto* s = item.as_string()) {
+          plan.fixed.push_back(s->get());
+        } else {
+          in.issue("set", &item, "expected strings \"section.key=value\"");
+        }
+      }
+    }
+  }
+  plan.fixed.insert(plan.fixed.end(), extra_fixed.begin(), extra_fixed.end());
+
+  // the parameters: grid keys first, then keys that only explicit points name
+  std::vector<std::pair<std::string, std::vector<std::string>>> grid;
+  if (const auto* node = root.get("grid")) {
+    const auto* table = node->as_table();
+    if (table == nullptr) in.issue("grid", node, "expected a table of key = [values]");
+    std::vector<std::pair<std::string, const toml::node*>> entries;
+    if (table != nullptr) in.flatten(*table, "", entries);
+    for (const auto& [key, value] : entries) {
+      const auto* list = value->as_array();
+      if (list == nullptr || list->empty()) {
+        in.issue("grid." + key, value, "expected a non-empty list of values");
+        continue;
+      }
+      std::vector<std::string> values;
+      std::set<std::string> seen;
+      for (const auto& item : *list) {
+        std::string value_text = in.value_text("grid." + key, item);
+        if (value_text.empty()) continue;
+        if (!seen.insert(value_text).second) {
+          in.issue("grid." + key, &item, fmt::format("value {} is listed twice", value_text));
+          continue;
+        }
+        values.push_back(std::move(value_text));
+      }
+      grid.emplace_back(key, std::move(values));
+      plan.parameter_keys.push_back(key);
+    }
+  }
+  std::vector<std::map<std::string, std::string>> explicit_points;
+  if (const auto* node = root.get("points")) {
+    const auto* list = node->as_array();
+    if (list == nullptr) in.issue("points", node, "expected [[points]] tables of key = value");
+    if (list != nullptr) {
+      for (const auto& item : *list) {
+        const auto* table = item.as_table();
+        if (table == nullptr) {
+          in.issue("points", &item, "expected [[points]] tables of key = value");
+          continue;
+        }
+        std::vector<std::pair<std::string, const toml::node*>> entries;
+        in.flatten(*table, "", entries);
+        std::map<std::string, std::string> point;
+        for (const auto& [key, value] : entries) {
+          const std::string value_text = in.value_text("points." + key, *value);
+          if (value_text.empty()) continue;
+          point[key] = value_text;
+          if (std::find(plan.parameter_keys.begin(), plan.parameter_keys.end(), key) ==
+              plan.parameter_keys.end()) {
+            plan.parameter_keys.push_back(key);
+          }
+        }
+        explicit_points.push_back(std::move(point));
+      }
+    }
+  }
+  for (const std::string& key : plan.parameter_keys) {
+    if (std::find(plan.seed_keys.begin(), plan.seed_keys.end(), key) != plan.seed_keys.end()) {
+      in.issue(key, nullptr, "is a seed key; vary seeds with `seeds`, not as a parameter");
+    }
+  }
+  if (!issues.empty()) throw ConfigError(std::move(issues));
+
+  // grid points, last key fastest; a grid key an explicit point does not name keeps the
+  // base scene's value there, so explicit points list every parameter they set
+  std::vector<std::size_t> index(grid.size(), 0);
+  const bool has_grid = !grid.empty();
+  while (has_grid) {
+    SweepPoint point;
+    for (std::size_t k = 0; k < grid.size(); ++k) {
+      point.settings.push_back({grid[k].first, grid[k].second[index[k]]});
+    }
+    plan.points.push_back(std::move(point));
+    std::size_t k = grid.size();
+    while (k > 0 && ++index[k - 1] == grid[k - 1].second.size()) index[--k] = 0;
+    if (k == 0) break;
+  }
+  for (const auto& values : explicit_points) {
+    SweepPoint point;
+    for (const std::string& key : plan.parameter_keys) {
+      if (const auto it = values.find(key); it != values.end()) {
+        point.settings.push_back({key, it->second});
+      }
+    }
+    plan.points.push_back(std::move(point));
+  }
+  if (plan.points.empty()) plan.points.push_back(SweepPoint{});  // the base scene alone
+
+  // names; a point listed twice (grid and explicit) is run once
+  std::set<std::string> names;
+  std::vector<SweepPoint> unique;
+  for (SweepPoint& point : plan.points) {
+    point.name = point_name(point.settings);
+    if (names.insert(point.name).second) unique.push_back(std::move(point));
+  }
+  plan.points = std::move(unique);
+
+  for (std::size_t p = 0; p < plan.points.size(); ++p) {
+    for (const std::int64_t seed : plan.seeds) {
+      SweepRun run;
+      run.point = p;
+      run.seed = seed;
+      run.folder =
+          std::filesystem::path("runs") / plan.points[p].name / fmt::format("seed_{}", seed);
+      run.overrides = plan.fixed;
+      for (const SweepSetting& s : plan.points[p].settings) {
+        run.overrides.push_back(s.key + "=" + s.value);
+      }
+      for (const std::string& key : plan.seed_keys) {
+        run.overrides.push_back(fmt::format("{}={}", key, seed));
+      }
+      plan.runs.push_back(std::move(run));
+    }
+  }
+  return plan;
+}
+
+SweepPlan read_sweep_plan(const std::filesystem::path& file,
+                          const std::vector<std::string>& extra_fixed) {
+  std::ifstream stream(file, std::ios::binary);
+  if (!stream) throw ConfigError({{file.string(), 0, 0, "", "cannot open the sweep file"}});
+  std::ostringstream text;
+  text << stream.rdbuf();
+  std::error_code error;
+  const std::filesystem::path absolute = std::filesystem::absolute(file, error);
+  SweepPlan plan = read_sweep_plan_text(
+      text.str(), file.string(), error ? file.parent_path() : absolute.parent_path(), extra_fixed);
+  plan.source = file;
+  return plan;
+}
+
+}  // namespace cdpowder

@@ -1,0 +1,62 @@
+// sweep_plan.hpp — a parameter study: which runs a sweep file asks for.
+//
+// A sweep file (TOML, docs/sweeps.md) names a base scene, fixed overrides, the seeds, and
+// the parameter points: a grid (Cartesian product of value lists) and/or explicit points.
+// Each (point, seed) becomes one run of `compact` with its own `--set` overrides and its
+// own folder, named from the parameter values so that a restarted or extended sweep finds
+// the runs it already has.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace cdpowder {
+
+/// One parameter of a point: a dotted scene key and its value as TOML text ("0.1", "true",
+/// "\"history\"").
+struct SweepSetting {
+  std::string key;
+  std::string value;
+};
+
+/// One parameter point; its settings are in the order of the sweep's parameter keys.
+struct SweepPoint {
+  std::vector<SweepSetting> settings;
+  /// "contact.mu_roll=0.1,contact.mu_twist=0.3"; "base" for a sweep without parameters.
+  std::string name;
+};
+
+/// One run: a point and a seed.
+struct SweepRun {
+  std::size_t point = 0;         ///< index into SweepPlan::points
+  std::int64_t seed = 1;         ///< written to every key of SweepPlan::seed_keys
+  std::filesystem::path folder;  ///< relative to the sweep's output folder: runs/<point>/seed_<s>
+  std::vector<std::string> overrides;  ///< fixed ones, then the point's, then the seed's
+};
+
+struct SweepPlan {
+  std::filesystem::path source;             ///< the sweep file
+  std::filesystem::path scene;              ///< the base scene, resolved against the sweep file
+  std::vector<std::string> fixed;           ///< `set`: overrides of every run
+  std::vector<std::int64_t> seeds;          ///< `seeds`
+  std::vector<std::string> seed_keys;       ///< `seed_keys`: scene keys that take the seed
+  std::vector<std::string> parameter_keys;  ///< keys of the grid and the points, first-seen order
+  std::vector<SweepPoint> points;  ///< grid points (last key fastest), then explicit points
+  std::vector<SweepRun> runs;      ///< points × seeds, point-major
+};
+
+/// Reads and checks a sweep file; `extra_fixed` (the command's --set) come after the file's
+/// `set`. Throws ConfigError naming file, key, value and what is allowed. Does not read the
+/// scene (the sweep command checks every run's scene before it starts any).
+SweepPlan read_sweep_plan(const std::filesystem::path& file,
+                          const std::vector<std::string>& extra_fixed = {});
+
+/// As read_sweep_plan, from text; `source_name` names it in messages and relative scene
+/// paths are taken from `base_dir`.
+SweepPlan read_sweep_plan_text(std::string_view text, std::string_view source_name,
+                               const std::filesystem::path& base_dir,
+                               const std::vector<std::string>& extra_fixed = {});
+
+}  // namespace cdpowder

@@ -1,0 +1,186 @@
+// sweep_results.cpp — run records and the sweep's two tables.
+#include "cdpowder/sweep/sweep_results.hpp"
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <fstream>
+#include <functional>
+#include <sstream>
+
+namespace cdpowder {
+
+namespace {
+
+/// A quoted CSV field when it holds a comma (point names do).
+std::string csv_field(const std::string& text) {
+  if (text.find_first_of(",\"") == std::string::npos) return text;
+  std::string quoted = "\"";
+  for (const char c : text) {
+    if (c == '"') quoted += '"';
+    quoted += c;
+  }
+  return quoted + "\"";
+}
+
+std::string number(double v) {
+  return std::isfinite(v) ? fmt::format("{:.10g}", v) : std::string();
+}
+
+/// The value a point gives its parameter `key`, unquoted; "" when the point keeps the base.
+std::string parameter_value(const SweepPoint& point, const std::string& key) {
+  for (const SweepSetting& s : point.settings) {
+    if (s.key != key) continue;
+    std::string v = s.value;
+    if (v.size() >= 2 && v.front() == '"') v = v.substr(1, v.size() - 2);
+    return v;
+  }
+  return "";
+}
+
+struct Column {
+  const char* name;
+  std::function<double(const RunRecord&)> get;
+};
+
+const std::vector<Column>& run_columns() {
+  static const std::vector<Column> columns{
+      {"porosity", [](const RunRecord& r) { return r.porosity; }},
+      {"initial_porosity", [](const RunRecord& r) { return r.initial_porosity; }},
+      {"sigma_zz_over_p", [](const RunRecord& r) { return r.sigma_zz_over_p; }},
+      {"sigma_zz_compressive_over_p",
+       [](const RunRecord& r) { return r.sigma_zz_compressive_over_p; }},
+      {"sigma_zz_tensile_over_p", [](const RunRecord& r) { return r.sigma_zz_tensile_over_p; }},
+      {"compressive_contacts", [](const RunRecord& r) { return r.compressive_contacts; }},
+      {"tensile_contacts", [](const RunRecord& r) { return r.tensile_contacts; }},
+      {"coordination_number", [](const RunRecord& r) { return r.coordination_number; }},
+      {"steps", [](const RunRecord& r) { return r.steps; }},
+      {"total_sweeps", [](const RunRecord& r) { return r.total_sweeps; }},
+      {"capped_steps", [](const RunRecord& r) { return r.capped_steps; }},
+      {"mean_overlap", [](const RunRecord& r) { return r.mean_overlap; }},
+      {"max_overlap", [](const RunRecord& r) { return r.max_overlap; }},
+      {"piston_imbalance", [](const RunRecord& r) { return r.piston_imbalance; }},
+      {"wall_seconds", [](const RunRecord& r) { return r.wall_seconds; }},
+  };
+  return columns;
+}
+
+/// The quantities aggregated per point (a subset of run_columns()).
+const std::vector<std::string>& aggregated() {
+  static const std::vector<std::string> names{"porosity",
+                                              "sigma_zz_over_p",
+                                              "sigma_zz_compressive_over_p",
+                                              "sigma_zz_tensile_over_p",
+                                              "compressive_contacts",
+                                              "tensile_contacts",
+                                              "coordination_number",
+                                              "wall_seconds"};
+  return names;
+}
+
+}  // namespace
+
+std::optional<RunRecord> read_run_record(const std::filesystem::path& summary_json) {
+  std::ifstream stream(summary_json, std::ios::binary);
+  if (!stream) return std::nullopt;
+  try {
+    const nlohmann::json j = nlohmann::json::parse(stream);
+    RunRecord r;
+    r.porosity = j.at("porosity").get<double>();
+    r.initial_porosity = j.at("initial_porosity").get<double>();
+    const auto& stress = j.at("stress");
+    r.sigma_zz_over_p = stress.value("sigma_zz_over_pressure", NAN);
+    r.sigma_zz_compressive_over_p = stress.value("sigma_zz_compressive_over_pressure", NAN);
+    r.sigma_zz_tensile_over_p = stress.value("sigma_zz_tensile_over_pressure", NAN);
+    r.compressive_contacts = stress.at("compressive_contacts").get<double>();
+    r.tensile_contacts = stress.at("tensile_contacts").get<double>();
+    r.coordination_number = j.at("contacts").at("coordination_number").get<double>();
+    const auto& run = j.at("run");
+    r.blocked = run.at("blocked").get<bool>();
+    r.interrupted = run.at("interrupted").get<bool>();
+    r.steps = run.at("steps").get<double>();
+    r.total_sweeps = run.at("total_sweeps").get<double>();
+    r.wall_seconds = run.at("wall_seconds").get<double>();
+    const auto& accuracy = j.at("accuracy");
+    r.capped_steps = accuracy.at("capped_steps").get<double>();
+    r.mean_overlap = accuracy.at("mean_overlap").get<double>();
+    r.max_overlap = accuracy.at("max_overlap").get<double>();
+    r.piston_imbalance = j.at("piston").value("force_imbalance", NAN);
+    r.scene_toml = j.at("scene_toml").get<std::string>();
+    r.commit = j.at("program").at("commit").get<std::string>();
+    return r;
+  } catch (const nlohmann::json::exception&) {
+    return std::nullopt;
+  }
+}
+
+bool is_reusable(const std::optional<RunRecord>& record, const std::string& expected_scene_toml) {
+  return record.has_value() && !record->interrupted && record->scene_toml == expected_scene_toml;
+}
+
+std::string results_csv(const SweepPlan& plan, const std::vector<std::optional<RunRecord>>& records,
+                        const std::string& header) {
+  std::string out = header + "point";
+  for (const std::string& key : plan.parameter_keys) out += "," + csv_field(key);
+  out += ",seed";
+  for (const Column& c : run_columns()) out += fmt::format(",{}", c.name);
+  out += ",blocked,commit,folder\n";
+  for (std::size_t i = 0; i < plan.runs.size() && i < records.size(); ++i) {
+    if (!records[i]) continue;
+    const SweepRun& run = plan.runs[i];
+    const SweepPoint& point = plan.points[run.point];
+    const RunRecord& r = *records[i];
+    out += csv_field(point.name);
+    for (const std::string& key : plan.parameter_keys) {
+      out += "," + csv_field(parameter_value(point, key));
+    }
+    out += fmt::format(",{}", run.seed);
+    for (const Column& c : run_columns()) out += "," + number(c.get(r));
+    out += fmt::format(",{},{},{}\n", r.blocked ? 1 : 0, csv_field(r.commit),
+                       csv_field(run.folder.generic_string()));
+  }
+  return out;
+}
+
+std::string points_csv(const SweepPlan& plan, const std::vector<std::optional<RunRecord>>& records,
+                       const std::string& header) {
+  std::string out = header + "point";
+  for (const std::string& key : plan.parameter_keys) out += "," + csv_field(key);
+  out += ",runs,n";
+  for (const std::string& name : aggregated()) out += fmt::format(",{0}_mean,{0}_sem", name);
+  out += '\n';
+  for (std::size_t p = 0; p < plan.points.size(); ++p) {
+    std::vector<const RunRecord*> blocked;
+    std::size_t finished = 0;
+    for (std::size_t i = 0; i < plan.runs.size() && i < records.size(); ++i) {
+      if (plan.runs[i].point != p || !records[i]) continue;
+      ++finished;
+      if (records[i]->blocked) blocked.push_back(&*records[i]);
+    }
+    const SweepPoint& point = plan.points[p];
+    out += csv_field(point.name);
+    for (const std::string& key : plan.parameter_keys) {
+      out += "," + csv_field(parameter_value(point, key));
+    }
+    out += fmt::format(",{},{}", finished, blocked.size());
+    for (const std::string& name : aggregated()) {
+      const Column* column = nullptr;
+      for (const Column& c : run_columns()) {
+        if (name == c.name) column = &c;
+      }
+      const auto n = static_cast<double>(blocked.size());
+      double sum = 0.0;
+      for (const RunRecord* r : blocked) sum += column->get(*r);
+      const double mean = blocked.empty() ? NAN : sum / n;
+      double squares = 0.0;
+      for (const RunRecord* r : blocked) squares += std::pow(column->get(*r) - mean, 2);
+      const double sem = blocked.size() < 2 ? NAN : std::sqrt(squares / (n - 1.0) / n);
+      out += "," + number(mean) + "," + number(sem);
+    }
+    out += '\n';
+  }
+  return out;
+}
+
+}  // namespace cdpowder

@@ -1,0 +1,139 @@
+// Tests of `cdpowder sweep`, run as a process: a small grid of short compactions in
+// parallel, the tables it writes, resuming after a lost run, an interrupted sweep, and
+// bad sweep files refused before anything is written.
+#include "support/cli_process.hpp"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace {
+
+namespace fs = std::filesystem;
+using cdpowder::testing::ProcessResult;
+using cdpowder::testing::slurp;
+using ::testing::HasSubstr;
+
+const fs::path kQuick = CDPOWDER_SOURCE_DIR "/examples/quick/scene.toml";
+
+ProcessResult cdpowder(const std::string& arguments, const fs::path& scratch) {
+  return cdpowder::testing::run_process(CDPOWDER_EXE, arguments, scratch);
+}
+
+/// Data rows of a CSV (lines not starting with '#', minus the column header).
+std::size_t data_rows(const fs::path& csv) {
+  std::ifstream in(csv);
+  std::size_t rows = 0;
+  for (std::string line; std::getline(in, line);) {
+    if (!line.empty() && line[0] != '#') ++rows;
+  }
+  return rows == 0 ? 0 : rows - 1;
+}
+
+using SweepCli = cdpowder::testing::ScratchFolderTest;
+
+/// 2 × 2 grid, 2 seeds, each run 5 t0 of the quick example's compaction (≈ 0.1 s).
+fs::path write_short_sweep(const fs::path& folder) {
+  const fs::path file = folder / "sweep.toml";
+  std::ofstream(file) << "scene = \"" << kQuick.string() << "\"\n"
+                      << "seeds = 2\nset = [\"run.max_duration=5\"]\n"
+                      << "[grid.contact]\nmu_roll = [0.0, 1.0]\nmu_twist = [0.0, 1.0]\n";
+  return file;
+}
+
+TEST_F(SweepCli, RunsEveryPointAndSeedAndTabulatesThem) {
+  const fs::path sweep = write_short_sweep(scratch_);
+  const fs::path out = scratch_ / "out";
+  const ProcessResult r =
+      cdpowder("sweep " + sweep.string() + " --out " + out.string() + " -j 2", scratch_);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("8 of 8 runs finished"));
+  EXPECT_THAT(r.err, HasSubstr("[8/8]"));
+  EXPECT_EQ(data_rows(out / "results.csv"), 8U);
+  EXPECT_EQ(data_rows(out / "points.csv"), 4U);
+  EXPECT_TRUE(fs::exists(out / "sweep.toml"));
+  const fs::path run = out / "runs" / "contact.mu_roll=1.0,contact.mu_twist=0.0" / "seed_2";
+  const nlohmann::json s = nlohmann::json::parse(slurp(run / "summary.json"));
+  EXPECT_EQ(s["scene"]["contact"]["mu_roll"], 1.0);
+  EXPECT_EQ(s["scene"]["contact"]["mu_twist"], 0.0);
+  EXPECT_EQ(s["scene"]["deposition"]["seed"], 2);
+  EXPECT_EQ(s["scene"]["solver"]["seed"], 2);
+  // each run is the same as the compact command with the same overrides
+  const ProcessResult single =
+      cdpowder("compact " + kQuick.string() + " --out " + (scratch_ / "single").string() +
+                   " --quiet --set run.max_duration=5 --set contact.mu_roll=1.0 "
+                   "--set contact.mu_twist=0.0 --set deposition.seed=2 --set solver.seed=2",
+               scratch_);
+  ASSERT_EQ(single.status, 0) << single.err;
+  const nlohmann::json alone = nlohmann::json::parse(slurp(scratch_ / "single" / "summary.json"));
+  EXPECT_EQ(alone["porosity"], s["porosity"]);
+  EXPECT_EQ(alone["run"]["total_sweeps"], s["run"]["total_sweeps"]);
+}
+
+TEST_F(SweepCli, RestartRunsOnlyWhatIsMissing) {
+  const fs::path sweep = write_short_sweep(scratch_);
+  const fs::path out = scratch_ / "out";
+  const std::string command = "sweep " + sweep.string() + " --out " + out.string() + " -j 2";
+  ASSERT_EQ(cdpowder(command, scratch_).status, 0);
+  const fs::path lost = out / "runs" / "contact.mu_roll=0.0,contact.mu_twist=1.0" / "seed_1";
+  fs::remove(lost / "summary.json");
+  const ProcessResult again = cdpowder(command, scratch_);
+  ASSERT_EQ(again.status, 0) << again.err;
+  EXPECT_THAT(again.err, HasSubstr("7 already finished"));
+  EXPECT_TRUE(fs::exists(lost / "summary.json"));
+  EXPECT_EQ(data_rows(out / "results.csv"), 8U);
+  // a changed fixed override changes every run's scene: nothing is reused
+  const ProcessResult changed =
+      cdpowder(command + " --dry-run --set solver.tolerance=1e-5", scratch_);
+  EXPECT_THAT(changed.out, HasSubstr("0 finished, 8 to run"));
+}
+
+TEST_F(SweepCli, InterruptKeepsFinishedResultsAndLeavesTheRestPending) {
+  // one long run (the quick example to its blocked state, ≈ 10 s); SIGTERM once it started
+  const fs::path sweep = scratch_ / "sweep.toml";
+  std::ofstream(sweep) << "scene = \"" << kQuick.string() << "\"\nseeds = 2\n";
+  const fs::path out = scratch_ / "out";
+  const fs::path started = out / "runs" / "base" / "seed_1" / "scene.toml";
+  const fs::path script = scratch_ / "interrupt.sh";
+  std::ofstream(script) << CDPOWDER_EXE << " sweep " << sweep.string() << " --out " << out.string()
+                        << " -j 1 &\npid=$!\n"
+                        << "for i in $(seq 1 1200); do [ -f " << started.string()
+                        << " ] && break; sleep 0.05; done\n"
+                        << "sleep 0.3\nkill -TERM $pid\nwait $pid\n";
+  const ProcessResult r = cdpowder::testing::run_process("sh", script.string(), scratch_);
+  EXPECT_EQ(r.status, 1) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("interrupted"));
+  EXPECT_EQ(data_rows(out / "results.csv"), 0U);
+  const nlohmann::json s =
+      nlohmann::json::parse(slurp(out / "runs" / "base" / "seed_1" / "summary.json"));
+  EXPECT_TRUE(s["run"]["interrupted"].get<bool>());
+  EXPECT_FALSE(fs::exists(out / "runs" / "base" / "seed_2"));  // never started
+  const ProcessResult listed =
+      cdpowder("sweep " + sweep.string() + " --out " + out.string() + " --dry-run", scratch_);
+  EXPECT_THAT(listed.out, HasSubstr("0 finished, 2 to run"));
+}
+
+TEST_F(SweepCli, BadSweepFilesAreRefusedBeforeAnythingIsWritten) {
+  const fs::path out = scratch_ / "out";
+  const fs::path typo = scratch_ / "typo.toml";
+  std::ofstream(typo) << "scene = \"" << kQuick.string()
+                      << "\"\n[grid]\n\"contact.mu_rol\" = [1.0]\n";
+  const ProcessResult r = cdpowder("sweep " + typo.string() + " --out " + out.string(), scratch_);
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.err, HasSubstr("contact.mu_rol"));
+  EXPECT_THAT(r.err, HasSubstr("did you mean"));
+  const fs::path range = scratch_ / "range.toml";
+  std::ofstream(range) << "scene = \"" << kQuick.string()
+                       << "\"\n[grid]\n\"contact.mu\" = [0.3, -1.0]\n";
+  const ProcessResult r2 = cdpowder("sweep " + range.string() + " --out " + out.string(), scratch_);
+  EXPECT_EQ(r2.status, 2);
+  EXPECT_THAT(r2.err, HasSubstr("contact.mu"));
+  EXPECT_FALSE(fs::exists(out));
+}
+
+}  // namespace

@@ -1,0 +1,152 @@
+// sweep_plan_test.cpp — reading sweep files: grids, explicit points, seeds, run folders and
+// overrides, the tables built from run records, and every class of mistake.
+#include "cdpowder/sweep/sweep_plan.hpp"
+
+#include "cdpowder/config/config_error.hpp"
+#include "cdpowder/sweep/sweep_results.hpp"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <string>
+
+namespace cdpowder {
+namespace {
+
+using ::testing::ElementsAre;
+using ::testing::HasSubstr;
+
+SweepPlan plan_of(const std::string& text, const std::vector<std::string>& extra = {}) {
+  return read_sweep_plan_text(text, "sweep.toml", "/base", extra);
+}
+
+/// The formatted issues of a plan that must be refused.
+std::string errors_of(const std::string& text) {
+  try {
+    plan_of(text);
+  } catch (const ConfigError& error) {
+    return error.what();
+  }
+  ADD_FAILURE() << "accepted: " << text;
+  return "";
+}
+
+TEST(SweepPlan, GridIsTheCartesianProductWithTheLastKeyFastest) {
+  const SweepPlan plan = plan_of(R"(
+scene = "scene.toml"
+seeds = 2
+[grid.contact]
+mu_roll = [0.0, 1.0]
+mu_twist = [0.0, 0.5, 1.0]
+)");
+  EXPECT_EQ(plan.scene, std::filesystem::path("/base/scene.toml"));
+  EXPECT_THAT(plan.parameter_keys, ElementsAre("contact.mu_roll", "contact.mu_twist"));
+  ASSERT_EQ(plan.points.size(), 6U);
+  EXPECT_EQ(plan.points[0].name, "contact.mu_roll=0.0,contact.mu_twist=0.0");
+  EXPECT_EQ(plan.points[1].name, "contact.mu_roll=0.0,contact.mu_twist=0.5");
+  EXPECT_EQ(plan.points[5].name, "contact.mu_roll=1.0,contact.mu_twist=1.0");
+  ASSERT_EQ(plan.runs.size(), 12U);
+  EXPECT_EQ(plan.runs[3].point, 1U);
+  EXPECT_EQ(plan.runs[3].seed, 2);
+  EXPECT_EQ(plan.runs[3].folder.generic_string(),
+            "runs/contact.mu_roll=0.0,contact.mu_twist=0.5/seed_2");
+  EXPECT_THAT(plan.runs[3].overrides, ElementsAre("contact.mu_roll=0.0", "contact.mu_twist=0.5",
+                                                  "deposition.seed=2", "solver.seed=2"));
+}
+
+TEST(SweepPlan, ExplicitPointsFixedOverridesAndSeedListsCombine) {
+  const SweepPlan plan = plan_of(R"(
+scene = "/abs/scene.toml"
+seeds = [7, 3]
+seed_keys = ["solver.seed"]
+set = ["solver.tolerance=1e-4"]
+[[points]]
+"contact.mu_roll" = 0.3
+"contact.mu_twist" = 0
+[[points]]
+contact.cohesion_rule = "history"
+)",
+                                 {"run.max_duration=5"});
+  EXPECT_EQ(plan.scene, std::filesystem::path("/abs/scene.toml"));
+  ASSERT_EQ(plan.points.size(), 2U);
+  EXPECT_EQ(plan.points[0].name, "contact.mu_roll=0.3,contact.mu_twist=0");
+  EXPECT_EQ(plan.points[1].name, "contact.cohesion_rule=history");
+  ASSERT_EQ(plan.runs.size(), 4U);
+  EXPECT_THAT(plan.runs[2].overrides,
+              ElementsAre("solver.tolerance=1e-4", "run.max_duration=5",
+                          "contact.cohesion_rule=\"history\"", "solver.seed=7"));
+}
+
+TEST(SweepPlan, NoParametersMeansTheBaseSceneOverTheSeeds) {
+  const SweepPlan plan = plan_of("scene = \"s.toml\"\nseeds = 3\n");
+  ASSERT_EQ(plan.points.size(), 1U);
+  EXPECT_EQ(plan.points[0].name, "base");
+  EXPECT_EQ(plan.runs.size(), 3U);
+}
+
+TEST(SweepPlan, APointInTheGridAndListedAgainRunsOnce) {
+  const SweepPlan plan = plan_of(R"(
+scene = "s.toml"
+[grid]
+"contact.mu_roll" = [0.0, 1.0]
+[[points]]
+"contact.mu_roll" = 1.0
+)");
+  EXPECT_EQ(plan.points.size(), 2U);
+}
+
+TEST(SweepPlan, MistakesNameTheKeyAndWhatIsAllowed) {
+  EXPECT_THAT(errors_of("seeds = 2\n"), HasSubstr("scene: missing"));
+  EXPECT_THAT(errors_of("scene = \"s\"\nseed = 2\n"), HasSubstr("did you mean 'seeds'?"));
+  EXPECT_THAT(errors_of("scene = \"s\"\nseeds = 0\n"), HasSubstr("expected a count in [1"));
+  EXPECT_THAT(errors_of("scene = \"s\"\nseeds = [1, 1]\n"), HasSubstr("listed twice"));
+  EXPECT_THAT(errors_of("scene = \"s\"\n[grid]\n\"contact.mu\" = []\n"),
+              HasSubstr("grid.contact.mu: expected a non-empty list"));
+  EXPECT_THAT(errors_of("scene = \"s\"\n[grid]\n\"contact.mu\" = [0.1, 0.1]\n"),
+              HasSubstr("value 0.1 is listed twice"));
+  EXPECT_THAT(errors_of("scene = \"s\"\n[grid]\n\"contact.mu\" = [[1]]\n"),
+              HasSubstr("expected a number, a boolean or a string"));
+  EXPECT_THAT(errors_of("scene = \"s\"\n[grid]\n\"solver.seed\" = [1, 2]\n"),
+              HasSubstr("is a seed key"));
+  EXPECT_THAT(errors_of("scene = \"s\"\nset = \"a=1\"\n"), HasSubstr("set: expected a list"));
+  EXPECT_THAT(errors_of("scene = [\n"), HasSubstr("TOML syntax error"));
+}
+
+RunRecord record(double porosity, bool blocked) {
+  RunRecord r;
+  r.porosity = porosity;
+  r.blocked = blocked;
+  r.sigma_zz_over_p = 1.0;
+  r.commit = "abc";
+  return r;
+}
+
+TEST(SweepResults, PointsAverageTheBlockedRunsWithTheStandardError) {
+  const SweepPlan plan = plan_of("scene = \"s\"\nseeds = 4\n[grid]\n\"contact.mu\" = [0.1, 0.2]\n");
+  std::vector<std::optional<RunRecord>> records(plan.runs.size());
+  records[0] = record(0.5, true);
+  records[1] = record(0.7, true);
+  records[2] = record(0.9, false);  // finished, not blocked: listed, not averaged
+  records[4] = record(0.4, true);
+  const std::string points = points_csv(plan, records, "# h\n");
+  // point 0: runs 3, n 2, mean 0.6, sem = sd/√n = 0.1414…/√2 = 0.1
+  EXPECT_THAT(points, HasSubstr("contact.mu=0.1,0.1,3,2,0.6,0.1,1,0,"));
+  // point 1: one blocked run: a mean, no error
+  EXPECT_THAT(points, HasSubstr("contact.mu=0.2,0.2,1,1,0.4,,1,,"));
+  const std::string runs = results_csv(plan, records, "# h\n");
+  EXPECT_EQ(std::count(runs.begin(), runs.end(), '\n'), 1 + 1 + 4);  // header lines + 4 rows
+  EXPECT_THAT(runs, HasSubstr("contact.mu=0.1,0.1,3,0.9,"));
+}
+
+TEST(SweepResults, ARunIsReusedOnlyWhenFinishedForTheSameScene) {
+  RunRecord r = record(0.5, true);
+  r.scene_toml = "a";
+  EXPECT_TRUE(is_reusable(r, "a"));
+  EXPECT_FALSE(is_reusable(r, "b"));
+  r.interrupted = true;
+  EXPECT_FALSE(is_reusable(r, "a"));
+  EXPECT_FALSE(is_reusable(std::nullopt, "a"));
+}
+
+}  // namespace
+}  // namespace cdpowder
