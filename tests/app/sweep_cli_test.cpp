@@ -1,6 +1,6 @@
 // Tests of `cdpowder sweep`, run as a process: a small grid of short compactions in
-// parallel, the tables it writes, resuming after a lost run, an interrupted sweep, and
-// bad sweep files refused before anything is written.
+// parallel, the tables it writes, the report tool on them, resuming after a lost run, an
+// interrupted sweep, and bad sweep files refused before anything is written.
 #include "support/cli_process.hpp"
 
 #include <gmock/gmock.h>
@@ -20,6 +20,7 @@ using cdpowder::testing::slurp;
 using ::testing::HasSubstr;
 
 const fs::path kQuick = CDPOWDER_SOURCE_DIR "/examples/quick/scene.toml";
+const fs::path kReport = CDPOWDER_SOURCE_DIR "/tools/report.py";
 
 ProcessResult cdpowder(const std::string& arguments, const fs::path& scratch) {
   return cdpowder::testing::run_process(CDPOWDER_EXE, arguments, scratch);
@@ -73,6 +74,20 @@ TEST_F(SweepCli, RunsEveryPointAndSeedAndTabulatesThem) {
   const nlohmann::json alone = nlohmann::json::parse(slurp(scratch_ / "single" / "summary.json"));
   EXPECT_EQ(alone["porosity"], s["porosity"]);
   EXPECT_EQ(alone["run"]["total_sweeps"], s["run"]["total_sweeps"]);
+
+  // the report tool turns the folder into figures and tables (these runs are too short to
+  // block, so --all-runs)
+  const ProcessResult report = cdpowder::testing::run_process(
+      "/usr/bin/python3", kReport.string() + " " + out.string() + " --all-runs", scratch_);
+  ASSERT_EQ(report.status, 0) << report.err;
+  for (const char* name : {"report.md", "fig5_porosity.png", "fig5_porosity.svg",
+                           "added_porosity.png", "additivity.png", "packing.png"}) {
+    EXPECT_TRUE(fs::exists(out / "report" / name)) << name;
+  }
+  const std::string md = slurp(out / "report" / "report.md");
+  EXPECT_THAT(md, HasSubstr("E0 = E(0, 0)"));
+  EXPECT_THAT(md, HasSubstr("## Table 1"));
+  EXPECT_THAT(md, HasSubstr("8 finished runs, 0 blocked"));
 }
 
 TEST_F(SweepCli, RestartRunsOnlyWhatIsMissing) {

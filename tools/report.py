@@ -1,0 +1,340 @@
+#!/usr/bin/python3
+"""Turns a `cdpowder sweep` folder into the figures and tables of the paper's comparison.
+
+    tools/report.py SWEEP_DIR [--out DIR] [--all-runs] [--packing RUN_FOLDER]
+
+Reads SWEEP_DIR/results.csv (one row per run) and writes into DIR (default SWEEP_DIR/report):
+
+  fig5_porosity.png/.svg   porosity E against μt for each μn, and against μn for each μt
+                           (the paper's Fig. 5), mean ± standard error over seeds
+  added_porosity.png/.svg  E1(μt, μn) = E(μt, μn) − E(0, 0) as a map
+  additivity.png/.svg      ΔE = E1(μt, μn) − E1(μt, 0) − E1(0, μn) as a map
+  packing.png/.svg         one packing before and after compaction (the paper's Fig. 3)
+  report.md                the points table, Table 1 beside the paper, the paper's claims
+                           with cdpowder's numbers ± error
+
+Differences between points (E1, ΔE) are paired by seed: runs with the same seed start from
+the same deposit, so their difference has a much smaller spread than either porosity.
+Only runs that reached the blocked state count, unless --all-runs (for quick looks at
+unfinished sweeps; the report then says so). Uses numpy and matplotlib (Debian's
+python3-numpy, python3-matplotlib); run with Debian's /usr/bin/python3.
+"""
+import argparse
+import csv
+import math
+import pathlib
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+MU_T = "contact.mu_roll"
+MU_N = "contact.mu_twist"
+# The paper's Table 1: (μt, μn) → (σzz, σzz+, σzz−) / p
+PAPER_TABLE1 = {
+    (0.0, 0.0): (1.0, 2.2, -1.2),
+    (0.1, 0.1): (1.0, 1.4, -0.4),
+    (0.3, 0.3): (1.0, 1.1, -0.1),
+    (1.0, 1.0): (1.0, 1.1, -0.1),
+    (0.0, 0.3): (1.0, 2.2, -1.2),
+    (0.0, 1.0): (1.0, 1.9, -0.9),
+    (0.3, 0.0): (1.0, 1.2, -0.2),
+    (1.0, 0.0): (1.0, 1.4, -0.4),
+}
+PAPER_E0 = 0.54
+PAPER_E11 = 0.82
+
+
+def read_csv(path):
+    """Rows of a cdpowder CSV as dicts (the '#' provenance lines skipped)."""
+    with open(path, newline="") as f:
+        lines = [line for line in f if not line.startswith("#")]
+    return list(csv.DictReader(lines))
+
+
+def provenance(path):
+    with open(path) as f:
+        return [line.rstrip("\n") for line in f if line.startswith("#")]
+
+
+class Stat:
+    """Mean and standard error of the mean of a sample."""
+
+    def __init__(self, values):
+        self.values = np.asarray(values, dtype=float)
+        self.n = len(self.values)
+        self.mean = float(self.values.mean()) if self.n else math.nan
+        self.sem = float(self.values.std(ddof=1) / math.sqrt(self.n)) if self.n > 1 else math.nan
+
+    def text(self, digits=3):
+        if self.n == 0:
+            return "–"
+        if math.isnan(self.sem):
+            return f"{self.mean:.{digits}f} (n = 1)"
+        return f"{self.mean:.{digits}f} ± {self.sem:.{digits}f}"
+
+
+def load(sweep_dir, all_runs):
+    rows = read_csv(sweep_dir / "results.csv")
+    kept = [r for r in rows if all_runs or r["blocked"] == "1"]
+    runs = {}  # (μt, μn) → {seed: row}
+    for r in kept:
+        if r.get(MU_T, "") == "" or r.get(MU_N, "") == "":
+            continue
+        key = (float(r[MU_T]), float(r[MU_N]))
+        runs.setdefault(key, {})[int(r["seed"])] = r
+    return rows, kept, runs
+
+
+def stat_of(runs, point, column):
+    rows = runs.get(point, {})
+    return Stat([float(r[column]) for r in rows.values()])
+
+
+def paired(runs, plus, minus, column="porosity"):
+    """Σ plus − Σ minus over the seeds every point shares (lists of points)."""
+    points = plus + minus
+    if any(p not in runs for p in points):
+        return Stat([])
+    seeds = set.intersection(*(set(runs[p]) for p in points))
+    values = []
+    for s in sorted(seeds):
+        values.append(sum(float(runs[p][s][column]) for p in plus) -
+                      sum(float(runs[p][s][column]) for p in minus))
+    return Stat(values)
+
+
+def save(fig, out, name):
+    for ext in ("png", "svg"):
+        fig.savefig(out / f"{name}.{ext}", dpi=150, bbox_inches="tight")
+    plt.close(fig)
+
+
+def plot_fig5(runs, out):
+    mu_ts = sorted({p[0] for p in runs})
+    mu_ns = sorted({p[1] for p in runs})
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4), sharey=True)
+    for ax, along, across, label, other in (
+        (axes[0], mu_ts, mu_ns, r"$\mu_t$", r"$\mu_n$"),
+        (axes[1], mu_ns, mu_ts, r"$\mu_n$", r"$\mu_t$"),
+    ):
+        for c in across:
+            xs, ys, es = [], [], []
+            for x in along:
+                point = (x, c) if ax is axes[0] else (c, x)
+                s = stat_of(runs, point, "porosity")
+                if s.n:
+                    xs.append(x)
+                    ys.append(s.mean)
+                    es.append(0.0 if math.isnan(s.sem) else s.sem)
+            if xs:
+                ax.errorbar(xs, ys, yerr=es, marker="o", capsize=3, label=f"{other} = {c:g}")
+        ax.set_xlabel(label)
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7)
+    axes[0].set_ylabel("porosity E")
+    fig.suptitle("Porosity after compaction (mean ± s.e. over seeds)")
+    save(fig, out, "fig5_porosity")
+
+
+def grid_map(runs, values, title, name, out, cmap="viridis", symmetric=False):
+    mu_ts = sorted({p[0] for p in runs})
+    mu_ns = sorted({p[1] for p in runs})
+    data = np.full((len(mu_ns), len(mu_ts)), np.nan)
+    for i, n in enumerate(mu_ns):
+        for j, t in enumerate(mu_ts):
+            s = values(t, n)
+            data[i, j] = s.mean if s.n else np.nan
+    fig, ax = plt.subplots(figsize=(6, 5))
+    kwargs = {}
+    if symmetric and np.isfinite(data).any():
+        lim = np.nanmax(np.abs(data))
+        kwargs = dict(vmin=-lim, vmax=lim)
+    im = ax.imshow(data, origin="lower", cmap=cmap, **kwargs)
+    ax.set_xticks(range(len(mu_ts)), [f"{t:g}" for t in mu_ts])
+    ax.set_yticks(range(len(mu_ns)), [f"{n:g}" for n in mu_ns])
+    ax.set_xlabel(r"$\mu_t$ (rolling)")
+    ax.set_ylabel(r"$\mu_n$ (torsion)")
+    for i in range(len(mu_ns)):
+        for j in range(len(mu_ts)):
+            if np.isfinite(data[i, j]):
+                ax.text(j, i, f"{data[i, j]:.3f}", ha="center", va="center", fontsize=6,
+                        color="w")
+    fig.colorbar(im, ax=ax)
+    ax.set_title(title)
+    save(fig, out, name)
+    return data
+
+
+def plot_packing(run_folder, out):
+    """Side view (x–z) of the packing before and after compaction, shaded by depth y."""
+    before = read_csv(run_folder / "initial_particles.csv")
+    after = read_csv(run_folder / "particles.csv")
+    top = max(float(r["z"]) + float(r["r"]) for r in before)
+    fig, axes = plt.subplots(1, 2, figsize=(8, 8 * top / 60 + 1), sharey=True)
+    for ax, rows, title in ((axes[0], before, "deposit"), (axes[1], after, "compacted")):
+        ys = np.array([float(r["y"]) for r in rows])
+        order = np.argsort(-ys)  # far spheres first, near ones drawn over them
+        span = max(ys.max() - ys.min(), 1e-9)
+        for k in order:
+            r = rows[k]
+            shade = 0.25 + 0.6 * (ys[k] - ys.min()) / span
+            ax.add_patch(plt.Circle((float(r["x"]), float(r["z"])), float(r["r"]),
+                                    color=plt.cm.copper(shade), lw=0))
+        ax.set_aspect("equal")
+        xs = [float(r["x"]) for r in rows]
+        ax.set_xlim(min(xs) - 1.5, max(xs) + 1.5)
+        ax.set_ylim(0, top + 1)
+        ax.set_title(title)
+        ax.set_xlabel("x [R]")
+    axes[0].set_ylabel("z [R]")
+    save(fig, out, "packing")
+
+
+def fmt_row(cells):
+    return "| " + " | ".join(cells) + " |"
+
+
+def saturation(runs, line):
+    """The smallest μ from which E1 along `line` (list of (μ, point)) stays within the
+    combined error (or 0.005) of its value at the largest μ; None if unknown."""
+    values = [(mu, paired(runs, [p], [(0.0, 0.0)])) for mu, p in line]
+    values = [(mu, s) for mu, s in values if s.n]
+    if len(values) < 3:
+        return None
+    last = values[-1][1]
+    found = values[-1][0]
+    for mu, s in reversed(values):
+        tol = max(0.005, 2 * math.sqrt((0 if math.isnan(s.sem) else s.sem) ** 2 +
+                                       (0 if math.isnan(last.sem) else last.sem) ** 2))
+        if abs(s.mean - last.mean) <= tol:
+            found = mu
+        else:
+            break
+    return found
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("sweep_dir", type=pathlib.Path)
+    parser.add_argument("--out", type=pathlib.Path, help="default: SWEEP_DIR/report")
+    parser.add_argument("--all-runs", action="store_true",
+                        help="also use runs that did not reach the blocked state")
+    parser.add_argument("--packing", type=pathlib.Path,
+                        help="run folder for the packing figure (default: a (0,0) run)")
+    args = parser.parse_args()
+    sweep = args.sweep_dir
+    if not (sweep / "results.csv").exists():
+        sys.exit(f"error: {sweep / 'results.csv'} not found: is {sweep} a sweep folder?")
+    out = args.out or sweep / "report"
+    out.mkdir(parents=True, exist_ok=True)
+    rows, kept, runs = load(sweep, args.all_runs)
+
+    md = ["# cdpowder sweep report", ""]
+    md += ["Sweep: `" + str(sweep) + "`", "", "```"] + provenance(sweep / "results.csv") + ["```", ""]
+    md.append(f"{len(rows)} finished runs, {sum(r['blocked'] == '1' for r in rows)} blocked; "
+              f"{'all finished runs used (--all-runs)' if args.all_runs else 'blocked runs used'}. "
+              "Errors are standard errors of the mean over seeds; differences between points "
+              "are paired by seed (same deposit).")
+    md.append("")
+    if not runs:
+        md.append(f"No runs with both `{MU_T}` and `{MU_N}` set: no paper figures.")
+        (out / "report.md").write_text("\n".join(md) + "\n")
+        print(f"report: {out / 'report.md'}")
+        return
+
+    plot_fig5(runs, out)
+    origin = (0.0, 0.0)
+    have_origin = origin in runs
+    md += ["## Porosity (Fig. 5)", "", "![Fig. 5](fig5_porosity.png)", ""]
+    md.append(fmt_row(["μt", "μn", "E", "n", "σzz/p", "σzz+/p", "σzz−/p", "sweeps/step",
+                       "wall [s]"]))
+    md.append(fmt_row(["---"] * 9))
+    for p in sorted(runs):
+        e = stat_of(runs, p, "porosity")
+        steps = stat_of(runs, p, "steps")
+        sweeps = stat_of(runs, p, "total_sweeps")
+        md.append(fmt_row([f"{p[0]:g}", f"{p[1]:g}", e.text(4), str(e.n),
+                           stat_of(runs, p, "sigma_zz_over_p").text(3),
+                           stat_of(runs, p, "sigma_zz_compressive_over_p").text(2),
+                           stat_of(runs, p, "sigma_zz_tensile_over_p").text(2),
+                           f"{sweeps.mean / max(steps.mean, 1):.0f}",
+                           stat_of(runs, p, "wall_seconds").text(0)]))
+    md.append("")
+
+    if have_origin:
+        grid_map(runs, lambda t, n: paired(runs, [(t, n)], [origin]),
+                 r"added porosity $E_1 = E - E_0$", "added_porosity", out)
+        dE = grid_map(runs, lambda t, n: paired(runs, [(t, n), origin], [(t, 0.0), (0.0, n)])
+                      if (t, 0.0) in runs and (0.0, n) in runs else Stat([]),
+                      r"additivity residual $\Delta E$", "additivity", out, cmap="RdBu_r",
+                      symmetric=True)
+        md += ["## Added porosity and additivity", "",
+               "![E1](added_porosity.png) ![ΔE](additivity.png)", ""]
+
+    # the paper's claims
+    md += ["## The paper's claims", ""]
+    md.append(fmt_row(["quantity", "paper", "cdpowder"]))
+    md.append(fmt_row(["---"] * 3))
+    md.append(fmt_row(["E0 = E(0, 0)", f"≈ {PAPER_E0}", stat_of(runs, origin, "porosity").text(4)]))
+    md.append(fmt_row(["E(1, 1)", f"≈ {PAPER_E11}", stat_of(runs, (1.0, 1.0), "porosity").text(4)]))
+    e1_roll = paired(runs, [(1.0, 0.0)], [origin])
+    e1_twist = paired(runs, [(0.0, 1.0)], [origin])
+    md.append(fmt_row(["E1(1, 0) (rolling only)", "≈ 2 × E1(0, 1)", e1_roll.text(4)]))
+    md.append(fmt_row(["E1(0, 1) (torsion only)", "–", e1_twist.text(4)]))
+    if e1_roll.n and e1_twist.n and e1_twist.mean != 0:
+        ratio = e1_roll.mean / e1_twist.mean
+        err = abs(ratio) * math.sqrt((e1_roll.sem / e1_roll.mean) ** 2 +
+                                     (e1_twist.sem / e1_twist.mean) ** 2) \
+            if e1_roll.n > 1 and e1_twist.n > 1 and e1_roll.mean != 0 else math.nan
+        md.append(fmt_row(["E1(1, 0) / E1(0, 1)", "≈ 2",
+                           f"{ratio:.2f}" + ("" if math.isnan(err) else f" ± {err:.2f}")]))
+    if have_origin:
+        finite = [(abs(v), i) for i, v in enumerate(dE.flatten()) if np.isfinite(v)]
+        if finite:
+            md.append(fmt_row(["largest |ΔE| (additivity)", "≈ 0 (additive)",
+                               f"{max(finite)[0]:.4f}"]))
+        mus = sorted({p[0] for p in runs})
+        sat_roll = saturation(runs, [(m, (m, 0.0)) for m in mus])
+        sat_diag = saturation(runs, [(m, (m, m)) for m in mus])
+        md.append(fmt_row(["E1 saturates (μn = 0) from μt ≈", "0.4",
+                           "–" if sat_roll is None else f"{sat_roll:g}"]))
+        md.append(fmt_row(["E1 saturates (μt = μn) from ≈", "0.4",
+                           "–" if sat_diag is None else f"{sat_diag:g}"]))
+    md.append("")
+
+    # Table 1
+    present = [p for p in PAPER_TABLE1 if p in runs]
+    if present:
+        md += ["## Table 1: σzz and its compressive and tensile parts, / p", ""]
+        md.append(fmt_row(["μt", "μn", "paper σzz", "σzz", "paper σzz+", "σzz+",
+                           "paper σzz−", "σzz−", "n"]))
+        md.append(fmt_row(["---"] * 9))
+        for p in present:
+            paper = PAPER_TABLE1[p]
+            s = [stat_of(runs, p, c) for c in ("sigma_zz_over_p", "sigma_zz_compressive_over_p",
+                                              "sigma_zz_tensile_over_p")]
+            md.append(fmt_row([f"{p[0]:g}", f"{p[1]:g}", f"{paper[0]}", s[0].text(3),
+                               f"{paper[1]}", s[1].text(2), f"{paper[2]}", s[2].text(2),
+                               str(s[0].n)]))
+        md.append("")
+
+    packing = args.packing
+    if packing is None:
+        candidates = [p for p in (origin, min(runs)) if p in runs]
+        row = next(iter(runs[candidates[0]].values())) if candidates else None
+        packing = sweep / row["folder"] if row else None
+    if packing is not None and (packing / "initial_particles.csv").exists():
+        plot_packing(packing, out)
+        md += ["## One packing before and after compaction (Fig. 3)", "",
+               f"`{packing}`", "", "![packing](packing.png)", ""]
+
+    (out / "report.md").write_text("\n".join(md) + "\n")
+    print(f"report: {out / 'report.md'}")
+
+
+if __name__ == "__main__":
+    main()
