@@ -77,16 +77,28 @@ class Stat:
         return f"{self.mean:.{digits}f} ± {self.sem:.{digits}f}"
 
 
+def parameter_columns(rows):
+    """The sweep's parameter keys: the columns between 'point' and 'seed'."""
+    if not rows:
+        return []
+    names = list(rows[0].keys())
+    return names[names.index("point") + 1:names.index("seed")]
+
+
 def load(sweep_dir, all_runs):
+    """runs: (μt, μn) → {seed: row} for the points that change nothing else; variants:
+    point name → {seed: row} for points that also change another key (sensitivity)."""
     rows = read_csv(sweep_dir / "results.csv")
     kept = [r for r in rows if all_runs or r["blocked"] == "1"]
-    runs = {}  # (μt, μn) → {seed: row}
+    others = [k for k in parameter_columns(rows) if k not in (MU_T, MU_N)]
+    runs, variants = {}, {}
     for r in kept:
-        if r.get(MU_T, "") == "" or r.get(MU_N, "") == "":
+        if any(r[k] != "" for k in others) or r.get(MU_T, "") == "" or r.get(MU_N, "") == "":
+            variants.setdefault(r["point"], {})[int(r["seed"])] = r
             continue
         key = (float(r[MU_T]), float(r[MU_N]))
         runs.setdefault(key, {})[int(r["seed"])] = r
-    return rows, kept, runs
+    return rows, kept, runs, variants
 
 
 def stat_of(runs, point, column):
@@ -231,7 +243,7 @@ def main():
         sys.exit(f"error: {sweep / 'results.csv'} not found: is {sweep} a sweep folder?")
     out = args.out or sweep / "report"
     out.mkdir(parents=True, exist_ok=True)
-    rows, kept, runs = load(sweep, args.all_runs)
+    rows, kept, runs, variants = load(sweep, args.all_runs)
 
     md = ["# cdpowder sweep report", ""]
     md += ["Sweep: `" + str(sweep) + "`", "", "```"] + provenance(sweep / "results.csv") + ["```", ""]
@@ -240,8 +252,23 @@ def main():
               "Errors are standard errors of the mean over seeds; differences between points "
               "are paired by seed (same deposit).")
     md.append("")
+    if variants:
+        md += ["## Points that change other keys", ""]
+        md.append(fmt_row(["point", "E", "n", "σzz/p", "σzz+/p", "σzz−/p", "wall [s]"]))
+        md.append(fmt_row(["---"] * 7))
+        for name in sorted(variants):
+            seeds = variants[name]
+
+            def col(c, seeds=seeds):
+                return Stat([float(r[c]) for r in seeds.values()])
+            md.append(fmt_row([f"`{name}`", col("porosity").text(4), str(len(seeds)),
+                               col("sigma_zz_over_p").text(3),
+                               col("sigma_zz_compressive_over_p").text(2),
+                               col("sigma_zz_tensile_over_p").text(2),
+                               col("wall_seconds").text(0)]))
+        md.append("")
     if not runs:
-        md.append(f"No runs with both `{MU_T}` and `{MU_N}` set: no paper figures.")
+        md.append(f"No points that set only `{MU_T}` and `{MU_N}`: no paper figures.")
         (out / "report.md").write_text("\n".join(md) + "\n")
         print(f"report: {out / 'report.md'}")
         return
