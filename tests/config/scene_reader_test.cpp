@@ -102,6 +102,7 @@ TEST_F(SceneReader, ReadsValuesAndAcceptsIntegersForNumbers) {
                        "[contact]\nmu_roll = 0.25\ncohesion_rule = \"history\"\n"
                        "[solver]\nstopping_rule = \"relative_change\"\n"
                        "visit_order = \"random_each_sweep\"\nacceleration_depth = 0\n"
+                       "acceleration_interval = 2\n"
                        "seed = 7\nwarm_start = false\n"
                        "[run.blocked]\nwindow = 5\n");
   EXPECT_EQ(s.system.lx, 30.0);
@@ -111,6 +112,7 @@ TEST_F(SceneReader, ReadsValuesAndAcceptsIntegersForNumbers) {
   EXPECT_EQ(s.step.solver.stopping_rule, StoppingRule::RelativeChange);
   EXPECT_EQ(s.step.solver.visit_order, VisitOrder::RandomEachSweep);
   EXPECT_EQ(s.step.solver.acceleration_depth, 0);
+  EXPECT_EQ(s.step.solver.acceleration_interval, 2);
   EXPECT_EQ(s.step.solver.seed, 7U);
   EXPECT_FALSE(s.step.solver.warm_start);
   EXPECT_EQ(s.run.blocked.window, 5.0);
@@ -160,11 +162,13 @@ TEST_F(SceneReader, ReportsWrongTypes) {
 TEST_F(SceneReader, RejectsIntegersOutsideTheirRange) {
   const auto found = issues(std::string(kParticles) +
                             "[solver]\nseed = -1\nmax_sweeps = 3000000000\n"
+                            "acceleration_interval = 0\n"
                             "[run]\ntimeseries_every = 0\n");
-  ASSERT_EQ(found.size(), 3U);
+  ASSERT_EQ(found.size(), 4U);
   EXPECT_EQ(found[0], "scene.toml:4:8: solver.seed: got -1, expected an integer ≥ 0");
   EXPECT_THAT(found[1], HasSubstr("got 3000000000, expected an integer ≤ 2147483647"));
-  EXPECT_THAT(found[2], HasSubstr("run.timeseries_every: got 0, expected an integer ≥ 1"));
+  EXPECT_THAT(found[2], HasSubstr("solver.acceleration_interval: got 0, expected an integer ≥ 1"));
+  EXPECT_THAT(found[3], HasSubstr("run.timeseries_every: got 0, expected an integer ≥ 1"));
 }
 
 TEST_F(SceneReader, ReportsAKnownTableThatIsNotATable) {

@@ -73,6 +73,8 @@ Scene read_values(TableReader& in, const std::filesystem::path& base_dir,
       in.choice("solver.visit_order", solver.visit_order, detail::kVisitOrderNames);
   solver.acceleration_depth = static_cast<int>(in.integer(
       "solver.acceleration_depth", solver.acceleration_depth, 0, AndersonAccelerator::kMaxDepth));
+  solver.acceleration_interval = static_cast<int>(
+      in.integer("solver.acceleration_interval", solver.acceleration_interval, 1, 100));
   solver.warm_start = in.boolean("solver.warm_start", solver.warm_start);
   solver.skin = in.number("solver.skin", solver.skin, kNonNegative);
   solver.seed = static_cast<std::uint64_t>(

@@ -190,7 +190,7 @@ SolverStats solve_nlgs(Contacts& contacts, VelocityCache& velocities,
     }
     recent[static_cast<std::size_t>(sweep) % recent.size()] = stats.residual;
 
-    if (accelerate) {
+    if (accelerate && sweep % settings.acceleration_interval == 0) {
       if (stats.residual > kRestartGrowth * best_residual) work.accelerator.reset();
       best_residual = std::min(best_residual, stats.residual);
       flatten(contacts, work.swept);
