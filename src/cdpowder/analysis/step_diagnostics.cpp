@@ -22,6 +22,10 @@ StepDiagnostics analyse_step(const World& world, const Contacts& contacts) {
       ++d.closed_contacts;
       overlap_sum += overlap;
     }
+    if (contacts.pair_cohesive[k] != 0) {
+      const double opening = (bodies.velocity[p.b] - bodies.velocity[p.a]).dot(p.normal);
+      d.max_cohesive_opening_speed = std::max(d.max_cohesive_opening_speed, opening);
+    }
   }
   const Piston& piston = world.walls.piston;
   for (std::size_t k = 0; k < contacts.walls.size(); ++k) {
@@ -35,6 +39,11 @@ StepDiagnostics analyse_step(const World& world, const Contacts& contacts) {
     if (action.normal_force + w.cohesion > 0.0) {
       ++d.closed_contacts;
       overlap_sum += overlap;
+    }
+    if (contacts.wall_cohesive[k] != 0) {
+      const double wall_speed = w.wall == WallKind::Piston ? piston.velocity : 0.0;
+      const double opening = (bodies.velocity[w.sphere].z() - wall_speed) * w.normal.z();
+      d.max_cohesive_opening_speed = std::max(d.max_cohesive_opening_speed, opening);
     }
     // n = −e_z at the piston: the force on the piston is −R, its z part +R_n
     if (w.wall == WallKind::Piston) d.piston_contact_force += action.normal_force;
@@ -56,6 +65,19 @@ StepDiagnostics analyse_step(const World& world, const Contacts& contacts) {
     }
   }
   return d;
+}
+
+double net_force_of_step(const Bodies& bodies, const VelocityCache& velocities) {
+  double largest = 0.0;
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    const SphereVelocity& next = velocities.spheres[i];
+    if (bodies.fixed[i] != 0 || next.dt_inverse_mass <= 0.0) continue;
+    const double force = (next.linear - bodies.velocity[i]).norm() / next.dt_inverse_mass;
+    const double torque = (next.angular - bodies.angular_velocity[i]).norm() /
+                          next.dt_inverse_inertia / bodies.radius[i];
+    largest = std::max(largest, force + torque);
+  }
+  return largest;
 }
 
 }  // namespace cdpowder

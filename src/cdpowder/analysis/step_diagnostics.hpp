@@ -4,6 +4,7 @@
 
 #include "cdpowder/contact/local_problem.hpp"
 #include "cdpowder/model/world.hpp"
+#include "cdpowder/solver/velocity_cache.hpp"
 
 #include <cstddef>
 
@@ -19,9 +20,21 @@ struct StepDiagnostics {
   double max_speed = 0.0;       ///< max |v_i| [R/t0]
   double piston_contact_force = 0.0;  ///< Σ R_c→P · e_z, upward push of the spheres [F_coh]
   double piston_imbalance = 0.0;      ///< |Σ R_c→P·e_z − F| / F (0 without a piston load)
+  /// max over free spheres of the net force m|Δv|/Δt + net torque I|Δω|/(Δt r) of the step:
+  /// the per-particle force balance of physics.md §17, ≈ 0 in a static packing [F_coh]
+  double max_net_force = 0.0;
+  /// max over cohesion-active contacts of the normal opening speed V_n > 0 after the step:
+  /// a contact opens by V_n Δt per step, which must stay well below d_coh (§6.4) [R/t0]
+  double max_cohesive_opening_speed = 0.0;
 };
 
 /// Measures the state after integrate(); `contacts` still holds the step's forces.
+/// Leaves max_net_force to net_force_of_step (it needs the velocities before the step).
 StepDiagnostics analyse_step(const World& world, const Contacts& contacts);
+
+/// max_i of m_i|v*_i − v_i|/Δt + I_i|ω*_i − ω_i|/(Δt r_i) over free spheres: the largest
+/// net force (and torque / radius) the step's contact forces and loads leave on a sphere.
+/// Call after the solve and before integrate(), while `bodies` holds the old velocities.
+double net_force_of_step(const Bodies& bodies, const VelocityCache& velocities);
 
 }  // namespace cdpowder

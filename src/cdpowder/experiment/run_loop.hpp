@@ -18,6 +18,9 @@ struct RunResult {
   std::int64_t total_sweeps = 0;
   std::int64_t capped_steps = 0;  ///< steps whose NLGS hit max_sweeps
   double max_overlap_seen = 0.0;  ///< largest overlap after any step [R]
+  /// largest max_cohesive_opening_speed × Δt / d_coh of any step: above ≈ 0.1 the cohesion
+  /// range is crossed in a few steps and Δt should be smaller (physics.md §6.4)
+  double max_cohesive_opening_per_range = 0.0;
   double wall_seconds = 0.0;
   StageTimes stage_seconds{};  ///< summed over all steps
   StepReport last;             ///< report of the final step

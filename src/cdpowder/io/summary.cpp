@@ -72,6 +72,8 @@ std::string summary_json(const Scene& scene, const World& world, const Contacts&
   j["accuracy"] = {{"mean_overlap", d.mean_overlap},
                    {"max_overlap", d.max_overlap},
                    {"max_overlap_during_run", result.max_overlap_seen},
+                   {"max_net_force", d.max_net_force},
+                   {"max_cohesive_opening_per_range", result.max_cohesive_opening_per_range},
                    {"last_step_residual", result.last.solver.residual},
                    {"last_step_error_estimate", result.last.solver.error_estimate},
                    {"last_step_converged", result.last.solver.converged},

@@ -42,10 +42,12 @@ StepReport step(World& world, StepWorkspace& work, const StepSettings& settings)
   work.action_cache.store(work.contacts);  // warm start of the next step (§7.4)
   clock.lap(Stage::SolveNlgs, report.times);
 
+  const double net_force = net_force_of_step(world.bodies, work.velocities);
   integrate(work.velocities, settings.solver.dt, world);
   clock.lap(Stage::Integrate, report.times);
 
   report.diagnostics = analyse_step(world, work.contacts);
+  report.diagnostics.max_net_force = net_force;
   clock.lap(Stage::Analyse, report.times);
   return report;
 }
