@@ -3,6 +3,7 @@
 #include "commands/simulate.hpp"
 
 #include "progress.hpp"
+#include "stop_signals.hpp"
 
 #include "cdpowder/analysis/porosity.hpp"
 #include "cdpowder/analysis/stress.hpp"
@@ -35,37 +36,6 @@ extern "C" void request_stop(int /*signal*/) {
   g_stop_requested.store(true);
 }
 
-/// Installs request_stop for SIGINT and SIGTERM for its lifetime. One-shot (SA_RESETHAND):
-/// a second Ctrl-C during a long step ends the program at once. Restores the previous
-/// handlers on every exit path, exceptions included.
-class StopRequestGuard {
- public:
-  StopRequestGuard() {
-    struct sigaction action {};
-
-    action.sa_handler = request_stop;
-    sigemptyset(&action.sa_mask);
-    action.sa_flags = SA_RESETHAND;
-    sigaction(SIGINT, &action, &previous_int_);
-    sigaction(SIGTERM, &action, &previous_term_);
-  }
-
-  ~StopRequestGuard() {
-    sigaction(SIGINT, &previous_int_, nullptr);
-    sigaction(SIGTERM, &previous_term_, nullptr);
-  }
-
-  StopRequestGuard(const StopRequestGuard&) = delete;
-  StopRequestGuard& operator=(const StopRequestGuard&) = delete;
-  StopRequestGuard(StopRequestGuard&&) = delete;
-  StopRequestGuard& operator=(StopRequestGuard&&) = delete;
-
- private:
-  struct sigaction previous_int_ {};
-
-  struct sigaction previous_term_ {};
-};
-
 /// "porosity=… sigma_zz…" — normalised by the applied pressure when there is one (the
 /// paper's Table 1 quantities), in F_coh/R² otherwise.
 std::string result_line(const Scene& scene, const World& world, const Contacts& contacts,
@@ -93,7 +63,8 @@ std::string result_line(const Scene& scene, const World& world, const Contacts& 
 
 int run_scene(const RunOptions& options, const SceneReadOptions& read_options) {
   // from the start, so that a signal during setup also ends the run cleanly (first step)
-  const StopRequestGuard stop_on_signal;
+  // one-shot: a second Ctrl-C during a long step ends the program at once
+  const StopSignals stop_on_signal(request_stop, SA_RESETHAND);
   // all input is checked before DIR is touched
   SceneReadOptions how = read_options;
   how.particles_file = options.particles;

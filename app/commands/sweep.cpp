@@ -2,6 +2,8 @@
 // child processes (`cdpowder compact … --quiet`), collect their summaries.
 #include "commands/sweep.hpp"
 
+#include "stop_signals.hpp"
+
 #include "cdpowder/config/config_error.hpp"
 #include "cdpowder/config/scene_reader.hpp"
 #include "cdpowder/io/atomic_file.hpp"
@@ -39,33 +41,6 @@ std::atomic<int> g_signals{0};
 extern "C" void count_signal(int /*signal*/) {
   g_signals.fetch_add(1);
 }
-
-class SignalCounter {
- public:
-  SignalCounter() {
-    struct sigaction action {};
-
-    action.sa_handler = count_signal;
-    sigemptyset(&action.sa_mask);
-    sigaction(SIGINT, &action, &previous_int_);
-    sigaction(SIGTERM, &action, &previous_term_);
-  }
-
-  ~SignalCounter() {
-    sigaction(SIGINT, &previous_int_, nullptr);
-    sigaction(SIGTERM, &previous_term_, nullptr);
-  }
-
-  SignalCounter(const SignalCounter&) = delete;
-  SignalCounter& operator=(const SignalCounter&) = delete;
-  SignalCounter(SignalCounter&&) = delete;
-  SignalCounter& operator=(SignalCounter&&) = delete;
-
- private:
-  struct sigaction previous_int_ {};
-
-  struct sigaction previous_term_ {};
-};
 
 std::string clock_text(double seconds) {
   const auto s = static_cast<long>(seconds + 0.5);
@@ -139,7 +114,7 @@ void write_tables(const SweepOptions& options, const SweepPlan& plan,
 }  // namespace
 
 int run_sweep(const SweepOptions& options) {
-  const SignalCounter signals;
+  const StopSignals signals(count_signal, 0);  // no SA_RESETHAND: the second signal is counted
   g_signals.store(0);
   const SweepPlan plan = read_sweep_plan(options.sweep, options.overrides);
 
