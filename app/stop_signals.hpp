@@ -1,4 +1,4 @@
-// stop_signals.hpp — installs a handler for SIGINT and SIGTERM for the lifetime of a
+// stop_signals.hpp — installs a handler for SIGINT, SIGTERM and SIGHUP for the lifetime of a
 // command and restores the previous handlers on every exit path, exceptions included.
 // The handlers only set atomics; the commands ask them between steps or runs.
 #pragma once
@@ -19,11 +19,13 @@ class StopSignals {
     action.sa_flags = flags;
     sigaction(SIGINT, &action, &previous_int_);
     sigaction(SIGTERM, &action, &previous_term_);
+    sigaction(SIGHUP, &action, &previous_hup_);
   }
 
   ~StopSignals() {
     sigaction(SIGINT, &previous_int_, nullptr);
     sigaction(SIGTERM, &previous_term_, nullptr);
+    sigaction(SIGHUP, &previous_hup_, nullptr);
   }
 
   StopSignals(const StopSignals&) = delete;
@@ -35,6 +37,8 @@ class StopSignals {
   struct sigaction previous_int_ {};
 
   struct sigaction previous_term_ {};
+
+  struct sigaction previous_hup_ {};
 };
 
 }  // namespace cdpowder::app

@@ -60,11 +60,17 @@ def provenance(path):
         return [line.rstrip("\n") for line in f if line.startswith("#")]
 
 
+def num(text):
+    """A CSV number; empty cells (non-finite values, or σ/p without a pressure) are NaN."""
+    return float(text) if text not in ("", None) else math.nan
+
+
 class Stat:
-    """Mean and standard error of the mean of a sample."""
+    """Mean and standard error of the mean of a sample (NaN entries left out)."""
 
     def __init__(self, values):
-        self.values = np.asarray(values, dtype=float)
+        values = np.asarray(values, dtype=float)
+        self.values = values[np.isfinite(values)]
         self.n = len(self.values)
         self.mean = float(self.values.mean()) if self.n else math.nan
         self.sem = float(self.values.std(ddof=1) / math.sqrt(self.n)) if self.n > 1 else math.nan
@@ -103,7 +109,7 @@ def load(sweep_dir, all_runs):
 
 def stat_of(runs, point, column):
     rows = runs.get(point, {})
-    return Stat([float(r[column]) for r in rows.values()])
+    return Stat([num(r[column]) for r in rows.values()])
 
 
 def paired(runs, plus, minus, column="porosity"):
@@ -114,8 +120,8 @@ def paired(runs, plus, minus, column="porosity"):
     seeds = set.intersection(*(set(runs[p]) for p in points))
     values = []
     for s in sorted(seeds):
-        values.append(sum(float(runs[p][s][column]) for p in plus) -
-                      sum(float(runs[p][s][column]) for p in minus))
+        values.append(sum(num(runs[p][s][column]) for p in plus) -
+                      sum(num(runs[p][s][column]) for p in minus))
     return Stat(values)
 
 
@@ -260,7 +266,7 @@ def main():
             seeds = variants[name]
 
             def col(c, seeds=seeds):
-                return Stat([float(r[c]) for r in seeds.values()])
+                return Stat([num(r[c]) for r in seeds.values()])
             md.append(fmt_row([f"`{name}`", col("porosity").text(4), str(len(seeds)),
                                col("sigma_zz_over_p").text(3),
                                col("sigma_zz_compressive_over_p").text(2),

@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cerrno>
 #include <chrono>
 #include <csignal>
 #include <cstdio>
@@ -25,6 +26,7 @@
 #include <set>
 #include <spawn.h>
 #include <sstream>
+#include <sys/file.h>
 #include <sys/wait.h>
 #include <thread>
 #include <unistd.h>
@@ -54,21 +56,75 @@ std::string read_text(const std::filesystem::path& file) {
   return text.str();
 }
 
-/// This program, to run each point as `cdpowder compact`.
-std::filesystem::path own_executable() {
-  std::error_code error;
-  std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", error);
-  if (error) throw std::runtime_error("cannot find the cdpowder executable (/proc/self/exe)");
-  return self;
-}
+/// This program, to run each point as `cdpowder compact`: spawned through /proc/self/exe,
+/// which still names this binary after a rebuild has replaced the file on disk (the path
+/// it pointed to then no longer starts anything, or starts a different program).
+constexpr const char* kSelf = "/proc/self/exe";
+
+/// The running runs: on every exit path (a signal, an exception) they are asked to stop
+/// and waited for, so no run outlives the sweep and keeps writing into its folder.
+class RunningRuns {
+ public:
+  RunningRuns() = default;
+  RunningRuns(const RunningRuns&) = delete;
+  RunningRuns& operator=(const RunningRuns&) = delete;
+  RunningRuns(RunningRuns&&) = delete;
+  RunningRuns& operator=(RunningRuns&&) = delete;
+
+  ~RunningRuns() {
+    for (const auto& entry : runs) kill(entry.first, SIGTERM);
+    for (int waited = 0; !runs.empty() && waited < 600; ++waited) {  // ≤ 60 s, then kill
+      int status = 0;
+      const pid_t pid = waitpid(-1, &status, WNOHANG);
+      if (pid > 0) {
+        runs.erase(pid);
+      } else if (pid < 0 && errno == ECHILD) {
+        break;
+      } else {
+        std::this_thread::sleep_for(std::chrono::milliseconds(100));
+      }
+    }
+    for (const auto& entry : runs) kill(entry.first, SIGKILL);
+    for (const auto& entry : runs) waitpid(entry.first, nullptr, 0);
+  }
+
+  std::map<pid_t, std::size_t> runs;  ///< process → index of the run in the plan
+};
+
+/// An exclusive lock on DIR/.lock for the sweep's lifetime: two sweeps writing into one
+/// folder would start the same runs twice.
+class FolderLock {
+ public:
+  explicit FolderLock(const std::filesystem::path& folder) {
+    const std::string path = (folder / ".lock").string();
+    fd_ = open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    if (fd_ < 0 || flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+      if (fd_ >= 0) close(fd_);
+      throw std::runtime_error(fmt::format(
+          "{} is in use by another sweep (lock {}); wait for it or choose another --out",
+          folder.string(), path));
+    }
+  }
+
+  ~FolderLock() { close(fd_); }
+
+  FolderLock(const FolderLock&) = delete;
+  FolderLock& operator=(const FolderLock&) = delete;
+  FolderLock(FolderLock&&) = delete;
+  FolderLock& operator=(FolderLock&&) = delete;
+
+ private:
+  int fd_ = -1;
+};
 
 /// Starts `exe compact scene --out folder --quiet --set …` in its own process group (so a
 /// Ctrl-C reaches only the sweep, which forwards one SIGTERM), stdout and stderr into
 /// folder/log.txt.
-pid_t start_run(const std::filesystem::path& exe, const std::filesystem::path& scene,
-                const std::filesystem::path& folder, const std::vector<std::string>& overrides) {
-  std::vector<std::string> args{exe.string(), "compact",       scene.string(),
-                                "--out",      folder.string(), "--quiet"};
+/// Returns the process id, or 0 (with `error` set) when it could not be started.
+pid_t start_run(const std::filesystem::path& scene, const std::filesystem::path& folder,
+                const std::vector<std::string>& overrides, std::string& error) {
+  std::vector<std::string> args{"cdpowder", "compact",       scene.string(),
+                                "--out",    folder.string(), "--quiet"};
   for (const std::string& o : overrides) {
     args.emplace_back("--set");
     args.push_back(o);
@@ -89,12 +145,12 @@ pid_t start_run(const std::filesystem::path& exe, const std::filesystem::path& s
   posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETPGROUP);
   posix_spawnattr_setpgroup(&attributes, 0);
   pid_t pid = 0;
-  const int failed = posix_spawn(&pid, exe.c_str(), &files, &attributes, argv.data(), environ);
+  const int failed = posix_spawn(&pid, kSelf, &files, &attributes, argv.data(), environ);
   posix_spawn_file_actions_destroy(&files);
   posix_spawnattr_destroy(&attributes);
   if (failed != 0) {
-    throw std::runtime_error(
-        fmt::format("cannot start {}: {}", exe.string(), std::strerror(failed)));
+    error = fmt::format("cannot start {}: {}", kSelf, std::strerror(failed));
+    return 0;
   }
   return pid;
 }
@@ -133,6 +189,19 @@ int run_sweep(const SweepOptions& options) {
       }
     }
   }
+  // two points that resolve to the same scene (e.g. 1 and 1.0, or a value equal to the
+  // base scene's) would run the same thing twice under two names
+  std::map<std::string, std::size_t> first_with_scene;
+  for (std::size_t i = 0; issues.empty() && i < plan.runs.size(); ++i) {
+    const auto [it, fresh] = first_with_scene.emplace(scene_texts[i], i);
+    if (!fresh) {
+      issues.push_back({plan.source.string(), 0, 0, "",
+                        fmt::format("points '{}' and '{}' give the same scene (seed {}); "
+                                    "list each point once",
+                                    plan.points[plan.runs[it->second].point].name,
+                                    plan.points[plan.runs[i].point].name, plan.runs[i].seed)});
+    }
+  }
   if (!issues.empty()) throw ConfigError(std::move(issues));
 
   std::vector<std::optional<RunRecord>> records(plan.runs.size());
@@ -158,6 +227,10 @@ int run_sweep(const SweepOptions& options) {
   }
 
   std::filesystem::create_directories(options.out);
+  const FolderLock lock(options.out);
+  // the runs are this process's children: waitpid must see them (an inherited SIG_IGN for
+  // SIGCHLD would let the kernel reap them unseen)
+  signal(SIGCHLD, SIG_DFL);
   write_file_atomically(options.out / "sweep.toml", read_text(options.sweep));
   write_tables(options, plan, records);
 
@@ -169,9 +242,9 @@ int run_sweep(const SweepOptions& options) {
                  "sweep: %zu runs (%zu points × %zu seeds), %zu already finished, %d jobs\n", total,
                  plan.points.size(), plan.seeds.size(), total - pending.size(), jobs);
   }
-  const std::filesystem::path exe = own_executable();
   const auto start = std::chrono::steady_clock::now();
-  std::map<pid_t, std::size_t> running;
+  RunningRuns guard;
+  std::map<pid_t, std::size_t>& running = guard.runs;
   std::size_t next = 0;
   std::size_t done_now = 0;
   std::size_t failed = 0;
@@ -188,11 +261,23 @@ int run_sweep(const SweepOptions& options) {
       const std::size_t i = pending[next++];
       const std::filesystem::path folder = options.out / plan.runs[i].folder;
       std::filesystem::create_directories(folder);
-      running[start_run(exe, plan.scene, folder, plan.runs[i].overrides)] = i;
+      std::string error;
+      const pid_t child = start_run(plan.scene, folder, plan.runs[i].overrides, error);
+      if (child == 0) {
+        ++failed;
+        std::fprintf(stderr, "%s seed %lld: %s\n", plan.points[plan.runs[i].point].name.c_str(),
+                     static_cast<long long>(plan.runs[i].seed), error.c_str());
+        continue;
+      }
+      running[child] = i;
     }
     if (received > 0 && running.empty()) break;
     int status = 0;
     const pid_t pid = waitpid(-1, &status, WNOHANG);
+    if (pid < 0 && errno == ECHILD) {  // nothing left to wait for: the bookkeeping is stale
+      running.clear();
+      continue;
+    }
     if (pid <= 0) {
       std::this_thread::sleep_for(std::chrono::milliseconds(100));
       continue;

@@ -49,6 +49,9 @@ TEST(AccuracyGauges, CohesiveOpeningSpeedIsZeroWhileHeldAndTheRelativeSpeedOnceO
   const double mass = 4.0 / 3.0 * std::numbers::pi;
   EXPECT_GT(relative, 0.0);
   EXPECT_NEAR(report.diagnostics.max_cohesive_opening_speed, relative, 1e-12);
+  EXPECT_NEAR(report.diagnostics.max_cohesive_opening_per_range,
+              relative * pulled.settings.solver.dt / pulled.settings.laws.spheres.cohesion_range,
+              1e-12);
   EXPECT_NEAR(relative, 2.0 * 3.0 * pulled.settings.solver.dt * 0.5 / mass, 1e-9);
 }
 

@@ -119,10 +119,18 @@ TEST_F(SweepCli, InterruptKeepsFinishedResultsAndLeavesTheRestPending) {
                         << " -j 1 &\npid=$!\n"
                         << "for i in $(seq 1 1200); do [ -f " << started.string()
                         << " ] && break; sleep 0.05; done\n"
-                        << "sleep 0.3\nkill -TERM $pid\nwait $pid\n";
+                        << "sleep 0.3\n"
+                        // a second sweep into the same folder is refused while the first runs
+                        << CDPOWDER_EXE << " sweep " << sweep.string() << " --out " << out.string()
+                        << " -j 1 > " << (scratch_ / "second.txt").string() << " 2>&1\n"
+                        << "echo \"second exit $?\" >> " << (scratch_ / "second.txt").string()
+                        << "\nkill -TERM $pid\nwait $pid\n";
   const ProcessResult r = cdpowder::testing::run_process("sh", script.string(), scratch_);
   EXPECT_EQ(r.status, 1) << r.err;
   EXPECT_THAT(r.out, HasSubstr("interrupted"));
+  const std::string second = slurp(scratch_ / "second.txt");
+  EXPECT_THAT(second, HasSubstr("in use by another sweep"));
+  EXPECT_THAT(second, HasSubstr("second exit 1"));
   EXPECT_EQ(data_rows(out / "results.csv"), 0U);
   const nlohmann::json s =
       nlohmann::json::parse(slurp(out / "runs" / "base" / "seed_1" / "summary.json"));
@@ -148,6 +156,12 @@ TEST_F(SweepCli, BadSweepFilesAreRefusedBeforeAnythingIsWritten) {
   const ProcessResult r2 = cdpowder("sweep " + range.string() + " --out " + out.string(), scratch_);
   EXPECT_EQ(r2.status, 2);
   EXPECT_THAT(r2.err, HasSubstr("contact.mu"));
+  const fs::path same = scratch_ / "same.toml";  // 1 and 1.0 are the same scene
+  std::ofstream(same) << "scene = \"" << kQuick.string()
+                      << "\"\n[grid]\n\"contact.mu_roll\" = [1, 1.0]\n";
+  const ProcessResult r3 = cdpowder("sweep " + same.string() + " --out " + out.string(), scratch_);
+  EXPECT_EQ(r3.status, 2);
+  EXPECT_THAT(r3.err, HasSubstr("give the same scene"));
   EXPECT_FALSE(fs::exists(out));
 }
 

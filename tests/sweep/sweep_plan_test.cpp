@@ -110,6 +110,9 @@ TEST(SweepPlan, MistakesNameTheKeyAndWhatIsAllowed) {
               HasSubstr("is a seed key"));
   EXPECT_THAT(errors_of("scene = \"s\"\nset = \"a=1\"\n"), HasSubstr("set: expected a list"));
   EXPECT_THAT(errors_of("scene = [\n"), HasSubstr("TOML syntax error"));
+  EXPECT_THAT(errors_of("scene = \"s\"\n[grid]\n\"contact.mu\" = [0.1]\n"
+                        "[grid.contact]\nmu = [0.2]\n"),
+              HasSubstr("grid.contact.mu: is given twice"));
 }
 
 RunRecord record(double porosity, bool blocked) {

@@ -6,7 +6,15 @@
 
 namespace cdpowder {
 
-StepDiagnostics analyse_step(const World& world, const Contacts& contacts) {
+StepDiagnostics analyse_step(const World& world, const Contacts& contacts, const ContactLaws& laws,
+                             double dt) {
+  const auto track_opening = [&](double opening_speed, double range, StepDiagnostics& out) {
+    out.max_cohesive_opening_speed = std::max(out.max_cohesive_opening_speed, opening_speed);
+    if (range > 0.0) {
+      out.max_cohesive_opening_per_range =
+          std::max(out.max_cohesive_opening_per_range, opening_speed * dt / range);
+    }
+  };
   StepDiagnostics d;
   const Bodies& bodies = world.bodies;
   d.contacts = contacts.size();
@@ -24,7 +32,7 @@ StepDiagnostics analyse_step(const World& world, const Contacts& contacts) {
     }
     if (contacts.pair_cohesive[k] != 0) {
       const double opening = (bodies.velocity[p.b] - bodies.velocity[p.a]).dot(p.normal);
-      d.max_cohesive_opening_speed = std::max(d.max_cohesive_opening_speed, opening);
+      track_opening(opening, laws.spheres.cohesion_range, d);
     }
   }
   const Piston& piston = world.walls.piston;
@@ -43,7 +51,7 @@ StepDiagnostics analyse_step(const World& world, const Contacts& contacts) {
     if (contacts.wall_cohesive[k] != 0) {
       const double wall_speed = w.wall == WallKind::Piston ? piston.velocity : 0.0;
       const double opening = (bodies.velocity[w.sphere].z() - wall_speed) * w.normal.z();
-      d.max_cohesive_opening_speed = std::max(d.max_cohesive_opening_speed, opening);
+      track_opening(opening, laws.walls.cohesion_range, d);
     }
     // n = −e_z at the piston: the force on the piston is −R, its z part +R_n
     if (w.wall == WallKind::Piston) d.piston_contact_force += action.normal_force;

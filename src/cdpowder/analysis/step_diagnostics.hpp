@@ -2,6 +2,7 @@
 // (overlaps, piston force balance) and the state measures every step reports.
 #pragma once
 
+#include "cdpowder/contact/contact_law.hpp"
 #include "cdpowder/contact/local_problem.hpp"
 #include "cdpowder/model/world.hpp"
 #include "cdpowder/solver/velocity_cache.hpp"
@@ -26,11 +27,16 @@ struct StepDiagnostics {
   /// max over cohesion-active contacts of the normal opening speed V_n > 0 after the step:
   /// a contact opens by V_n Δt per step, which must stay well below d_coh (§6.4) [R/t0]
   double max_cohesive_opening_speed = 0.0;
+  /// max over cohesion-active contacts of V_n Δt / d_coh, each with its own d_coh (sphere
+  /// pairs and walls may differ); §6.4 asks for ≤ 0.1 [-]
+  double max_cohesive_opening_per_range = 0.0;
 };
 
 /// Measures the state after integrate(); `contacts` still holds the step's forces.
 /// Leaves max_net_force to net_force_of_step (it needs the velocities before the step).
-StepDiagnostics analyse_step(const World& world, const Contacts& contacts);
+/// `laws` and `dt` give each contact's cohesion range and the step for the opening gauge.
+StepDiagnostics analyse_step(const World& world, const Contacts& contacts, const ContactLaws& laws,
+                             double dt);
 
 /// max_i of m_i|v*_i − v_i|/Δt + I_i|ω*_i − ω_i|/(Δt r_i) over free spheres: the largest
 /// net force (and torque / radius) the step's contact forces and loads leave on a sphere.

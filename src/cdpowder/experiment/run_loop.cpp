@@ -27,12 +27,9 @@ RunResult run_simulation(World& world, StepWorkspace& work, const StepSettings& 
     if (!result.last.solver.converged) ++result.capped_steps;
     result.max_overlap_seen =
         std::max(result.max_overlap_seen, result.last.diagnostics.max_overlap);
-    if (settings.laws.spheres.cohesion_range > 0.0) {
-      result.max_cohesive_opening_per_range =
-          std::max(result.max_cohesive_opening_per_range,
-                   result.last.diagnostics.max_cohesive_opening_speed * dt /
-                       settings.laws.spheres.cohesion_range);
-    }
+    result.max_cohesive_opening_per_range =
+        std::max(result.max_cohesive_opening_per_range,
+                 result.last.diagnostics.max_cohesive_opening_per_range);
     for (std::size_t s = 0; s < result.stage_seconds.size(); ++s) {
       result.stage_seconds[s] += result.last.times[s];
     }

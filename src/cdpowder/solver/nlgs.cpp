@@ -190,18 +190,6 @@ SolverStats solve_nlgs(Contacts& contacts, VelocityCache& velocities,
     }
     recent[static_cast<std::size_t>(sweep) % recent.size()] = stats.residual;
 
-    if (accelerate && sweep % settings.acceleration_interval == 0) {
-      if (stats.residual > kRestartGrowth * best_residual) work.accelerator.reset();
-      best_residual = std::min(best_residual, stats.residual);
-      flatten(contacts, work.swept);
-      if (work.accelerator.extrapolate(work.start, work.swept, work.mixed)) {
-        adopt(work.mixed, contacts, velocities);
-        work.start.swap(work.mixed);
-      } else {
-        work.start.swap(work.swept);
-      }
-    }
-
     // ρ from the residuals kContractionWindow sweeps apart (fewer in the first sweeps)
     const int window = std::min(kContractionWindow, sweep - 1);
     double rho = kMaxContraction;
@@ -213,13 +201,28 @@ SolverStats solve_nlgs(Contacts& contacts, VelocityCache& velocities,
     stats.contraction = rho;
     stats.error_estimate = stats.residual / (1.0 - rho);
 
-    if (sweep < settings.min_sweeps) continue;
-    const bool done = settings.stopping_rule == StoppingRule::Residual
-                          ? stats.error_estimate <= settings.tolerance
-                          : stats.relative_change <= settings.tolerance;
+    const bool done =
+        sweep >= settings.min_sweeps && (settings.stopping_rule == StoppingRule::Residual
+                                             ? stats.error_estimate <= settings.tolerance
+                                             : stats.relative_change <= settings.tolerance);
     if (done) {
       stats.converged = true;
       break;
+    }
+
+    // Mixing comes after the test and never after the last sweep: a mixed iterate is an
+    // affine combination that need not obey the contact laws (R_n < −F_c, forces outside
+    // the friction cone, forces on open contacts), so a step must end on a sweep's output.
+    if (accelerate && sweep % settings.acceleration_interval == 0 && sweep < settings.max_sweeps) {
+      if (stats.residual > kRestartGrowth * best_residual) work.accelerator.reset();
+      best_residual = std::min(best_residual, stats.residual);
+      flatten(contacts, work.swept);
+      if (work.accelerator.extrapolate(work.start, work.swept, work.mixed)) {
+        adopt(work.mixed, contacts, velocities);
+        work.start.swap(work.mixed);
+      } else {
+        work.start.swap(work.swept);
+      }
     }
   }
   return stats;

@@ -46,7 +46,7 @@ StepReport step(World& world, StepWorkspace& work, const StepSettings& settings)
   integrate(work.velocities, settings.solver.dt, world);
   clock.lap(Stage::Integrate, report.times);
 
-  report.diagnostics = analyse_step(world, work.contacts);
+  report.diagnostics = analyse_step(world, work.contacts, settings.laws, settings.solver.dt);
   report.diagnostics.max_net_force = net_force;
   clock.lap(Stage::Analyse, report.times);
   return report;

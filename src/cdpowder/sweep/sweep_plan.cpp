@@ -203,7 +203,12 @@ SweepPlan read_sweep_plan_text(std::string_view text, std::string_view source_na
     if (table == nullptr) in.issue("grid", node, "expected a table of key = [values]");
     std::vector<std::pair<std::string, const toml::node*>> entries;
     if (table != nullptr) in.flatten(*table, "", entries);
+    std::set<std::string> grid_keys;
     for (const auto& [key, value] : entries) {
+      if (!grid_keys.insert(key).second) {
+        in.issue("grid." + key, value, "is given twice (as a nested table and a dotted key?)");
+        continue;
+      }
       const auto* list = value->as_array();
       if (list == nullptr || list->empty()) {
         in.issue("grid." + key, value, "expected a non-empty list of values");
@@ -239,6 +244,10 @@ SweepPlan read_sweep_plan_text(std::string_view text, std::string_view source_na
         in.flatten(*table, "", entries);
         std::map<std::string, std::string> point;
         for (const auto& [key, value] : entries) {
+          if (point.count(key) > 0) {
+            in.issue("points." + key, value, "is given twice in one point");
+            continue;
+          }
           const std::string value_text = in.value_text("points." + key, *value);
           if (value_text.empty()) continue;
           point[key] = value_text;

@@ -79,6 +79,13 @@ const std::vector<std::string>& aggregated() {
   return names;
 }
 
+/// A number of the summary; JSON null (how non-finite numbers are written) and an absent
+/// key read as NaN.
+double number_at(const nlohmann::json& j, const char* key) {
+  const auto it = j.find(key);
+  return it == j.end() || it->is_null() ? NAN : it->get<double>();
+}
+
 }  // namespace
 
 std::optional<RunRecord> read_run_record(const std::filesystem::path& summary_json) {
@@ -87,15 +94,15 @@ std::optional<RunRecord> read_run_record(const std::filesystem::path& summary_js
   try {
     const nlohmann::json j = nlohmann::json::parse(stream);
     RunRecord r;
-    r.porosity = j.at("porosity").get<double>();
-    r.initial_porosity = j.at("initial_porosity").get<double>();
+    r.porosity = number_at(j, "porosity");
+    r.initial_porosity = number_at(j, "initial_porosity");
     const auto& stress = j.at("stress");
-    r.sigma_zz_over_p = stress.value("sigma_zz_over_pressure", NAN);
-    r.sigma_zz_compressive_over_p = stress.value("sigma_zz_compressive_over_pressure", NAN);
-    r.sigma_zz_tensile_over_p = stress.value("sigma_zz_tensile_over_pressure", NAN);
+    r.sigma_zz_over_p = number_at(stress, "sigma_zz_over_pressure");
+    r.sigma_zz_compressive_over_p = number_at(stress, "sigma_zz_compressive_over_pressure");
+    r.sigma_zz_tensile_over_p = number_at(stress, "sigma_zz_tensile_over_pressure");
     r.compressive_contacts = stress.at("compressive_contacts").get<double>();
     r.tensile_contacts = stress.at("tensile_contacts").get<double>();
-    r.coordination_number = j.at("contacts").at("coordination_number").get<double>();
+    r.coordination_number = number_at(j.at("contacts"), "coordination_number");
     const auto& run = j.at("run");
     r.blocked = run.at("blocked").get<bool>();
     r.interrupted = run.at("interrupted").get<bool>();
@@ -104,9 +111,9 @@ std::optional<RunRecord> read_run_record(const std::filesystem::path& summary_js
     r.wall_seconds = run.at("wall_seconds").get<double>();
     const auto& accuracy = j.at("accuracy");
     r.capped_steps = accuracy.at("capped_steps").get<double>();
-    r.mean_overlap = accuracy.at("mean_overlap").get<double>();
-    r.max_overlap = accuracy.at("max_overlap").get<double>();
-    r.piston_imbalance = j.at("piston").value("force_imbalance", NAN);
+    r.mean_overlap = number_at(accuracy, "mean_overlap");
+    r.max_overlap = number_at(accuracy, "max_overlap");
+    r.piston_imbalance = number_at(j.at("piston"), "force_imbalance");
     r.scene_toml = j.at("scene_toml").get<std::string>();
     r.commit = j.at("program").at("commit").get<std::string>();
     return r;
