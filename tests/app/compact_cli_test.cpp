@@ -17,16 +17,13 @@ namespace {
 
 namespace fs = std::filesystem;
 using cdpowder::testing::ProcessResult;
+using cdpowder::testing::run_cdpowder;
 using cdpowder::testing::slurp;
 using ::testing::HasSubstr;
 
 const fs::path kQuick = CDPOWDER_SOURCE_DIR "/examples/quick/scene.toml";
 const fs::path kPaper = CDPOWDER_SOURCE_DIR "/examples/paper/scene.toml";
 const fs::path kCheckVtk = CDPOWDER_SOURCE_DIR "/tests/app/check_vtk.py";
-
-ProcessResult cdpowder(const std::string& arguments, const fs::path& scratch) {
-  return cdpowder::testing::run_process(CDPOWDER_EXE, arguments, scratch);
-}
 
 nlohmann::json summary_of(const fs::path& out) {
   return nlohmann::json::parse(slurp(out / "summary.json"));
@@ -46,9 +43,9 @@ const std::string kShort = "--quiet --set run.max_duration=5";
 
 TEST_F(CompactCli, QuickExampleBlocksWithStressEqualToThePressure) {
   const fs::path out = scratch_ / "out";
-  const ProcessResult r = cdpowder("compact " + kQuick.string() + " --out " + out.string() +
-                                       " --quiet --set run.snapshot_every=2000",
-                                   scratch_);
+  const ProcessResult r = run_cdpowder("compact " + kQuick.string() + " --out " + out.string() +
+                                           " --quiet --set run.snapshot_every=2000",
+                                       scratch_);
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_THAT(r.out, HasSubstr("blocked=yes"));
   EXPECT_THAT(r.out, HasSubstr("porosity="));
@@ -86,9 +83,9 @@ TEST_F(CompactCli, QuickExampleBlocksWithStressEqualToThePressure) {
 
 TEST_F(CompactCli, SameSeedGivesIdenticalSummariesAnotherSeedADifferentOne) {
   const auto run = [&](const std::string& name, const std::string& extra) {
-    const ProcessResult r = cdpowder("compact " + kQuick.string() + " --out " +
-                                         (scratch_ / name).string() + " " + kShort + extra,
-                                     scratch_);
+    const ProcessResult r = run_cdpowder("compact " + kQuick.string() + " --out " +
+                                             (scratch_ / name).string() + " " + kShort + extra,
+                                         scratch_);
     EXPECT_EQ(r.status, 0) << r.err;
     return without_timings(summary_of(scratch_ / name));
   };
@@ -101,19 +98,19 @@ TEST_F(CompactCli, SameSeedGivesIdenticalSummariesAnotherSeedADifferentOne) {
 }
 
 TEST_F(CompactCli, DepositFeedsACompactionThatStartsFromTheSameSpheres) {
-  const ProcessResult d = cdpowder(
+  const ProcessResult d = run_cdpowder(
       "deposit " + kQuick.string() + " --out " + (scratch_ / "deposit").string(), scratch_);
   ASSERT_EQ(d.status, 0) << d.err;
   EXPECT_THAT(d.out, HasSubstr("porosity="));
   const nlohmann::json deposit = summary_of(scratch_ / "deposit");
   EXPECT_EQ(deposit["spheres"], 100);
 
-  const ProcessResult from_csv =
-      cdpowder("compact " + kQuick.string() + " --out " + (scratch_ / "from_csv").string() +
-                   " --particles " + (scratch_ / "deposit/particles.csv").string() + " " + kShort,
-               scratch_);
+  const ProcessResult from_csv = run_cdpowder(
+      "compact " + kQuick.string() + " --out " + (scratch_ / "from_csv").string() +
+          " --particles " + (scratch_ / "deposit/particles.csv").string() + " " + kShort,
+      scratch_);
   ASSERT_EQ(from_csv.status, 0) << from_csv.err;
-  const ProcessResult direct = cdpowder(
+  const ProcessResult direct = run_cdpowder(
       "compact " + kQuick.string() + " --out " + (scratch_ / "direct").string() + " " + kShort,
       scratch_);
   ASSERT_EQ(direct.status, 0) << direct.err;
@@ -147,7 +144,7 @@ TEST_F(CompactCli, InterruptWritesEveryOutputFlaggedInterrupted) {
 }
 
 TEST_F(CompactCli, PaperExampleCarriesThePapersParameters) {
-  const ProcessResult d = cdpowder(
+  const ProcessResult d = run_cdpowder(
       "deposit " + kPaper.string() + " --out " + (scratch_ / "deposit").string(), scratch_);
   ASSERT_EQ(d.status, 0) << d.err;
   const nlohmann::json s = summary_of(scratch_ / "deposit");
@@ -168,9 +165,9 @@ TEST_F(CompactCli, PaperExampleCarriesThePapersParameters) {
 
 TEST_F(CompactCli, CompactWithoutAPistonIsRefusedAndWritesNothing) {
   const fs::path out = scratch_ / "out";
-  const ProcessResult r = cdpowder("compact " + kQuick.string() + " --out " + out.string() +
-                                       " --quiet --set piston.enabled=false",
-                                   scratch_);
+  const ProcessResult r = run_cdpowder("compact " + kQuick.string() + " --out " + out.string() +
+                                           " --quiet --set piston.enabled=false",
+                                       scratch_);
   EXPECT_EQ(r.status, 2);
   EXPECT_THAT(r.err, HasSubstr("piston.enabled"));
   EXPECT_THAT(r.err, HasSubstr("compaction needs the piston"));
@@ -181,7 +178,7 @@ TEST_F(CompactCli, DepositWithoutADepositionSectionIsRefusedAndWritesNothing) {
   const fs::path out = scratch_ / "out";
   const fs::path lattice = CDPOWDER_SOURCE_DIR "/examples/lattice/scene.toml";
   const ProcessResult r =
-      cdpowder("deposit " + lattice.string() + " --out " + out.string(), scratch_);
+      run_cdpowder("deposit " + lattice.string() + " --out " + out.string(), scratch_);
   EXPECT_EQ(r.status, 2);
   EXPECT_THAT(r.err, HasSubstr("deposition"));
   EXPECT_THAT(r.err, HasSubstr("[deposition] section"));
@@ -190,9 +187,9 @@ TEST_F(CompactCli, DepositWithoutADepositionSectionIsRefusedAndWritesNothing) {
 
 TEST_F(CompactCli, BadDepositionValueNamesTheKeyTheValueAndWhatIsAllowed) {
   const ProcessResult r =
-      cdpowder("deposit " + kQuick.string() + " --out " + (scratch_ / "out").string() +
-                   " --set deposition.capture_radius=1.5",
-               scratch_);
+      run_cdpowder("deposit " + kQuick.string() + " --out " + (scratch_ / "out").string() +
+                       " --set deposition.capture_radius=1.5",
+                   scratch_);
   EXPECT_EQ(r.status, 2);
   EXPECT_THAT(r.err, HasSubstr("deposition.capture_radius"));
   EXPECT_THAT(r.err, HasSubstr("got 1.5"));
@@ -200,9 +197,9 @@ TEST_F(CompactCli, BadDepositionValueNamesTheKeyTheValueAndWhatIsAllowed) {
 }
 
 TEST_F(CompactCli, MissingParticlesFileIsNamed) {
-  const ProcessResult r = cdpowder("compact " + kQuick.string() + " --out " +
-                                       (scratch_ / "out").string() + " --particles nowhere.csv",
-                                   scratch_);
+  const ProcessResult r = run_cdpowder("compact " + kQuick.string() + " --out " +
+                                           (scratch_ / "out").string() + " --particles nowhere.csv",
+                                       scratch_);
   EXPECT_EQ(r.status, 2);
   EXPECT_THAT(r.err, HasSubstr("particles.file"));
   EXPECT_THAT(r.err, HasSubstr("nowhere.csv"));

@@ -20,11 +20,8 @@ using ::testing::HasSubstr;
 const fs::path kExamples = CDPOWDER_SOURCE_DIR "/examples";
 
 using cdpowder::testing::ProcessResult;
+using cdpowder::testing::run_cdpowder;
 using cdpowder::testing::slurp;
-
-ProcessResult cdpowder(const std::string& arguments, const fs::path& scratch) {
-  return cdpowder::testing::run_process(CDPOWDER_EXE, arguments, scratch);
-}
 
 using SimulateCli = cdpowder::testing::ScratchFolderTest;
 
@@ -32,9 +29,9 @@ using SimulateCli = cdpowder::testing::ScratchFolderTest;
 const std::string kShort = "--set run.until_blocked=false --set run.duration=2.0 --quiet";
 
 TEST_F(SimulateCli, WritesEveryOutputAndAResultLine) {
-  const ProcessResult r = cdpowder("simulate " + (kExamples / "lattice/scene.toml").string() +
-                                       " --out " + (scratch_ / "out").string() + " " + kShort,
-                                   scratch_);
+  const ProcessResult r = run_cdpowder("simulate " + (kExamples / "lattice/scene.toml").string() +
+                                           " --out " + (scratch_ / "out").string() + " " + kShort,
+                                       scratch_);
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_THAT(r.out, HasSubstr("porosity="));
   for (const char* name :
@@ -56,14 +53,15 @@ TEST_F(SimulateCli, WritesEveryOutputAndAResultLine) {
 TEST_F(SimulateCli, SameSeedGivesIdenticalStateAnotherSeedADifferentOne) {
   const std::string scene = (kExamples / "lattice/scene.toml").string();
   for (const char* run : {"a", "b"}) {
-    ASSERT_EQ(cdpowder("simulate " + scene + " --out " + (scratch_ / run).string() + " " + kShort,
-                       scratch_)
-                  .status,
-              0);
-  }
-  ASSERT_EQ(cdpowder("simulate " + scene + " --out " + (scratch_ / "c").string() + " " + kShort +
-                         " --set solver.seed=2",
+    ASSERT_EQ(
+        run_cdpowder("simulate " + scene + " --out " + (scratch_ / run).string() + " " + kShort,
                      scratch_)
+            .status,
+        0);
+  }
+  ASSERT_EQ(run_cdpowder("simulate " + scene + " --out " + (scratch_ / "c").string() + " " +
+                             kShort + " --set solver.seed=2",
+                         scratch_)
                 .status,
             0);
   EXPECT_EQ(slurp(scratch_ / "a/particles.csv"), slurp(scratch_ / "b/particles.csv"));
@@ -73,22 +71,22 @@ TEST_F(SimulateCli, SameSeedGivesIdenticalStateAnotherSeedADifferentOne) {
 
 TEST_F(SimulateCli, ParticlesOutputReadsBackAsInput) {
   const std::string scene = (kExamples / "lattice/scene.toml").string();
-  ASSERT_EQ(
-      cdpowder("simulate " + scene + " --out " + (scratch_ / "a").string() + " " + kShort, scratch_)
-          .status,
-      0);
-  const ProcessResult again =
-      cdpowder("simulate " + scene + " --out " + (scratch_ / "b").string() + " " + kShort +
-                   " --set 'particles.file=\"" + (scratch_ / "a/particles.csv").string() + "\"'",
-               scratch_);
+  ASSERT_EQ(run_cdpowder("simulate " + scene + " --out " + (scratch_ / "a").string() + " " + kShort,
+                         scratch_)
+                .status,
+            0);
+  const ProcessResult again = run_cdpowder(
+      "simulate " + scene + " --out " + (scratch_ / "b").string() + " " + kShort +
+          " --set 'particles.file=\"" + (scratch_ / "a/particles.csv").string() + "\"'",
+      scratch_);
   EXPECT_EQ(again.status, 0) << again.err;
 }
 
 TEST_F(SimulateCli, BadInputExitsWithTwoNamesTheKeyAndWritesNothing) {
   const ProcessResult r =
-      cdpowder("simulate " + (kExamples / "lattice/scene.toml").string() + " --out " +
-                   (scratch_ / "out").string() + " --set contact.mu_roll=-0.2",
-               scratch_);
+      run_cdpowder("simulate " + (kExamples / "lattice/scene.toml").string() + " --out " +
+                       (scratch_ / "out").string() + " --set contact.mu_roll=-0.2",
+                   scratch_);
   EXPECT_EQ(r.status, 2);
   EXPECT_THAT(r.err, HasSubstr("contact.mu_roll"));
   EXPECT_THAT(r.err, HasSubstr("-0.2"));
@@ -96,7 +94,7 @@ TEST_F(SimulateCli, BadInputExitsWithTwoNamesTheKeyAndWritesNothing) {
 }
 
 TEST_F(SimulateCli, MissingSceneFileExitsWithTwo) {
-  const ProcessResult r = cdpowder(
+  const ProcessResult r = run_cdpowder(
       "simulate " + (scratch_ / "nope.toml").string() + " --out " + (scratch_ / "out").string(),
       scratch_);
   EXPECT_EQ(r.status, 2);
@@ -104,8 +102,8 @@ TEST_F(SimulateCli, MissingSceneFileExitsWithTwo) {
 }
 
 TEST_F(SimulateCli, MissingOutOptionExitsWithTwo) {
-  EXPECT_EQ(cdpowder("simulate " + (kExamples / "lattice/scene.toml").string(), scratch_).status,
-            2);
+  EXPECT_EQ(
+      run_cdpowder("simulate " + (kExamples / "lattice/scene.toml").string(), scratch_).status, 2);
 }
 
 }  // namespace

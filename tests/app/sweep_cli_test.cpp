@@ -16,15 +16,12 @@ namespace {
 
 namespace fs = std::filesystem;
 using cdpowder::testing::ProcessResult;
+using cdpowder::testing::run_cdpowder;
 using cdpowder::testing::slurp;
 using ::testing::HasSubstr;
 
 const fs::path kQuick = CDPOWDER_SOURCE_DIR "/examples/quick/scene.toml";
 const fs::path kReport = CDPOWDER_SOURCE_DIR "/tools/report.py";
-
-ProcessResult cdpowder(const std::string& arguments, const fs::path& scratch) {
-  return cdpowder::testing::run_process(CDPOWDER_EXE, arguments, scratch);
-}
 
 /// Data rows of a CSV (lines not starting with '#', minus the column header).
 std::size_t data_rows(const fs::path& csv) {
@@ -51,7 +48,7 @@ TEST_F(SweepCli, RunsEveryPointAndSeedAndTabulatesThem) {
   const fs::path sweep = write_short_sweep(scratch_);
   const fs::path out = scratch_ / "out";
   const ProcessResult r =
-      cdpowder("sweep " + sweep.string() + " --out " + out.string() + " -j 2", scratch_);
+      run_cdpowder("sweep " + sweep.string() + " --out " + out.string() + " -j 2", scratch_);
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_THAT(r.out, HasSubstr("8 of 8 runs finished"));
   EXPECT_THAT(r.err, HasSubstr("[8/8]"));
@@ -66,10 +63,10 @@ TEST_F(SweepCli, RunsEveryPointAndSeedAndTabulatesThem) {
   EXPECT_EQ(s["scene"]["solver"]["seed"], 2);
   // each run is the same as the compact command with the same overrides
   const ProcessResult single =
-      cdpowder("compact " + kQuick.string() + " --out " + (scratch_ / "single").string() +
-                   " --quiet --set run.max_duration=5 --set contact.mu_roll=1.0 "
-                   "--set contact.mu_twist=0.0 --set deposition.seed=2 --set solver.seed=2",
-               scratch_);
+      run_cdpowder("compact " + kQuick.string() + " --out " + (scratch_ / "single").string() +
+                       " --quiet --set run.max_duration=5 --set contact.mu_roll=1.0 "
+                       "--set contact.mu_twist=0.0 --set deposition.seed=2 --set solver.seed=2",
+                   scratch_);
   ASSERT_EQ(single.status, 0) << single.err;
   const nlohmann::json alone = nlohmann::json::parse(slurp(scratch_ / "single" / "summary.json"));
   EXPECT_EQ(alone["porosity"], s["porosity"]);
@@ -94,17 +91,17 @@ TEST_F(SweepCli, RestartRunsOnlyWhatIsMissing) {
   const fs::path sweep = write_short_sweep(scratch_);
   const fs::path out = scratch_ / "out";
   const std::string command = "sweep " + sweep.string() + " --out " + out.string() + " -j 2";
-  ASSERT_EQ(cdpowder(command, scratch_).status, 0);
+  ASSERT_EQ(run_cdpowder(command, scratch_).status, 0);
   const fs::path lost = out / "runs" / "contact.mu_roll=0.0,contact.mu_twist=1.0" / "seed_1";
   fs::remove(lost / "summary.json");
-  const ProcessResult again = cdpowder(command, scratch_);
+  const ProcessResult again = run_cdpowder(command, scratch_);
   ASSERT_EQ(again.status, 0) << again.err;
   EXPECT_THAT(again.err, HasSubstr("7 already finished"));
   EXPECT_TRUE(fs::exists(lost / "summary.json"));
   EXPECT_EQ(data_rows(out / "results.csv"), 8U);
   // a changed fixed override changes every run's scene: nothing is reused
   const ProcessResult changed =
-      cdpowder(command + " --dry-run --set solver.tolerance=1e-5", scratch_);
+      run_cdpowder(command + " --dry-run --set solver.tolerance=1e-5", scratch_);
   EXPECT_THAT(changed.out, HasSubstr("0 finished, 8 to run"));
 }
 
@@ -137,7 +134,7 @@ TEST_F(SweepCli, InterruptKeepsFinishedResultsAndLeavesTheRestPending) {
   EXPECT_TRUE(s["run"]["interrupted"].get<bool>());
   EXPECT_FALSE(fs::exists(out / "runs" / "base" / "seed_2"));  // never started
   const ProcessResult listed =
-      cdpowder("sweep " + sweep.string() + " --out " + out.string() + " --dry-run", scratch_);
+      run_cdpowder("sweep " + sweep.string() + " --out " + out.string() + " --dry-run", scratch_);
   EXPECT_THAT(listed.out, HasSubstr("0 finished, 2 to run"));
 }
 
@@ -146,20 +143,23 @@ TEST_F(SweepCli, BadSweepFilesAreRefusedBeforeAnythingIsWritten) {
   const fs::path typo = scratch_ / "typo.toml";
   std::ofstream(typo) << "scene = \"" << kQuick.string()
                       << "\"\n[grid]\n\"contact.mu_rol\" = [1.0]\n";
-  const ProcessResult r = cdpowder("sweep " + typo.string() + " --out " + out.string(), scratch_);
+  const ProcessResult r =
+      run_cdpowder("sweep " + typo.string() + " --out " + out.string(), scratch_);
   EXPECT_EQ(r.status, 2);
   EXPECT_THAT(r.err, HasSubstr("contact.mu_rol"));
   EXPECT_THAT(r.err, HasSubstr("did you mean"));
   const fs::path range = scratch_ / "range.toml";
   std::ofstream(range) << "scene = \"" << kQuick.string()
                        << "\"\n[grid]\n\"contact.mu\" = [0.3, -1.0]\n";
-  const ProcessResult r2 = cdpowder("sweep " + range.string() + " --out " + out.string(), scratch_);
+  const ProcessResult r2 =
+      run_cdpowder("sweep " + range.string() + " --out " + out.string(), scratch_);
   EXPECT_EQ(r2.status, 2);
   EXPECT_THAT(r2.err, HasSubstr("contact.mu"));
   const fs::path same = scratch_ / "same.toml";  // 1 and 1.0 are the same scene
   std::ofstream(same) << "scene = \"" << kQuick.string()
                       << "\"\n[grid]\n\"contact.mu_roll\" = [1, 1.0]\n";
-  const ProcessResult r3 = cdpowder("sweep " + same.string() + " --out " + out.string(), scratch_);
+  const ProcessResult r3 =
+      run_cdpowder("sweep " + same.string() + " --out " + out.string(), scratch_);
   EXPECT_EQ(r3.status, 2);
   EXPECT_THAT(r3.err, HasSubstr("give the same scene"));
   EXPECT_FALSE(fs::exists(out));

@@ -38,6 +38,15 @@ inline ProcessResult run_process(const std::string& program, const std::string& 
   return {WEXITSTATUS(raw), slurp(out), slurp(err)};
 }
 
+#ifdef CDPOWDER_EXE
+/// Runs the cdpowder program built with the tests (CDPOWDER_EXE, set by CMake for the CLI
+/// tests) with `arguments`.
+inline ProcessResult run_cdpowder(const std::string& arguments,
+                                  const std::filesystem::path& scratch) {
+  return run_process(CDPOWDER_EXE, arguments, scratch);
+}
+#endif
+
 /// A fresh, empty scratch folder named after the running test, removed afterwards.
 class ScratchFolderTest : public ::testing::Test {
  protected:
