@@ -1,6 +1,8 @@
 // progress.cpp — formatting the progress line.
 #include "progress.hpp"
 
+#include "clock_text.hpp"
+
 #include "cdpowder/analysis/porosity.hpp"
 
 #include <fmt/format.h>
@@ -8,16 +10,6 @@
 #include <cstdio>
 
 namespace cdpowder::app {
-
-namespace {
-
-std::string clock_text(double seconds) {
-  const auto s = static_cast<long>(seconds + 0.5);
-  return s >= 3600 ? fmt::format("{}:{:02}:{:02}", s / 3600, (s / 60) % 60, s % 60)
-                   : fmt::format("{:02}:{:02}", s / 60, s % 60);
-}
-
-}  // namespace
 
 ProgressLine::ProgressLine(bool quiet, double interval_seconds)
     : quiet_(quiet), interval_(interval_seconds) {}

@@ -2,6 +2,7 @@
 // child processes (`cdpowder compact … --quiet`), collect their summaries.
 #include "commands/sweep.hpp"
 
+#include "clock_text.hpp"
 #include "stop_signals.hpp"
 
 #include "cdpowder/config/config_error.hpp"
@@ -42,11 +43,6 @@ std::atomic<int> g_signals{0};
 
 extern "C" void count_signal(int /*signal*/) {
   g_signals.fetch_add(1);
-}
-
-std::string clock_text(double seconds) {
-  const auto s = static_cast<long>(seconds + 0.5);
-  return fmt::format("{}:{:02}:{:02}", s / 3600, (s / 60) % 60, s % 60);
 }
 
 std::string read_text(const std::filesystem::path& file) {
