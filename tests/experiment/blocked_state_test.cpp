@@ -1,10 +1,12 @@
 // Tests for src/cdpowder/experiment/blocked_state.cpp: the piston is blocked after a full window
-// of steps at rest; each rest criterion, violated once, restarts the count (physics.md §9).
+// of steps at rest (physics.md §9). Each per-step criterion (speeds, height drift), violated
+// once, restarts the count; the force balance is judged on its window mean.
 #include "cdpowder/experiment/blocked_state.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <vector>
 
 namespace cdpowder {
 namespace {
@@ -54,7 +56,7 @@ StepDiagnostics at_rest() {
   return StepDiagnostics{};
 }
 
-enum class Criterion { PistonSpeed, SphereSpeed, ForceBalance, HeightDrift };
+enum class Criterion { PistonSpeed, SphereSpeed, HeightDrift };
 
 /// steps_held() after kStepsBefore steps at rest and one step where `criterion` sits at
 /// `factor` × its threshold; every other criterion is met throughout.
@@ -77,9 +79,6 @@ std::int64_t held_after_probe(Criterion criterion, double factor) {
       break;
     case Criterion::SphereSpeed:
       diagnostics.max_speed = factor * kSphereSpeed;
-      break;
-    case Criterion::ForceBalance:
-      diagnostics.piston_imbalance = factor * kForceBalance;
       break;
     case Criterion::HeightDrift:
       world.walls.piston.height = kHeight;
@@ -116,12 +115,56 @@ TEST(BlockedStateDetector, SphereSpeedJustAboveThresholdResetsCount) {
   EXPECT_EQ(held_after_probe(Criterion::SphereSpeed, kJustAbove), 0);
 }
 
-TEST(BlockedStateDetector, ForceImbalanceJustBelowThresholdKeepsCounting) {
-  EXPECT_EQ(held_after_probe(Criterion::ForceBalance, kJustBelow), kStepsBefore + 1);
+/// Feeds one window of steps at rest whose force imbalances repeat `pattern`; returns
+/// whether the last step reported the blocked state.
+bool window_with_imbalances(BlockedStateDetector& detector, const std::vector<double>& pattern) {
+  const World world = piston_world();
+  StepDiagnostics diagnostics = at_rest();
+  bool blocked = false;
+  for (std::int64_t step = 0; step < kWindowSteps; ++step) {
+    diagnostics.piston_imbalance = pattern[static_cast<std::size_t>(step) % pattern.size()];
+    blocked = detector.update(world, diagnostics);
+    if (step + 1 < kWindowSteps) {
+      EXPECT_FALSE(blocked) << "step " << step;
+    }
+  }
+  return blocked;
 }
 
-TEST(BlockedStateDetector, ForceImbalanceJustAboveThresholdResetsCount) {
-  EXPECT_EQ(held_after_probe(Criterion::ForceBalance, kJustAbove), 0);
+TEST(BlockedStateDetector, ForceImbalanceMeanJustBelowThresholdBlocks) {
+  BlockedStateDetector detector(criteria(), kDt);
+  // alternating 0 and 1.9 × threshold: every other step is far out, the mean is 0.95 ×
+  EXPECT_TRUE(window_with_imbalances(detector, {0.0, 2.0 * kJustBelow * kForceBalance}));
+  EXPECT_NEAR(detector.mean_force_imbalance(), kJustBelow * kForceBalance, 1e-15);
+}
+
+TEST(BlockedStateDetector, ForceImbalanceMeanJustAboveThresholdDoesNotBlock) {
+  BlockedStateDetector detector(criteria(), kDt);
+  EXPECT_FALSE(window_with_imbalances(detector, {0.0, 2.0 * kJustAbove * kForceBalance}));
+  // the speeds held, so the count goes on and the window slides
+  EXPECT_EQ(detector.steps_held(), kWindowSteps);
+}
+
+TEST(BlockedStateDetector, OneNoisyStepInABalancedWindowStillBlocks) {
+  BlockedStateDetector detector(criteria(), kDt);
+  std::vector<double> pattern(kWindowSteps, 0.0);
+  pattern[3] = 5.0 * kForceBalance;  // mean 0.5 × threshold
+  EXPECT_TRUE(window_with_imbalances(detector, pattern));
+}
+
+TEST(BlockedStateDetector, TheWindowSlidesPastAnImbalancedStretch) {
+  BlockedStateDetector detector(criteria(), kDt);
+  EXPECT_FALSE(window_with_imbalances(detector, {kJustAbove * kForceBalance}));
+  // balanced steps push the imbalanced ones out of the window one by one
+  const World world = piston_world();
+  const StepDiagnostics balanced = at_rest();
+  std::int64_t extra = 0;
+  while (!detector.update(world, balanced)) {
+    ++extra;
+    ASSERT_LT(extra, kWindowSteps);
+  }
+  // after one balanced step the mean is (W − 1) × 1.05 × threshold / W = 0.945 × threshold
+  EXPECT_EQ(extra, 0);
 }
 
 TEST(BlockedStateDetector, HeightDriftJustBelowThresholdKeepsCounting) {
@@ -130,6 +173,28 @@ TEST(BlockedStateDetector, HeightDriftJustBelowThresholdKeepsCounting) {
 
 TEST(BlockedStateDetector, HeightDriftJustAboveThresholdResetsCount) {
   EXPECT_EQ(held_after_probe(Criterion::HeightDrift, kJustAbove), 0);
+}
+
+/// Whether a piston creeping down at a constant rate, such that it moves `factor` ×
+/// height_change × Z_P in the W − 1 steps between a window's first and last step, is ever
+/// reported blocked within `windows` windows.
+bool creeping_piston_blocks(double factor, int windows) {
+  BlockedStateDetector detector(criteria(), kDt);
+  World world = piston_world();
+  const double per_step = factor * kHeightChange * kHeight / static_cast<double>(kWindowSteps - 1);
+  for (std::int64_t step = 0; step < windows * kWindowSteps; ++step) {
+    if (detector.update(world, at_rest())) return true;
+    world.walls.piston.height -= per_step;
+  }
+  return false;
+}
+
+TEST(BlockedStateDetector, PistonCreepingJustBelowTheDriftBoundBlocks) {
+  EXPECT_TRUE(creeping_piston_blocks(kJustBelow, 1));
+}
+
+TEST(BlockedStateDetector, PistonCreepingJustAboveTheDriftBoundNeverBlocks) {
+  EXPECT_FALSE(creeping_piston_blocks(kJustAbove, 20));
 }
 
 TEST(BlockedStateDetector, DisabledPistonNeverBlocks) {

@@ -1,31 +1,51 @@
-// blocked_state.cpp — the rest criteria over a window of steps.
+// blocked_state.cpp — the rest criteria over a sliding window of steps.
 #include "cdpowder/experiment/blocked_state.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <numeric>
 
 namespace cdpowder {
 
 BlockedStateDetector::BlockedStateDetector(const BlockedCriteria& criteria, double dt)
     : criteria_(criteria),
-      window_steps_(std::max<std::int64_t>(1, std::llround(criteria.window / dt))) {}
+      window_steps_(std::max<std::int64_t>(1, std::llround(criteria.window / dt))),
+      heights_(static_cast<std::size_t>(window_steps_), 0.0),
+      imbalances_(static_cast<std::size_t>(window_steps_), 0.0) {}
+
+double BlockedStateDetector::mean_force_imbalance() const {
+  const std::int64_t n = std::min(held_, window_steps_);
+  if (n == 0) return 0.0;
+  // the ring holds the last window_steps_ steps; the last n of them are the held ones
+  double sum = 0.0;
+  for (std::int64_t k = 0; k < n; ++k) {
+    sum += imbalances_[static_cast<std::size_t>((steps_seen_ - 1 - k) % window_steps_)];
+  }
+  return sum / static_cast<double>(n);
+}
 
 bool BlockedStateDetector::update(const World& world, const StepDiagnostics& d) {
   const Piston& piston = world.walls.piston;
+  const auto slot = static_cast<std::size_t>(steps_seen_ % window_steps_);
+  // the height window_steps_ − 1 steps ago, i.e. at the first step of the window that ends
+  // now (read before this step overwrites the slot)
+  const std::int64_t first = steps_seen_ - std::min(held_, window_steps_ - 1);
+  const double first_height = first < steps_seen_
+                                  ? heights_[static_cast<std::size_t>(first % window_steps_)]
+                                  : piston.height;
+  heights_[slot] = piston.height;
+  imbalances_[slot] = d.piston_imbalance;
+  ++steps_seen_;
+
+  const double drift = std::abs(piston.height - first_height) / std::abs(piston.height);
   const bool at_rest = piston.enabled && std::abs(piston.velocity) < criteria_.piston_speed &&
-                       d.max_speed < criteria_.sphere_speed &&
-                       d.piston_imbalance < criteria_.force_balance;
+                       d.max_speed < criteria_.sphere_speed && drift < criteria_.height_change;
   if (!at_rest) {
     held_ = 0;
     return false;
   }
-  if (held_ == 0) window_start_height_ = piston.height;
-  const double drift = std::abs(piston.height - window_start_height_) / std::abs(piston.height);
-  if (drift >= criteria_.height_change) {
-    held_ = 0;
-    return false;
-  }
   ++held_;
-  return held_ >= window_steps_;
+  return held_ >= window_steps_ && mean_force_imbalance() < criteria_.force_balance;
 }
 
 }  // namespace cdpowder
