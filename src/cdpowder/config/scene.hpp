@@ -50,6 +50,10 @@ struct BlockedCriteria {
   double sphere_speed = 1e-6;   ///< max |v_i| below [R/t0]
   double force_balance = 1e-3;  ///< |Σ R_c→P·e_z − F|/F below [-]
   double height_change = 1e-6;  ///< |ΔZ_P|/Z_P over the window below [-]
+  /// Once blocked, one more step is solved to this tolerance (at most final_max_sweeps
+  /// sweeps), and the stress is measured on its forces [-]
+  double final_tolerance = 1e-6;
+  int final_max_sweeps = 20000;
 };
 
 /// [run]: how long to run and how often to record.

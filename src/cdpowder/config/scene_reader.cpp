@@ -134,6 +134,10 @@ Scene read_values(TableReader& in, const std::filesystem::path& base_dir,
   blocked.sphere_speed = in.number("run.blocked.sphere_speed", blocked.sphere_speed, kPositive);
   blocked.force_balance = in.number("run.blocked.force_balance", blocked.force_balance, kPositive);
   blocked.height_change = in.number("run.blocked.height_change", blocked.height_change, kPositive);
+  blocked.final_tolerance =
+      in.number("run.blocked.final_tolerance", blocked.final_tolerance, kPositive);
+  blocked.final_max_sweeps = static_cast<int>(
+      in.integer("run.blocked.final_max_sweeps", blocked.final_max_sweeps, 1, kIntMax));
   return s;
 }
 

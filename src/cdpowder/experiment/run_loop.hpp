@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 
 namespace cdpowder {
 
@@ -24,6 +25,9 @@ struct RunResult {
   double wall_seconds = 0.0;
   StageTimes stage_seconds{};  ///< summed over all steps
   StepReport last;             ///< report of the final step
+  /// The solve of the step after the blocked state was detected, at the final tolerance
+  /// (BlockedCriteria::final_tolerance); empty unless blocked.
+  std::optional<SolverStats> final_solve;
 };
 
 /// Called after every step with the world after the step, its report, and the fraction of

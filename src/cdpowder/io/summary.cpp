@@ -78,6 +78,15 @@ std::string summary_json(const Scene& scene, const World& world, const Contacts&
                    {"last_step_error_estimate", result.last.solver.error_estimate},
                    {"last_step_converged", result.last.solver.converged},
                    {"capped_steps", result.capped_steps}};
+  // the step solved to run.blocked.final_tolerance once blocked (null otherwise): the
+  // forces the stress above is measured on
+  j["accuracy"]["final_solve"] = nullptr;
+  if (result.final_solve) {
+    j["accuracy"]["final_solve"] = {{"sweeps", result.final_solve->sweeps},
+                                    {"converged", result.final_solve->converged},
+                                    {"residual", result.final_solve->residual},
+                                    {"error_estimate", result.final_solve->error_estimate}};
+  }
   j["kinetic_energy"] = d.kinetic_energy;
   j["max_speed"] = d.max_speed;
   j["run"] = {{"blocked", result.blocked},
