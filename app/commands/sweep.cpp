@@ -211,6 +211,7 @@ int run_sweep(const SweepOptions& options) {
       pending.push_back(i);
     }
   }
+  order_seed_by_seed(plan, pending);
   const std::size_t total = plan.runs.size();
   if (options.dry_run) {
     std::printf("%zu runs (%zu points × %zu seeds), %zu finished, %zu to run\n", total,

@@ -8,7 +8,10 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace cdpowder {
 namespace {
@@ -52,6 +55,31 @@ mu_twist = [0.0, 0.5, 1.0]
             "runs/contact.mu_roll=0.0,contact.mu_twist=0.5/seed_2");
   EXPECT_THAT(plan.runs[3].overrides, ElementsAre("contact.mu_roll=0.0", "contact.mu_twist=0.5",
                                                   "deposition.seed=2", "solver.seed=2"));
+}
+
+TEST(SweepPlan, RunsGoSeedBySeedSoAnEarlyStopCoversEveryPoint) {
+  const SweepPlan plan = plan_of(R"(
+scene = "scene.toml"
+seeds = [4, 7, 9]
+[grid.contact]
+mu_roll = [0.0, 0.5]
+)");
+  ASSERT_EQ(plan.runs.size(), 6U);
+  // all six, and a resumed sweep's pending subset (runs 0 and 4 already finished)
+  std::vector<std::size_t> all = {0, 1, 2, 3, 4, 5};
+  order_seed_by_seed(plan, all);
+  std::vector<std::pair<std::size_t, std::int64_t>> point_and_seed;
+  for (const std::size_t i : all)
+    point_and_seed.emplace_back(plan.runs[i].point, plan.runs[i].seed);
+  EXPECT_THAT(point_and_seed, ElementsAre(std::pair<std::size_t, std::int64_t>(0, 4),
+                                          std::pair<std::size_t, std::int64_t>(1, 4),
+                                          std::pair<std::size_t, std::int64_t>(0, 7),
+                                          std::pair<std::size_t, std::int64_t>(1, 7),
+                                          std::pair<std::size_t, std::int64_t>(0, 9),
+                                          std::pair<std::size_t, std::int64_t>(1, 9)));
+  std::vector<std::size_t> pending = {1, 2, 3, 5};
+  order_seed_by_seed(plan, pending);
+  EXPECT_THAT(pending, ElementsAre(3, 1, 2, 5));  // (point, seed): (1,4) (0,7) (0,9) (1,9)
 }
 
 TEST(SweepPlan, ExplicitPointsFixedOverridesAndSeedListsCombine) {

@@ -12,6 +12,7 @@
 #include <map>
 #include <set>
 #include <sstream>
+#include <utility>
 
 namespace cdpowder {
 
@@ -333,6 +334,14 @@ SweepPlan read_sweep_plan(const std::filesystem::path& file,
       text.str(), file.string(), error ? file.parent_path() : absolute.parent_path(), extra_fixed);
   plan.source = file;
   return plan;
+}
+
+void order_seed_by_seed(const SweepPlan& plan, std::vector<std::size_t>& runs) {
+  // plan.runs is point-major: run i has point i / seeds and seed index i % seeds
+  const std::size_t seed_count = std::max<std::size_t>(1, plan.seeds.size());
+  std::stable_sort(runs.begin(), runs.end(), [&](std::size_t a, std::size_t b) {
+    return std::pair(a % seed_count, a / seed_count) < std::pair(b % seed_count, b / seed_count);
+  });
 }
 
 }  // namespace cdpowder

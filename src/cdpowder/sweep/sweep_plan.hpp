@@ -59,4 +59,10 @@ SweepPlan read_sweep_plan_text(std::string_view text, std::string_view source_na
                                const std::filesystem::path& base_dir,
                                const std::vector<std::string>& extra_fixed = {});
 
+/// Sorts run indices (into plan.runs) seed by seed: every point's run with the first seed
+/// comes before any point's run with the second, points in plan order within a seed. A
+/// sweep stopped early (paper-scale sweeps outlast a sitting) then has every point, and
+/// error bars wherever it has any.
+void order_seed_by_seed(const SweepPlan& plan, std::vector<std::size_t>& runs);
+
 }  // namespace cdpowder
