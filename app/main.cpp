@@ -73,6 +73,11 @@ int main(int argc, char** argv) {
   sweep_cmd->add_flag("--quiet,-q", sweep.quiet, "No progress lines on stderr");
   sweep_cmd->add_flag("--dry-run", sweep.dry_run,
                       "List the runs and whether each is finished; run nothing");
+  sweep_cmd
+      ->add_option("--reuse", sweep.reuse,
+                   "Another sweep folder: copy in its finished runs whose scene is exactly a "
+                   "run's own instead of running them again (repeatable)")
+      ->check(CLI::ExistingDirectory);
 
   try {
     cli.parse(argc, argv);

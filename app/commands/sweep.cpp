@@ -211,14 +211,33 @@ int run_sweep(const SweepOptions& options) {
       pending.push_back(i);
     }
   }
+  // runs another sweep has already done, for exactly the same scene
+  std::map<std::size_t, std::filesystem::path> reused;
+  if (!options.reuse.empty()) {
+    std::map<std::string, std::filesystem::path> elsewhere;
+    for (const std::filesystem::path& folder : options.reuse) {
+      elsewhere.merge(finished_runs_by_scene(folder));
+    }
+    std::vector<std::size_t> still_pending;
+    for (const std::size_t i : pending) {
+      const auto found = elsewhere.find(scene_texts[i]);
+      if (found == elsewhere.end()) {
+        still_pending.push_back(i);
+      } else {
+        reused.emplace(i, found->second);
+      }
+    }
+    pending.swap(still_pending);
+  }
   order_seed_by_seed(plan, pending);
   const std::size_t total = plan.runs.size();
   if (options.dry_run) {
-    std::printf("%zu runs (%zu points × %zu seeds), %zu finished, %zu to run\n", total,
-                plan.points.size(), plan.seeds.size(), total - pending.size(), pending.size());
+    std::printf("%zu runs (%zu points × %zu seeds), %zu finished, %zu reused, %zu to run\n", total,
+                plan.points.size(), plan.seeds.size(), total - pending.size() - reused.size(),
+                reused.size(), pending.size());
     for (std::size_t i = 0; i < total; ++i) {
-      std::printf("%s  %s\n", records[i] ? "done   " : "pending",
-                  plan.runs[i].folder.generic_string().c_str());
+      const char* state = records[i] ? "done   " : reused.count(i) > 0 ? "reuse  " : "pending";
+      std::printf("%s  %s\n", state, plan.runs[i].folder.generic_string().c_str());
     }
     return 0;
   }
@@ -229,6 +248,15 @@ int run_sweep(const SweepOptions& options) {
   // SIGCHLD would let the kernel reap them unseen)
   signal(SIGCHLD, SIG_DFL);
   write_file_atomically(options.out / "sweep.toml", read_text(options.sweep));
+  for (const auto& [i, source] : reused) {
+    const std::filesystem::path folder = options.out / plan.runs[i].folder;
+    std::filesystem::create_directories(folder);
+    write_file_atomically(folder / "summary.json", read_text(source));
+    write_file_atomically(
+        folder / "log.txt",
+        fmt::format("reused from {}\n", std::filesystem::absolute(source).string()));
+    records[i] = read_run_record(folder / "summary.json");
+  }
   write_tables(options, plan, records);
 
   const int jobs = options.jobs > 0
@@ -236,8 +264,10 @@ int run_sweep(const SweepOptions& options) {
                        : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
   if (!options.quiet) {
     std::fprintf(stderr,
-                 "sweep: %zu runs (%zu points × %zu seeds), %zu already finished, %d jobs\n", total,
-                 plan.points.size(), plan.seeds.size(), total - pending.size(), jobs);
+                 "sweep: %zu runs (%zu points × %zu seeds), %zu already finished (%zu of them "
+                 "reused), %d jobs\n",
+                 total, plan.points.size(), plan.seeds.size(), total - pending.size(),
+                 reused.size(), jobs);
   }
   const auto start = std::chrono::steady_clock::now();
   RunningRuns guard;

@@ -18,6 +18,9 @@ struct SweepOptions {
   int jobs = 0;                        ///< runs at a time; 0 = the number of cores
   bool quiet = false;                  ///< no progress lines
   bool dry_run = false;                ///< list the runs and their state, run nothing
+  /// --reuse: other sweep folders whose finished runs with exactly a run's scene are copied
+  /// in instead of being run again
+  std::vector<std::filesystem::path> reuse;
 };
 
 /// Checks every run's scene first (ConfigError, nothing written), then runs what is missing.

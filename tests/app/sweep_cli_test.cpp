@@ -102,13 +102,58 @@ TEST_F(SweepCli, RestartRunsOnlyWhatIsMissing) {
   // a changed fixed override changes every run's scene: nothing is reused
   const ProcessResult changed =
       run_cdpowder(command + " --dry-run --set solver.tolerance=1e-5", scratch_);
-  EXPECT_THAT(changed.out, HasSubstr("0 finished, 8 to run"));
+  EXPECT_THAT(changed.out, HasSubstr("0 finished, 0 reused, 8 to run"));
+}
+
+TEST_F(SweepCli, ReuseCopiesInRunsOfAnotherSweepWithExactlyTheSameScene) {
+  const fs::path first = scratch_ / "first";
+  ASSERT_EQ(run_cdpowder("sweep " + write_short_sweep(scratch_).string() + " --out " +
+                             first.string() + " -j 2",
+                         scratch_)
+                .status,
+            0);
+  // a second sweep: μt ∈ {1.0, 0.5} at μn = 0 (fixed, so its folders are named differently),
+  // seeds 1 and 2. (1.0, 0.0) is in the first sweep with both seeds; (0.5, 0.0) is not.
+  const fs::path second_file = scratch_ / "second.toml";
+  std::ofstream(second_file)
+      << "scene = \"" << kQuick.string() << "\"\n"
+      << "seeds = 2\nset = [\"run.max_duration=5\", \"contact.mu_twist=0.0\"]\n"
+      << "[grid.contact]\nmu_roll = [1.0, 0.5]\n";
+  const fs::path second = scratch_ / "second";
+  const std::string command = "sweep " + second_file.string() + " --out " + second.string() +
+                              " -j 2 --reuse " + first.string();
+  const ProcessResult dry = run_cdpowder(command + " --dry-run", scratch_);
+  ASSERT_EQ(dry.status, 0) << dry.err;
+  EXPECT_THAT(dry.out, HasSubstr("0 finished, 2 reused, 2 to run"));
+  EXPECT_FALSE(fs::exists(second));  // a dry run writes nothing
+  const ProcessResult r = run_cdpowder(command, scratch_);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("2 already finished (2 of them reused)"));
+  EXPECT_THAT(r.out, HasSubstr("4 of 4 runs finished"));
+  EXPECT_EQ(data_rows(second / "results.csv"), 4U);
+  for (const char* seed : {"seed_1", "seed_2"}) {
+    const fs::path copied = second / "runs" / "contact.mu_roll=1.0" / seed;
+    EXPECT_EQ(
+        slurp(copied / "summary.json"),
+        slurp(first / "runs" / "contact.mu_roll=1.0,contact.mu_twist=0.0" / seed / "summary.json"));
+    EXPECT_THAT(slurp(copied / "log.txt"), HasSubstr("reused from"));
+    EXPECT_TRUE(fs::exists(second / "runs" / "contact.mu_roll=0.5" / seed / "particles.csv"));
+  }
+  // a reuse folder that does not exist is refused
+  const ProcessResult missing =
+      run_cdpowder("sweep " + second_file.string() + " --out " + second.string() + " --reuse " +
+                       (scratch_ / "nowhere").string(),
+                   scratch_);
+  EXPECT_NE(missing.status, 0);
+  EXPECT_THAT(missing.err, HasSubstr("nowhere"));
 }
 
 TEST_F(SweepCli, InterruptKeepsFinishedResultsAndLeavesTheRestPending) {
-  // one long run (the quick example to its blocked state, ≈ 10 s); SIGTERM once it started
+  // one long run (the quick example with a blocked-state window longer than its time budget,
+  // so it cannot end before the signal); SIGTERM once it started
   const fs::path sweep = scratch_ / "sweep.toml";
-  std::ofstream(sweep) << "scene = \"" << kQuick.string() << "\"\nseeds = 2\n";
+  std::ofstream(sweep) << "scene = \"" << kQuick.string() << "\"\nseeds = 2\n"
+                       << "set = [\"run.blocked.window=1e4\"]\n";
   const fs::path out = scratch_ / "out";
   const fs::path started = out / "runs" / "base" / "seed_1" / "scene.toml";
   const fs::path script = scratch_ / "interrupt.sh";
@@ -135,7 +180,7 @@ TEST_F(SweepCli, InterruptKeepsFinishedResultsAndLeavesTheRestPending) {
   EXPECT_FALSE(fs::exists(out / "runs" / "base" / "seed_2"));  // never started
   const ProcessResult listed =
       run_cdpowder("sweep " + sweep.string() + " --out " + out.string() + " --dry-run", scratch_);
-  EXPECT_THAT(listed.out, HasSubstr("0 finished, 2 to run"));
+  EXPECT_THAT(listed.out, HasSubstr("0 finished, 0 reused, 2 to run"));
 }
 
 TEST_F(SweepCli, BadSweepFilesAreRefusedBeforeAnythingIsWritten) {

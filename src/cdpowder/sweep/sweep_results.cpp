@@ -205,4 +205,19 @@ std::string points_csv(const SweepPlan& plan, const std::vector<std::optional<Ru
   return out;
 }
 
+std::map<std::string, std::filesystem::path> finished_runs_by_scene(
+    const std::filesystem::path& sweep_folder) {
+  std::map<std::string, std::filesystem::path> found;
+  const std::filesystem::path runs = sweep_folder / "runs";
+  std::error_code error;
+  if (!std::filesystem::is_directory(runs, error)) return found;
+  for (auto it = std::filesystem::recursive_directory_iterator(runs, error);
+       !error && it != std::filesystem::recursive_directory_iterator(); it.increment(error)) {
+    if (it->path().filename() != "summary.json") continue;
+    const std::optional<RunRecord> record = read_run_record(it->path());
+    if (record && !record->interrupted) found.emplace(record->scene_toml, it->path());
+  }
+  return found;
+}
+
 }  // namespace cdpowder

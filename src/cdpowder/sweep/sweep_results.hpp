@@ -5,6 +5,7 @@
 #include "cdpowder/sweep/sweep_plan.hpp"
 
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -52,5 +53,11 @@ std::string results_csv(const SweepPlan& plan, const std::vector<std::optional<R
 /// n < 2 for the error, n = 0 for the mean).
 std::string points_csv(const SweepPlan& plan, const std::vector<std::optional<RunRecord>>& records,
                        const std::string& header);
+
+/// Every finished (not interrupted) run under a sweep folder's `runs/`, by its resolved
+/// scene text: where another sweep can reuse a run whose scene is exactly its own
+/// (`cdpowder sweep --reuse`). Unreadable summaries are skipped.
+std::map<std::string, std::filesystem::path> finished_runs_by_scene(
+    const std::filesystem::path& sweep_folder);
 
 }  // namespace cdpowder
