@@ -216,7 +216,12 @@ int run_sweep(const SweepOptions& options) {
   if (!options.reuse.empty()) {
     std::map<std::string, std::filesystem::path> elsewhere;
     for (const std::filesystem::path& folder : options.reuse) {
-      elsewhere.merge(finished_runs_by_scene(folder));
+      std::map<std::string, std::filesystem::path> found = finished_runs_by_scene(folder);
+      if (found.empty() && !options.quiet) {
+        std::fprintf(stderr, "sweep: --reuse %s: no finished runs under %s\n", folder.c_str(),
+                     (folder / "runs").c_str());
+      }
+      elsewhere.merge(found);
     }
     std::vector<std::size_t> still_pending;
     for (const std::size_t i : pending) {
@@ -248,15 +253,28 @@ int run_sweep(const SweepOptions& options) {
   // SIGCHLD would let the kernel reap them unseen)
   signal(SIGCHLD, SIG_DFL);
   write_file_atomically(options.out / "sweep.toml", read_text(options.sweep));
+  std::size_t reused_count = 0;
   for (const auto& [i, source] : reused) {
+    // an earlier, unfinished attempt may have left its outputs here: they are not this run's
     const std::filesystem::path folder = options.out / plan.runs[i].folder;
+    std::filesystem::remove_all(folder);
     std::filesystem::create_directories(folder);
     write_file_atomically(folder / "summary.json", read_text(source));
     write_file_atomically(
         folder / "log.txt",
         fmt::format("reused from {}\n", std::filesystem::absolute(source).string()));
     records[i] = read_run_record(folder / "summary.json");
+    if (is_reusable(records[i], scene_texts[i])) {
+      ++reused_count;
+    } else {  // the copy failed: run it after all
+      records[i].reset();
+      pending.push_back(i);
+      if (!options.quiet) {
+        std::fprintf(stderr, "sweep: could not reuse %s; it runs again\n", source.c_str());
+      }
+    }
   }
+  order_seed_by_seed(plan, pending);
   write_tables(options, plan, records);
 
   const int jobs = options.jobs > 0
@@ -266,8 +284,8 @@ int run_sweep(const SweepOptions& options) {
     std::fprintf(stderr,
                  "sweep: %zu runs (%zu points × %zu seeds), %zu already finished (%zu of them "
                  "reused), %d jobs\n",
-                 total, plan.points.size(), plan.seeds.size(), total - pending.size(),
-                 reused.size(), jobs);
+                 total, plan.points.size(), plan.seeds.size(), total - pending.size(), reused_count,
+                 jobs);
   }
   const auto start = std::chrono::steady_clock::now();
   RunningRuns guard;

@@ -145,17 +145,17 @@ TEST_F(CompactCli, DepositFeedsACompactionThatStartsFromTheSameSpheres) {
 
 TEST_F(CompactCli, InterruptWritesEveryOutputFlaggedInterrupted) {
   // SIGINT once the run has started (scene.toml is written just before the first step):
-  // the step finishes, then every output is written. The blocked-state window is longer
-  // than the time budget, so the run cannot end on its own before the signal.
+  // the step finishes, then every output is written. No piston is ever that slow
+  // (piston_speed 1e-300), so the run cannot end on its own before the signal.
   const fs::path out = scratch_ / "out";
   const fs::path script = scratch_ / "interrupt.sh";
-  std::ofstream(script) << CDPOWDER_EXE << " compact " << kQuick.string() << " --out "
-                        << out.string()
-                        << " --quiet --set run.max_duration=1e5 --set run.blocked.window=2e5 &\n"
-                        << "pid=$!\n"
-                        << "for i in $(seq 1 1200); do [ -f " << (out / "scene.toml").string()
-                        << " ] && break; sleep 0.05; done\n"
-                        << "sleep 0.5\nkill -INT $pid\nwait $pid\n";
+  std::ofstream(script)
+      << CDPOWDER_EXE << " compact " << kQuick.string() << " --out " << out.string()
+      << " --quiet --set run.max_duration=1e5 --set run.blocked.piston_speed=1e-300 &\n"
+      << "pid=$!\n"
+      << "for i in $(seq 1 1200); do [ -f " << (out / "scene.toml").string()
+      << " ] && break; sleep 0.05; done\n"
+      << "sleep 0.5\nkill -INT $pid\nwait $pid\n";
   const ProcessResult r = cdpowder::testing::run_process("sh", script.string(), scratch_);
   EXPECT_EQ(r.status, 1) << r.err;
   EXPECT_THAT(r.out, HasSubstr("interrupted=yes"));

@@ -126,9 +126,14 @@ TEST_F(SweepCli, ReuseCopiesInRunsOfAnotherSweepWithExactlyTheSameScene) {
   ASSERT_EQ(dry.status, 0) << dry.err;
   EXPECT_THAT(dry.out, HasSubstr("0 finished, 2 reused, 2 to run"));
   EXPECT_FALSE(fs::exists(second));  // a dry run writes nothing
+  // an earlier attempt's leftovers in a folder that a reused run takes over
+  const fs::path stale = second / "runs" / "contact.mu_roll=1.0" / "seed_1" / "particles.csv";
+  fs::create_directories(stale.parent_path());
+  std::ofstream(stale) << "not this run's\n";
   const ProcessResult r = run_cdpowder(command, scratch_);
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_THAT(r.err, HasSubstr("2 already finished (2 of them reused)"));
+  EXPECT_FALSE(fs::exists(stale));
   EXPECT_THAT(r.out, HasSubstr("4 of 4 runs finished"));
   EXPECT_EQ(data_rows(second / "results.csv"), 4U);
   for (const char* seed : {"seed_1", "seed_2"}) {
@@ -149,11 +154,11 @@ TEST_F(SweepCli, ReuseCopiesInRunsOfAnotherSweepWithExactlyTheSameScene) {
 }
 
 TEST_F(SweepCli, InterruptKeepsFinishedResultsAndLeavesTheRestPending) {
-  // one long run (the quick example with a blocked-state window longer than its time budget,
-  // so it cannot end before the signal); SIGTERM once it started
+  // one long run (the quick example with a piston-speed bound no piston meets, so it cannot
+  // block before the signal); SIGTERM once it started
   const fs::path sweep = scratch_ / "sweep.toml";
   std::ofstream(sweep) << "scene = \"" << kQuick.string() << "\"\nseeds = 2\n"
-                       << "set = [\"run.blocked.window=1e4\"]\n";
+                       << "set = [\"run.blocked.piston_speed=1e-300\"]\n";
   const fs::path out = scratch_ / "out";
   const fs::path started = out / "runs" / "base" / "seed_1" / "scene.toml";
   const fs::path script = scratch_ / "interrupt.sh";

@@ -233,6 +233,21 @@ TEST_F(SceneReader, RejectsMinSweepsAboveMaxSweeps) {
               AllOf(HasSubstr("solver.min_sweeps: got 50"), HasSubstr("solver.max_sweeps = 10")));
 }
 
+TEST_F(SceneReader, RejectsAFinalSolveWithoutSweeps) {
+  const auto found = issues(std::string(kParticles) + "[run.blocked]\nfinal_max_sweeps = 0\n");
+  ASSERT_EQ(found.size(), 1U);
+  EXPECT_THAT(found[0], HasSubstr("run.blocked.final_max_sweeps: got 0"));
+}
+
+TEST_F(SceneReader, RejectsABlockedWindowOfMoreThanAMillionSteps) {
+  const auto found = issues(std::string(kParticles) +
+                            "[piston]\nenabled = true\npressure = 0.0025\n"
+                            "[run]\nuntil_blocked = true\n[run.blocked]\nwindow = 2e4\n");
+  ASSERT_EQ(found.size(), 1U);
+  EXPECT_THAT(found[0],
+              AllOf(HasSubstr("run.blocked.window: got 20000"), HasSubstr("solver.dt = 0.01")));
+}
+
 TEST_F(SceneReader, ReportsEveryIssueOfAFileAtOnce) {
   const auto found = issues("[contact]\nmu = -1\nmu_roll = -1\n[solver]\ndt = -1\nbad = 1\n");
   // Three ranges, one unknown key, and the missing [particles] file.

@@ -154,17 +154,53 @@ TEST(BlockedStateDetector, OneNoisyStepInABalancedWindowStillBlocks) {
 
 TEST(BlockedStateDetector, TheWindowSlidesPastAnImbalancedStretch) {
   BlockedStateDetector detector(criteria(), kDt);
-  EXPECT_FALSE(window_with_imbalances(detector, {kJustAbove * kForceBalance}));
-  // balanced steps push the imbalanced ones out of the window one by one
-  const World world = piston_world();
-  const StepDiagnostics balanced = at_rest();
-  std::int64_t extra = 0;
-  while (!detector.update(world, balanced)) {
-    ++extra;
-    ASSERT_LT(extra, kWindowSteps);
+  // three windows at twice the threshold, then balanced steps
+  for (int w = 0; w < 3; ++w) {
+    EXPECT_FALSE(window_with_imbalances(detector, {2.0 * kForceBalance}));
   }
-  // after one balanced step the mean is (W − 1) × 1.05 × threshold / W = 0.945 × threshold
-  EXPECT_EQ(extra, 0);
+  const World world = piston_world();
+  std::int64_t balanced = 0;
+  while (!detector.update(world, at_rest())) {
+    ++balanced;
+    ASSERT_LT(balanced, 4 * kWindowSteps);
+  }
+  ++balanced;
+  // a sliding mean over the last W = 10 steps, (10 − k) × 2 / 10 × threshold, falls below
+  // the threshold at k = 6 balanced steps; a mean over all 30 + k steps held would need 31
+  EXPECT_EQ(balanced, 6);
+}
+
+TEST(BlockedStateDetector, MeanImbalanceIsOverTheStepsHeldWhileFewerThanAWindow) {
+  BlockedStateDetector detector(criteria(), kDt);
+  const World world = piston_world();
+  StepDiagnostics d = at_rest();
+  d.piston_imbalance = 4.0;
+  detector.update(world, d);
+  d.piston_imbalance = 2.0;
+  detector.update(world, d);
+  EXPECT_DOUBLE_EQ(detector.mean_force_imbalance(), 3.0);
+  // a reset (the piston moved) starts the mean afresh
+  World moving = piston_world();
+  moving.walls.piston.velocity = -1.0;
+  detector.update(moving, d);
+  EXPECT_EQ(detector.steps_held(), 0);
+  EXPECT_DOUBLE_EQ(detector.mean_force_imbalance(), 0.0);
+  d.piston_imbalance = 1.0;
+  detector.update(world, d);
+  EXPECT_DOUBLE_EQ(detector.mean_force_imbalance(), 1.0);
+}
+
+TEST(BlockedStateDetector, AOneStepWindowJudgesEachStepAlone) {
+  BlockedCriteria c = criteria();
+  c.window = kDt;  // one step
+  BlockedStateDetector detector(c, kDt);
+  World world = piston_world();
+  StepDiagnostics d = at_rest();
+  d.piston_imbalance = 2.0 * kForceBalance;
+  EXPECT_FALSE(detector.update(world, d));
+  world.walls.piston.height = kHeight * (1.0 + 0.5);  // a jump is not a drift within one step
+  d.piston_imbalance = 0.5 * kForceBalance;
+  EXPECT_TRUE(detector.update(world, d));
 }
 
 TEST(BlockedStateDetector, HeightDriftJustBelowThresholdKeepsCounting) {

@@ -71,10 +71,10 @@ TEST(NlgsFeasibility, AcceleratedStepsEndOnForcesThatObeyTheContactLaws) {
 // The compaction front of a torque-free cohesive packing (the quick example's 100 spheres at
 // (μt, μn) = (0, 0)): many contacts slide at the Coulomb limit and roll freely while the
 // piston drives the packing down, so Anderson's affine combinations of sweeps leave the
-// friction cone. Steps capped on a mixing sweep (max_sweeps a multiple of the mixing
-// interval) and steps that converge at a mixing sweep must still end within the laws. (With
-// the mixing before the stopping test, as before 5fa1f41, the first capped step already
-// leaves the cone by up to 5 %.)
+// friction cone. Steps capped right after a mixing sweep (max_sweeps 9 and 30, multiples
+// of the mixing interval 3) and steps that converge (cap 200) must end within the laws.
+// (With the mixing before the stopping test, as before 5fa1f41, the first capped step
+// already leaves the cone by up to 5 %.)
 TEST(NlgsFeasibility, CompactionFrontStepsEndOnForcesThatObeyTheContactLaws) {
   const Scene scene = read_scene_text(R"(
 [system]
@@ -115,7 +115,9 @@ max_sweeps = 200
       expect_all_within_laws(work.contacts, k);
       if (::testing::Test::HasFailure()) return;
     }
-    EXPECT_GT(capped, 0) << "max_sweeps " << max_sweeps;  // the front is hard
+    if (max_sweeps < 200) {
+      EXPECT_GT(capped, 0) << "max_sweeps " << max_sweeps;  // the caps are reached
+    }
   }
 }
 

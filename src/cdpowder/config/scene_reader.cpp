@@ -203,6 +203,15 @@ void check_consistency(TableReader& in, const Scene& s, const SceneReadOptions& 
     }
   }
   const SolverSettings& solver = s.step.solver;
+  // the detector keeps the last window of piston heights and imbalances (16 bytes a step)
+  constexpr double kMaxWindowSteps = 1e6;
+  if (s.run.until_blocked && s.run.blocked.window / solver.dt > kMaxWindowSteps &&
+      !in.failed("run.blocked.window") && !in.failed("solver.dt")) {
+    in.add_issue("run.blocked.window", where("run.blocked.window"),
+                 fmt::format("got {}, expected at most 1e6 steps of solver.dt = {}, i.e. {}",
+                             s.run.blocked.window, solver.dt, kMaxWindowSteps * solver.dt),
+                 in_file("run.blocked.window"));
+  }
   if (solver.min_sweeps > solver.max_sweeps && !in.failed("solver.min_sweeps") &&
       !in.failed("solver.max_sweeps")) {
     in.add_issue("solver.min_sweeps", where("solver.min_sweeps"),

@@ -5,10 +5,12 @@
 //   * the piston height drifts by at most height_change × Z_P from the window's first step,
 //   * the window mean of the piston's force imbalance |Σ R·e_z − F|/F is below
 //     force_balance.
-// The force balance is averaged, as [SUK09] average the velocity and acceleration of their
-// stopping test: at a finite solver tolerance a resting piston's per-step imbalance is
-// solver noise (measured at tolerance 1e-3 on the paper's (1,1) packing at rest: median
-// 2e-3, single steps up to 3e-2), while its window mean is what the piston feels.
+// The force balance is averaged (Shaebani, Unger & Kertész 2009 average their stopping test
+// too): at a finite solver tolerance a resting piston's per-step imbalance is solver noise
+// (measured at tolerance 1e-3 on the paper's (1,1) packing at rest: median 2e-3, single
+// steps up to 3e-2), so single noisy steps must not restart the window. The mean is of
+// the absolute imbalance, so it does not average the noise away: its threshold bounds the
+// noise's typical size.
 #pragma once
 
 #include "cdpowder/analysis/step_diagnostics.hpp"

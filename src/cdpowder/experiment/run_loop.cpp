@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <optional>
 
 namespace cdpowder {
 
@@ -18,10 +19,14 @@ RunResult run_simulation(World& world, StepWorkspace& work, const StepSettings& 
   const double budget = run.until_blocked ? run.max_duration : run.duration;
   // step count from the budget, so round-off in t never adds or drops a step
   const auto max_steps = static_cast<std::int64_t>(std::llround(budget / dt));
-  BlockedStateDetector detector(run.blocked, dt);
+  std::optional<BlockedStateDetector> detector;
+  if (run.until_blocked) detector.emplace(run.blocked, dt);
 
   const auto account = [&](const StepReport& report) {
     result.last = report;
+    // the static final solve of a blocked run is a measurement, not a step of the dynamics:
+    // it is reported as accuracy.final_solve, outside the step and sweep counts
+    if (result.blocked) return;
     ++result.steps;
     result.total_sweeps += report.solver.sweeps;
     if (!report.solver.converged) ++result.capped_steps;
@@ -35,8 +40,9 @@ RunResult run_simulation(World& world, StepWorkspace& work, const StepSettings& 
 
   for (std::int64_t k = 0; k < max_steps; ++k) {
     account(step(world, work, settings));
-    const bool blocked = run.until_blocked && detector.update(world, result.last.diagnostics);
     const double fraction = static_cast<double>(k + 1) / static_cast<double>(max_steps);
+    const bool blocked = detector && detector->update(world, result.last.diagnostics);
+    if (observer) observer(world, result.last, fraction);
     if (blocked) {
       result.blocked = true;
       // The packing is at rest: measure it in static equilibrium. Its residual velocities
@@ -52,11 +58,15 @@ RunResult run_simulation(World& world, StepWorkspace& work, const StepSettings& 
       final_settings.solver.max_sweeps = run.blocked.final_max_sweeps;
       final_settings.solver.min_sweeps =
           std::min(settings.solver.min_sweeps, run.blocked.final_max_sweeps);
-      account(step(world, work, final_settings));
-      result.final_solve = result.last.solver;
+      const StepReport final_step = step(world, work, final_settings);
+      account(final_step);
+      for (std::size_t s = 0; s < result.stage_seconds.size(); ++s) {
+        result.stage_seconds[s] += final_step.times[s];
+      }
+      result.final_solve = final_step.solver;
+      if (observer) observer(world, result.last, fraction);
+      break;
     }
-    if (observer) observer(world, result.last, fraction);
-    if (blocked) break;
     if (stop_requested && stop_requested()) {
       result.interrupted = true;
       break;

@@ -25,13 +25,15 @@ struct RunResult {
   double wall_seconds = 0.0;
   StageTimes stage_seconds{};  ///< summed over all steps
   StepReport last;             ///< report of the final step
-  /// The solve of the step after the blocked state was detected, at the final tolerance
-  /// (BlockedCriteria::final_tolerance); empty unless blocked.
+  /// The static final solve of a blocked run (velocities zeroed, one step at
+  /// BlockedCriteria::final_tolerance); empty unless blocked. Not counted in steps,
+  /// total_sweeps or capped_steps; its time is in wall_seconds and stage_seconds.
   std::optional<SolverStats> final_solve;
 };
 
 /// Called after every step with the world after the step, its report, and the fraction of
-/// the run's time budget used (duration, or max_duration for until_blocked runs).
+/// the run's time budget used (duration, or max_duration for until_blocked runs); once more
+/// after a blocked run's static final solve, with the same fraction.
 using StepObserver = std::function<void(const World&, const StepReport&, double fraction)>;
 
 /// Asked after every step; true ends the run there, as a complete but interrupted run.

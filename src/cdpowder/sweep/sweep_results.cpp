@@ -211,7 +211,9 @@ std::map<std::string, std::filesystem::path> finished_runs_by_scene(
   const std::filesystem::path runs = sweep_folder / "runs";
   std::error_code error;
   if (!std::filesystem::is_directory(runs, error)) return found;
-  for (auto it = std::filesystem::recursive_directory_iterator(runs, error);
+  // a folder that cannot be read is skipped, not the end of the scan
+  for (auto it = std::filesystem::recursive_directory_iterator(
+           runs, std::filesystem::directory_options::skip_permission_denied, error);
        !error && it != std::filesystem::recursive_directory_iterator(); it.increment(error)) {
     if (it->path().filename() != "summary.json") continue;
     const std::optional<RunRecord> record = read_run_record(it->path());
