@@ -260,16 +260,30 @@ def main():
     md.append("")
     if variants:
         md += ["## Points that change other keys", ""]
-        md.append(fmt_row(["point", "E", "n", "σzz/p", "σzz+/p", "σzz−/p", "wall [s]"]))
-        md.append(fmt_row(["---"] * 7))
+        md.append("ΔE and Δσzz+/p are against the point with the same (μt, μn) and nothing "
+                  "else changed, paired by seed (– where the sweep has no such point).")
+        md.append("")
+        md.append(fmt_row(["point", "E", "ΔE", "n", "σzz/p", "σzz+/p", "Δσzz+/p", "σzz−/p",
+                           "wall [s]"]))
+        md.append(fmt_row(["---"] * 9))
         for name in sorted(variants):
             seeds = variants[name]
 
             def col(c, seeds=seeds):
                 return Stat([num(r[c]) for r in seeds.values()])
-            md.append(fmt_row([f"`{name}`", col("porosity").text(4), str(len(seeds)),
+
+            def against_base(c, seeds=seeds):
+                first = next(iter(seeds.values()))
+                if first.get(MU_T, "") == "" or first.get(MU_N, "") == "":
+                    return Stat([])
+                base = runs.get((float(first[MU_T]), float(first[MU_N])), {})
+                return Stat([num(seeds[k][c]) - num(base[k][c])
+                             for k in sorted(set(seeds) & set(base))])
+            md.append(fmt_row([f"`{name}`", col("porosity").text(4),
+                               against_base("porosity").text(4), str(len(seeds)),
                                col("sigma_zz_over_p").text(3),
                                col("sigma_zz_compressive_over_p").text(2),
+                               against_base("sigma_zz_compressive_over_p").text(2),
                                col("sigma_zz_tensile_over_p").text(2),
                                col("wall_seconds").text(0)]))
         md.append("")
