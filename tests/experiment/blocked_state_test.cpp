@@ -78,7 +78,7 @@ std::int64_t held_after_probe(Criterion criterion, double factor) {
       world.walls.piston.velocity = -factor * kPistonSpeed;  // moving down: |V_P| counts
       break;
     case Criterion::SphereSpeed:
-      diagnostics.max_speed = factor * kSphereSpeed;
+      diagnostics.rms_speed = factor * kSphereSpeed;
       break;
     case Criterion::HeightDrift:
       world.walls.piston.height = kHeight;
@@ -231,6 +231,17 @@ TEST(BlockedStateDetector, PistonCreepingJustBelowTheDriftBoundBlocks) {
 
 TEST(BlockedStateDetector, PistonCreepingJustAboveTheDriftBoundNeverBlocks) {
   EXPECT_FALSE(creeping_piston_blocks(kJustAbove, 20));
+}
+
+TEST(BlockedStateDetector, OneFastSphereInAPackingAtRestDoesNotPreventBlocking) {
+  BlockedStateDetector detector(criteria(), kDt);
+  const World world = piston_world();
+  StepDiagnostics d = at_rest();
+  d.max_speed = 0.1;                 // a rattler [R/t0]
+  d.rms_speed = 0.5 * kSphereSpeed;  // the packing as a whole at rest
+  bool blocked = false;
+  for (std::int64_t step = 0; step < kWindowSteps; ++step) blocked = detector.update(world, d);
+  EXPECT_TRUE(blocked);
 }
 
 TEST(BlockedStateDetector, DisabledPistonNeverBlocks) {

@@ -59,13 +59,18 @@ StepDiagnostics analyse_step(const World& world, const Contacts& contacts, const
   d.mean_overlap =
       d.closed_contacts > 0 ? overlap_sum / static_cast<double>(d.closed_contacts) : 0.0;
 
+  double moving_mass = 0.0;
+  double mass_v2 = 0.0;
   for (std::size_t i = 0; i < bodies.size(); ++i) {
     if (bodies.fixed[i] != 0) continue;
     const double v2 = bodies.velocity[i].squaredNorm();
     d.max_speed = std::max(d.max_speed, std::sqrt(v2));
+    moving_mass += bodies.mass(i);
+    mass_v2 += bodies.mass(i) * v2;
     d.kinetic_energy += 0.5 * bodies.mass(i) * v2 +
                         0.5 * bodies.inertia(i) * bodies.angular_velocity[i].squaredNorm();
   }
+  d.rms_speed = moving_mass > 0.0 ? std::sqrt(mass_v2 / moving_mass) : 0.0;
   if (piston.enabled) {
     d.kinetic_energy += 0.5 * piston.mass * piston.velocity * piston.velocity;
     if (piston.force > 0.0) {

@@ -19,6 +19,9 @@ struct StepDiagnostics {
   double max_overlap = 0.0;     ///< largest max(−g, 0) over all contacts, after the step [R]
   double kinetic_energy = 0.0;  ///< Σ ½ m v² + ½ I ω² + ½ M_P V_P² [F_coh R]
   double max_speed = 0.0;       ///< max |v_i| [R/t0]
+  /// mass-weighted RMS sphere speed √(Σ m_i v_i² / Σ m_i): whether the packing flows, which
+  /// one rattler does not decide [R/t0]
+  double rms_speed = 0.0;
   double piston_contact_force = 0.0;  ///< Σ R_c→P · e_z, upward push of the spheres [F_coh]
   double piston_imbalance = 0.0;      ///< |Σ R_c→P·e_z − F| / F (0 without a piston load)
   /// max over free spheres of the net force m|Δv|/Δt + net torque I|Δω|/(Δt r) of the step:

@@ -47,7 +47,7 @@ struct PistonConfig {
 struct BlockedCriteria {
   double window = 20.0;         ///< [t0]
   double piston_speed = 1e-7;   ///< |V_P| below [R/t0]
-  double sphere_speed = 1e-6;   ///< max |v_i| below [R/t0]
+  double sphere_speed = 1e-6;   ///< RMS sphere speed below (StepDiagnostics::rms_speed) [R/t0]
   double force_balance = 1e-3;  ///< |Σ R_c→P·e_z − F|/F below [-]
   double height_change = 1e-6;  ///< |ΔZ_P|/Z_P over the window below [-]
   /// Once blocked, one more step is solved to this tolerance (at most final_max_sweeps

@@ -39,7 +39,7 @@ bool BlockedStateDetector::update(const World& world, const StepDiagnostics& d) 
 
   const double drift = std::abs(piston.height - first_height) / std::abs(piston.height);
   const bool at_rest = piston.enabled && std::abs(piston.velocity) < criteria_.piston_speed &&
-                       d.max_speed < criteria_.sphere_speed && drift < criteria_.height_change;
+                       d.rms_speed < criteria_.sphere_speed && drift < criteria_.height_change;
   if (!at_rest) {
     held_ = 0;
     return false;

@@ -1,7 +1,10 @@
 // blocked_state.hpp — has the piston come to rest? (physics.md §9; Bartels et al. call
 // the static end state "blocked"). The packing is blocked once, over a sliding window of
 // steps (BlockedCriteria::window),
-//   * at every step |V_P| and the fastest sphere stay below their thresholds,
+//   * at every step |V_P| and the spheres' mass-weighted RMS speed stay below their
+//     thresholds (RMS, not the fastest sphere: a rattler flying through a pore of a
+//     resting packing, or a sphere rolling freely on a neighbour, does not make it flow;
+//     measured on paper-scale packings at rest: single spheres at up to 0.1 R/t0),
 //   * the piston height drifts by at most height_change × Z_P from the window's first step,
 //   * the window mean of the piston's force imbalance |Σ R·e_z − F|/F is below
 //     force_balance.

@@ -89,6 +89,7 @@ std::string summary_json(const Scene& scene, const World& world, const Contacts&
   }
   j["kinetic_energy"] = d.kinetic_energy;
   j["max_speed"] = d.max_speed;
+  j["rms_speed"] = d.rms_speed;
   j["run"] = {{"blocked", result.blocked},
               {"interrupted", result.interrupted},
               {"until_blocked", scene.run.until_blocked},
