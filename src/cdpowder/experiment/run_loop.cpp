@@ -24,9 +24,6 @@ RunResult run_simulation(World& world, StepWorkspace& work, const StepSettings& 
 
   const auto account = [&](const StepReport& report) {
     result.last = report;
-    // the static final solve of a blocked run is a measurement, not a step of the dynamics:
-    // it is reported as accuracy.final_solve, outside the step and sweep counts
-    if (result.blocked) return;
     ++result.steps;
     result.total_sweeps += report.solver.sweeps;
     if (!report.solver.converged) ++result.capped_steps;
@@ -58,12 +55,13 @@ RunResult run_simulation(World& world, StepWorkspace& work, const StepSettings& 
       final_settings.solver.max_sweeps = run.blocked.final_max_sweeps;
       final_settings.solver.min_sweeps =
           std::min(settings.solver.min_sweeps, run.blocked.final_max_sweeps);
-      const StepReport final_step = step(world, work, final_settings);
-      account(final_step);
+      // a measurement, not a step of the dynamics: reported as accuracy.final_solve, outside
+      // the step and sweep counts (its time is in stage_seconds)
+      result.last = step(world, work, final_settings);
       for (std::size_t s = 0; s < result.stage_seconds.size(); ++s) {
-        result.stage_seconds[s] += final_step.times[s];
+        result.stage_seconds[s] += result.last.times[s];
       }
-      result.final_solve = final_step.solver;
+      result.final_solve = result.last.solver;
       if (observer) observer(world, result.last, fraction);
       break;
     }
