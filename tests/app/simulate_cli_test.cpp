@@ -43,6 +43,10 @@ TEST_F(SimulateCli, WritesEveryOutputAndAResultLine) {
   EXPECT_EQ(summary["spheres"], 216);
   EXPECT_EQ(summary["run"]["steps"], 200);
   EXPECT_EQ(summary["scene"]["run"]["duration"], 2.0);
+  // a run that does not block has no static final solve: its forces are those of the last
+  // step of the dynamics, and the summary says so
+  EXPECT_FALSE(summary["run"]["blocked"].get<bool>());
+  EXPECT_TRUE(summary["accuracy"]["final_solve"].is_null());
   EXPECT_FALSE(summary["program"]["version"].get<std::string>().empty());
   // no temporary files are left behind
   for (const auto& entry : fs::directory_iterator(scratch_ / "out")) {

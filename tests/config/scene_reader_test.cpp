@@ -351,7 +351,8 @@ TEST_F(SceneReader, EffectiveTomlRereadsToTheSameScene) {
                            "[solver]\ntolerance = 1e-7\nvisit_order = \"fixed\"\nseed = 42\n"
                            "[piston]\nenabled = true\nforce = 1.5625\nheight = 40.25\n"
                            "[run]\nuntil_blocked = true\ntimeseries_every = 10\n",
-                       {"run.blocked.height_change=3e-6"});
+                       {"run.blocked.height_change=3e-6", "run.blocked.final_tolerance=1e-8",
+                        "run.blocked.final_max_sweeps=1234"});
   EXPECT_THAT(a.effective_toml, AllOf(HasSubstr("mu = 0.3\n"), HasSubstr("tolerance = 1e-07")));
   const Scene b = read_scene_text(a.effective_toml, "effective.toml", {}, "/elsewhere");
   EXPECT_EQ(b.effective_toml, a.effective_toml);
@@ -373,6 +374,8 @@ TEST_F(SceneReader, EffectiveTomlRereadsToTheSameScene) {
   EXPECT_TRUE(b.run.until_blocked);
   EXPECT_EQ(b.run.timeseries_every, 10);
   EXPECT_EQ(b.run.blocked.height_change, 3e-6);
+  EXPECT_EQ(b.run.blocked.final_tolerance, 1e-8);
+  EXPECT_EQ(b.run.blocked.final_max_sweeps, 1234);
   EXPECT_EQ(b.particles_file, a.particles_file);
 }
 
