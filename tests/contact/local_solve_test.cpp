@@ -171,5 +171,34 @@ TEST(ModeIndependence, RollingAndTorsionAtThresholdDoNotTouchSliding) {
   EXPECT_DOUBLE_EQ(std::abs(action.twisting_torque), 0.1);
 }
 
+// μ_t = 0 (the paper's (0, μn) axis): no rolling torque at all, however fast the spheres
+// roll, and every other mode and velocity exactly as with a vanishing threshold.
+TEST(ModeIndependence, WithoutRollingFrictionRollingIsFree) {
+  const auto visit = [](double roll_cap) {
+    SphereVelocity a = body(1.0);
+    SphereVelocity b = body(1.0);
+    b.linear = Vec3(0.001, 0.0, 0.0);
+    b.angular = Vec3(-5.0, 3.0, 0.2);  // rolling and torsion
+    PairProblem p = pair(Vec3::UnitZ(), 1.0, 1.0, a, b);
+    p.cohesion = 1.0;
+    p.mu = 0.3;
+    p.roll_cap = roll_cap;
+    p.twist_cap = 0.1;
+    ContactAction action;
+    solve_pair(p, action, a, b);
+    return std::pair{action, b};
+  };
+  const auto [action, b] = visit(0.0);
+  EXPECT_EQ(action.rolling_torque, Vec3::Zero());
+  EXPECT_FALSE(std::signbit(action.rolling_torque.x()));  // +0: no "-0" in the outputs
+  EXPECT_DOUBLE_EQ(std::abs(action.twisting_torque), 0.1);
+  const auto [limit_action, limit_b] = visit(1e-300);
+  EXPECT_EQ(action.normal_force, limit_action.normal_force);
+  EXPECT_EQ(action.tangential_force, limit_action.tangential_force);
+  EXPECT_EQ(action.twisting_torque, limit_action.twisting_torque);
+  EXPECT_EQ(b.linear, limit_b.linear);
+  EXPECT_EQ(b.angular, limit_b.angular);
+}
+
 }  // namespace
 }  // namespace cdpowder

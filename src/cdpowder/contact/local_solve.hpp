@@ -109,7 +109,12 @@ struct ModeBlock {
   const Vec3 Omega_1 = Omega + m.coupling * n.cross(dR_t);
   const double Omega_n = Omega_1.dot(n);
   const Vec3 Omega_t = Omega_1 - Omega_n * n;
-  const Vec3 T_t = clamp_to_disc(action.rolling_torque - m.inv_dt_w_r * Omega_t, m.roll_cap * S);
+  // Without rolling friction (μ_t = 0: the paper's (0, μn) axis and the (0,0) corner) the
+  // clamp would be a square root and a division to multiply by zero, a fifth of the
+  // kernel's time there: skip it. Same result up to the sign of zero components.
+  const Vec3 T_t = m.roll_cap > 0.0 ? clamp_to_disc(action.rolling_torque - m.inv_dt_w_r * Omega_t,
+                                                    m.roll_cap * S)
+                                    : Vec3::Zero().eval();
   const double T_n =
       clamp_to_interval(action.twisting_torque - m.inv_dt_w_r * Omega_n, m.twist_cap * S);
   const Vec3 dT_t = T_t - action.rolling_torque;
