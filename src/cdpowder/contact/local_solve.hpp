@@ -130,27 +130,63 @@ struct ModeBlock {
 
 }  // namespace detail
 
-/// One visit of a sphere–sphere contact. V = v_b + ω_b×l_b − v_a − ω_a×l_a (§5.1).
+/// Relative velocities of a pair's contact points: V = v_b + ω_b×l_b − v_a − ω_a×l_a (§5.1)
+/// and Ω = ω_b − ω_a.
+inline void pair_relative_velocity(const PairProblem& p, const SphereVelocity& a,
+                                   const SphereVelocity& b, Vec3& V, Vec3& Omega) {
+  V = (b.linear - a.linear) - (p.radius_a * a.angular + p.radius_b * b.angular).cross(p.normal);
+  Omega = b.angular - a.angular;
+}
+
+inline detail::ModeBlock pair_mode_block(const PairProblem& p, const SphereVelocity& a,
+                                         const SphereVelocity& b) {
+  return detail::ModeBlock{p.inv_dt_w_n,
+                           p.inv_dt_w_t,
+                           p.inv_dt_w_r,
+                           p.cohesion,
+                           p.mu,
+                           p.roll_cap,
+                           p.twist_cap,
+                           p.gap_rate,
+                           p.radius_a * a.dt_inverse_inertia - p.radius_b * b.dt_inverse_inertia,
+                           detail::torque_scale_sq(p.r_eff)};
+}
+
+/// One visit of a sphere–sphere contact.
 inline VisitChange solve_pair(const PairProblem& p, ContactAction& action, SphereVelocity& a,
                               SphereVelocity& b) {
-  const Vec3& n = p.normal;
-  const Vec3 V = (b.linear - a.linear) - (p.radius_a * a.angular + p.radius_b * b.angular).cross(n);
-  const Vec3 Omega = b.angular - a.angular;
-  const detail::ModeBlock m{p.inv_dt_w_n,
-                            p.inv_dt_w_t,
-                            p.inv_dt_w_r,
-                            p.cohesion,
-                            p.mu,
-                            p.roll_cap,
-                            p.twist_cap,
-                            p.gap_rate,
-                            p.radius_a * a.dt_inverse_inertia - p.radius_b * b.dt_inverse_inertia,
-                            detail::torque_scale_sq(p.r_eff)};
+  Vec3 V;
+  Vec3 Omega;
+  pair_relative_velocity(p, a, b, V, Omega);
   Vec3 dR;
   Vec3 dT;
-  const VisitChange out = detail::solve_modes(n, V, Omega, m, action, dR, dT);
+  const VisitChange out =
+      detail::solve_modes(p.normal, V, Omega, pair_mode_block(p, a, b), action, dR, dT);
   apply_pair_delta(p, dR, dT, a, b);
   return out;
+}
+
+/// Two visits of pair contacts that share no sphere, written side by side so that their
+/// independent dependency chains overlap: the same arithmetic, and the same result, as
+/// solve_pair(p, …) followed by solve_pair(q, …).
+inline void solve_two_pairs(const PairProblem& p, ContactAction& x, SphereVelocity& a,
+                            SphereVelocity& b, VisitChange& out_p, const PairProblem& q,
+                            ContactAction& y, SphereVelocity& c, SphereVelocity& d,
+                            VisitChange& out_q) {
+  Vec3 V_p;
+  Vec3 Omega_p;
+  Vec3 V_q;
+  Vec3 Omega_q;
+  pair_relative_velocity(p, a, b, V_p, Omega_p);
+  pair_relative_velocity(q, c, d, V_q, Omega_q);
+  Vec3 dR_p;
+  Vec3 dT_p;
+  Vec3 dR_q;
+  Vec3 dT_q;
+  out_p = detail::solve_modes(p.normal, V_p, Omega_p, pair_mode_block(p, a, b), x, dR_p, dT_p);
+  out_q = detail::solve_modes(q.normal, V_q, Omega_q, pair_mode_block(q, c, d), y, dR_q, dT_q);
+  apply_pair_delta(p, dR_p, dT_p, a, b);
+  apply_pair_delta(q, dR_q, dT_q, c, d);
 }
 
 /// One visit of a sphere–wall contact (wall = body a, sphere = body b, lever −R n):
