@@ -4,8 +4,91 @@
 #include <Eigen/Dense>
 
 #include <algorithm>
+#include <array>
+#include <type_traits>
+#include <utility>
 
 namespace cdpowder {
+
+namespace {
+
+/// Calls f(std::integral_constant<int, count>) for count < kUnrolled, so the loops below
+/// keep their per-slot sums in registers and unroll over the slots; larger counts run the
+/// generic loop (f(std::integral_constant<int, -1>)). The arithmetic, and its order for
+/// every sum, is the same either way: results are bit-identical.
+constexpr int kUnrolled = 10;
+
+template <class F, int... I>
+void dispatch_impl(int count, F&& f, std::integer_sequence<int, I...>) {
+  const bool found = ((count == I ? (f(std::integral_constant<int, I>{}), true) : false) || ...);
+  if (!found) f(std::integral_constant<int, -1>{});
+}
+
+template <class F>
+void dispatch_by_count(int count, F&& f) {
+  dispatch_impl(count, f, std::make_integer_sequence<int, kUnrolled>{});
+}
+
+/// Pass 1 of a mixing step: the new differences and their inner products with the stored
+/// ones, in one stream over memory.
+struct PassOne {
+  const double* x;
+  const double* g;
+  double* last_f;
+  double* last_g;
+  double* new_f;
+  double* new_g;
+  std::size_t n;
+
+  /// kCount = number of other slots, or −1 for a count known only at run time.
+  template <int kCount>
+  void run(const std::array<const double*, AndersonAccelerator::kMaxDepth>& other_f,
+           std::array<double, AndersonAccelerator::kMaxDepth>& cross_out,
+           std::array<double, AndersonAccelerator::kMaxDepth>& rhs_out, double& new_new_out,
+           double& new_rhs_out, int runtime_count) const {
+    const int count = kCount >= 0 ? kCount : runtime_count;
+    std::array<double, AndersonAccelerator::kMaxDepth> cross{};
+    std::array<double, AndersonAccelerator::kMaxDepth> rhs{};
+    double new_new = 0.0;
+    double new_rhs = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const double f = g[i] - x[i];
+      const double df = f - last_f[i];
+      new_f[i] = df;
+      new_g[i] = g[i] - last_g[i];
+      last_f[i] = f;
+      last_g[i] = g[i];
+      new_new += df * df;
+      new_rhs += df * f;
+      for (int j = 0; j < count; ++j) {
+        const double d = other_f[static_cast<std::size_t>(j)][i];
+        cross[static_cast<std::size_t>(j)] += df * d;
+        rhs[static_cast<std::size_t>(j)] += d * f;
+      }
+    }
+    cross_out = cross;
+    rhs_out = rhs;
+    new_new_out = new_new;
+    new_rhs_out = new_rhs;
+  }
+};
+
+/// Pass 2: next = g − Σ_a w_a ΔG_a, the terms subtracted in slot order.
+template <int kCount>
+void mix(const double* g, const std::array<const double*, AndersonAccelerator::kMaxDepth>& slot_g,
+         const std::array<double, AndersonAccelerator::kMaxDepth>& weights, int runtime_count,
+         double* next, std::size_t n) {
+  const int count = kCount >= 0 ? kCount : runtime_count;
+  for (std::size_t i = 0; i < n; ++i) {
+    double v = g[i];
+    for (int a = 0; a < count; ++a) {
+      v -= weights[static_cast<std::size_t>(a)] * slot_g[static_cast<std::size_t>(a)][i];
+    }
+    next[i] = v;
+  }
+}
+
+}  // namespace
 
 void AndersonAccelerator::set_depth(int depth) {
   depth_ = std::clamp(depth, 1, kMaxDepth);
@@ -63,21 +146,10 @@ bool AndersonAccelerator::extrapolate(const std::vector<double>& x, const std::v
   std::array<double, kMaxDepth> rhs{};    // ΔF_other[j]ᵀ f
   double new_new = 0.0;
   double new_rhs = 0.0;
-  for (std::size_t i = 0; i < n; ++i) {
-    const double f = g[i] - x[i];
-    const double df = f - last_f_[i];
-    new_f[i] = df;
-    new_g[i] = g[i] - last_g_[i];
-    last_f_[i] = f;
-    last_g_[i] = g[i];
-    new_new += df * df;
-    new_rhs += df * f;
-    for (int j = 0; j < n_others; ++j) {
-      const double d = other_f[static_cast<std::size_t>(j)][i];
-      cross[static_cast<std::size_t>(j)] += df * d;
-      rhs[static_cast<std::size_t>(j)] += d * f;
-    }
-  }
+  const PassOne pass{x.data(), g.data(), last_f_.data(), last_g_.data(), new_f, new_g, n};
+  dispatch_by_count(n_others, [&](auto count) {
+    pass.run<decltype(count)::value>(other_f, cross, rhs, new_new, new_rhs, n_others);
+  });
   const auto at = [](int s, int t) { return static_cast<std::size_t>(s * kMaxDepth + t); };
   gram_[at(slot, slot)] = new_new;
   for (int j = 0; j < n_others; ++j) {
@@ -111,15 +183,15 @@ bool AndersonAccelerator::extrapolate(const std::vector<double>& x, const std::v
 
   // pass 2: next = g − Σ γ_s ΔG_s
   std::array<const double*, kMaxDepth> slot_g{};
+  std::array<double, kMaxDepth> weights{};
   for (int a = 0; a < k; ++a) {
     slot_g[static_cast<std::size_t>(a)] =
         delta_g_.data() + static_cast<std::size_t>(others[static_cast<std::size_t>(a)]) * n;
+    weights[static_cast<std::size_t>(a)] = gamma(a);
   }
-  for (std::size_t i = 0; i < n; ++i) {
-    double v = g[i];
-    for (int a = 0; a < k; ++a) v -= gamma(a) * slot_g[static_cast<std::size_t>(a)][i];
-    next[i] = v;
-  }
+  dispatch_by_count(k, [&](auto count) {
+    mix<decltype(count)::value>(g.data(), slot_g, weights, k, next.data(), n);
+  });
   return true;
 }
 
