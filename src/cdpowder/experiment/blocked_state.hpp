@@ -13,7 +13,8 @@
 // (measured at tolerance 1e-3 on the paper's (1,1) packing at rest: median 2e-3, single
 // steps up to 3e-2), so single noisy steps must not restart the window. The mean is of
 // the absolute imbalance, so it does not average the noise away: its threshold bounds the
-// noise's typical size.
+// noise's typical size. When a whole window is at rest but that mean stays too high, the
+// run loop tests the balance on a static solve instead (run_loop.cpp).
 #pragma once
 
 #include "cdpowder/analysis/step_diagnostics.hpp"
@@ -31,6 +32,13 @@ class BlockedStateDetector {
 
   /// Feeds the state after a step; returns true once a whole window meets the criteria.
   bool update(const World& world, const StepDiagnostics& diagnostics);
+
+  /// A whole window has met the per-step criteria (speeds and height drift); only the
+  /// force balance may be missing.
+  [[nodiscard]] bool at_rest_for_window() const { return held_ >= window_steps_; }
+
+  /// Steps of one window.
+  [[nodiscard]] std::int64_t window_steps() const { return window_steps_; }
 
   /// Steps in a row that met the per-step criteria (speeds and height drift).
   [[nodiscard]] std::int64_t steps_held() const { return held_; }
