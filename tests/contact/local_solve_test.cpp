@@ -6,7 +6,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <numbers>
+#include <utility>
 
 namespace cdpowder {
 namespace {
@@ -190,7 +192,7 @@ TEST(ModeIndependence, WithoutRollingFrictionRollingIsFree) {
   };
   const auto [action, b] = visit(0.0);
   EXPECT_EQ(action.rolling_torque, Vec3::Zero());
-  EXPECT_FALSE(std::signbit(action.rolling_torque.x()));  // +0: no "-0" in the outputs
+  EXPECT_FALSE(std::signbit(action.rolling_torque.x()));  // +0 (the clamp gave ±0)
   EXPECT_DOUBLE_EQ(std::abs(action.twisting_torque), 0.1);
   const auto [limit_action, limit_b] = visit(1e-300);
   EXPECT_EQ(action.normal_force, limit_action.normal_force);
@@ -198,6 +200,56 @@ TEST(ModeIndependence, WithoutRollingFrictionRollingIsFree) {
   EXPECT_EQ(action.twisting_torque, limit_action.twisting_torque);
   EXPECT_EQ(b.linear, limit_b.linear);
   EXPECT_EQ(b.angular, limit_b.angular);
+}
+
+// Two visits solved side by side give bit for bit what one after the other gives, for
+// random contacts on four distinct spheres, sticking or at thresholds, open or closed.
+TEST(LocalSolve, TwoIndependentVisitsSideBySideEqualTwoInARow) {
+  Rng rng = make_rng(11, RngStream::SweepOrder);
+  const auto random_vec = [&](double scale) -> Vec3 {
+    return Vec3(uniform01(rng) - 0.5, uniform01(rng) - 0.5, uniform01(rng) - 0.5) * scale;
+  };
+  const auto random_body = [&]() {
+    SphereVelocity s = body(0.5 + uniform01(rng));
+    s.linear = random_vec(0.2);
+    s.angular = random_vec(0.2);
+    return s;
+  };
+  const auto random_pair = [&](const SphereVelocity& a, const SphereVelocity& b) {
+    PairProblem p =
+        pair(random_vec(1.0) + Vec3(0, 0, 0.6), 0.5 + uniform01(rng), 0.5 + uniform01(rng), a, b);
+    p.cohesion = uniform01(rng) < 0.5 ? 1.0 : 0.0;
+    p.gap_rate = uniform01(rng) < 0.5 ? 0.0 : 0.1 * uniform01(rng);
+    p.mu = 0.3 * uniform01(rng);
+    p.roll_cap = uniform01(rng) < 0.3 ? 0.0 : 0.1 * uniform01(rng);
+    p.twist_cap = uniform01(rng) < 0.3 ? 0.0 : 0.1 * uniform01(rng);
+    return p;
+  };
+  for (int trial = 0; trial < 2000; ++trial) {
+    SphereVelocity a = random_body(), b = random_body(), c = random_body(), d = random_body();
+    const PairProblem p = random_pair(a, b);
+    const PairProblem q = random_pair(c, d);
+    ContactAction x;
+    x.normal_force = uniform01(rng) - 0.3;
+    x.tangential_force = random_vec(0.1);
+    ContactAction y = x;
+    SphereVelocity a2 = a, b2 = b, c2 = c, d2 = d;
+    ContactAction x2 = x, y2 = y;
+
+    const VisitChange first = solve_pair(p, x, a, b);
+    const VisitChange second = solve_pair(q, y, c, d);
+    VisitChange first2;
+    VisitChange second2;
+    solve_two_pairs(p, x2, a2, b2, first2, q, y2, c2, d2, second2);
+
+    ASSERT_EQ(std::memcmp(&x, &x2, sizeof x), 0) << trial;
+    ASSERT_EQ(std::memcmp(&y, &y2, sizeof y), 0) << trial;
+    for (const auto& [u, v] : {std::pair{&a, &a2}, {&b, &b2}, {&c, &c2}, {&d, &d2}}) {
+      ASSERT_EQ(std::memcmp(u, v, sizeof(SphereVelocity)), 0) << trial;
+    }
+    ASSERT_EQ(first.change_sq, first2.change_sq);
+    ASSERT_EQ(second.change_sq, second2.change_sq);
+  }
 }
 
 }  // namespace

@@ -53,6 +53,8 @@ TEST(RunLoop, ARestingPackingWithNoisyDynamicForcesBlocksOnTheStaticProbe) {
   EXPECT_TRUE(result.final_solve->converged);
   EXPECT_LT(result.last.diagnostics.piston_imbalance, 1e-6);
   EXPECT_EQ(result.steps, 50);  // the first step at which a whole window was at rest
+  EXPECT_EQ(result.probes, 1);
+  EXPECT_TRUE(result.blocked_by_probe);
 
   // the same steps again with the detector alone: a whole window at rest, and a window
   // mean of the dynamic imbalance that the standard test would not have accepted
@@ -67,23 +69,52 @@ TEST(RunLoop, ARestingPackingWithNoisyDynamicForcesBlocksOnTheStaticProbe) {
 }
 
 // A probe that fails leaves the run as it was: the same steps, and the same state, as a
-// run whose probes are never tried (force_balance so strict that no probe can pass).
+// run whose probes are never tried (force_balance so strict that no probe can pass), and
+// the same next step (nothing of the probe stays in the solver's stream or warm start).
 TEST(RunLoop, AFailedProbeLeavesTheRunUnchanged) {
   RunConfig run = until_blocked();
   run.max_duration = 2.0;              // 200 steps: probes at steps 50, 100, 150, 200
   run.blocked.force_balance = 1e-300;  // no probe passes
   TinyScene probed = noisy_column();
-  const RunResult result = run_simulation(probed.world, probed.work, probed.settings, run, {});
+  int observed = 0;
+  const RunResult result =
+      run_simulation(probed.world, probed.work, probed.settings, run,
+                     [&](const World&, const StepReport&, double) { ++observed; });
   EXPECT_FALSE(result.blocked);
   EXPECT_EQ(result.steps, 200);
+  EXPECT_EQ(result.probes, 4);
+  EXPECT_GT(result.probe_sweeps, 0);
+  EXPECT_EQ(observed, 200);  // probes are not steps
 
   TinyScene plain = noisy_column();
-  for (int k = 0; k < 200; ++k) step(plain.world, plain.work, plain.settings);
-  for (std::size_t i = 0; i < plain.world.bodies.position.size(); ++i) {
-    EXPECT_EQ(probed.world.bodies.position[i], plain.world.bodies.position[i]);
-    EXPECT_EQ(probed.world.bodies.velocity[i], plain.world.bodies.velocity[i]);
-  }
-  EXPECT_EQ(probed.world.walls.piston.height, plain.world.walls.piston.height);
+  std::int64_t plain_sweeps = 0;
+  for (int k = 0; k < 200; ++k)
+    plain_sweeps += step(plain.world, plain.work, plain.settings).solver.sweeps;
+  EXPECT_EQ(result.total_sweeps, plain_sweeps);
+  const auto expect_same = [](const World& a, const World& b) {
+    EXPECT_EQ(a.bodies.position, b.bodies.position);
+    EXPECT_EQ(a.bodies.velocity, b.bodies.velocity);
+    EXPECT_EQ(a.bodies.angular_velocity, b.bodies.angular_velocity);
+    EXPECT_EQ(a.walls.piston.height, b.walls.piston.height);
+    EXPECT_EQ(a.walls.piston.velocity, b.walls.piston.velocity);
+  };
+  expect_same(probed.world, plain.world);
+  step(probed.world, probed.work, probed.settings);
+  step(plain.world, plain.work, plain.settings);
+  expect_same(probed.world, plain.world);
+}
+
+// A static solve that does not converge tells nothing about the balance: it does not block
+// the run, and no further probe is tried.
+TEST(RunLoop, AnUnconvergedProbeDoesNotBlockAndStopsTheProbing) {
+  RunConfig run = until_blocked();
+  run.max_duration = 2.0;
+  run.blocked.final_max_sweeps = 1;
+  TinyScene s = noisy_column();
+  s.settings.solver.tolerance = 1e-12;
+  const RunResult result = run_simulation(s.world, s.work, s.settings, run, {});
+  EXPECT_EQ(result.probes, 1);
+  EXPECT_FALSE(result.blocked_by_probe);
 }
 
 }  // namespace

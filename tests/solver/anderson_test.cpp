@@ -70,6 +70,18 @@ TEST(Anderson, FullDepthSolvesAnAffineMapInAboutNPlusOneIterations) {
   EXPECT_EQ(iterations_to(map, nullptr, 1e-9, 500), -1);
 }
 
+// Depths from 11 on mix more slots than the mixing loops are unrolled for (anderson.cpp):
+// the generic loops must give the same Krylov behaviour.
+TEST(Anderson, DeepRingsBeyondTheUnrolledCountsSolveAnAffineMap) {
+  for (const int depth : {12, 16}) {
+    const AffineMap map = slow_map(depth - 2, 0.99);
+    AndersonAccelerator accelerator(depth);
+    const int accelerated = iterations_to(map, &accelerator, 1e-9, 100);
+    EXPECT_GT(accelerated, 0) << depth;
+    EXPECT_LE(accelerated, depth - 2 + 3) << depth;
+  }
+}
+
 TEST(Anderson, ShortRingStillAcceleratesAfterWrappingAround) {
   const AffineMap map = slow_map(40, 0.99);
   AndersonAccelerator accelerator(3);  // the ring wraps many times

@@ -50,6 +50,12 @@ inline void apply_wall_delta(const WallProblem& w, const Vec3& dR, const Vec3& d
   wall_velocity -= w.wall_response * dR.z();
 }
 
+/// A mode has a threshold above zero (μ_t r_eff or μ_n r_eff > 0); without one its torque
+/// is zero, and the kernel and the mixing skip it (nlgs.cpp).
+inline bool has_threshold(double cap) {
+  return cap > 0.0;
+}
+
 namespace detail {
 
 /// 1/r_eff², turning squared torques into squared forces for the residuals.
@@ -112,9 +118,10 @@ struct ModeBlock {
   // Without rolling friction (μ_t = 0: the paper's (0, μn) axis and the (0,0) corner) the
   // clamp would be a square root and a division to multiply by zero, a fifth of the
   // kernel's time there: skip it. Same result up to the sign of zero components.
-  const Vec3 T_t = m.roll_cap > 0.0 ? clamp_to_disc(action.rolling_torque - m.inv_dt_w_r * Omega_t,
-                                                    m.roll_cap * S)
-                                    : Vec3::Zero().eval();
+  const Vec3 T_t =
+      has_threshold(m.roll_cap)
+          ? clamp_to_disc(action.rolling_torque - m.inv_dt_w_r * Omega_t, m.roll_cap * S)
+          : Vec3::Zero().eval();
   const double T_n =
       clamp_to_interval(action.twisting_torque - m.inv_dt_w_r * Omega_n, m.twist_cap * S);
   const Vec3 dT_t = T_t - action.rolling_torque;

@@ -44,6 +44,7 @@ RunResult run_simulation(World& world, StepWorkspace& work, const StepSettings& 
   std::optional<BlockedStateDetector> detector;
   if (run.until_blocked) detector.emplace(run.blocked, dt);
   std::int64_t next_probe = 0;  // first step at which a static probe may run
+  bool probing = true;
 
   const auto account = [&](const StepReport& report) {
     result.last = report;
@@ -84,15 +85,24 @@ RunResult run_simulation(World& world, StepWorkspace& work, const StepSettings& 
     // whose freely spinning spheres kept the mean at ≈ 0.02 until max_duration, 5 000 t0).
     // So test the balance on a static solve of a copy instead, once per window: if the
     // packing at rest carries the load, it is blocked; otherwise the run goes on unchanged.
-    if (detector && detector->at_rest_for_window() && k >= next_probe) {
+    if (probing && detector && detector->at_rest_for_window() && k >= next_probe) {
       next_probe = k + detector->window_steps();
+      const auto probe_start = std::chrono::steady_clock::now();
       World probe_world = world;
       StepWorkspace probe_work = work;
       const StepReport probe = solve_at_rest(probe_world, probe_work, settings, run.blocked);
+      ++result.probes;
+      result.probe_sweeps += probe.solver.sweeps;
+      result.probe_seconds +=
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - probe_start).count();
+      // an unconverged static solve says nothing about the balance, and the next would
+      // cost as much again: stop probing and leave the run to the window mean
+      if (!probe.solver.converged) probing = false;
       if (probe.solver.converged &&
           probe.diagnostics.piston_imbalance < run.blocked.force_balance) {
         world = std::move(probe_world);
         work = std::move(probe_work);
+        result.blocked_by_probe = true;
         finish_at_rest(probe, fraction);
         break;
       }

@@ -29,6 +29,13 @@ struct RunResult {
   /// BlockedCriteria::final_tolerance); empty unless blocked. Not counted in steps,
   /// total_sweeps or capped_steps; its time is in wall_seconds and stage_seconds.
   std::optional<SolverStats> final_solve;
+  /// Static probes of the force balance (run_loop.cpp): how many ran, their sweeps and wall
+  /// time (not in the counts above or in stage_seconds), and whether the last one ended the
+  /// run (blocked with a window mean of the imbalance above its threshold).
+  int probes = 0;
+  std::int64_t probe_sweeps = 0;
+  double probe_seconds = 0.0;
+  bool blocked_by_probe = false;
 };
 
 /// Called after every step with the world after the step, its report, and the fraction of

@@ -90,21 +90,29 @@ std::string summary_json(const Scene& scene, const World& world, const Contacts&
   j["kinetic_energy"] = d.kinetic_energy;
   j["max_speed"] = d.max_speed;
   j["rms_speed"] = d.rms_speed;
-  j["run"] = {{"blocked", result.blocked},
-              {"interrupted", result.interrupted},
-              {"until_blocked", scene.run.until_blocked},
-              {"steps", result.steps},
-              {"total_sweeps", result.total_sweeps},
-              {"sweeps_per_step", result.steps > 0 ? static_cast<double>(result.total_sweeps) /
-                                                         static_cast<double>(result.steps)
-                                                   : 0.0},
-              {"wall_seconds", result.wall_seconds},
-              {"stage_seconds",
-               {{"detect_contacts", result.stage_seconds[0]},
-                {"build_local_problems", result.stage_seconds[1]},
-                {"solve_nlgs", result.stage_seconds[2]},
-                {"integrate", result.stage_seconds[3]},
-                {"analyse", result.stage_seconds[4]}}}};
+  j["run"] = {
+      {"blocked", result.blocked},
+      // which test found the rest: the window mean of the force imbalance, or a static
+      // probe of it (run_loop.cpp); null when not blocked
+      {"blocked_by", result.blocked ? nlohmann::json(result.blocked_by_probe ? "probe" : "window")
+                                    : nlohmann::json(nullptr)},
+      {"probes", result.probes},
+      {"probe_sweeps", result.probe_sweeps},
+      {"probe_seconds", result.probe_seconds},
+      {"interrupted", result.interrupted},
+      {"until_blocked", scene.run.until_blocked},
+      {"steps", result.steps},
+      {"total_sweeps", result.total_sweeps},
+      {"sweeps_per_step", result.steps > 0 ? static_cast<double>(result.total_sweeps) /
+                                                 static_cast<double>(result.steps)
+                                           : 0.0},
+      {"wall_seconds", result.wall_seconds},
+      {"stage_seconds",
+       {{"detect_contacts", result.stage_seconds[0]},
+        {"build_local_problems", result.stage_seconds[1]},
+        {"solve_nlgs", result.stage_seconds[2]},
+        {"integrate", result.stage_seconds[3]},
+        {"analyse", result.stage_seconds[4]}}}};
   j["scene"] = scene_json(scene);
   j["scene_toml"] = scene.effective_toml;
   return j.dump(2) + "\n";

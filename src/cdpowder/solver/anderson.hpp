@@ -9,7 +9,8 @@
 // Numer. Anal. 49 (2011) 1715, "type II"). Same column: 31 sweeps with m = 5.
 // It needs a stationary map, so the visiting order is fixed within a step.
 //
-// Cost: the vectors hold 8 doubles per contact, so for a paper-size packing they leave the
+// Cost: the vectors hold 4 to 8 doubles per contact (nlgs.cpp leaves out modes that are zero
+// throughout a step), so for a paper-size packing they leave the
 // L1/L2 caches and the mixing is bound by memory traffic. The history is a ring of
 // contiguous slots (no shifting, no allocation after the first step of a size), and one
 // pass computes the new differences together with all their inner products; a second pass

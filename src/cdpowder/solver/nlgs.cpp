@@ -51,8 +51,9 @@ void shuffle_blocks(std::vector<ContactIndex>& order, std::vector<ContactIndex>&
 }
 
 /// Which parts of the actions the mixing carries. Modes without a threshold anywhere in the
-/// step (μ_t = 0: rolling torques; μ_n = 0: torsion torques) are exactly zero at every
-/// contact, so leaving them out changes no sum the mixing forms (adding 0 is exact) while
+/// step (μ_t = 0: rolling torques; μ_n = 0: torsion torques) stay zero at every contact
+/// (the kernel sets them to ±0), so leaving them out changes no sum the mixing forms
+/// (adding ±0 to a sum that starts at +0 is exact) while
 /// it cuts the memory the mixing streams through: 4 instead of 8 doubles per contact at the
 /// paper's (0,0) corner, where the mixing costs a quarter of the run.
 struct MixedModes {
@@ -64,14 +65,20 @@ struct MixedModes {
   }
 };
 
+/// The modes the mixing must carry this step: those with a threshold at some contact, and
+/// those some (warm-started) action already holds non-zero.
 MixedModes mixed_modes(const Contacts& contacts) {
   MixedModes modes{false, false};
-  const auto look = [&](double roll_cap, double twist_cap) {
-    modes.rolling = modes.rolling || roll_cap != 0.0;
-    modes.twisting = modes.twisting || twist_cap != 0.0;
+  const auto look = [&](double roll_cap, double twist_cap, const ContactAction& a) {
+    modes.rolling = modes.rolling || has_threshold(roll_cap) || a.rolling_torque != Vec3::Zero();
+    modes.twisting = modes.twisting || has_threshold(twist_cap) || a.twisting_torque != 0.0;
   };
-  for (const PairProblem& p : contacts.pairs) look(p.roll_cap, p.twist_cap);
-  for (const WallProblem& w : contacts.walls) look(w.roll_cap, w.twist_cap);
+  for (std::size_t k = 0; k < contacts.pairs.size(); ++k) {
+    look(contacts.pairs[k].roll_cap, contacts.pairs[k].twist_cap, contacts.pair_actions[k]);
+  }
+  for (std::size_t k = 0; k < contacts.walls.size(); ++k) {
+    look(contacts.walls[k].roll_cap, contacts.walls[k].twist_cap, contacts.wall_actions[k]);
+  }
   return modes;
 }
 
@@ -219,7 +226,7 @@ SolverStats solve_nlgs(Contacts& contacts, VelocityCache& velocities,
   std::vector<ContactIndex>& order = contacts.visit_order;
   prepare_visit_order(contacts, settings.visit_order, work);
   const bool accelerate = settings.acceleration_depth > 0;
-  const MixedModes modes = mixed_modes(contacts);
+  const MixedModes modes = accelerate ? mixed_modes(contacts) : MixedModes{};
   if (accelerate) {
     // keep the buffers from step to step: re-allocating them every step cost a fifth of a
     // paper-size run (page faults on fresh 200 kB vectors)

@@ -29,9 +29,9 @@ struct NlgsWorkspace {
 
   Rng rng;
   AndersonAccelerator accelerator;
-  std::vector<double> start;         ///< actions the sweep started from, flattened (8 per contact)
-  std::vector<double> swept;         ///< actions after the sweep
-  std::vector<double> mixed;         ///< accelerated actions
+  std::vector<double> start;  ///< actions the sweep started from, flattened (4–8 per contact)
+  std::vector<double> swept;  ///< actions after the sweep
+  std::vector<double> mixed;  ///< accelerated actions
   std::vector<ContactIndex> blocks;  ///< block permutation of the per-step order
 };
 
