@@ -106,5 +106,21 @@ TEST(CohesionRule, GraphAttractsAGapWithinRangeAndHistoryDoesNot) {
   }
 }
 
+// Touching is touching for both rules: an exactly touching pair whose gap came out of
+// round-off slightly positive (as in a deposit, |g| ~ 1e-15) is bonded under the history
+// rule too, and holds against a pull below F_coh.
+TEST(CohesionRule, HistoryBondsAPairTouchingUpToRoundOff) {
+  for (const CohesionRule rule : {CohesionRule::Graph, CohesionRule::History}) {
+    for (const double round_off : {-1e-15, 1e-15, 1e-9}) {
+      TinyScene s = pulled_pair(0.5);
+      s.settings.laws.cohesion_rule = rule;
+      s.world.bodies.position[1].x() += round_off;
+      s.run(1);
+      EXPECT_NEAR(s.pair_action(0, 1).normal_force, -0.5, kForceTol) << round_off;
+      EXPECT_LT(gap(s), 1e-6);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace cdpowder::testing
