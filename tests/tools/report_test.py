@@ -1,0 +1,128 @@
+#!/usr/bin/python3
+"""tools/report.py on synthetic sweeps whose answers are known by construction.
+
+The porosity of every run is E = E0 + s·0.01 + E1(μt, μn) with a seed offset s·0.01 (the
+same deposit for every point of a seed) and an exactly additive, saturating
+E1 = 0.2 min(μt/0.4, 1) + 0.1 min(μn/0.4, 1). Paired by seed, the report must then find
+E1(1, 0) = 0.2, E1(0, 1) = 0.1, their ratio 2, no additivity residual, and saturation from
+μ = 0.4 on both lines; on a three-point line it must decline to judge saturation.
+"""
+import csv
+import pathlib
+import subprocess
+import sys
+import tempfile
+import unittest
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+REPORT = ROOT / "tools" / "report.py"
+COLUMNS = ["point", "contact.mu_roll", "contact.mu_twist", "seed", "porosity",
+           "sigma_zz_over_p", "sigma_zz_compressive_over_p", "sigma_zz_tensile_over_p",
+           "steps", "total_sweeps", "wall_seconds", "blocked", "folder"]
+E0 = 0.6
+
+
+def added(mu_t, mu_n):
+    return 0.2 * min(mu_t / 0.4, 1.0) + 0.1 * min(mu_n / 0.4, 1.0)
+
+
+def write_sweep(folder, points, seeds=3, blocked=lambda p, s: True):
+    folder.mkdir(parents=True, exist_ok=True)
+    with open(folder / "results.csv", "w", newline="") as f:
+        f.write("# synthetic sweep for the report test\n")
+        w = csv.writer(f)
+        w.writerow(COLUMNS)
+        for mu_t, mu_n in points:
+            name = f"contact.mu_roll={mu_t},contact.mu_twist={mu_n}"
+            for s in range(1, seeds + 1):
+                w.writerow([name, mu_t, mu_n, s, E0 + 0.01 * s + added(mu_t, mu_n),
+                            1.0, 2.0 - mu_t, -1.0 + mu_t, 1000, 50000, 10.0,
+                            int(blocked((mu_t, mu_n), s)), f"runs/{name}/seed_{s}"])
+
+
+def run_report(folder):
+    out = subprocess.run([sys.executable, str(REPORT), str(folder)], capture_output=True,
+                         text=True, check=True)
+    assert "report:" in out.stdout
+    return (folder / "report" / "report.md").read_text()
+
+
+def claim(report, quantity):
+    """The cdpowder cell of a row of the paper's-claims table."""
+    for line in report.splitlines():
+        if line.startswith(f"| {quantity} |"):
+            return line.strip("| ").split(" | ")[-1]
+    raise AssertionError(f"no row {quantity!r} in the report")
+
+
+class ReportOnKnownSweeps(unittest.TestCase):
+    def setUp(self):
+        self.tmp = tempfile.TemporaryDirectory()
+        self.dir = pathlib.Path(self.tmp.name)
+
+    def tearDown(self):
+        self.tmp.cleanup()
+
+    def test_full_mesh_gives_the_constructed_claims(self):
+        mus = [0.0, 0.05, 0.1, 0.2, 0.3, 0.4, 0.6, 1.0]
+        write_sweep(self.dir, [(t, n) for t in mus for n in mus])
+        report = run_report(self.dir)
+        self.assertEqual(claim(report, "E0 = E(0, 0)"), "0.6200 ± 0.0058")
+        self.assertEqual(claim(report, "E1(1, 0) (rolling only)"), "0.2000 ± 0.0000")
+        self.assertEqual(claim(report, "E1(0, 1) (torsion only)"), "0.1000 ± 0.0000")
+        self.assertEqual(claim(report, "E1(1, 1) (both)"), "0.3000 ± 0.0000")
+        self.assertEqual(claim(report, "E1(1, 0) / E1(0, 1)"), "2.00 ± 0.00")
+        self.assertEqual(claim(report, "largest |ΔE| (additivity)"), "0.0000")
+        self.assertEqual(claim(report, "E1 saturates (μn = 0) from μt ≈"), "0.4")
+        self.assertEqual(claim(report, "E1 saturates (μt = μn) from ≈"), "0.4")
+        for figure in ("fig5_porosity", "added_porosity", "additivity"):
+            for ext in ("png", "svg"):
+                self.assertTrue((self.dir / "report" / f"{figure}.{ext}").stat().st_size > 0)
+
+    def test_coarse_lines_do_not_claim_saturation(self):
+        # the paper's Table 1 points: three values of μ on each line
+        write_sweep(self.dir, [(0.0, 0.0), (0.1, 0.1), (0.3, 0.3), (1.0, 1.0), (0.0, 0.3),
+                               (0.0, 1.0), (0.3, 0.0), (1.0, 0.0)])
+        report = run_report(self.dir)
+        self.assertTrue(claim(report, "E1 saturates (μn = 0) from μt ≈").startswith("– (needs"))
+        self.assertIn("| 0 | 0 | 1.0 | 1.000 ± 0.000 | 2.2 | 2.00 ± 0.00 | -1.2 | -1.00 ± 0.00 | 3 |",
+                      report)
+
+    def test_unsaturated_line_is_said_so(self):
+        mus = [0.0, 0.2, 0.4, 0.6, 1.0]
+        write_sweep(self.dir, [(t, n) for t in mus for n in mus])
+        rows = (self.dir / "results.csv").read_text().splitlines()
+        # raise E(1, 0) by 0.05 for every seed: rolling still adds porosity between 0.6 and 1
+        bumped = []
+        for row in rows:
+            if row.startswith('"contact.mu_roll=1.0,contact.mu_twist=0.0"'):
+                cells = next(csv.reader([row]))
+                cells[4] = str(float(cells[4]) + 0.05)
+                row = ",".join(f'"{c}"' if "," in c else c for c in cells)
+            bumped.append(row)
+        (self.dir / "results.csv").write_text("\n".join(bumped) + "\n")
+        report = run_report(self.dir)
+        self.assertEqual(claim(report, "E1 saturates (μn = 0) from μt ≈"),
+                         "not below 1 (E1 still changes)")
+
+    def test_unblocked_runs_are_left_out(self):
+        write_sweep(self.dir, [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0)],
+                    blocked=lambda p, s: not (p == (1.0, 0.0) and s == 3))
+        report = run_report(self.dir)
+        self.assertIn("9 finished runs, 8 blocked", report)
+        self.assertEqual(claim(report, "E1(1, 0) (rolling only)"), "0.2000 ± 0.0000")
+
+    def test_regenerated_report_is_byte_identical(self):
+        write_sweep(self.dir, [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0)])
+        folder = self.dir / "report"
+        run_report(self.dir)
+        first = {f.name: f.read_bytes() for f in folder.iterdir()}
+        run_report(self.dir)
+        second = {f.name: f.read_bytes() for f in folder.iterdir()}
+        self.assertEqual(sorted(first), sorted(second))
+        for name in first:
+            self.assertEqual(first[name], second[name], name)
+
+
+if __name__ == "__main__":
+    unittest.main()
