@@ -246,6 +246,47 @@ def saturation(runs, line):
     return found
 
 
+# Runs whose σzz/p (the stress the packing carries over the applied pressure) is further
+# from 1 than this are named in the report: their packing was not in static balance
+SIGMA_BALANCE_TOLERANCE = 0.01
+
+
+def accuracy_section(kept):
+    """The accuracy gauges of physics.md §17 over the runs used: largest and median overlap,
+    piston imbalance, net force on a sphere and σzz/p − 1, and the runs out of balance."""
+    gauges = [("max_overlap", "max overlap [R]"), ("mean_overlap", "mean overlap [R]"),
+              ("piston_imbalance", r"piston force imbalance \|ΣR·e_z − F\|/F"),
+              ("max_net_force", "largest net force on a sphere [F_coh]")]
+    md = ["## Accuracy gauges (physics.md §17)", "",
+          fmt_row(["gauge", "median over runs", "largest", "run with the largest"]),
+          fmt_row(["---"] * 4)]
+    for column, label in gauges:
+        values = [(num(r.get(column)), r) for r in kept]
+        values = [(v, r) for v, r in values if math.isfinite(v)]
+        if not values:
+            continue
+        worst = max(values, key=lambda x: x[0])
+        md.append(fmt_row([label, f"{float(np.median([v for v, _ in values])):.2g}",
+                           f"{worst[0]:.2g}", f"`{worst[1]['folder']}`"]))
+    off = [(abs(num(r["sigma_zz_over_p"]) - 1.0), r) for r in kept]
+    off = sorted(((d, r) for d, r in off if math.isfinite(d) and d > SIGMA_BALANCE_TOLERANCE),
+                 key=lambda x: -x[0])
+    md.append("")
+    if off:
+        md.append(f"Runs whose σzz/p is more than {SIGMA_BALANCE_TOLERANCE:g} from 1 (not in "
+                  "static balance at the end; their σ± are less accurate than the rest):")
+        md.append("")
+        for _, r in off:
+            force = num(r.get("max_net_force"))
+            md.append(f"- `{r['folder']}`: σzz/p = {num(r['sigma_zz_over_p']):.4f}"
+                      + (f", largest net force on a sphere {force:.2g} F_coh"
+                         if math.isfinite(force) else ""))
+    else:
+        md.append(f"Every run's σzz/p is within {SIGMA_BALANCE_TOLERANCE:g} of 1.")
+    md.append("")
+    return md
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("sweep_dir", type=pathlib.Path)
@@ -269,6 +310,7 @@ def main():
               "Errors are standard errors of the mean over seeds; differences between points "
               "are paired by seed (same deposit).")
     md.append("")
+    md += accuracy_section(kept)
     if variants:
         md += ["## Points that change other keys", ""]
         md.append("ΔE and Δσzz+/p are against the point with the same (μt, μn) and nothing "

@@ -117,5 +117,71 @@ TEST(RunLoop, AnUnconvergedProbeDoesNotBlockAndStopsTheProbing) {
   EXPECT_FALSE(result.blocked_by_probe);
 }
 
+// The same column with forces converged at every step (the default tight tolerance), so
+// the window's tests alone find the blocked state.
+TinyScene quiet_column() {
+  TinyScene s = noisy_column();
+  s.settings.solver = TinyScene(5.0, 5.0).settings.solver;
+  return s;
+}
+
+// Adds a free sphere beside the column, out of reach of it (minimum-image distance 2.5 R in
+// y), pushed along x by a constant force [F_coh]: at rest by the kinematic tests for the
+// first windows (it gains 0.24 f R/t0 per t0; the RMS over 13 spheres is 3.6 times less),
+// but never in balance.
+void add_pushed_sphere(TinyScene& s, double force) {
+  const BodyIndex i = s.add(Vec3(0.5, 0.0, 12.0));
+  s.world.bodies.external_force[i] = Vec3(force, 0.0, 0.0);
+}
+
+// A window at rest whose static solve shows a sphere out of balance is not the blocked
+// state: the run goes on, and the check is repeated once per window, up to five times; the
+// sixth is measured as it is (its gauges show the imbalance).
+TEST(RunLoop, ASphereOutOfBalanceDefersTheBlockedState) {
+  RunConfig run = until_blocked();
+  run.max_duration = 2.0;  // 200 steps: checks at steps 50, 100, 150, 200 at most
+  TinyScene pushed = quiet_column();
+  add_pushed_sphere(pushed, 0.01);  // 0.01 F_coh against force_balance × F = 7e-4
+  const RunResult result = run_simulation(pushed.world, pushed.work, pushed.settings, run, {});
+  EXPECT_FALSE(result.blocked);
+  EXPECT_EQ(result.steps, 200);
+  EXPECT_GE(result.unbalanced_rest_solves, 1);
+  EXPECT_LE(result.unbalanced_rest_solves, 4);
+  EXPECT_EQ(result.probes, 0);
+
+  run.max_duration = 10.0;
+  TinyScene deferred = quiet_column();
+  add_pushed_sphere(deferred, 0.01);
+  const RunResult bounded =
+      run_simulation(deferred.world, deferred.work, deferred.settings, run, {});
+  ASSERT_TRUE(bounded.blocked);
+  EXPECT_EQ(bounded.unbalanced_rest_solves, 5);
+  EXPECT_EQ(bounded.steps, 300);  // the first window (50 steps), then 5 deferred ones
+  EXPECT_NEAR(bounded.last.diagnostics.max_net_force, 0.01, 1e-6);
+
+  // the same scene with a push far below the tolerance blocks on the window, as before
+  TinyScene nudged = quiet_column();
+  add_pushed_sphere(nudged, 1e-6);
+  const RunResult blocked = run_simulation(nudged.world, nudged.work, nudged.settings, run, {});
+  ASSERT_TRUE(blocked.blocked);
+  EXPECT_FALSE(blocked.blocked_by_probe);
+  EXPECT_EQ(blocked.unbalanced_rest_solves, 0);
+  EXPECT_EQ(blocked.steps, 50);
+  EXPECT_LT(blocked.last.diagnostics.max_net_force, 1e-5);
+}
+
+// The probe's static solve must show every sphere in balance too, not only the piston.
+TEST(RunLoop, ASphereOutOfBalanceKeepsTheProbeFromBlocking) {
+  RunConfig run = until_blocked();
+  run.max_duration = 2.0;
+  TinyScene s = noisy_column();
+  add_pushed_sphere(s, 0.05);
+  const RunResult result = run_simulation(s.world, s.work, s.settings, run, {});
+  EXPECT_FALSE(result.blocked);
+  EXPECT_GE(result.probes, 1);
+  EXPECT_EQ(result.unbalanced_rest_solves, result.probes);
+  EXPECT_FALSE(result.blocked_by_probe);
+}
+
 }  // namespace
 }  // namespace cdpowder::testing

@@ -26,7 +26,7 @@ def added(mu_t, mu_n):
     return 0.2 * min(mu_t / 0.4, 1.0) + 0.1 * min(mu_n / 0.4, 1.0)
 
 
-def write_sweep(folder, points, seeds=3, blocked=lambda p, s: True):
+def write_sweep(folder, points, seeds=3, blocked=lambda p, s: True, sigma=lambda p, s: 1.0):
     folder.mkdir(parents=True, exist_ok=True)
     with open(folder / "results.csv", "w", newline="") as f:
         f.write("# synthetic sweep for the report test\n")
@@ -36,7 +36,7 @@ def write_sweep(folder, points, seeds=3, blocked=lambda p, s: True):
             name = f"contact.mu_roll={mu_t},contact.mu_twist={mu_n}"
             for s in range(1, seeds + 1):
                 w.writerow([name, mu_t, mu_n, s, E0 + 0.01 * s + added(mu_t, mu_n),
-                            1.0, 2.0 - mu_t, -1.0 + mu_t, 1000, 50000, 10.0,
+                            sigma((mu_t, mu_n), s), 2.0 - mu_t, -1.0 + mu_t, 1000, 50000, 10.0,
                             int(blocked((mu_t, mu_n), s)), f"runs/{name}/seed_{s}"])
 
 
@@ -111,6 +111,14 @@ class ReportOnKnownSweeps(unittest.TestCase):
         report = run_report(self.dir)
         self.assertIn("9 finished runs, 8 blocked", report)
         self.assertEqual(claim(report, "E1(1, 0) (rolling only)"), "0.2000 ± 0.0000")
+
+    def test_runs_out_of_static_balance_are_named(self):
+        write_sweep(self.dir, [(0.0, 0.0), (1.0, 1.0)],
+                    sigma=lambda p, s: 1.05 if (p, s) == ((1.0, 1.0), 2) else 1.0 + 1e-4)
+        report = run_report(self.dir)
+        named = [line for line in report.splitlines() if line.startswith("- `runs/")]
+        self.assertEqual(named, ["- `runs/contact.mu_roll=1.0,contact.mu_twist=1.0/seed_2`: "
+                                 "σzz/p = 1.0500"])
 
     def test_regenerated_report_is_byte_identical(self):
         write_sweep(self.dir, [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0)])

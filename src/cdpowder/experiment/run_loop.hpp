@@ -36,6 +36,9 @@ struct RunResult {
   std::int64_t probe_sweeps = 0;
   double probe_seconds = 0.0;
   bool blocked_by_probe = false;
+  /// Static solves (of a blocked window, or probes) not adopted because a sphere was out of
+  /// balance in them (net force above force_balance × F); the run went on after each.
+  int unbalanced_rest_solves = 0;
 };
 
 /// Called after every step with the world after the step, its report, and the fraction of

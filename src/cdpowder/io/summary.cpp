@@ -99,6 +99,9 @@ std::string summary_json(const Scene& scene, const World& world, const Contacts&
       {"probes", result.probes},
       {"probe_sweeps", result.probe_sweeps},
       {"probe_seconds", result.probe_seconds},
+      // static solves of a resting packing that were not adopted because a sphere was out
+      // of balance in them (run_loop.cpp)
+      {"unbalanced_rest_solves", result.unbalanced_rest_solves},
       {"interrupted", result.interrupted},
       {"until_blocked", scene.run.until_blocked},
       {"steps", result.steps},

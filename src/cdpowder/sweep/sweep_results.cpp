@@ -61,6 +61,7 @@ const std::vector<Column>& run_columns() {
       {"mean_overlap", [](const RunRecord& r) { return r.mean_overlap; }},
       {"max_overlap", [](const RunRecord& r) { return r.max_overlap; }},
       {"piston_imbalance", [](const RunRecord& r) { return r.piston_imbalance; }},
+      {"max_net_force", [](const RunRecord& r) { return r.max_net_force; }},
       {"wall_seconds", [](const RunRecord& r) { return r.wall_seconds; }},
   };
   return columns;
@@ -114,6 +115,7 @@ std::optional<RunRecord> read_run_record(const std::filesystem::path& summary_js
     r.mean_overlap = number_at(accuracy, "mean_overlap");
     r.max_overlap = number_at(accuracy, "max_overlap");
     r.piston_imbalance = number_at(j.at("piston"), "force_imbalance");
+    r.max_net_force = number_at(accuracy, "max_net_force");
     r.scene_toml = j.at("scene_toml").get<std::string>();
     r.commit = j.at("program").at("commit").get<std::string>();
     return r;

@@ -30,6 +30,7 @@ struct RunRecord {
   double mean_overlap = 0.0;      ///< [R]
   double max_overlap = 0.0;       ///< [R]
   double piston_imbalance = 0.0;  ///< |Σ R·e_z − F| / F at the end
+  double max_net_force = 0.0;     ///< largest net force on a sphere at the end [F_coh]
   double wall_seconds = 0.0;
   std::string scene_toml;  ///< the run's resolved scene: a restarted sweep compares it
   std::string commit;      ///< the program commit that produced the run
