@@ -5,12 +5,15 @@
 #include "commands/sweep.hpp"
 
 #include "cdpowder/config/config_error.hpp"
+#include "cdpowder/sweep/time_limit.hpp"
 #include "cdpowder/version.hpp"
 
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
 #include <exception>
+#include <optional>
+#include <string>
 
 namespace {
 
@@ -78,6 +81,23 @@ int main(int argc, char** argv) {
                    "Another sweep folder: copy in its finished runs whose scene is exactly a "
                    "run's own instead of running them again (repeatable)")
       ->check(CLI::ExistingDirectory);
+  sweep_cmd
+      ->add_option_function<std::string>(
+          "--time-limit",
+          [&sweep](const std::string& text) { sweep.time_limit = cdpowder::parse_duration(text); },
+          "Wall time for the whole sweep (5400, 90m, 2h30m): a run starts only when it is "
+          "expected to finish by then (1.25 × the longest finished run of its point); runs "
+          "still going at the limit stop as at Ctrl-C")
+      ->check(
+          [](const std::string& text) {
+            const std::optional<double> seconds = cdpowder::parse_duration(text);
+            return seconds && *seconds > 0.0
+                       ? std::string()
+                       : "'" + text +
+                             "' is not a positive duration: a number of seconds, or numbers "
+                             "with units h, m, s, largest first (5400, 90m, 2.5h, 2h30m)";
+          },
+          "DURATION");
 
   try {
     cli.parse(argc, argv);

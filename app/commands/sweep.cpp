@@ -10,6 +10,7 @@
 #include "cdpowder/io/atomic_file.hpp"
 #include "cdpowder/sweep/sweep_plan.hpp"
 #include "cdpowder/sweep/sweep_results.hpp"
+#include "cdpowder/sweep/time_limit.hpp"
 #include "cdpowder/version.hpp"
 
 #include <fmt/format.h>
@@ -293,8 +294,21 @@ int run_sweep(const SweepOptions& options) {
   std::size_t next = 0;
   std::size_t done_now = 0;
   std::size_t failed = 0;
+  std::size_t left_for_later = 0;  // not started: not expected to finish within --time-limit
+  bool time_up = false;
   int signals_acted_on = 0;
+  const auto seconds_since_start = [&start] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  };
   while (next < pending.size() || !running.empty()) {
+    if (options.time_limit && !time_up && seconds_since_start() >= *options.time_limit) {
+      // past the limit: the runs still going stop as at a first Ctrl-C (they are rerun
+      // next time); the expected durations should have left none
+      time_up = true;
+      for (const auto& [pid, index] : running) kill(pid, SIGTERM);
+      left_for_later += pending.size() - next;
+      next = pending.size();
+    }
     const int received = g_signals.load();
     if (received > signals_acted_on) {
       // first signal: ask every run to stop after its step (it writes its outputs, flagged
@@ -304,6 +318,12 @@ int run_sweep(const SweepOptions& options) {
     }
     while (received == 0 && next < pending.size() && static_cast<int>(running.size()) < jobs) {
       const std::size_t i = pending[next++];
+      if (options.time_limit &&
+          !may_start_within(seconds_since_start(), expected_run_seconds(plan, records, i),
+                            *options.time_limit)) {
+        ++left_for_later;
+        continue;
+      }
       const std::filesystem::path folder = options.out / plan.runs[i].folder;
       std::filesystem::create_directories(folder);
       std::string error;
@@ -316,7 +336,7 @@ int run_sweep(const SweepOptions& options) {
       }
       running[child] = i;
     }
-    if (received > 0 && running.empty()) break;
+    if ((received > 0 || time_up) && running.empty()) break;
     int status = 0;
     const pid_t pid = waitpid(-1, &status, WNOHANG);
     if (pid < 0 && errno == ECHILD) {  // nothing left to wait for: the bookkeeping is stale
@@ -340,17 +360,17 @@ int run_sweep(const SweepOptions& options) {
       records[i] = std::move(record);
       ++done_now;
       write_tables(options, plan, records);
-    } else if (g_signals.load() == 0) {
+    } else if (g_signals.load() == 0 && !time_up) {
       ++failed;
     }
+    const bool stopped = g_signals.load() > 0 || time_up;
     if (options.quiet) continue;
-    const double elapsed =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double elapsed = seconds_since_start();
     const std::size_t finished = total - pending.size() + done_now;
-    const std::size_t left = pending.size() - done_now - failed;
+    const std::size_t left = pending.size() - done_now - failed - left_for_later;
     // throughput so far (runs finished per wall second, all jobs together) × runs left
     const std::string eta =
-        done_now > 0 && g_signals.load() == 0
+        done_now > 0 && !stopped
             ? fmt::format(", ≈{} left", clock_text(elapsed * static_cast<double>(left) /
                                                    static_cast<double>(done_now)))
             : "";
@@ -364,8 +384,7 @@ int run_sweep(const SweepOptions& options) {
     } else {
       std::fprintf(stderr, "[%zu/%zu] %s seed %lld: %s, see %s\n", finished, total,
                    plan.points[run.point].name.c_str(), static_cast<long long>(run.seed),
-                   g_signals.load() > 0 ? "interrupted" : "FAILED",
-                   (folder / "log.txt").string().c_str());
+                   stopped ? "interrupted" : "FAILED", (folder / "log.txt").string().c_str());
     }
   }
   write_tables(options, plan, records);
@@ -375,6 +394,12 @@ int run_sweep(const SweepOptions& options) {
     state = " (interrupted: run the same command to resume)";
   } else if (failed > 0) {
     state = fmt::format(", {} failed (see their log.txt)", failed);
+  }
+  if (g_signals.load() == 0 && (left_for_later > 0 || time_up)) {
+    const std::size_t left = total - finished - failed;
+    state +=
+        fmt::format("; time limit {}: {} run{} left for later (run the same command to resume)",
+                    clock_text(*options.time_limit), left, left == 1 ? "" : "s");
   }
   std::printf("sweep: %zu of %zu runs finished%s; results in %s\n", finished, total, state.c_str(),
               (options.out / "results.csv").string().c_str());

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -21,11 +22,15 @@ struct SweepOptions {
   /// --reuse: other sweep folders whose finished runs with exactly a run's scene are copied
   /// in instead of being run again
   std::vector<std::filesystem::path> reuse;
+  /// --time-limit [s]: start a run only when it is expected to finish by then
+  /// (time_limit.hpp), and stop the runs still going when it has passed
+  std::optional<double> time_limit;
 };
 
 /// Checks every run's scene first (ConfigError, nothing written), then runs what is missing.
-/// Returns 0 when every run finished, 1 when one failed or the sweep was interrupted
-/// (SIGINT/SIGTERM: running runs stop after their step, a second signal kills them).
+/// Returns 0 when every run finished, 1 when one failed, the sweep was interrupted
+/// (SIGINT/SIGTERM: running runs stop after their step, a second signal kills them) or runs
+/// were left for later by the time limit.
 int run_sweep(const SweepOptions& options);
 
 }  // namespace cdpowder::app

@@ -1,6 +1,7 @@
 // Tests of `cdpowder sweep`, run as a process: a small grid of short compactions in
 // parallel, the tables it writes, the report tool on them, resuming after a lost run, an
-// interrupted sweep, and bad sweep files refused before anything is written.
+// interrupted sweep, a sweep within a time limit, and bad sweep files refused before
+// anything is written.
 #include "support/cli_process.hpp"
 
 #include <gmock/gmock.h>
@@ -186,6 +187,60 @@ TEST_F(SweepCli, InterruptKeepsFinishedResultsAndLeavesTheRestPending) {
   const ProcessResult listed =
       run_cdpowder("sweep " + sweep.string() + " --out " + out.string() + " --dry-run", scratch_);
   EXPECT_THAT(listed.out, HasSubstr("0 finished, 0 reused, 2 to run"));
+}
+
+TEST_F(SweepCli, TimeLimitStartsOnlyRunsExpectedToFinishInTime) {
+  const fs::path sweep = write_short_sweep(scratch_);
+  const fs::path out = scratch_ / "out";
+  const std::string command = "sweep " + sweep.string() + " --out " + out.string() + " -j 2";
+  ASSERT_EQ(run_cdpowder(command, scratch_).status, 0);
+  // seed 2 of every point is lost, and seed 1 of (1, 1) is recorded as a 100 000 s run:
+  // within an hour, that point's seed 2 is not expected to finish; the others are
+  for (const char* point :
+       {"contact.mu_roll=0.0,contact.mu_twist=0.0", "contact.mu_roll=0.0,contact.mu_twist=1.0",
+        "contact.mu_roll=1.0,contact.mu_twist=0.0", "contact.mu_roll=1.0,contact.mu_twist=1.0"}) {
+    fs::remove(out / "runs" / point / "seed_2" / "summary.json");
+  }
+  const fs::path slow = out / "runs" / "contact.mu_roll=1.0,contact.mu_twist=1.0" / "seed_1";
+  nlohmann::json s = nlohmann::json::parse(slurp(slow / "summary.json"));
+  s["run"]["wall_seconds"] = 1e5;
+  std::ofstream(slow / "summary.json") << s.dump(1);
+  const ProcessResult r = run_cdpowder(command + " --time-limit 1h", scratch_);
+  EXPECT_EQ(r.status, 1) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("7 of 8 runs finished; time limit 1:00:00: 1 run left for later"));
+  const ProcessResult listed = run_cdpowder(command + " --dry-run", scratch_);
+  EXPECT_THAT(listed.out, HasSubstr("7 finished, 0 reused, 1 to run"));
+  EXPECT_THAT(listed.out,
+              HasSubstr("pending  runs/contact.mu_roll=1.0,contact.mu_twist=1.0/seed_2"));
+  // without the limit it runs
+  const ProcessResult rest = run_cdpowder(command, scratch_);
+  EXPECT_EQ(rest.status, 0) << rest.err;
+  EXPECT_THAT(rest.out, HasSubstr("8 of 8 runs finished"));
+}
+
+TEST_F(SweepCli, TimeLimitStopsRunsStillGoingAndLeavesThemPending) {
+  // a run of unknown length that cannot block (as in the interrupt test) starts, and is
+  // stopped at the limit like at a Ctrl-C; the second seed never starts
+  const fs::path sweep = scratch_ / "sweep.toml";
+  std::ofstream(sweep) << "scene = \"" << kQuick.string() << "\"\nseeds = 2\n"
+                       << "set = [\"run.blocked.piston_speed=1e-300\"]\n";
+  const fs::path out = scratch_ / "out";
+  const ProcessResult r = run_cdpowder(
+      "sweep " + sweep.string() + " --out " + out.string() + " -j 1 --time-limit 2s", scratch_);
+  EXPECT_EQ(r.status, 1) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("base seed 1: interrupted"));
+  EXPECT_THAT(r.out, HasSubstr("0 of 2 runs finished; time limit 00:02: 2 runs left for later"));
+  const nlohmann::json s =
+      nlohmann::json::parse(slurp(out / "runs" / "base" / "seed_1" / "summary.json"));
+  EXPECT_TRUE(s["run"]["interrupted"].get<bool>());
+  EXPECT_FALSE(fs::exists(out / "runs" / "base" / "seed_2"));
+  // a limit that is not a duration is refused before anything runs
+  const ProcessResult bad = run_cdpowder(
+      "sweep " + sweep.string() + " --out " + (scratch_ / "bad").string() + " --time-limit 2x",
+      scratch_);
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_THAT(bad.err, HasSubstr("'2x' is not a positive duration"));
+  EXPECT_FALSE(fs::exists(scratch_ / "bad"));
 }
 
 TEST_F(SweepCli, BadSweepFilesAreRefusedBeforeAnythingIsWritten) {
