@@ -432,15 +432,23 @@ def main():
                                str(s[0].n)]))
         md.append("")
 
+    # The packing figure needs a run's particle files, which stay on the machine that ran it
+    # (results/.gitignore): the first run of (0,0) (else of the first point) that has them.
+    # Where no run here has them, the figure drawn before is kept, with the run it shows
+    # (packing_source.txt), so regenerating a report in a fresh clone does not drop it.
     packing = args.packing
     if packing is None:
         candidates = [p for p in (origin, min(runs)) if p in runs]
-        row = next(iter(runs[candidates[0]].values())) if candidates else None
-        packing = sweep / row["folder"] if row else None
+        folders = ([sweep / row["folder"] for _, row in sorted(runs[candidates[0]].items())]
+                   if candidates else [])
+        packing = next((f for f in folders if (f / "initial_particles.csv").exists()), None)
+    source_file = out / "packing_source.txt"
     if packing is not None and (packing / "initial_particles.csv").exists():
         plot_packing(packing, out)
+        source_file.write_text(f"{packing}\n")
+    if (out / "packing.png").exists() and source_file.exists():
         md += ["## One packing before and after compaction (Fig. 3)", "",
-               f"`{packing}`", "", "![packing](packing.png)", ""]
+               f"`{source_file.read_text().strip()}`", "", "![packing](packing.png)", ""]
 
     (out / "report.md").write_text("\n".join(md) + "\n")
     print(f"report: {out / 'report.md'}")

@@ -120,6 +120,23 @@ class ReportOnKnownSweeps(unittest.TestCase):
         self.assertEqual(named, ["- `runs/contact.mu_roll=1.0,contact.mu_twist=1.0/seed_2`: "
                                  "σzz/p = 1.0500"])
 
+    def test_packing_figure_survives_a_clone_without_particle_files(self):
+        # particle files stay on the machine that ran (results/.gitignore): the figure is
+        # drawn from the first (0,0) run that has them, and kept, with the run it shows,
+        # when the report is regenerated where none has them
+        write_sweep(self.dir, [(0.0, 0.0), (1.0, 1.0)])
+        run = self.dir / "runs" / "contact.mu_roll=0.0,contact.mu_twist=0.0" / "seed_2"
+        run.mkdir(parents=True)
+        for name, top in (("initial_particles.csv", 9.0), ("particles.csv", 3.0)):
+            (run / name).write_text("id,x,y,z,r\n0,1,1,1,1\n1,2,1,%g,1\n" % top)
+        self.assertIn(f"`{run}`", run_report(self.dir))
+        for name in ("initial_particles.csv", "particles.csv"):
+            (run / name).unlink()
+        report = run_report(self.dir)
+        self.assertIn("## One packing before and after compaction (Fig. 3)", report)
+        self.assertIn(f"`{run}`", report)
+        self.assertTrue((self.dir / "report" / "packing.png").exists())
+
     def test_regenerated_report_is_byte_identical(self):
         write_sweep(self.dir, [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0)])
         folder = self.dir / "report"
