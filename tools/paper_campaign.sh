@@ -1,0 +1,68 @@
+#!/usr/bin/env bash
+# The paper's sweeps (results/README.md) within one wall-time budget, such as a sitting at a
+# shared two-core machine or a batch job: each sweep in turn, with the time left as its
+# `--time-limit`, so no run is cut off half-done; then their reports.
+#
+#   tools/paper_campaign.sh BUDGET [SWEEP ...]
+#
+# BUDGET: seconds, or with units h, m, s, largest first (150m, 2h30m). SWEEP: the names of
+# examples/paper/<name>_sweep.toml, in the order to run them (default: fig5 table1
+# sensitivity level). Every sweep reuses the finished runs of the others (a run with
+# exactly the same scene is the same run), so shared points run once. JOBS (default 2)
+# sets the runs at a time. Ctrl-C stops the current sweep as `cdpowder sweep` does and runs
+# no further one. Commit `results/` afterwards: it is how the campaign goes on in a later
+# clone.
+set -euo pipefail
+cd "$(git rev-parse --show-toplevel)"
+[ $# -ge 1 ] || { sed -n '2,14p' "$0" | sed 's/^# \{0,1\}//'; exit 2; }
+
+budget_text=$1
+shift
+sweeps=("$@")
+[ ${#sweeps[@]} -gt 0 ] || sweeps=(fig5 table1 sensitivity level)
+for name in "${sweeps[@]}"; do
+  [ -f "examples/paper/${name}_sweep.toml" ] || {
+    echo "paper_campaign: no sweep examples/paper/${name}_sweep.toml (choose from:" \
+      "$(cd examples/paper && ls ./*_sweep.toml | sed 's|^\./||; s|_sweep.toml||' | tr '\n' ' '))" >&2
+    exit 2
+  }
+done
+
+# the budget in whole seconds: the units cdpowder sweep --time-limit reads
+if [[ $budget_text =~ ^([0-9]+h)?([0-9]+m)?([0-9]+s?)?$ ]] && [ -n "$budget_text" ]; then
+  h=${BASH_REMATCH[1]%h} m=${BASH_REMATCH[2]%m} s=${BASH_REMATCH[3]%s}
+  budget=$((${h:-0} * 3600 + ${m:-0} * 60 + ${s:-0}))
+else
+  budget=0
+fi
+[ "$budget" -gt 0 ] || {
+  echo "paper_campaign: BUDGET '$budget_text' is not a positive duration (5400, 150m, 2h30m)" >&2
+  exit 2
+}
+deadline=$(($(date +%s) + budget))
+
+cmake --preset release >/dev/null
+cmake --build build/release --target cdpowder >/dev/null
+cdpowder=build/release/app/cdpowder
+
+stop=0
+trap 'stop=1' INT TERM # the running sweep gets the signal too and stops its runs
+for name in "${sweeps[@]}"; do
+  [ "$stop" -eq 0 ] || break
+  left=$((deadline - $(date +%s)))
+  [ "$left" -gt 60 ] || break
+  reuse=()
+  for other in results/*/; do
+    other=${other%/}
+    [ "$other" = "results/$name" ] || reuse+=(--reuse "$other")
+  done
+  echo "paper_campaign: $name, $((left / 60)) min left" >&2
+  "$cdpowder" sweep "examples/paper/${name}_sweep.toml" --out "results/$name" \
+    --jobs "${JOBS:-2}" --time-limit "$left" "${reuse[@]}" || true
+done
+
+for name in "${sweeps[@]}"; do
+  [ -f "results/$name/results.csv" ] && /usr/bin/python3 tools/report.py "results/$name" >/dev/null
+done
+/usr/bin/python3 tools/campaign_status.py
+echo "paper_campaign: commit the finished runs with: git add results && git commit" >&2
