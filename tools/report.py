@@ -11,7 +11,9 @@ Reads SWEEP_DIR/results.csv (one row per run) and writes into DIR (default SWEEP
   additivity.png/.svg      ΔE = E1(μt, μn) − E1(μt, 0) − E1(0, μn) as a map
   packing.png/.svg         one packing before and after compaction (the paper's Fig. 3)
   report.md                the points table, Table 1 beside the paper, the paper's claims
-                           with cdpowder's numbers ± error
+                           with cdpowder's numbers ± error (E0, E(1, 1), the E1 values and
+                           their ratio, the ratio along the axes, the additivity residual,
+                           saturation along three lines, E(1, 1) against E_init)
 
 Differences between points (E1, ΔE) are paired by seed: runs with the same seed start from
 the same deposit, so their difference has a much smaller spread than either porosity.
@@ -222,6 +224,30 @@ def plot_packing(run_folder, out):
     save(fig, out, "packing")
 
 
+def ratio_of(num_stat, den_stat):
+    """num/den of two means and its error from their standard errors (NaN where unknown)."""
+    if not (num_stat.n and den_stat.n) or den_stat.mean == 0:
+        return math.nan, math.nan
+    ratio = num_stat.mean / den_stat.mean
+    if num_stat.n < 2 or den_stat.n < 2 or num_stat.mean == 0:
+        return ratio, math.nan
+    return ratio, abs(ratio) * math.sqrt((num_stat.sem / num_stat.mean) ** 2 +
+                                         (den_stat.sem / den_stat.mean) ** 2)
+
+
+def ratios_along_axes(runs):
+    """[(μ, E1(μ, 0), E1(0, μ), ratio, error)] for every μ > 0 on both axes."""
+    origin = (0.0, 0.0)
+    mus = sorted({p[0] for p in runs if p[1] == 0.0 and p[0] > 0} &
+                 {p[1] for p in runs if p[0] == 0.0 and p[1] > 0})
+    out = []
+    for mu in mus:
+        roll = paired(runs, [(mu, 0.0)], [origin])
+        twist = paired(runs, [(0.0, mu)], [origin])
+        out.append((mu, roll, twist) + ratio_of(roll, twist))
+    return out
+
+
 def fmt_row(cells):
     return "| " + " | ".join(cells) + " |"
 
@@ -390,19 +416,32 @@ def main():
     md.append(fmt_row(["E1(0, 1) (torsion only)", f"≈ {PAPER_E1_TWIST}", e1_twist.text(4)]))
     md.append(fmt_row(["E1(1, 1) (both)", f"≈ {PAPER_E1_BOTH}", e1_both.text(4)]))
     if e1_roll.n and e1_twist.n and e1_twist.mean != 0:
-        ratio = e1_roll.mean / e1_twist.mean
-        err = abs(ratio) * math.sqrt((e1_roll.sem / e1_roll.mean) ** 2 +
-                                     (e1_twist.sem / e1_twist.mean) ** 2) \
-            if e1_roll.n > 1 and e1_twist.n > 1 and e1_roll.mean != 0 else math.nan
+        ratio, err = ratio_of(e1_roll, e1_twist)
         md.append(fmt_row(["E1(1, 0) / E1(0, 1)", "≈ 2",
                            f"{ratio:.2f}" + ("" if math.isnan(err) else f" ± {err:.2f}")]))
+    axis_ratios = ratios_along_axes(runs) if have_origin else []
+    if len(axis_ratios) >= 2:
+        known = [r for _, _, _, r, _ in axis_ratios if math.isfinite(r)]
+        md.append(fmt_row(["E1(μ, 0) / E1(0, μ) roughly independent of μ",
+                           f"≈ 2 for every μ",
+                           f"{min(known):.2f} to {max(known):.2f} over μ = "
+                           f"{axis_ratios[0][0]:g} … {axis_ratios[-1][0]:g} (table below)"
+                           if known else "–"]))
     if have_origin:
         finite = [(abs(v), i) for i, v in enumerate(dE.flatten()) if np.isfinite(v)]
         md.append(fmt_row(["largest |ΔE| (additivity)", "≲ 0.03",
                            f"{max(finite)[0]:.4f}" if finite
                            else "– (needs (μt, μn), (μt, 0) and (0, μn) off the axes)"]))
+        if finite:
+            residuals = np.array([v for v in dE.flatten() if np.isfinite(v)])
+            md.append(fmt_row(["ΔE over the off-axis points: mean, RMS, positive",
+                               "fluctuates around 0, no systematics",
+                               f"{residuals.mean():+.4f}, {math.sqrt((residuals ** 2).mean()):.4f}, "
+                               f"{int((residuals > 0).sum())} of {len(residuals)}"]))
         mus = sorted({p[0] for p in runs})
+        mus_n = sorted({p[1] for p in runs})
         sat_roll = saturation(runs, [(m, (m, 0.0)) for m in mus])
+        sat_twist = saturation(runs, [(m, (0.0, m)) for m in mus_n])
         sat_diag = saturation(runs, [(m, (m, m)) for m in mus])
         def saturation_text(found, line_mus):
             if found is None:
@@ -412,9 +451,30 @@ def main():
             return f"{found:g}"
         md.append(fmt_row(["E1 saturates (μn = 0) from μt ≈", "0.4",
                            saturation_text(sat_roll, [m for m in mus if (m, 0.0) in runs])]))
+        md.append(fmt_row(["E1 saturates (μt = 0) from μn ≈", "0.4",
+                           saturation_text(sat_twist, [m for m in mus_n if (0.0, m) in runs])]))
         md.append(fmt_row(["E1 saturates (μt = μn) from ≈", "0.4",
                            saturation_text(sat_diag, [m for m in mus if (m, m) in runs])]))
+    corner = (1.0, 1.0)
+    if corner in runs and all(r.get("initial_porosity", "") != "" for r in runs[corner].values()):
+        e_init = stat_of(runs, corner, "initial_porosity")
+        e_max = stat_of(runs, corner, "porosity")
+        md.append(fmt_row(["E(1, 1) below the deposit's porosity E_init", "yes",
+                           f"{'yes' if e_max.mean < e_init.mean else 'no'}: "
+                           f"{e_max.text(4)} against E_init {e_init.text(4)}"]))
     md.append("")
+
+    if axis_ratios:
+        md += ["## Rolling against torsion along the axes", "",
+               "The paper: E1(μ, 0) / E1(0, μ) ≈ 2, roughly independent of μ. "
+               "Each E1 is paired by seed with E(0, 0).", ""]
+        md.append(fmt_row(["μ", "E1(μ, 0)", "E1(0, μ)", "ratio"]))
+        md.append(fmt_row(["---"] * 4))
+        for mu, roll, twist, ratio, err in axis_ratios:
+            md.append(fmt_row([f"{mu:g}", roll.text(4), twist.text(4),
+                               "–" if not math.isfinite(ratio) else
+                               f"{ratio:.2f}" + ("" if math.isnan(err) else f" ± {err:.2f}")]))
+        md.append("")
 
     # Table 1
     present = [p for p in PAPER_TABLE1 if p in runs]

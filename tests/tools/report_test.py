@@ -16,10 +16,11 @@ import unittest
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 REPORT = ROOT / "tools" / "report.py"
-COLUMNS = ["point", "contact.mu_roll", "contact.mu_twist", "seed", "porosity",
+COLUMNS = ["point", "contact.mu_roll", "contact.mu_twist", "seed", "porosity", "initial_porosity",
            "sigma_zz_over_p", "sigma_zz_compressive_over_p", "sigma_zz_tensile_over_p",
            "steps", "total_sweeps", "wall_seconds", "blocked", "folder"]
 E0 = 0.6
+E_INIT = 0.95
 
 
 def added(mu_t, mu_n):
@@ -35,7 +36,7 @@ def write_sweep(folder, points, seeds=3, blocked=lambda p, s: True, sigma=lambda
         for mu_t, mu_n in points:
             name = f"contact.mu_roll={mu_t},contact.mu_twist={mu_n}"
             for s in range(1, seeds + 1):
-                w.writerow([name, mu_t, mu_n, s, E0 + 0.01 * s + added(mu_t, mu_n),
+                w.writerow([name, mu_t, mu_n, s, E0 + 0.01 * s + added(mu_t, mu_n), E_INIT,
                             sigma((mu_t, mu_n), s), 2.0 - mu_t, -1.0 + mu_t, 1000, 50000, 10.0,
                             int(blocked((mu_t, mu_n), s)), f"runs/{name}/seed_{s}"])
 
@@ -74,7 +75,16 @@ class ReportOnKnownSweeps(unittest.TestCase):
         self.assertEqual(claim(report, "E1(1, 0) / E1(0, 1)"), "2.00 ± 0.00")
         self.assertEqual(claim(report, "largest |ΔE| (additivity)"), "0.0000")
         self.assertEqual(claim(report, "E1 saturates (μn = 0) from μt ≈"), "0.4")
+        self.assertEqual(claim(report, "E1 saturates (μt = 0) from μn ≈"), "0.4")
         self.assertEqual(claim(report, "E1 saturates (μt = μn) from ≈"), "0.4")
+        self.assertEqual(claim(report, "E1(μ, 0) / E1(0, μ) roughly independent of μ"),
+                         "2.00 to 2.00 over μ = 0.05 … 1 (table below)")
+        mean, rms, _ = claim(report, "ΔE over the off-axis points: mean, RMS, positive").split(", ")
+        self.assertAlmostEqual(float(mean), 0.0)
+        self.assertAlmostEqual(float(rms), 0.0)
+        self.assertEqual(claim(report, "E(1, 1) below the deposit's porosity E_init"),
+                         "yes: 0.9200 ± 0.0058 against E_init 0.9500 ± 0.0000")
+        self.assertIn("| 0.4 | 0.2000 ± 0.0000 | 0.1000 ± 0.0000 | 2.00 ± 0.00 |", report)
         for figure in ("fig5_porosity", "added_porosity", "additivity"):
             for ext in ("png", "svg"):
                 self.assertTrue((self.dir / "report" / f"{figure}.{ext}").stat().st_size > 0)
@@ -104,6 +114,12 @@ class ReportOnKnownSweeps(unittest.TestCase):
         report = run_report(self.dir)
         self.assertEqual(claim(report, "E1 saturates (μn = 0) from μt ≈"),
                          "not below 1 (E1 still changes)")
+        # rolling's E1(1, 0) = 0.25 against torsion's 0.1: the ratio now grows with μ, and
+        # the additivity residual is −0.05 at every μt = 1 point (4 of the 16 off-axis ones)
+        self.assertEqual(claim(report, "E1(μ, 0) / E1(0, μ) roughly independent of μ"),
+                         "2.00 to 2.50 over μ = 0.2 … 1 (table below)")
+        self.assertEqual(claim(report, "ΔE over the off-axis points: mean, RMS, positive"),
+                         "-0.0125, 0.0250, 0 of 16")
 
     def test_unblocked_runs_are_left_out(self):
         write_sweep(self.dir, [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0)],
