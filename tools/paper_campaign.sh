@@ -5,7 +5,8 @@
 #
 #   tools/paper_campaign.sh BUDGET [SWEEP ...]
 #
-# BUDGET: seconds, or with units h, m, s, largest first (150m, 2h30m). SWEEP: the names of
+# BUDGET: whole seconds, or whole numbers with units h, m, s, largest first (150m, 2h30m).
+# SWEEP: the names of
 # examples/paper/<name>_sweep.toml, in the order to run them (default: fig5 table1
 # sensitivity level). Every sweep reuses the finished runs of the others (a run with
 # exactly the same scene is the same run), so shared points run once. JOBS (default 2)
@@ -28,12 +29,14 @@ for name in "${sweeps[@]}"; do
   }
 done
 
-# the budget in whole seconds: the units cdpowder sweep --time-limit reads
-if [[ $budget_text =~ ^([0-9]+h)?([0-9]+m)?([0-9]+s?)?$ ]] && [ -n "$budget_text" ]; then
+# the budget in whole seconds (the same grammar as cdpowder sweep --time-limit, in whole
+# numbers; 10# reads "08m" as decimal, not octal)
+budget=0
+if [[ $budget_text =~ ^[0-9]+$ ]]; then
+  budget=$((10#$budget_text))
+elif [[ $budget_text =~ ^([0-9]+h)?([0-9]+m)?([0-9]+s)?$ ]]; then
   h=${BASH_REMATCH[1]%h} m=${BASH_REMATCH[2]%m} s=${BASH_REMATCH[3]%s}
-  budget=$((${h:-0} * 3600 + ${m:-0} * 60 + ${s:-0}))
-else
-  budget=0
+  budget=$((10#${h:-0} * 3600 + 10#${m:-0} * 60 + 10#${s:-0}))
 fi
 [ "$budget" -gt 0 ] || {
   echo "paper_campaign: BUDGET '$budget_text' is not a positive duration (5400, 150m, 2h30m)" >&2
@@ -45,8 +48,15 @@ cmake --preset release >/dev/null
 cmake --build build/release --target cdpowder >/dev/null
 cdpowder=build/release/app/cdpowder
 
+# A signal stops the running sweep (as Ctrl-C does: its runs write their outputs, flagged
+# interrupted) and starts no further one. The sweep runs in the background, so that the
+# trap runs at once and not when the sweep ends, and in a session of its own (setsid), so
+# that a Ctrl-C at the terminal reaches it once, through the trap, not twice (a second
+# signal would kill its runs).
 stop=0
-trap 'stop=1' INT TERM # the running sweep gets the signal too and stops its runs
+sweep_pid=""
+trap 'stop=1; [ -z "$sweep_pid" ] || kill -TERM "$sweep_pid" 2>/dev/null || true' INT TERM
+shopt -s nullglob
 for name in "${sweeps[@]}"; do
   [ "$stop" -eq 0 ] || break
   left=$((deadline - $(date +%s)))
@@ -57,8 +67,12 @@ for name in "${sweeps[@]}"; do
     [ "$other" = "results/$name" ] || reuse+=(--reuse "$other")
   done
   echo "paper_campaign: $name, $((left / 60)) min left" >&2
-  "$cdpowder" sweep "examples/paper/${name}_sweep.toml" --out "results/$name" \
-    --jobs "${JOBS:-2}" --time-limit "$left" "${reuse[@]}" || true
+  setsid "$cdpowder" sweep "examples/paper/${name}_sweep.toml" --out "results/$name" \
+    --jobs "${JOBS:-2}" --time-limit "$left" "${reuse[@]}" &
+  sweep_pid=$!
+  # wait returns early when a trapped signal arrives: wait again until the sweep has ended
+  while kill -0 "$sweep_pid" 2>/dev/null; do wait "$sweep_pid" || true; done
+  sweep_pid=""
 done
 
 for name in "${sweeps[@]}"; do

@@ -167,6 +167,8 @@ void write_tables(const SweepOptions& options, const SweepPlan& plan,
 }  // namespace
 
 int run_sweep(const SweepOptions& options) {
+  // --time-limit counts from here, the command's start, as a batch system's limit would
+  const auto start = std::chrono::steady_clock::now();
   const StopSignals signals(count_signal, 0);  // no SA_RESETHAND: the second signal is counted
   g_signals.store(0);
   const SweepPlan plan = read_sweep_plan(options.sweep, options.overrides);
@@ -288,7 +290,6 @@ int run_sweep(const SweepOptions& options) {
                  total, plan.points.size(), plan.seeds.size(), total - pending.size(), reused_count,
                  jobs);
   }
-  const auto start = std::chrono::steady_clock::now();
   RunningRuns guard;
   std::map<pid_t, std::size_t>& running = guard.runs;
   std::size_t next = 0;
@@ -296,25 +297,30 @@ int run_sweep(const SweepOptions& options) {
   std::size_t failed = 0;
   std::size_t left_for_later = 0;  // not started: not expected to finish within --time-limit
   bool time_up = false;
-  int signals_acted_on = 0;
+  // how hard the running runs have been asked to stop: 0 not, 1 SIGTERM (a run finishes its
+  // step, writes its outputs flagged interrupted, and is rerun next time), 2 SIGKILL. A run
+  // handles one SIGTERM and dies at a second, so each level is sent once, whether a signal
+  // to the sweep or the time limit asked for it.
+  int stop_level_sent = 0;
   const auto seconds_since_start = [&start] {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   };
   while (next < pending.size() || !running.empty()) {
+    const int received = g_signals.load();
     if (options.time_limit && !time_up && seconds_since_start() >= *options.time_limit) {
-      // past the limit: the runs still going stop as at a first Ctrl-C (they are rerun
-      // next time); the expected durations should have left none
+      // past the limit: nothing more starts, and runs still going stop as at a first Ctrl-C
+      // (the expected durations should have left none)
       time_up = true;
-      for (const auto& [pid, index] : running) kill(pid, SIGTERM);
       left_for_later += pending.size() - next;
       next = pending.size();
     }
-    const int received = g_signals.load();
-    if (received > signals_acted_on) {
-      // first signal: ask every run to stop after its step (it writes its outputs, flagged
-      // interrupted, and is rerun next time); second: kill them
-      for (const auto& [pid, index] : running) kill(pid, received >= 2 ? SIGKILL : SIGTERM);
-      signals_acted_on = received;
+    // a run asked to stop ends within a step (milliseconds to seconds); one still going a
+    // minute after the limit is killed, so the sweep keeps to its limit
+    const bool overdue = time_up && seconds_since_start() >= *options.time_limit + 60.0;
+    const int stop_level = std::min(2, std::max({received, time_up ? 1 : 0, overdue ? 2 : 0}));
+    if (stop_level > stop_level_sent) {
+      for (const auto& [pid, index] : running) kill(pid, stop_level >= 2 ? SIGKILL : SIGTERM);
+      stop_level_sent = stop_level;
     }
     while (received == 0 && next < pending.size() && static_cast<int>(running.size()) < jobs) {
       const std::size_t i = pending[next++];
@@ -395,8 +401,8 @@ int run_sweep(const SweepOptions& options) {
   } else if (failed > 0) {
     state = fmt::format(", {} failed (see their log.txt)", failed);
   }
-  if (g_signals.load() == 0 && (left_for_later > 0 || time_up)) {
-    const std::size_t left = total - finished - failed;
+  const std::size_t left = total - finished - failed;
+  if (g_signals.load() == 0 && (left_for_later > 0 || time_up) && left > 0) {
     state +=
         fmt::format("; time limit {}: {} run{} left for later (run the same command to resume)",
                     clock_text(*options.time_limit), left, left == 1 ? "" : "s");

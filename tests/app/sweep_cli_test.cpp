@@ -194,14 +194,15 @@ TEST_F(SweepCli, TimeLimitStartsOnlyRunsExpectedToFinishInTime) {
   const fs::path out = scratch_ / "out";
   const std::string command = "sweep " + sweep.string() + " --out " + out.string() + " -j 2";
   ASSERT_EQ(run_cdpowder(command, scratch_).status, 0);
-  // seed 2 of every point is lost, and seed 1 of (1, 1) is recorded as a 100 000 s run:
-  // within an hour, that point's seed 2 is not expected to finish; the others are
+  // seed 2 of every point is lost, and seed 1 of (0, 0) is recorded as a 100 000 s run:
+  // within an hour, that point's seed 2 is not expected to finish, and the runs after it
+  // in the sweep's order start in its place
   for (const char* point :
        {"contact.mu_roll=0.0,contact.mu_twist=0.0", "contact.mu_roll=0.0,contact.mu_twist=1.0",
         "contact.mu_roll=1.0,contact.mu_twist=0.0", "contact.mu_roll=1.0,contact.mu_twist=1.0"}) {
     fs::remove(out / "runs" / point / "seed_2" / "summary.json");
   }
-  const fs::path slow = out / "runs" / "contact.mu_roll=1.0,contact.mu_twist=1.0" / "seed_1";
+  const fs::path slow = out / "runs" / "contact.mu_roll=0.0,contact.mu_twist=0.0" / "seed_1";
   nlohmann::json s = nlohmann::json::parse(slurp(slow / "summary.json"));
   s["run"]["wall_seconds"] = 1e5;
   std::ofstream(slow / "summary.json") << s.dump(1);
@@ -211,7 +212,7 @@ TEST_F(SweepCli, TimeLimitStartsOnlyRunsExpectedToFinishInTime) {
   const ProcessResult listed = run_cdpowder(command + " --dry-run", scratch_);
   EXPECT_THAT(listed.out, HasSubstr("7 finished, 0 reused, 1 to run"));
   EXPECT_THAT(listed.out,
-              HasSubstr("pending  runs/contact.mu_roll=1.0,contact.mu_twist=1.0/seed_2"));
+              HasSubstr("pending  runs/contact.mu_roll=0.0,contact.mu_twist=0.0/seed_2"));
   // without the limit it runs
   const ProcessResult rest = run_cdpowder(command, scratch_);
   EXPECT_EQ(rest.status, 0) << rest.err;

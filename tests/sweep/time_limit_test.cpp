@@ -22,11 +22,16 @@ TEST(ParseDuration, ReadsSecondsAndUnitsLargestFirst) {
   EXPECT_EQ(parse_duration("1h5m30s"), 3930.0);
   EXPECT_EQ(parse_duration("1h30s"), 3630.0);
   EXPECT_EQ(parse_duration("0"), 0.0);
+  // what std::from_chars reads as a number
+  EXPECT_EQ(parse_duration(".5"), 0.5);
+  EXPECT_EQ(parse_duration("5."), 5.0);
+  EXPECT_EQ(parse_duration("1e3"), 1000.0);
+  EXPECT_EQ(parse_duration("1.5m"), 90.0);
 }
 
 TEST(ParseDuration, RefusesWhatIsNotADuration) {
   for (const char* text : {"", "h", "2x", "2 h", "-5", "-1m", "2h30", "30m2h", "1h1h", "inf", "nan",
-                           "1e400", "5m ", "m5"}) {
+                           "1e400", "5m ", "m5", "+5", "1h-5m", "1e308h", "5mm"}) {
     EXPECT_EQ(parse_duration(text), std::nullopt) << text;
   }
 }

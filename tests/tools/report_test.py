@@ -27,7 +27,8 @@ def added(mu_t, mu_n):
     return 0.2 * min(mu_t / 0.4, 1.0) + 0.1 * min(mu_n / 0.4, 1.0)
 
 
-def write_sweep(folder, points, seeds=3, blocked=lambda p, s: True, sigma=lambda p, s: 1.0):
+def write_sweep(folder, points, seeds=3, blocked=lambda p, s: True, sigma=lambda p, s: 1.0,
+                e_init=E_INIT):
     folder.mkdir(parents=True, exist_ok=True)
     with open(folder / "results.csv", "w", newline="") as f:
         f.write("# synthetic sweep for the report test\n")
@@ -36,7 +37,7 @@ def write_sweep(folder, points, seeds=3, blocked=lambda p, s: True, sigma=lambda
         for mu_t, mu_n in points:
             name = f"contact.mu_roll={mu_t},contact.mu_twist={mu_n}"
             for s in range(1, seeds + 1):
-                w.writerow([name, mu_t, mu_n, s, E0 + 0.01 * s + added(mu_t, mu_n), E_INIT,
+                w.writerow([name, mu_t, mu_n, s, E0 + 0.01 * s + added(mu_t, mu_n), e_init,
                             sigma((mu_t, mu_n), s), 2.0 - mu_t, -1.0 + mu_t, 1000, 50000, 10.0,
                             int(blocked((mu_t, mu_n), s)), f"runs/{name}/seed_{s}"])
 
@@ -100,7 +101,8 @@ class ReportOnKnownSweeps(unittest.TestCase):
 
     def test_unsaturated_line_is_said_so(self):
         mus = [0.0, 0.2, 0.4, 0.6, 1.0]
-        write_sweep(self.dir, [(t, n) for t in mus for n in mus])
+        # a deposit denser than the compacted corner: E(1, 1) = 0.92 above E_init = 0.9
+        write_sweep(self.dir, [(t, n) for t in mus for n in mus], e_init=0.9)
         rows = (self.dir / "results.csv").read_text().splitlines()
         # raise E(1, 0) by 0.05 for every seed: rolling still adds porosity between 0.6 and 1
         bumped = []
@@ -120,6 +122,10 @@ class ReportOnKnownSweeps(unittest.TestCase):
                          "2.00 to 2.50 over μ = 0.2 … 1 (table below)")
         self.assertEqual(claim(report, "ΔE over the off-axis points: mean, RMS, positive"),
                          "-0.0125, 0.0250, 0 of 16")
+        # the torsion axis is untouched: it still saturates from 0.4
+        self.assertEqual(claim(report, "E1 saturates (μt = 0) from μn ≈"), "0.4")
+        self.assertEqual(claim(report, "E(1, 1) below the deposit's porosity E_init"),
+                         "no: 0.9200 ± 0.0058 against E_init 0.9000 ± 0.0000")
 
     def test_unblocked_runs_are_left_out(self):
         write_sweep(self.dir, [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0)],

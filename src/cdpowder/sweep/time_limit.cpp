@@ -32,6 +32,7 @@ std::optional<double> parse_duration(std::string_view text) {
     next_unit = unit + 1;
     ++pos;
   }
+  if (!std::isfinite(total)) return std::nullopt;  // "1e308h"
   return total;
 }
 
