@@ -10,7 +10,9 @@
 # examples/paper/<name>_sweep.toml, in the order to run them (default: fig5 table1
 # sensitivity level). Every sweep reuses the finished runs of the others (a run with
 # exactly the same scene is the same run), so shared points run once. JOBS (default 2)
-# sets the runs at a time. Ctrl-C stops the current sweep as `cdpowder sweep` does and runs
+# sets the runs at a time; CDPOWDER names a cdpowder binary to run instead of building
+# build/release (e.g. a copy kept while the sources change: a run records the commit its
+# binary was built from, "-dirty" if the tree had uncommitted changes then). Ctrl-C stops the current sweep as `cdpowder sweep` does and runs
 # no further one. Commit `results/` afterwards: it is how the campaign goes on in a later
 # clone.
 set -euo pipefail
@@ -44,9 +46,13 @@ fi
 }
 deadline=$(($(date +%s) + budget))
 
-cmake --preset release >/dev/null
-cmake --build build/release --target cdpowder >/dev/null
-cdpowder=build/release/app/cdpowder
+if [ -n "${CDPOWDER:-}" ]; then
+  cdpowder=$CDPOWDER
+else
+  cmake --preset release >/dev/null
+  cmake --build build/release --target cdpowder >/dev/null
+  cdpowder=build/release/app/cdpowder
+fi
 
 # A signal stops the running sweep (as Ctrl-C does: its runs write their outputs, flagged
 # interrupted) and starts no further one. The sweep runs in the background, so that the
