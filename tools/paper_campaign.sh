@@ -1,23 +1,22 @@
 #!/usr/bin/env bash
 # The paper's sweeps (results/README.md) within one wall-time budget, such as a sitting at a
 # shared two-core machine or a batch job: each sweep in turn, with the time left as its
-# `--time-limit`, so no run is cut off half-done; then their reports.
+# `--time-limit` (a run starts only when it is expected to finish), then their reports.
 #
 #   tools/paper_campaign.sh BUDGET [SWEEP ...]
 #
 # BUDGET: whole seconds, or whole numbers with units h, m, s, largest first (150m, 2h30m).
-# SWEEP: the names of
-# examples/paper/<name>_sweep.toml, in the order to run them (default: fig5 table1
-# sensitivity level). Every sweep reuses the finished runs of the others (a run with
-# exactly the same scene is the same run), so shared points run once. JOBS (default 2)
-# sets the runs at a time; CDPOWDER names a cdpowder binary to run instead of building
-# build/release (e.g. a copy kept while the sources change: a run records the commit its
-# binary was built from, "-dirty" if the tree had uncommitted changes then). Ctrl-C stops the current sweep as `cdpowder sweep` does and runs
-# no further one. Commit `results/` afterwards: it is how the campaign goes on in a later
-# clone.
+# SWEEP: names of examples/paper/<name>_sweep.toml, in the order to run them (default:
+# fig5 table1 sensitivity level). Every sweep reuses the finished runs of the others (a run
+# with exactly the same scene is the same run), so shared points run once.
+# JOBS (default 2): runs at a time. CDPOWDER: a cdpowder binary to run instead of building
+# build/release, e.g. a copy kept while the sources change (a run records the commit its
+# binary was built from, with "-dirty" if the tree had uncommitted changes then).
+# Ctrl-C stops the current sweep as `cdpowder sweep` does and runs no further one. Commit
+# `results/` afterwards: it is how the campaign goes on in a later clone.
 set -euo pipefail
 cd "$(git rev-parse --show-toplevel)"
-[ $# -ge 1 ] || { sed -n '2,14p' "$0" | sed 's/^# \{0,1\}//'; exit 2; }
+[ $# -ge 1 ] || { sed -n '2,16p' "$0" | sed 's/^# \{0,1\}//'; exit 2; }
 
 budget_text=$1
 shift
