@@ -7,26 +7,29 @@
 
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace cdpowder {
 namespace {
 
 TEST(ParseDuration, ReadsSecondsAndUnitsLargestFirst) {
-  EXPECT_EQ(parse_duration("5400"), 5400.0);
-  EXPECT_EQ(parse_duration("0.5"), 0.5);
-  EXPECT_EQ(parse_duration("45s"), 45.0);
-  EXPECT_EQ(parse_duration("90m"), 5400.0);
-  EXPECT_EQ(parse_duration("2.5h"), 9000.0);
-  EXPECT_EQ(parse_duration("2h40m"), 9600.0);
-  EXPECT_EQ(parse_duration("1h5m30s"), 3930.0);
-  EXPECT_EQ(parse_duration("1h30s"), 3630.0);
-  EXPECT_EQ(parse_duration("0"), 0.0);
-  // what std::from_chars reads as a number
-  EXPECT_EQ(parse_duration(".5"), 0.5);
-  EXPECT_EQ(parse_duration("5."), 5.0);
-  EXPECT_EQ(parse_duration("1e3"), 1000.0);
-  EXPECT_EQ(parse_duration("1.5m"), 90.0);
+  const std::vector<std::pair<const char*, double>> cases = {
+      {"5400", 5400.0},
+      {"0.5", 0.5},
+      {"45s", 45.0},
+      {"90m", 5400.0},
+      {"2.5h", 9000.0},
+      {"2h40m", 9600.0},
+      {"1h5m30s", 3930.0},
+      {"1h30s", 3630.0},
+      {"0", 0.0},
+      // what std::from_chars reads as a number
+      {".5", 0.5},
+      {"5.", 5.0},
+      {"1e3", 1000.0},
+      {"1.5m", 90.0}};
+  for (const auto& [text, seconds] : cases) EXPECT_EQ(parse_duration(text), seconds) << text;
 }
 
 TEST(ParseDuration, RefusesWhatIsNotADuration) {
