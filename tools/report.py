@@ -340,11 +340,12 @@ def main():
     if variants:
         md += ["## Points that change other keys", ""]
         md.append("ΔE and Δσzz+/p are against the point with the same (μt, μn) and nothing "
-                  "else changed, paired by seed (– where the sweep has no such point).")
+                  "else changed, paired by seed (– where the sweep has no such point); n counts "
+                  "the point's runs, pairs the seeds it shares with that point.")
         md.append("")
-        md.append(fmt_row(["point", "E", "ΔE", "n", "σzz/p", "σzz+/p", "Δσzz+/p", "σzz−/p",
-                           "wall [s]"]))
-        md.append(fmt_row(["---"] * 9))
+        md.append(fmt_row(["point", "E", "n", "ΔE", "pairs", "σzz/p", "σzz+/p", "Δσzz+/p",
+                           "σzz−/p", "wall [s]"]))
+        md.append(fmt_row(["---"] * 10))
         for name in sorted(variants):
             seeds = variants[name]
 
@@ -358,8 +359,9 @@ def main():
                 base = runs.get((float(first[MU_T]), float(first[MU_N])), {})
                 return Stat([num(seeds[k][c]) - num(base[k][c])
                              for k in sorted(set(seeds) & set(base))])
-            md.append(fmt_row([f"`{name}`", col("porosity").text(4),
-                               against_base("porosity").text(4), str(len(seeds)),
+            delta_e = against_base("porosity")
+            md.append(fmt_row([f"`{name}`", col("porosity").text(4), str(len(seeds)),
+                               delta_e.text(4), str(delta_e.n),
                                col("sigma_zz_over_p").text(3),
                                col("sigma_zz_compressive_over_p").text(2),
                                against_base("sigma_zz_compressive_over_p").text(2),

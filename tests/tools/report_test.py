@@ -159,6 +159,29 @@ class ReportOnKnownSweeps(unittest.TestCase):
         self.assertIn(f"`{run}`", report)
         self.assertTrue((self.dir / "report" / "packing.png").exists())
 
+    def test_variant_is_paired_with_its_base_point_over_shared_seeds(self):
+        # a sensitivity point (one more key) with 3 seeds, its base point with seeds 1 and 2
+        # only: ΔE is the constructed +0.05 over the 2 shared seeds, n counts all 3 runs
+        self.dir.mkdir(parents=True, exist_ok=True)
+        columns = COLUMNS[:3] + ["contact.cohesion_range"] + COLUMNS[3:]
+        with open(self.dir / "results.csv", "w", newline="") as f:
+            w = csv.writer(f)
+            w.writerow(columns)
+            for name, d_coh, offset, seeds in (
+                    ("contact.mu_roll=0.0,contact.mu_twist=0.0", "", 0.0, (1, 2)),
+                    ("contact.mu_roll=0.0,contact.mu_twist=0.0,contact.cohesion_range=0.05",
+                     0.05, 0.05, (1, 2, 3))):
+                for s in seeds:
+                    w.writerow([name, 0.0, 0.0, d_coh, s, E0 + 0.01 * s + offset, E_INIT, 1.0,
+                                2.0, -1.0, 1000, 50000, 10.0, 1, f"runs/{name}/seed_{s}"])
+        report = run_report(self.dir)
+        row = next(line for line in report.splitlines()
+                   if line.startswith("| `contact.mu_roll=0.0,contact.mu_twist=0.0,contact."))
+        cells = row.strip("| ").split(" | ")
+        self.assertEqual(cells[2], "3")                 # n: the variant's runs
+        self.assertEqual(cells[3], "0.0500 ± 0.0000")   # ΔE against the base point
+        self.assertEqual(cells[4], "2")                 # pairs: the seeds both have
+
     def test_regenerated_report_is_byte_identical(self):
         write_sweep(self.dir, [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0)])
         folder = self.dir / "report"
