@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Turns a `cdpowder sweep` folder into the figures and tables of the paper's comparison.
 
-    tools/report.py SWEEP_DIR [--out DIR] [--all-runs] [--packing RUN_FOLDER]
+    tools/report.py SWEEP_DIR [--out DIR] [--all-runs] [--seeds LIST] [--packing RUN_FOLDER]
 
 Reads SWEEP_DIR/results.csv (one row per run) and writes into DIR (default SWEEP_DIR/report):
 
@@ -18,13 +18,16 @@ Reads SWEEP_DIR/results.csv (one row per run) and writes into DIR (default SWEEP
 Differences between points (E1, ΔE) are paired by seed: runs with the same seed start from
 the same deposit, so their difference has a much smaller spread than either porosity.
 Only runs that reached the blocked state count, unless --all-runs (for quick looks at
-unfinished sweeps; the report then says so). Uses numpy and matplotlib (Debian's
+unfinished sweeps; the report then says so). --seeds 1-2 (or 1,2,5) keeps only those seeds:
+a sweep that is still running has more seeds at some points than at others, and a report
+over the seeds every point has compares like with like. Uses numpy and matplotlib (Debian's
 python3-numpy, python3-matplotlib); run with Debian's /usr/bin/python3.
 """
 import argparse
 import csv
 import math
 import pathlib
+import re
 import sys
 
 import matplotlib
@@ -102,10 +105,24 @@ def parameter_columns(rows):
     return names[names.index("point") + 1:names.index("seed")]
 
 
-def load(sweep_dir, all_runs):
+def parse_seeds(text):
+    """'1-3,5' → {1, 2, 3, 5}; raises ValueError naming the bad item."""
+    seeds = set()
+    for item in text.split(","):
+        m = re.fullmatch(r"\s*(\d+)\s*(?:-\s*(\d+)\s*)?", item)
+        if not m or (m[2] and int(m[2]) < int(m[1])):
+            raise ValueError(f"'{item}' is not a seed or a rising range of seeds (1, 1-3)")
+        seeds.update(range(int(m[1]), int(m[2] or m[1]) + 1))
+    return seeds
+
+
+def load(sweep_dir, all_runs, seeds=None):
     """runs: (μt, μn) → {seed: row} for the points that change nothing else; variants:
-    point name → {seed: row} for points that also change another key (sensitivity)."""
+    point name → {seed: row} for points that also change another key (sensitivity).
+    seeds: if given, the set of seeds to keep (the others are left out everywhere)."""
     rows = read_csv(sweep_dir / "results.csv")
+    if seeds is not None:
+        rows = [r for r in rows if int(r["seed"]) in seeds]
     kept = [r for r in rows if all_runs or r["blocked"] == "1"]
     others = [k for k in parameter_columns(rows) if k not in (MU_T, MU_N)]
     runs, variants = {}, {}
@@ -319,22 +336,29 @@ def main():
     parser.add_argument("--out", type=pathlib.Path, help="default: SWEEP_DIR/report")
     parser.add_argument("--all-runs", action="store_true",
                         help="also use runs that did not reach the blocked state")
+    parser.add_argument("--seeds", metavar="LIST",
+                        help="only these seeds, e.g. 1-2 or 1,2,5 (default: all)")
     parser.add_argument("--packing", type=pathlib.Path,
                         help="run folder for the packing figure (default: a (0,0) run)")
     args = parser.parse_args()
     sweep = args.sweep_dir
     if not (sweep / "results.csv").exists():
         sys.exit(f"error: {sweep / 'results.csv'} not found: is {sweep} a sweep folder?")
+    try:
+        seeds = parse_seeds(args.seeds) if args.seeds is not None else None
+    except ValueError as e:
+        sys.exit(f"error: --seeds: {e}")
     out = args.out or sweep / "report"
     out.mkdir(parents=True, exist_ok=True)
-    rows, kept, runs, variants = load(sweep, args.all_runs)
+    rows, kept, runs, variants = load(sweep, args.all_runs, seeds)
 
     md = ["# cdpowder sweep report", ""]
     md += ["Sweep: `" + str(sweep) + "`", "", "```"] + provenance(sweep / "results.csv") + ["```", ""]
     md.append(f"{len(rows)} finished runs, {sum(r['blocked'] == '1' for r in rows)} blocked; "
               f"{'all finished runs used (--all-runs)' if args.all_runs else 'blocked runs used'}. "
               "Errors are standard errors of the mean over seeds; differences between points "
-              "are paired by seed (same deposit).")
+              "are paired by seed (same deposit)."
+              + (f" Seeds {args.seeds} only (--seeds)." if seeds is not None else ""))
     md.append("")
     md += accuracy_section(kept)
     if variants:
