@@ -345,12 +345,12 @@ def main():
     if not (sweep / "results.csv").exists():
         sys.exit(f"error: {sweep / 'results.csv'} not found: is {sweep} a sweep folder?")
     try:
-        seeds = parse_seeds(args.seeds) if args.seeds is not None else None
+        chosen_seeds = parse_seeds(args.seeds) if args.seeds is not None else None
     except ValueError as e:
         sys.exit(f"error: --seeds: {e}")
     out = args.out or sweep / "report"
     out.mkdir(parents=True, exist_ok=True)
-    rows, kept, runs, variants = load(sweep, args.all_runs, seeds)
+    rows, kept, runs, variants = load(sweep, args.all_runs, chosen_seeds)
 
     md = ["# cdpowder sweep report", ""]
     md += ["Sweep: `" + str(sweep) + "`", "", "```"] + provenance(sweep / "results.csv") + ["```", ""]
@@ -358,7 +358,7 @@ def main():
               f"{'all finished runs used (--all-runs)' if args.all_runs else 'blocked runs used'}. "
               "Errors are standard errors of the mean over seeds; differences between points "
               "are paired by seed (same deposit)."
-              + (f" Seeds {args.seeds} only (--seeds)." if seeds is not None else ""))
+              + (f" Seeds {args.seeds} only (--seeds)." if chosen_seeds is not None else ""))
     md.append("")
     md += accuracy_section(kept)
     if variants:

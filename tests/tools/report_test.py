@@ -196,12 +196,13 @@ class ReportOnKnownSweeps(unittest.TestCase):
                          "0.6200 ± 0.0100")
 
     def test_bad_seeds_option_is_named_and_writes_nothing(self):
+        # each bad list, and the item of it the error must name
         write_sweep(self.dir, [(0.0, 0.0)])
-        for bad in ("2-1", "x", "1,,2"):
+        for bad, item in (("2-1", "'2-1'"), ("x", "'x'"), ("1,,2", "''"), ("1,3-", "'3-'")):
             out = subprocess.run([sys.executable, str(REPORT), str(self.dir), "--seeds", bad],
                                  capture_output=True, text=True)
             self.assertNotEqual(out.returncode, 0, bad)
-            self.assertIn("--seeds", out.stderr)
+            self.assertIn(f"--seeds: {item} is not a seed", out.stderr)
             self.assertFalse((self.dir / "report").exists(), bad)
 
     def test_regenerated_report_is_byte_identical(self):
