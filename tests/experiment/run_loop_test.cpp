@@ -2,6 +2,8 @@
 #include "cdpowder/experiment/run_loop.hpp"
 
 #include "cdpowder/experiment/blocked_state.hpp"
+#include "cdpowder/io/state_file.hpp"
+#include "cdpowder/io/state_hash.hpp"
 #include "support/tiny_world.hpp"
 
 #include <gtest/gtest.h>
@@ -181,6 +183,66 @@ TEST(RunLoop, ASphereOutOfBalanceKeepsTheProbeFromBlocking) {
   EXPECT_GE(result.probes, 1);
   EXPECT_EQ(result.unbalanced_rest_solves, result.probes);
   EXPECT_FALSE(result.blocked_by_probe);
+}
+
+// Stopped at any step, saved to a state file's bytes and continued in a fresh engine, a
+// run takes the same decisions as one never stopped: deferred windows, probes and the
+// blocked state at the same steps, with the same final state.
+TEST(RunLoop, ARunResumedFromItsStateFileTakesTheSameDecisions) {
+  RunConfig run = until_blocked();
+  run.max_duration = 10.0;
+  const auto make = [] {
+    TinyScene s = quiet_column();
+    add_pushed_sphere(s, 0.01);  // five deferred windows, then blocked at step 300
+    return s;
+  };
+  TinyScene whole = make();
+  const RunResult uninterrupted = run_simulation(whole.world, whole.work, whole.settings, run, {});
+  ASSERT_TRUE(uninterrupted.blocked);
+  ASSERT_EQ(uninterrupted.unbalanced_rest_solves, 5);
+  for (const std::int64_t stop_at : {1, 49, 50, 51, 175, 299}) {
+    TinyScene first = make();
+    RunState state;
+    run_simulation(first.world, first.work, first.settings, run, state, {},
+                   [&] { return state.result.steps == stop_at; });
+    ASSERT_EQ(state.result.steps, stop_at);
+    const std::string bytes = encode_state("", first.world, first.work, state);
+    TinyScene resumed = make();
+    RunState resumed_state;
+    restore_run(decode_state(bytes, "memory"), run, resumed.settings.solver.dt, resumed.world,
+                resumed.work, resumed_state);
+    const RunResult result =
+        run_simulation(resumed.world, resumed.work, resumed.settings, run, resumed_state, {});
+    EXPECT_TRUE(result.blocked) << "stopped at " << stop_at;
+    EXPECT_EQ(result.steps, uninterrupted.steps) << "stopped at " << stop_at;
+    EXPECT_EQ(result.total_sweeps, uninterrupted.total_sweeps) << "stopped at " << stop_at;
+    EXPECT_EQ(result.unbalanced_rest_solves, 5) << "stopped at " << stop_at;
+    EXPECT_EQ(state_hash(resumed.world, resumed.work.action_cache),
+              state_hash(whole.world, whole.work.action_cache))
+        << "stopped at " << stop_at;
+  }
+
+  // the probes' path: a noisy column blocked by the probe at step 50
+  TinyScene noisy = noisy_column();
+  const RunResult probed = run_simulation(noisy.world, noisy.work, noisy.settings, run, {});
+  ASSERT_TRUE(probed.blocked_by_probe);
+  for (const std::int64_t stop_at : {25, 49}) {
+    TinyScene first = noisy_column();
+    RunState state;
+    run_simulation(first.world, first.work, first.settings, run, state, {},
+                   [&] { return state.result.steps == stop_at; });
+    TinyScene resumed = noisy_column();
+    RunState resumed_state;
+    restore_run(decode_state(encode_state("", first.world, first.work, state), "memory"), run,
+                resumed.settings.solver.dt, resumed.world, resumed.work, resumed_state);
+    const RunResult result =
+        run_simulation(resumed.world, resumed.work, resumed.settings, run, resumed_state, {});
+    EXPECT_TRUE(result.blocked_by_probe) << "stopped at " << stop_at;
+    EXPECT_EQ(result.probes, probed.probes) << "stopped at " << stop_at;
+    EXPECT_EQ(state_hash(resumed.world, resumed.work.action_cache),
+              state_hash(noisy.world, noisy.work.action_cache))
+        << "stopped at " << stop_at;
+  }
 }
 
 }  // namespace

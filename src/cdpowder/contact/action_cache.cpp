@@ -1,6 +1,8 @@
 // action_cache.cpp — storing and merge-joining last step's contact actions.
 #include "cdpowder/contact/action_cache.hpp"
 
+#include <utility>
+
 namespace cdpowder {
 
 namespace {
@@ -28,6 +30,12 @@ void ActionCache::store(const Contacts& contacts) {
     if (!cohesive && !is_nonzero(contacts.wall_actions[k])) continue;
     walls_.push_back({wall_key(w.wall, w.sphere), contacts.wall_actions[k], cohesive});
   }
+  rewind();
+}
+
+void ActionCache::restore(std::vector<CachedAction> pairs, std::vector<CachedAction> walls) {
+  pairs_ = std::move(pairs);
+  walls_ = std::move(walls);
   rewind();
 }
 

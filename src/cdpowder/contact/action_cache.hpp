@@ -40,7 +40,14 @@ class ActionCache {
   /// Rewinds the merge cursors before a new step's lookups.
   void rewind() { pair_cursor_ = wall_cursor_ = 0; }
 
-  [[nodiscard]] std::size_t size() const { return pairs_.size() + walls_.size(); }
+  /// The stored entries, each family sorted by key (what a state file saves).
+  [[nodiscard]] const std::vector<CachedAction>& pair_entries() const { return pairs_; }
+
+  [[nodiscard]] const std::vector<CachedAction>& wall_entries() const { return walls_; }
+
+  /// Replaces the cache with entries read back from a state file; each family must be
+  /// sorted by key, as store() leaves it.
+  void restore(std::vector<CachedAction> pairs, std::vector<CachedAction> walls);
 
  private:
   static const CachedAction* find(const std::vector<CachedAction>& entries, std::size_t& cursor,

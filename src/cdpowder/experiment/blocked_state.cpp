@@ -1,9 +1,12 @@
 // blocked_state.cpp — the rest criteria over a sliding window of steps.
 #include "cdpowder/experiment/blocked_state.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <stdexcept>
 
 namespace cdpowder {
 
@@ -22,6 +25,20 @@ double BlockedStateDetector::mean_force_imbalance() const {
     sum += imbalances_[static_cast<std::size_t>((steps_seen_ - 1 - k) % window_steps_)];
   }
   return sum / static_cast<double>(n);
+}
+
+void BlockedStateDetector::restore(const Memory& memory) {
+  const auto n = static_cast<std::size_t>(window_steps_);
+  if (memory.heights.size() != n || memory.imbalances.size() != n || memory.held < 0 ||
+      memory.steps_seen < 0) {
+    throw std::invalid_argument(
+        fmt::format("the blocked-state window holds {} steps, this run's window {} steps",
+                    memory.heights.size(), window_steps_));
+  }
+  held_ = memory.held;
+  steps_seen_ = memory.steps_seen;
+  heights_ = memory.heights;
+  imbalances_ = memory.imbalances;
 }
 
 bool BlockedStateDetector::update(const World& world, const StepDiagnostics& d) {

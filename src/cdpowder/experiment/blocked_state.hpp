@@ -46,6 +46,20 @@ class BlockedStateDetector {
   /// Mean piston force imbalance over the last min(steps_held, window) steps (0 if none).
   [[nodiscard]] double mean_force_imbalance() const;
 
+  /// What the detector remembers between steps, as a state file stores it.
+  struct Memory {
+    std::int64_t held = 0;
+    std::int64_t steps_seen = 0;
+    std::vector<double> heights;     ///< ring of window_steps() piston heights [R]
+    std::vector<double> imbalances;  ///< ring of window_steps() force imbalances [-]
+  };
+
+  [[nodiscard]] Memory memory() const { return {held_, steps_seen_, heights_, imbalances_}; }
+
+  /// Continues from a saved memory. Throws std::invalid_argument when its rings are not
+  /// window_steps() long (the window or Δt differ from the run that saved it).
+  void restore(const Memory& memory);
+
  private:
   BlockedCriteria criteria_;
   std::int64_t window_steps_;

@@ -47,21 +47,27 @@ bool spheres_balanced(const StepReport& at_rest, const BlockedCriteria& criteria
 RunResult run_simulation(World& world, StepWorkspace& work, const StepSettings& settings,
                          const RunConfig& run, const StepObserver& observer,
                          const StopRequest& stop_requested) {
-  RunResult result;
+  RunState state;
+  return run_simulation(world, work, settings, run, state, observer, stop_requested);
+}
+
+RunResult run_simulation(World& world, StepWorkspace& work, const StepSettings& settings,
+                         const RunConfig& run, RunState& state, const StepObserver& observer,
+                         const StopRequest& stop_requested) {
+  RunResult& result = state.result;
+  if (result.blocked) return result;  // a finished run has nothing left to do
+  result.interrupted = false;         // a resumed run goes on
   const auto start = std::chrono::steady_clock::now();
   const double dt = settings.solver.dt;
   const double budget = run.until_blocked ? run.max_duration : run.duration;
   // step count from the budget, so round-off in t never adds or drops a step
   const auto max_steps = static_cast<std::int64_t>(std::llround(budget / dt));
-  std::optional<BlockedStateDetector> detector;
-  if (run.until_blocked) detector.emplace(run.blocked, dt);
-  // first steps at which the next static solve on a copy may run, at most one per window:
-  // a blocked window's check, and a probe (kept apart, so that a failed probe never delays
-  // the check of a window that is blocked by its own tests)
-  std::int64_t next_rest_check = 0;
-  std::int64_t next_probe = 0;
-  int deferred_windows = 0;
-  bool probing = true;
+  std::optional<BlockedStateDetector>& detector = state.detector;
+  if (run.until_blocked && !detector) detector.emplace(run.blocked, dt);
+  std::int64_t& next_rest_check = state.next_rest_check;
+  std::int64_t& next_probe = state.next_probe;
+  int& deferred_windows = state.deferred_windows;
+  bool& probing = state.probing;
   const double load = world.walls.piston.force;
 
   const auto account = [&](const StepReport& report) {
@@ -88,7 +94,8 @@ RunResult run_simulation(World& world, StepWorkspace& work, const StepSettings& 
     if (observer) observer(world, result.last, fraction);
   };
 
-  for (std::int64_t k = 0; k < max_steps; ++k) {
+  // result.steps counts the steps of every call, so k continues where a saved run stopped
+  for (std::int64_t k = result.steps; k < max_steps; ++k) {
     account(step(world, work, settings));
     const double fraction = static_cast<double>(k + 1) / static_cast<double>(max_steps);
     const bool blocked = detector && detector->update(world, result.last.diagnostics);
@@ -149,7 +156,7 @@ RunResult run_simulation(World& world, StepWorkspace& work, const StepSettings& 
       break;
     }
   }
-  result.wall_seconds =
+  result.wall_seconds +=
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "cdpowder/config/scene.hpp"
+#include "cdpowder/experiment/blocked_state.hpp"
 #include "cdpowder/solver/step.hpp"
 
 #include <cstdint>
@@ -49,8 +50,33 @@ using StepObserver = std::function<void(const World&, const StepReport&, double 
 /// Asked after every step; true ends the run there, as a complete but interrupted run.
 using StopRequest = std::function<bool()>;
 
+/// Everything the time loop carries from one step to the next besides the World and the
+/// StepWorkspace: the counts and gauges so far, the blocked-state test's window and when the
+/// next static solve may run. A state file stores it (io/state_file.hpp), so a run resumed
+/// from one takes the same decisions, step for step, as a run never stopped.
+struct RunState {
+  RunResult result;  ///< steps done so far (result.steps), sums and gauges
+  /// the blocked-state test and its window (until_blocked runs; made at the first step)
+  std::optional<BlockedStateDetector> detector;
+  /// first steps at which the next static solve on a copy may run, at most one per window:
+  /// a blocked window's check, and a probe (kept apart, so that a failed probe never
+  /// delays the check of a window that is blocked by its own tests)
+  std::int64_t next_rest_check = 0;
+  std::int64_t next_probe = 0;
+  int deferred_windows = 0;  ///< blocked windows deferred by a sphere out of balance
+  bool probing = true;       ///< false once a probe failed to converge
+};
+
 RunResult run_simulation(World& world, StepWorkspace& work, const StepSettings& settings,
                          const RunConfig& run, const StepObserver& observer,
+                         const StopRequest& stop_requested = {});
+
+/// The same loop continued from `state` (a fresh RunState starts a run) and leaving in it
+/// what a later call needs to go on: a run interrupted at step k and continued from the
+/// state saved then ends bit-identical to one never interrupted. Returns state.result,
+/// with wall_seconds summed over all calls.
+RunResult run_simulation(World& world, StepWorkspace& work, const StepSettings& settings,
+                         const RunConfig& run, RunState& state, const StepObserver& observer,
                          const StopRequest& stop_requested = {});
 
 }  // namespace cdpowder

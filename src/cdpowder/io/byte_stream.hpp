@@ -1,0 +1,95 @@
+// byte_stream.hpp — the one binary encoding of engine state: fixed-width little-endian
+// integers, doubles as their IEEE-754 bit patterns (so every bit survives, NaN payloads and
+// −0.0 included), strings with a length prefix. The state file (state_file.hpp) and the
+// determinism hashes (state_hash.hpp) both write through ByteWriter, so what the hash sees
+// is exactly what a checkpoint stores.
+#pragma once
+
+#include "cdpowder/core/vec3.hpp"
+
+#include <cstddef>
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <utility>
+
+namespace cdpowder {
+
+/// A state file that cannot be read: truncated, corrupted, another format, not a state file.
+class StateFileError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+class ByteWriter {
+ public:
+  void u8(std::uint8_t value) { bytes_.push_back(static_cast<char>(value)); }
+
+  void u32(std::uint32_t value);
+  void u64(std::uint64_t value);
+
+  void i64(std::int64_t value) { u64(static_cast<std::uint64_t>(value)); }
+
+  void f64(double value);
+  void vec3(const Vec3& value);
+
+  void boolean(bool value) { u8(value ? 1 : 0); }
+
+  void string(std::string_view text);
+  /// A four-letter section tag: a reader that lost its place says where.
+  void tag(std::string_view four_letters);
+
+  [[nodiscard]] const std::string& bytes() const { return bytes_; }
+
+  [[nodiscard]] std::size_t size() const { return bytes_.size(); }
+
+ private:
+  std::string bytes_;
+};
+
+/// Reads what a ByteWriter wrote; every read is bounds-checked and throws StateFileError
+/// naming `source` and the byte offset.
+class ByteReader {
+ public:
+  ByteReader(std::string_view bytes, std::string source)
+      : bytes_(bytes), source_(std::move(source)) {}
+
+  std::uint8_t u8();
+  std::uint32_t u32();
+  std::uint64_t u64();
+
+  std::int64_t i64() { return static_cast<std::int64_t>(u64()); }
+
+  double f64();
+  Vec3 vec3();
+  bool boolean();
+  std::string string();
+  void tag(std::string_view four_letters);
+  /// A count of items of at least `min_item_bytes` each: rejected before any allocation
+  /// when the rest of the file could not hold them (a corrupted count never allocates
+  /// gigabytes).
+  std::size_t count(std::size_t min_item_bytes);
+
+  [[nodiscard]] std::size_t offset() const { return offset_; }
+
+  [[nodiscard]] bool at_end() const { return offset_ == bytes_.size(); }
+
+  [[nodiscard]] const std::string& source() const { return source_; }
+
+  /// Throws StateFileError "SOURCE: at byte N: what".
+  [[noreturn]] void fail(std::string_view what) const;
+
+ private:
+  const char* take(std::size_t n);
+
+  std::string_view bytes_;
+  std::string source_;
+  std::size_t offset_ = 0;
+};
+
+/// FNV-1a, 64 bit: a fixed, documented function of the bytes, the same on every platform
+/// and build (std::hash is neither).
+std::uint64_t fnv1a64(std::string_view bytes);
+
+}  // namespace cdpowder

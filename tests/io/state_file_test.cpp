@@ -1,0 +1,164 @@
+// The state file (io/state_file.hpp) and the state hash (io/state_hash.hpp): a run saved
+// and continued ends bit-identical to one never stopped; bad files are refused by name.
+#include "cdpowder/io/state_file.hpp"
+
+#include "cdpowder/config/scene_reader.hpp"
+#include "cdpowder/experiment/scene_setup.hpp"
+#include "cdpowder/io/state_hash.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace cdpowder::testing {
+namespace {
+
+// The quick example at (μt, μn) = (0, 0), 1000 steps: a deposit, cohesion, the piston, warm
+// start and the sweep-order stream all carry state from step to step.
+Scene quick_scene() {
+  SceneReadOptions options;
+  options.compaction = true;
+  return read_scene(std::filesystem::path(CDPOWDER_SOURCE_DIR) / "examples/quick/scene.toml",
+                    {"contact.mu_roll=0", "contact.mu_twist=0", "run.max_duration=10"}, options);
+}
+
+struct Engine {
+  explicit Engine(const Scene& scene) : world(make_world(scene)), work(scene.step.solver.seed) {}
+
+  World world;
+  StepWorkspace work;
+  RunState state;
+};
+
+RunResult run(const Scene& scene, Engine& engine, std::int64_t stop_after = -1) {
+  return run_simulation(engine.world, engine.work, scene.step, scene.run, engine.state, {},
+                        [&] { return engine.state.result.steps == stop_after; });
+}
+
+void expect_same_run(const RunResult& a, const RunResult& b) {
+  EXPECT_EQ(a.steps, b.steps);
+  EXPECT_EQ(a.total_sweeps, b.total_sweeps);
+  EXPECT_EQ(a.capped_steps, b.capped_steps);
+  EXPECT_EQ(a.blocked, b.blocked);
+  EXPECT_EQ(a.max_overlap_seen, b.max_overlap_seen);
+  EXPECT_EQ(a.max_cohesive_opening_per_range, b.max_cohesive_opening_per_range);
+  EXPECT_EQ(a.last.solver.sweeps, b.last.solver.sweeps);
+  EXPECT_EQ(a.last.diagnostics.kinetic_energy, b.last.diagnostics.kinetic_energy);
+}
+
+TEST(StateFile, AResumedRunEndsBitIdenticalToAnUninterruptedOne) {
+  const Scene scene = quick_scene();
+  Engine whole(scene);
+  const RunResult uninterrupted = run(scene, whole);
+  ASSERT_EQ(uninterrupted.steps, 1000);
+
+  Engine first(scene);
+  const RunResult part = run(scene, first, 377);
+  ASSERT_TRUE(part.interrupted);
+  ASSERT_EQ(part.steps, 377);
+  const std::filesystem::path file =
+      std::filesystem::temp_directory_path() / "cdpowder_state_file_test.cdps";
+  save_state(file, scene.effective_toml, first.world, first.work, first.state);
+
+  Engine resumed(scene);  // a fresh engine: nothing of `first` survives but the file
+  SavedRun saved = load_state(file);
+  std::filesystem::remove(file);
+  EXPECT_EQ(saved.scene_toml, scene.effective_toml);
+  EXPECT_EQ(saved.format_version, kStateFormatVersion);
+  restore_run(std::move(saved), scene.run, scene.step.solver.dt, resumed.world, resumed.work,
+              resumed.state);
+  const RunResult continued = run(scene, resumed);
+  EXPECT_FALSE(continued.interrupted);
+  expect_same_run(continued, uninterrupted);
+  EXPECT_EQ(state_hash(resumed.world, resumed.work.action_cache),
+            state_hash(whole.world, whole.work.action_cache));
+  EXPECT_EQ(resumed.world.time, whole.world.time);
+  EXPECT_EQ(resumed.world.step, whole.world.step);
+}
+
+TEST(StateFile, EncodingIsStableThroughADecode) {
+  const Scene scene = quick_scene();
+  Engine engine(scene);
+  run(scene, engine, 20);
+  const std::string bytes = encode_state("scene", engine.world, engine.work, engine.state);
+  Engine copy(scene);
+  restore_run(decode_state(bytes, "memory"), scene.run, scene.step.solver.dt, copy.world, copy.work,
+              copy.state);
+  EXPECT_EQ(encode_state("scene", copy.world, copy.work, copy.state), bytes);
+}
+
+// The hash sees one ulp of one velocity component, and the contact actions.
+TEST(StateHash, ChangesWithOneUlpOfAnyVelocityOrAction) {
+  const Scene scene = quick_scene();
+  Engine engine(scene);
+  run(scene, engine, 10);
+  const std::uint64_t before = state_hash(engine.world, engine.work.action_cache);
+  EXPECT_EQ(state_hash(engine.world, engine.work.action_cache), before);
+  Vec3& v = engine.world.bodies.velocity[57];
+  const double old = v.y();
+  v.y() = std::nextafter(old, 1.0);
+  EXPECT_NE(state_hash(engine.world, engine.work.action_cache), before);
+  v.y() = old;
+  ASSERT_FALSE(engine.work.action_cache.pair_entries().empty());
+  std::vector<CachedAction> pairs = engine.work.action_cache.pair_entries();
+  pairs[3].action.twisting_torque = std::nextafter(pairs[3].action.twisting_torque, 1.0);
+  ActionCache changed;
+  changed.restore(pairs, engine.work.action_cache.wall_entries());
+  EXPECT_NE(state_hash(engine.world, changed), before);
+}
+
+std::string message_of(const std::string& bytes) {
+  try {
+    decode_state(bytes, "run/state.cdps");
+  } catch (const StateFileError& error) {
+    return error.what();
+  }
+  return "no error";
+}
+
+TEST(StateFile, BadFilesAreRefusedWithTheReason) {
+  const Scene scene = quick_scene();
+  Engine engine(scene);
+  run(scene, engine, 5);
+  const std::string good =
+      encode_state(scene.effective_toml, engine.world, engine.work, engine.state);
+  EXPECT_NE(message_of("particles,x,y\n").find("not a cdpowder state file"), std::string::npos);
+  EXPECT_NE(message_of(good.substr(0, good.size() / 2)).find("truncated or damaged"),
+            std::string::npos);
+  EXPECT_NE(message_of(good.substr(0, 10)).find("truncated"), std::string::npos);
+  std::string flipped = good;
+  flipped[good.size() / 2] = static_cast<char>(flipped[good.size() / 2] ^ 1);
+  EXPECT_NE(message_of(flipped).find("checksum"), std::string::npos);
+  std::string other_format = good;
+  other_format[8] = 7;  // the format version's low byte
+  const std::string refused = message_of(other_format);
+  EXPECT_NE(refused.find("state format 7"), std::string::npos) << refused;
+  EXPECT_NE(refused.find("reads format 1 only"), std::string::npos) << refused;
+  EXPECT_NE(refused.find("run/state.cdps"), std::string::npos) << refused;
+
+  try {
+    load_state("/nonexistent/state.cdps");
+    FAIL() << "a missing file must throw";
+  } catch (const StateFileError& error) {
+    EXPECT_NE(std::string(error.what()).find("/nonexistent/state.cdps"), std::string::npos);
+  }
+}
+
+// A saved window of another length (another window or Δt) cannot continue this run.
+TEST(StateFile, ASavedRunThatDoesNotFitTheSceneIsRefused) {
+  Scene scene = quick_scene();
+  Engine engine(scene);
+  run(scene, engine, 5);
+  SavedRun saved = decode_state(
+      encode_state(scene.effective_toml, engine.world, engine.work, engine.state), "memory");
+  scene.run.blocked.window *= 2.0;
+  Engine other(scene);
+  EXPECT_THROW(restore_run(std::move(saved), scene.run, scene.step.solver.dt, other.world,
+                           other.work, other.state),
+               StateFileError);
+}
+
+}  // namespace
+}  // namespace cdpowder::testing
