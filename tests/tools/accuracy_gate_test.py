@@ -172,7 +172,8 @@ class Verdict(unittest.TestCase):
 
     def test_a_base_run_out_of_contract_fails_too(self):
         r = gate.evaluate_point(runs(opening=lambda s: 0.2 if s == 1 else 0.01), runs(), SEEDS)
-        self.assertIn("base seed 1: largest cohesive opening", check(r, "(d)")["detail"])
+        self.assertIn("runs out (base 1 of 10, candidate 0 of 10): base seed 1: largest "
+                      "cohesive opening per step 0.2 d_coh > 0.1", check(r, "(d)")["detail"])
 
     def test_unblocked_run_fails(self):
         r = gate.evaluate_point(runs(), runs(blocked=lambda s: s != 2), SEEDS)
