@@ -1,0 +1,672 @@
+#!/usr/bin/python3
+"""The paired multi-seed accuracy gate: does a candidate build (or setting) give the base's results?
+
+    tools/accuracy_gate.py --base BIN_A --candidate BIN_B --scene SCENE.toml --seeds 1-10
+        --points 0,0 1,1 --out DIR [--jobs N] [--set key=value ...]
+        [--base-set key=value ...] [--candidate-set key=value ...] [--reuse OTHER_DIR ...]
+
+For every point (μt, μn) and seed s it runs
+
+    BIN compact SCENE --out DIR/<side>/<point>/seed<s> --quiet
+        --set deposition.seed=s --set solver.seed=s
+        --set contact.mu_roll=μt --set contact.mu_twist=μn  [--set …] [--<side>-set …]
+
+for both sides (side = base, candidate; later overrides of a key win), --jobs at a time,
+and then compares the two sides seed by seed: same seed, same deposit, so the paired
+difference candidate − base carries the spread of the compaction alone. A value may name
+the run's seed: `{seed}`, `{seed+N}` or `{seed-N}`, e.g. `--candidate-set
+solver.seed={seed+1000}` compares a build with itself on the same deposits and another
+sweep-order stream (the noise floor).
+
+A point PASSES when (docs/performance.md, "Accuracy gate"; physics.md §17):
+  (a) the mean of ΔE (final porosity) is within 2 standard errors of zero and |mean ΔE| < 0.005;
+  (b) the means of Δσzz+/p and Δσzz−/p are each within 2 standard errors of zero;
+  (c) every run has |σzz/p − 1| ≤ 0.01;
+  (d) every run is blocked (and not interrupted) and its accuracy gauges are within the
+      contract: mean overlap ≤ 1e-3 R, largest cohesive opening per step ≤ 0.1 d_coh, piston
+      force imbalance and largest net force on a sphere each ≤ the scene's
+      run.blocked.force_balance. A gauge missing from a summary.json fails the check and is
+      named.
+Standard errors are of the mean paired difference over the seeds (n − 1 in the variance);
+the gate needs at least two seeds.
+
+A run is reused (the gate resumes) when DIR/<side>/<point>/seed<s> (or the same place in a
+--reuse folder) holds a summary.json of a finished run (not interrupted) and a gate_run.json
+naming the same binary (SHA-256), the same scene file (SHA-256) and the same overrides.
+
+Writes DIR/gate.json (every run's numbers, the per-point statistics and checks) and
+DIR/gate.md, and prints the table. Exit status 0 when every point passes, 1 when one fails
+(or a run failed or was interrupted), 2 on bad arguments (also when the program rejects the
+scene or an override). Debian's /usr/bin/python3 with python3-numpy.
+"""
+import argparse
+import concurrent.futures
+import hashlib
+import json
+import math
+import os
+import pathlib
+import re
+import shlex
+import subprocess
+import sys
+import threading
+import time
+
+import numpy as np
+
+MU_T = "contact.mu_roll"
+MU_N = "contact.mu_twist"
+SEED_KEYS = ("deposition.seed", "solver.seed")
+SIDES = ("base", "candidate")
+
+# The gate's limits (physics.md §17; docs/performance.md "Accuracy gate").
+N_STANDARD_ERRORS = 2.0          # a mean difference within this many standard errors of zero
+MAX_MEAN_DELTA_POROSITY = 0.005  # |mean ΔE|: the contract's 0.5 % (absolute) porosity change
+SIGMA_BALANCE_TOLERANCE = 0.01   # |σzz/p − 1| of a blocked packing
+MAX_MEAN_OVERLAP = 1e-3          # mean overlap, in units of the sphere radius R
+MAX_OPENING_PER_RANGE = 0.1      # largest cohesive opening per step / d_coh (physics.md §6.4)
+MIN_PAIRS = 2                    # a standard error needs two pairs
+
+# summary.json fields the gate reads: name → path of keys
+FIELDS = {
+    "porosity": ("porosity",),
+    "sigma": ("stress", "sigma_zz_over_pressure"),
+    "sigma_plus": ("stress", "sigma_zz_compressive_over_pressure"),
+    "sigma_minus": ("stress", "sigma_zz_tensile_over_pressure"),
+    "mean_overlap": ("accuracy", "mean_overlap"),
+    "opening": ("accuracy", "max_cohesive_opening_per_range"),
+    "piston_imbalance": ("piston", "force_imbalance"),
+    "max_net_force": ("accuracy", "max_net_force"),
+    "force_balance": ("scene", "run", "blocked", "force_balance"),
+    "blocked": ("run", "blocked"),
+    "interrupted": ("run", "interrupted"),
+    "wall_seconds": ("run", "wall_seconds"),
+}
+# The radius that scales the overlap: the smallest sphere's (units R = 1 when it is absent,
+# e.g. a scene that reads its spheres from a CSV file).
+RADIUS_FIELD = ("scene", "deposition", "radius_min")
+# The differences the gate takes, with their names in the tables
+DIFFERENCES = (("porosity", "ΔE"), ("sigma_plus", "Δσzz+/p"), ("sigma_minus", "Δσzz−/p"),
+               ("sigma", "Δσzz/p"))
+
+PLACEHOLDER = re.compile(r"\{seed(?:([+-])(\d+))?\}")
+KEY = re.compile(r"[A-Za-z_][A-Za-z0-9_]*(?:\.[A-Za-z_][A-Za-z0-9_]*)+")
+
+
+class BadArgument(Exception):
+    """A command-line argument the gate cannot use: exit status 2."""
+
+
+# ---------------------------------------------------------------------------------------------
+# Arguments
+
+
+def parse_seeds(text):
+    """'1-3,5' → [1, 2, 3, 5]."""
+    seeds = set()
+    for item in text.split(","):
+        m = re.fullmatch(r"\s*(\d+)\s*(?:-\s*(\d+)\s*)?", item)
+        if not m or (m[2] and int(m[2]) < int(m[1])):
+            raise BadArgument(f"--seeds: '{item}' in '{text}' is not a seed (an integer ≥ 0) "
+                              "or a rising range of seeds; allowed: 1-10, 1,3,5, 1-3,7")
+        seeds.update(range(int(m[1]), int(m[2] or m[1]) + 1))
+    if len(seeds) < MIN_PAIRS:
+        raise BadArgument(f"--seeds: '{text}' gives {len(seeds)} seed; the gate needs at least "
+                          f"{MIN_PAIRS} (a standard error of the paired difference)")
+    return sorted(seeds)
+
+
+def parse_point(text):
+    """'0.3,1' → (0.3, 1.0)."""
+    parts = text.split(",")
+    try:
+        values = tuple(float(p) for p in parts)
+    except ValueError:
+        values = ()
+    if len(values) != 2 or not all(math.isfinite(v) and v >= 0 for v in values):
+        raise BadArgument(f"--points: '{text}' is not a point μt,μn; allowed: two numbers ≥ 0 "
+                          "separated by a comma (0,0  1,1  0.3,0.1)")
+    return values
+
+
+def point_label(point):
+    return f"{MU_T}={point[0]:g},{MU_N}={point[1]:g}"
+
+
+def parse_set(text, option):
+    """'section.key=value' → (key, value); the value may hold {seed}, {seed+N}, {seed-N}."""
+    key, sep, value = text.partition("=")
+    key = key.strip()
+    if not sep or not KEY.fullmatch(key) or value.strip() == "":
+        raise BadArgument(f"{option}: '{text}' is not an override; allowed: section.key=value, "
+                          "e.g. solver.tolerance=1e-4")
+    if key in (MU_T, MU_N):
+        raise BadArgument(f"{option}: '{text}' sets {key}, which --points sets for every run; "
+                          "give the value in --points")
+    for brace in re.finditer(r"\{[^{}]*\}", value):
+        if "seed" in brace[0] and not PLACEHOLDER.fullmatch(brace[0]):
+            raise BadArgument(f"{option}: '{text}' has the placeholder {brace[0]}; allowed: "
+                              "{seed}, {seed+N}, {seed-N} (N an integer)")
+    return key, value.strip()
+
+
+def with_seed(value, seed):
+    """The value with every {seed}, {seed+N}, {seed-N} replaced by the number."""
+    def replace(m):
+        offset = int(m[2]) if m[2] else 0
+        return str(seed + offset if m[1] != "-" else seed - offset)
+    return PLACEHOLDER.sub(replace, value)
+
+
+def overrides_for(point, seed, common, side_sets):
+    """The run's overrides in order, later ones winning: seeds, the point, --set, the side's."""
+    out = {key: str(seed) for key in SEED_KEYS}
+    out[MU_T], out[MU_N] = repr(float(point[0])), repr(float(point[1]))
+    for key, value in list(common) + list(side_sets):
+        out[key] = with_seed(value, seed)
+    return out
+
+
+def executable(text, option):
+    path = pathlib.Path(text)
+    if not path.is_file() or not os.access(path, os.X_OK):
+        raise BadArgument(f"{option}: '{text}' is not an executable file; allowed: a cdpowder "
+                          "program, e.g. build/release/app/cdpowder")
+    return path.resolve()
+
+
+def parse_arguments(argv):
+    parser = argparse.ArgumentParser(
+        prog="tools/accuracy_gate.py",
+        description="Paired multi-seed accuracy gate: base against candidate, seed by seed.")
+    parser.add_argument("--base", required=True, help="the program before the change")
+    parser.add_argument("--candidate", required=True, help="the program with the change")
+    parser.add_argument("--scene", required=True, help="the scene, e.g. examples/quick/scene.toml")
+    parser.add_argument("--seeds", required=True, help="seeds: 1-10, 1,3,5 (at least 2)")
+    parser.add_argument("--points", required=True, nargs="+", metavar="MUT,MUN",
+                        help="points μt,μn, e.g. 0,0 1,1")
+    parser.add_argument("--out", required=True, help="folder for the runs, gate.json and gate.md")
+    parser.add_argument("--jobs", default="1", help="runs at a time (default 1)")
+    parser.add_argument("--set", dest="common", action="append", default=[],
+                        metavar="KEY=VALUE", help="override of every run (repeatable)")
+    parser.add_argument("--base-set", action="append", default=[], metavar="KEY=VALUE",
+                        help="override of the base runs only (repeatable; after --set)")
+    parser.add_argument("--candidate-set", action="append", default=[], metavar="KEY=VALUE",
+                        help="override of the candidate runs only (repeatable; after --set), "
+                             "e.g. solver.seed={seed+1000}")
+    parser.add_argument("--reuse", action="append", default=[], metavar="OTHER_DIR",
+                        help="another gate folder whose finished runs with the same binary, "
+                             "scene and overrides are used instead of running them (repeatable)")
+    args = parser.parse_args(argv)
+    try:
+        jobs = int(args.jobs)
+    except ValueError:
+        jobs = 0
+    if jobs < 1:
+        raise BadArgument(f"--jobs: got '{args.jobs}', expected an integer ≥ 1")
+    scene = pathlib.Path(args.scene)
+    if not scene.is_file():
+        raise BadArgument(f"--scene: '{args.scene}' is not a file; allowed: a scene (TOML), "
+                          "e.g. examples/quick/scene.toml")
+    points = [parse_point(p) for p in args.points]
+    if len(set(points)) != len(points):
+        raise BadArgument(f"--points: {' '.join(args.points)} names a point twice")
+    reuse = []
+    for r in args.reuse:
+        if not pathlib.Path(r).is_dir():
+            raise BadArgument(f"--reuse: '{r}' is not a folder; allowed: the --out of an "
+                              "earlier gate")
+        reuse.append(pathlib.Path(r).resolve())
+    return argparse.Namespace(
+        binaries={"base": executable(args.base, "--base"),
+                  "candidate": executable(args.candidate, "--candidate")},
+        scene=scene.resolve(), seeds=parse_seeds(args.seeds), points=points,
+        out=pathlib.Path(args.out).resolve(), jobs=jobs, reuse=reuse,
+        common=[parse_set(s, "--set") for s in args.common],
+        side_sets={"base": [parse_set(s, "--base-set") for s in args.base_set],
+                   "candidate": [parse_set(s, "--candidate-set") for s in args.candidate_set]},
+        raw={"common": args.common, "base": args.base_set, "candidate": args.candidate_set})
+
+
+# ---------------------------------------------------------------------------------------------
+# Runs
+
+
+def sha256(path):
+    h = hashlib.sha256()
+    with open(path, "rb") as f:
+        for block in iter(lambda: f.read(1 << 20), b""):
+            h.update(block)
+    return h.hexdigest()
+
+
+def read_json(path):
+    try:
+        with open(path) as f:
+            return json.load(f)
+    except (OSError, ValueError):
+        return None
+
+
+def finished_run(folder, identity):
+    """folder's summary.json when it holds a finished run of exactly this identity, else None."""
+    record = read_json(folder / "gate_run.json")
+    if record is None or record.get("identity") != identity:
+        return None
+    summary = read_json(folder / "summary.json")
+    if summary is None or summary.get("run", {}).get("interrupted", True):
+        return None
+    return summary
+
+
+class Runner:
+    """Runs the pending runs, --jobs at a time; a progress line per finished run on stderr."""
+
+    def __init__(self, jobs):
+        self.jobs = jobs
+        self.stop = threading.Event()
+        self.lock = threading.Lock()
+        self.done = 0
+
+    def run_all(self, runs):
+        total = len(runs)
+        failures = []
+
+        def one(run):
+            if self.stop.is_set():
+                return
+            folder = run["folder"]
+            folder.mkdir(parents=True, exist_ok=True)
+            for stale in ("gate_run.json", "summary.json"):
+                (folder / stale).unlink(missing_ok=True)
+            command = [str(run["binary"]), "compact", str(run["scene"]), "--out", str(folder),
+                       "--quiet"]
+            for key, value in run["identity"]["overrides"].items():
+                command += ["--set", f"{key}={value}"]
+            start = time.monotonic()
+            with open(folder / "log.txt", "w") as log:
+                log.write("$ " + " ".join(command) + "\n")
+                log.flush()
+                code = subprocess.run(command, stdout=log, stderr=subprocess.STDOUT).returncode
+            wall = time.monotonic() - start
+            summary = read_json(folder / "summary.json")
+            finished = code == 0 and summary is not None
+            if finished:
+                record = {"identity": run["identity"], "binary": str(run["binary"]),
+                          "command": command, "wall_seconds": wall}
+                tmp = folder / "gate_run.json.tmp"
+                tmp.write_text(json.dumps(record, indent=2) + "\n")
+                tmp.replace(folder / "gate_run.json")
+            with self.lock:
+                self.done += 1
+                if finished:
+                    blocked = "yes" if summary.get("run", {}).get("blocked") else "no"
+                    text = f"porosity={summary.get('porosity', math.nan):.5f} blocked={blocked}"
+                else:
+                    log_tail = (folder / "log.txt").read_text().strip().splitlines()[-3:]
+                    text = f"FAILED (exit status {code}): " + " / ".join(log_tail[1:] or log_tail)
+                    failures.append((run, code, "\n".join(log_tail[1:])))
+                    if code == 2:
+                        self.stop.set()        # bad input: every run would fail the same way
+                print(f"[{self.done}/{total}] {run['side']} {run['label']} seed {run['seed']}: "
+                      f"{text} wall={wall:.1f}s", file=sys.stderr, flush=True)
+
+        pool = concurrent.futures.ThreadPoolExecutor(max_workers=self.jobs)
+        try:
+            for future in [pool.submit(one, r) for r in runs]:
+                future.result()
+        except KeyboardInterrupt:
+            # The runs got the same SIGINT: each finishes its step and writes its outputs
+            # flagged interrupted (run again next time).
+            self.stop.set()
+            pool.shutdown(wait=True, cancel_futures=True)
+            raise
+        pool.shutdown(wait=True)
+        return failures
+
+
+# ---------------------------------------------------------------------------------------------
+# Statistics and the verdict (no runs: these take summaries as read from summary.json)
+
+
+def dig(summary, path):
+    value = summary
+    for key in path:
+        if not isinstance(value, dict) or key not in value:
+            return None
+        value = value[key]
+    return value
+
+
+def run_values(summary):
+    """The numbers the gate needs from one summary.json, and the names of fields it lacks."""
+    values = {name: dig(summary, path) for name, path in FIELDS.items()}
+    missing = [".".join(FIELDS[name]) for name, v in values.items()
+               if v is None and name != "wall_seconds"]
+    radius = dig(summary, RADIUS_FIELD)
+    values["radius"] = float(radius) if isinstance(radius, (int, float)) else 1.0
+    values["missing"] = missing
+    return values
+
+
+class Sample:
+    """Mean, standard error of the mean (n − 1 in the variance), sd, range of a sample."""
+
+    def __init__(self, values):
+        self.values = [float(v) for v in values]
+        a = np.asarray(self.values, dtype=float)
+        self.n = len(a)
+        self.mean = float(a.mean()) if self.n else math.nan
+        self.sd = float(a.std(ddof=1)) if self.n > 1 else math.nan
+        self.se = self.sd / math.sqrt(self.n) if self.n > 1 else math.nan
+        self.min = float(a.min()) if self.n else math.nan
+        self.max = float(a.max()) if self.n else math.nan
+
+    def within(self, n_se):
+        """|mean| ≤ n_se standard errors (identical runs: mean = se = 0 passes)."""
+        return self.n >= MIN_PAIRS and math.isfinite(self.se) and abs(self.mean) <= n_se * self.se
+
+    def as_dict(self):
+        return {"n": self.n, "mean": self.mean, "se": self.se, "sd": self.sd, "min": self.min,
+                "max": self.max, "values": self.values}
+
+    def text(self):
+        if self.n == 0:
+            return "–"
+        if not math.isfinite(self.se):
+            return f"{self.mean:+.2e} (n = 1)"
+        return f"{self.mean:+.2e} ± {self.se:.2e}"
+
+
+def gauge_problems(side, seed, v):
+    """The contract's checks (c) and (d) on one run: what is wrong, as (check, text) with
+    check "c" (static balance) or "d" (blocked, gauges, fields)."""
+    where = f"{side} seed {seed}"
+    problems = [("d", f"{where}: summary.json has no {field}") for field in v["missing"]]
+
+    def number(name):
+        x = v[name]
+        return float(x) if isinstance(x, (int, float)) and not isinstance(x, bool) else None
+
+    if v["interrupted"]:
+        problems.append(("d", f"{where}: interrupted"))
+    if v["blocked"] is False:
+        problems.append(("d", f"{where}: not blocked"))
+    sigma = number("sigma")
+    if sigma is not None and not abs(sigma - 1.0) <= SIGMA_BALANCE_TOLERANCE:
+        problems.append(("c", f"{where}: σzz/p = {sigma:.4f}, more than "
+                              f"{SIGMA_BALANCE_TOLERANCE:g} from 1"))
+    overlap = number("mean_overlap")
+    if overlap is not None and not overlap <= MAX_MEAN_OVERLAP * v["radius"]:
+        problems.append(("d", f"{where}: mean overlap {overlap:.4g} > {MAX_MEAN_OVERLAP:g} R"))
+    opening = number("opening")
+    if opening is not None and not opening <= MAX_OPENING_PER_RANGE:
+        problems.append(("d", f"{where}: largest cohesive opening per step {opening:.4g} "
+                              f"d_coh > {MAX_OPENING_PER_RANGE:g}"))
+    tolerance = number("force_balance")
+    for name, label in (("piston_imbalance", "piston force imbalance"),
+                        ("max_net_force", "largest net force on a sphere")):
+        x = number(name)
+        if x is not None and tolerance is not None and not x <= tolerance:
+            problems.append(("d", f"{where}: {label} {x:.4g} > force_balance {tolerance:g}"))
+    return problems
+
+
+def worst_gauges(runs):
+    """Largest value of each gauge over runs ({seed: values}); NaN when none has it."""
+    def largest(f):
+        xs = [f(v) for v in runs.values()]
+        xs = [x for x in xs if x is not None and math.isfinite(x)]
+        return max(xs) if xs else math.nan
+
+    def get(name):
+        return lambda v: float(v[name]) if isinstance(v[name], (int, float)) else None
+
+    return {
+        "mean_overlap_per_R": largest(lambda v: float(v["mean_overlap"]) / v["radius"]
+                                      if isinstance(v["mean_overlap"], (int, float)) else None),
+        "opening_per_range": largest(get("opening")),
+        "piston_imbalance": largest(get("piston_imbalance")),
+        "max_net_force": largest(get("max_net_force")),
+        "sigma_off_by": largest(lambda v: abs(float(v["sigma"]) - 1.0)
+                                if isinstance(v["sigma"], (int, float)) else None),
+        "blocked": sum(1 for v in runs.values() if v["blocked"] is True),
+        "runs": len(runs),
+    }
+
+
+def evaluate_point(base, candidate, seeds):
+    """The gate at one point. base, candidate: {seed: run_values(summary)} of the runs that
+    finished; seeds: the seeds asked for. Returns a dict (stats, checks, verdict)."""
+    lacking = [f"{side} seed {s}" for s in seeds for side, runs in (("base", base),
+               ("candidate", candidate)) if s not in runs]
+    pairs = [s for s in seeds if s in base and s in candidate]
+
+    def diff(name):
+        values = []
+        for s in pairs:
+            b, c = base[s][name], candidate[s][name]
+            if isinstance(b, (int, float)) and isinstance(c, (int, float)):
+                values.append(float(c) - float(b))
+        return Sample(values)
+
+    stats = {name: diff(name) for name, _ in DIFFERENCES}
+    de, dplus, dminus = stats["porosity"], stats["sigma_plus"], stats["sigma_minus"]
+    checks = []
+
+    def check(name, ok, detail):
+        checks.append({"check": name, "pass": bool(ok), "detail": detail})
+
+    check("runs", not lacking and len(pairs) >= MIN_PAIRS,
+          "every run finished" if not lacking else "no finished run: " + ", ".join(lacking))
+    check("(a) mean ΔE within 2 se", de.within(N_STANDARD_ERRORS),
+          f"ΔE = {de.text()} (n = {de.n})")
+    check("(a) |mean ΔE| < 0.005", de.n > 0 and abs(de.mean) < MAX_MEAN_DELTA_POROSITY,
+          f"|mean ΔE| = {abs(de.mean):.2e}")
+    check("(b) mean Δσzz+/p within 2 se", dplus.within(N_STANDARD_ERRORS),
+          f"Δσzz+/p = {dplus.text()}")
+    check("(b) mean Δσzz−/p within 2 se", dminus.within(N_STANDARD_ERRORS),
+          f"Δσzz−/p = {dminus.text()}")
+    # (c) and (d) on every run, with a count per side: a check the base fails too cannot
+    # pass whatever the candidate does
+    found = {side: {s: gauge_problems(side, s, runs[s]) for s in sorted(runs)}
+             for side, runs in (("base", base), ("candidate", candidate))}
+    for name, tag in (("(c) every σzz/p within 0.01 of 1", "c"),
+                      ("(d) every run blocked, gauges within the contract", "d")):
+        per_side = {side: {s: [text for t, text in ps if t == tag]
+                           for s, ps in by_seed.items()} for side, by_seed in found.items()}
+        listed = [p for by_seed in per_side.values() for ps in by_seed.values() for p in ps]
+        counts = ", ".join(f"{side} {sum(1 for ps in by_seed.values() if ps)} of {len(by_seed)}"
+                           for side, by_seed in per_side.items())
+        check(name, not listed,
+              f"runs out ({counts}): " + "; ".join(listed) if listed else "all runs")
+    return {
+        "pairs": pairs,
+        "n": len(pairs),
+        "stats": {name: s.as_dict() for name, s in stats.items()},
+        "per_seed": [{"seed": s, "base": base[s], "candidate": candidate[s],
+                      "diff": {name: (float(candidate[s][name]) - float(base[s][name])
+                                      if isinstance(candidate[s][name], (int, float)) and
+                                      isinstance(base[s][name], (int, float)) else None)
+                               for name, _ in DIFFERENCES}} for s in pairs],
+        "worst": {"base": worst_gauges(base), "candidate": worst_gauges(candidate)},
+        "checks": checks,
+        "verdict": "PASS" if all(c["pass"] for c in checks) else "FAIL",
+    }
+
+
+# ---------------------------------------------------------------------------------------------
+# Tables
+
+
+def fmt_row(cells):
+    return "| " + " | ".join(cells) + " |"
+
+
+def fmt(x, spec=".2g"):
+    return "–" if x is None or not math.isfinite(x) else format(x, spec)
+
+
+def tables(results):
+    """Markdown tables of the per-point results: differences, gauges, failed checks."""
+    md = [fmt_row(["point", "n", "mean ΔE ± se", "sd ΔE (range)", "mean Δσzz+/p ± se",
+                   "mean Δσzz−/p ± se", "verdict"]), fmt_row(["---"] * 7)]
+    for r in results:
+        s = r["stats"]
+        de, dp, dm = (Sample(s[k]["values"]) for k in ("porosity", "sigma_plus", "sigma_minus"))
+        spread = (f"{fmt(de.sd, '.2e')} ({fmt(de.min, '+.2e')} … {fmt(de.max, '+.2e')})"
+                  if de.n else "–")
+        md.append(fmt_row([f"({r['point'][0]:g}, {r['point'][1]:g})", str(r["n"]), de.text(),
+                           spread, dp.text(), dm.text(), f"**{r['verdict']}**"]))
+    md += ["", "Worst accuracy gauges over each side's runs (contract: mean overlap ≤ 1e-3 R, "
+           "opening ≤ 0.1 d_coh, piston imbalance and net force ≤ force_balance, "
+           "|σzz/p − 1| ≤ 0.01, every run blocked):", "",
+           fmt_row(["point", "side", "mean overlap [R]", "opening/step [d_coh]",
+                    "piston imbalance", "net force [F_coh]", "max \\|σzz/p − 1\\|", "blocked"]),
+           fmt_row(["---"] * 8)]
+    for r in results:
+        for side in SIDES:
+            w = r["worst"][side]
+            md.append(fmt_row([f"({r['point'][0]:g}, {r['point'][1]:g})", side,
+                               fmt(w["mean_overlap_per_R"]), fmt(w["opening_per_range"], ".3f"),
+                               fmt(w["piston_imbalance"]), fmt(w["max_net_force"]),
+                               fmt(w["sigma_off_by"]), f"{w['blocked']}/{w['runs']}"]))
+    failed = [(r, c) for r in results for c in r["checks"] if not c["pass"]]
+    md += [""]
+    if failed:
+        md += ["Failed checks:", ""]
+        md += [f"- ({r['point'][0]:g}, {r['point'][1]:g}) {c['check']}: {c['detail']}"
+               for r, c in failed]
+    else:
+        md.append("Every check passed at every point.")
+    return md
+
+
+# ---------------------------------------------------------------------------------------------
+# The command
+
+
+def seeds_text(seeds):
+    """[1, 2, 3, 5] → '1-3,5'."""
+    ranges, start = [], seeds[0]
+    for a, b in zip(seeds, seeds[1:] + [None]):
+        if b != a + 1:
+            ranges.append(f"{start}-{a}" if a > start else f"{a}")
+            start = b
+    return ",".join(ranges)
+
+
+def version_of(binary):
+    try:
+        out = subprocess.run([str(binary), "--version"], capture_output=True, text=True,
+                             timeout=60)
+        return out.stdout.strip() or out.stderr.strip()
+    except (OSError, subprocess.SubprocessError) as e:
+        return f"unknown ({e})"
+
+
+def plan(args):
+    """Every run: side, point, seed, its folder, identity and (if finished) summary."""
+    hashes = {side: sha256(b) for side, b in args.binaries.items()}
+    scene_hash = sha256(args.scene)
+    runs = []
+    for s in args.seeds:
+        for point in args.points:
+            for side in SIDES:
+                label = point_label(point)
+                identity = {"binary_sha256": hashes[side], "scene_sha256": scene_hash,
+                            "overrides": overrides_for(point, s, args.common,
+                                                       args.side_sets[side])}
+                folder = args.out / side / label / f"seed{s}"
+                summary, source = finished_run(folder, identity), folder
+                for other in args.reuse:
+                    if summary is not None:
+                        break
+                    for other_side in SIDES:
+                        candidate_folder = other / other_side / label / f"seed{s}"
+                        summary = finished_run(candidate_folder, identity)
+                        if summary is not None:
+                            source = candidate_folder
+                            break
+                runs.append({"side": side, "point": point, "label": label, "seed": s,
+                             "folder": folder, "source": source, "binary": args.binaries[side],
+                             "scene": args.scene, "identity": identity, "summary": summary})
+    return runs, hashes
+
+
+def main(argv=None):
+    try:
+        args = parse_arguments(sys.argv[1:] if argv is None else argv)
+    except BadArgument as e:
+        print(f"error: {e}", file=sys.stderr)
+        return 2
+    args.out.mkdir(parents=True, exist_ok=True)
+    runs, hashes = plan(args)
+    pending = [r for r in runs if r["summary"] is None]
+    print(f"accuracy gate: {len(runs)} runs, {len(runs) - len(pending)} finished before, "
+          f"{len(pending)} to run, {args.jobs} at a time", file=sys.stderr, flush=True)
+    try:
+        failures = Runner(args.jobs).run_all(pending)
+    except KeyboardInterrupt:
+        print("interrupted: run the same command again to go on", file=sys.stderr)
+        return 1
+    if any(code == 2 for _, code, _ in failures):
+        run, _, message = next(f for f in failures if f[1] == 2)
+        print(f"error: {run['binary']} rejected the scene or an override ({run['side']}, "
+              f"{run['label']}, seed {run['seed']}):\n{message}", file=sys.stderr)
+        return 2
+    for r in pending:
+        r["summary"] = finished_run(r["folder"], r["identity"])
+
+    results = []
+    for point in args.points:
+        sides = {side: {r["seed"]: run_values(r["summary"]) for r in runs
+                        if r["point"] == point and r["side"] == side and r["summary"] is not None}
+                 for side in SIDES}
+        result = evaluate_point(sides["base"], sides["candidate"], args.seeds)
+        result["point"] = list(point)
+        result["label"] = point_label(point)
+        results.append(result)
+    verdict = "PASS" if all(r["verdict"] == "PASS" for r in results) else "FAIL"
+
+    command = shlex.join([sys.argv[0]] + (sys.argv[1:] if argv is None else list(argv)))
+    programs = {side: {"binary": str(args.binaries[side]), "sha256": hashes[side],
+                       "version": version_of(args.binaries[side])} for side in SIDES}
+    gate = {
+        "verdict": verdict,
+        "command": command,
+        "programs": programs,
+        "scene": str(args.scene),
+        "seeds": args.seeds,
+        "set": args.raw["common"],
+        "base_set": args.raw["base"],
+        "candidate_set": args.raw["candidate"],
+        "limits": {"n_standard_errors": N_STANDARD_ERRORS,
+                   "max_mean_delta_porosity": MAX_MEAN_DELTA_POROSITY,
+                   "sigma_balance_tolerance": SIGMA_BALANCE_TOLERANCE,
+                   "max_mean_overlap_per_R": MAX_MEAN_OVERLAP,
+                   "max_opening_per_range": MAX_OPENING_PER_RANGE,
+                   "force_balance": "each run's scene run.blocked.force_balance"},
+        "runs": [{"side": r["side"], "label": r["label"], "seed": r["seed"],
+                  "folder": str(r["source"]), "finished": r["summary"] is not None}
+                 for r in runs],
+        "points": results,
+    }
+    text = tables(results)
+    (args.out / "gate.json").write_text(json.dumps(gate, indent=2, ensure_ascii=False) + "\n")
+    md = ["# Accuracy gate", "", f"**{verdict}**", "", "```", command, "```", ""]
+    md += [f"- {side}: `{p['binary']}` ({p['version']}, sha256 {p['sha256'][:12]})"
+           for side, p in programs.items()]
+    md += [f"- scene `{args.scene}`, seeds {seeds_text(args.seeds)} ({len(args.seeds)}), "
+           "differences candidate − base paired by seed, "
+           "± one standard error of the mean difference", ""]
+    (args.out / "gate.md").write_text("\n".join(md + text) + "\n")
+    print("\n".join(text))
+    print(f"\naccuracy gate: {verdict} (details in {args.out / 'gate.md'}, "
+          f"{args.out / 'gate.json'})")
+    return 0 if verdict == "PASS" and not failures else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
