@@ -10,7 +10,7 @@ TEST(StressTensors, CompressivePairGivesForceTimesBranchOverVolume) {
   Contacts c;
   PairProblem p;
   p.normal = Vec3::UnitZ();
-  p.radius_a = p.radius_b = 1.0;
+  p.lever_a = p.lever_b = 1.0;
   c.pairs.push_back(p);
   ContactAction a;
   a.normal_force = 2.0;
@@ -30,8 +30,8 @@ TEST(StressTensors, TensilePairAndPistonWallSplitBySign) {
   Contacts c;
   PairProblem p;
   p.normal = Vec3::UnitX();
-  p.radius_a = p.radius_b = 1.0;
-  p.gap = 0.01;  // open but still attracting
+  p.gap = 0.01;                               // open but still attracting
+  p.lever_a = p.lever_b = 1.0 + 0.5 * p.gap;  // R + g/2: to the middle of the gap
   p.cohesion = 1.0;
   c.pairs.push_back(p);
   ContactAction pull;

@@ -29,8 +29,8 @@ PairProblem pair(const Vec3& n, double ra, double rb, const SphereVelocity& a,
                  const SphereVelocity& b) {
   PairProblem p;
   p.normal = n.normalized();
-  p.radius_a = ra;
-  p.radius_b = rb;
+  p.lever_a = ra;
+  p.lever_b = rb;
   const double dt_w_n = a.dt_inverse_mass + b.dt_inverse_mass;
   p.inv_dt_w_n = 1.0 / dt_w_n;
   p.inv_dt_w_t = 1.0 / (dt_w_n + ra * ra * a.dt_inverse_inertia + rb * rb * b.dt_inverse_inertia);
@@ -42,8 +42,8 @@ PairProblem pair(const Vec3& n, double ra, double rb, const SphereVelocity& a,
 // Relative velocities (V, Ω) at the contact point from rigid-body kinematics.
 void relative(const PairProblem& p, const SphereVelocity& a, const SphereVelocity& b, Vec3& V,
               Vec3& Omega) {
-  const Vec3 l_a = p.radius_a * p.normal;
-  const Vec3 l_b = -p.radius_b * p.normal;
+  const Vec3 l_a = p.lever_a * p.normal;
+  const Vec3 l_b = -p.lever_b * p.normal;
   V = b.linear + b.angular.cross(l_b) - a.linear - a.angular.cross(l_a);
   Omega = b.angular - a.angular;
 }

@@ -23,7 +23,7 @@ StepDiagnostics analyse_step(const World& world, const Contacts& contacts, const
     const PairProblem& p = contacts.pairs[k];
     const ContactAction& action = contacts.pair_actions[k];
     const Vec3 d_ab = world.box.minimum_image(bodies.position[p.b] - bodies.position[p.a]);
-    const double overlap = std::max(0.0, p.radius_a + p.radius_b - d_ab.norm());
+    const double overlap = std::max(0.0, bodies.radius[p.a] + bodies.radius[p.b] - d_ab.norm());
     d.max_overlap = std::max(d.max_overlap, overlap);
     if (contacts.pair_cohesive[k] != 0) ++d.cohesive_contacts;
     if (action.normal_force + p.cohesion > 0.0) {

@@ -28,7 +28,8 @@ StressTensors stress_tensors(const Contacts& contacts, double volume) {
   StressTensors s;
   for (std::size_t k = 0; k < contacts.pairs.size(); ++k) {
     const PairProblem& p = contacts.pairs[k];
-    add_contact(s, p.normal, contacts.pair_actions[k], p.radius_a + p.radius_b + p.gap, p.cohesion);
+    // branch length |d| = R_a + R_b + g = |l_a| + |l_b|
+    add_contact(s, p.normal, contacts.pair_actions[k], p.lever_a + p.lever_b, p.cohesion);
   }
   for (std::size_t k = 0; k < contacts.walls.size(); ++k) {
     const WallProblem& w = contacts.walls[k];

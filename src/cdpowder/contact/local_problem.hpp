@@ -24,15 +24,18 @@ struct ContactAction {
 
 static_assert(sizeof(ContactAction) == 64, "one cache line per contact action");
 
-/// Sphere a – sphere b. Levers l_a = R_a n, l_b = −R_b n (physics.md §4.2).
+/// Sphere a – sphere b. Levers l_a = |l_a| n, l_b = −|l_b| n from each centre to one common
+/// contact point, the middle of the gap: |l_a| = R_a + g/2, |l_b| = R_b + g/2 (physics.md
+/// §4.2). Equal and opposite forces at one point conserve the pair's angular momentum
+/// exactly, also in a step in which a gap g ≠ 0 closes.
 struct PairProblem {
   BodyIndex a = 0;
   BodyIndex b = 0;
   Vec3 normal = Vec3::UnitZ();  ///< n, unit, from a to b (minimum image)
   double gap = 0.0;             ///< g = |d| − R_a − R_b at the start of the step [R]
   double gap_rate = 0.0;        ///< g_pos/Δt, g_pos = max(g, 0) (UK03 eq. 33) [R/t0]
-  double radius_a = 0.0;        ///< R_a [R]
-  double radius_b = 0.0;        ///< R_b [R]
+  double lever_a = 0.0;         ///< |l_a| = R_a + g/2 [R]
+  double lever_b = 0.0;         ///< |l_b| = R_b + g/2 [R]
   double inv_dt_w_n = 0.0;      ///< 1/(Δt w_n), normal block of W (§5.2) [ρR³/t0]
   double inv_dt_w_t = 0.0;      ///< 1/(Δt w_t), sliding block
   double inv_dt_w_r = 0.0;      ///< 1/(Δt w_r), rolling and torsion block [ρR⁵/t0]

@@ -31,14 +31,15 @@ struct VisitChange {
 };
 
 /// Velocity change of both spheres from a change (ΔR, ΔT) of the action on b (§5.5):
-/// Δv_b = Δt ΔR/m_b, Δω_b = Δt (l_b × ΔR + ΔT)/I_b, and the opposite on a.
+/// Δv_b = Δt ΔR/m_b, Δω_b = Δt (l_b × ΔR + ΔT)/I_b, and the opposite on a (levers of
+/// PairProblem: to the common contact point).
 inline void apply_pair_delta(const PairProblem& p, const Vec3& dR, const Vec3& dT,
                              SphereVelocity& a, SphereVelocity& b) {
-  const Vec3 n_cross_dR = p.normal.cross(dR);  // l_a × ΔR = R_a n×ΔR, l_b × ΔR = −R_b n×ΔR
+  const Vec3 n_cross_dR = p.normal.cross(dR);  // l_a × ΔR = |l_a| n×ΔR, l_b × ΔR = −|l_b| n×ΔR
   a.linear -= a.dt_inverse_mass * dR;
   b.linear += b.dt_inverse_mass * dR;
-  a.angular -= a.dt_inverse_inertia * (p.radius_a * n_cross_dR + dT);
-  b.angular += b.dt_inverse_inertia * (dT - p.radius_b * n_cross_dR);
+  a.angular -= a.dt_inverse_inertia * (p.lever_a * n_cross_dR + dT);
+  b.angular += b.dt_inverse_inertia * (dT - p.lever_b * n_cross_dR);
 }
 
 /// Velocity change of a sphere (body b, lever −R n) and of the wall (body a: only the
@@ -141,7 +142,7 @@ struct ModeBlock {
 /// and Ω = ω_b − ω_a.
 inline void pair_relative_velocity(const PairProblem& p, const SphereVelocity& a,
                                    const SphereVelocity& b, Vec3& V, Vec3& Omega) {
-  V = (b.linear - a.linear) - (p.radius_a * a.angular + p.radius_b * b.angular).cross(p.normal);
+  V = (b.linear - a.linear) - (p.lever_a * a.angular + p.lever_b * b.angular).cross(p.normal);
   Omega = b.angular - a.angular;
 }
 
@@ -155,7 +156,7 @@ inline detail::ModeBlock pair_mode_block(const PairProblem& p, const SphereVeloc
                            p.roll_cap,
                            p.twist_cap,
                            p.gap_rate,
-                           p.radius_a * a.dt_inverse_inertia - p.radius_b * b.dt_inverse_inertia,
+                           p.lever_a * a.dt_inverse_inertia - p.lever_b * b.dt_inverse_inertia,
                            detail::torque_scale_sq(p.r_eff)};
 }
 

@@ -2,6 +2,8 @@
 // and the start-of-step geometry that stays frozen during the sweeps (physics.md §3).
 #include "cdpowder/detect/detect_contacts.hpp"
 
+#include "cdpowder/contact/contact_law.hpp"
+
 #include <algorithm>
 #include <cmath>
 
@@ -50,8 +52,10 @@ void detect_contacts(World& world, const StepSettings& settings, CellGrid& grid,
       // coincident centres have no normal; any unit vector keeps the kernel finite
       p.normal = distance > 0.0 ? Vec3(d / distance) : Vec3::UnitZ();
       p.gap = distance - bodies.radius[a] - bodies.radius[b];
-      p.radius_a = bodies.radius[a];
-      p.radius_b = bodies.radius[b];
+      // levers to the common contact point, the middle of the gap (physics.md §4.2)
+      p.lever_a = bodies.radius[a] + 0.5 * p.gap;
+      p.lever_b = bodies.radius[b] + 0.5 * p.gap;
+      p.r_eff = effective_radius(bodies.radius[a], bodies.radius[b]);
       contacts.pairs.push_back(p);
     });
     std::sort(contacts.pairs.begin() + static_cast<std::ptrdiff_t>(first), contacts.pairs.end(),

@@ -92,17 +92,16 @@ void build_local_problems(const World& world, const StepSettings& settings, Acti
     PairProblem& p = contacts.pairs[k];
     const SphereVelocity& a = velocities.spheres[p.a];
     const SphereVelocity& b = velocities.spheres[p.b];
-    // W blocks of physics.md §5.2, times Δt: w_n = 1/m_a + 1/m_b,
-    // w_t = w_n + R_a²/I_a + R_b²/I_b, w_r = 1/I_a + 1/I_b
+    // W blocks of physics.md §5.2, times Δt, with the levers to the common contact point:
+    // w_n = 1/m_a + 1/m_b, w_t = w_n + l_a²/I_a + l_b²/I_b, w_r = 1/I_a + 1/I_b
     const double dt_w_n = a.dt_inverse_mass + b.dt_inverse_mass;
-    const double dt_w_t = dt_w_n + p.radius_a * p.radius_a * a.dt_inverse_inertia +
-                          p.radius_b * p.radius_b * b.dt_inverse_inertia;
+    const double dt_w_t = dt_w_n + p.lever_a * p.lever_a * a.dt_inverse_inertia +
+                          p.lever_b * p.lever_b * b.dt_inverse_inertia;
     const double dt_w_r = a.dt_inverse_inertia + b.dt_inverse_inertia;
     p.inv_dt_w_n = 1.0 / dt_w_n;
     p.inv_dt_w_t = 1.0 / dt_w_t;
     p.inv_dt_w_r = 1.0 / dt_w_r;
     p.gap_rate = gap_closing_rate(p.gap, dt);
-    p.r_eff = effective_radius(p.radius_a, p.radius_b);
     p.mu = laws.spheres.mu;
     p.roll_cap = laws.spheres.mu_roll * p.r_eff;
     p.twist_cap = laws.spheres.mu_twist * p.r_eff;
