@@ -65,6 +65,10 @@ def check(result, prefix):
     return found[0]
 
 
+C = "(c) every candidate σzz/p within 0.01 of 1"
+D = "(d) every run blocked, candidate gauges within the contract"
+
+
 def failed(result):
     return [c["check"] for c in result["checks"] if not c["pass"]]
 
@@ -144,7 +148,7 @@ class Verdict(unittest.TestCase):
         # 0.95× and 1.05× the tolerance of 0.01
         cand = runs(sigma=lambda s: 1.0105 if s == 4 else 0.9905)
         r = gate.evaluate_point(runs(), cand, SEEDS)
-        self.assertEqual(failed(r), ["(c) every σzz/p within 0.01 of 1"])
+        self.assertEqual(failed(r), [C])
         self.assertIn("candidate seed 4: σzz/p = 1.0105", check(r, "(c)")["detail"])
         self.assertNotIn("seed 3", check(r, "(c)")["detail"])
 
@@ -158,7 +162,7 @@ class Verdict(unittest.TestCase):
             self.assertEqual(ok["verdict"], "PASS", (key, failed(ok)))
             bad = gate.evaluate_point(runs(), runs(**{key: lambda s, lim=limit: 1.05 * lim
                                                       if s == 7 else 0.0}), SEEDS)
-            self.assertEqual(failed(bad), ["(d) every run blocked, gauges within the contract"])
+            self.assertEqual(failed(bad), [D])
             self.assertIn(f"candidate seed 7: {text}", check(bad, "(d)")["detail"])
 
     def test_force_gauges_use_the_scenes_force_balance(self):
@@ -170,10 +174,89 @@ class Verdict(unittest.TestCase):
         r = gate.evaluate_point(runs(radius=2.0), runs(radius=2.0, mean_overlap=1.9e-3), SEEDS)
         self.assertEqual(r["verdict"], "PASS", failed(r))
 
-    def test_a_base_run_out_of_contract_fails_too(self):
-        r = gate.evaluate_point(runs(opening=lambda s: 0.2 if s == 1 else 0.01), runs(), SEEDS)
+    def test_a_base_run_out_of_contract_alone_passes_and_is_listed(self):
+        r = gate.evaluate_point(runs(opening=lambda s: 0.2 if s == 1 else 0.01,
+                                     sigma=lambda s: 1.02 if s == 2 else 1.0), runs(), SEEDS)
+        self.assertEqual(r["verdict"], "PASS", failed(r))
+        self.assertEqual(r["inherited"], [])
         self.assertIn("runs out (base 1 of 10, candidate 0 of 10): base seed 1: largest "
                       "cohesive opening per step 0.2 d_coh > 0.1", check(r, "(d)")["detail"])
+        self.assertIn("runs out (base 1 of 10, candidate 0 of 10): base seed 2: σzz/p = 1.0200",
+                      check(r, "(c)")["detail"])
+
+    def test_candidate_out_on_a_gauge_the_base_is_within_fails(self):
+        # the base is out on the opening, the candidate on the overlap: nothing to inherit
+        base = runs(opening=lambda s: 0.2 if s == 1 else 0.01)
+        cand = runs(opening=lambda s: 0.2 if s == 1 else 0.01,
+                    mean_overlap=lambda s: 2e-3 if s == 3 else 1e-8)
+        r = gate.evaluate_point(base, cand, SEEDS)
+        self.assertEqual(failed(r), [D])
+        self.assertEqual(r["inherited"], ["opening"])
+        detail = check(r, "(d)")["detail"]
+        self.assertIn("not inherited (every base run is within the contract): mean overlap [R]: "
+                      "candidate worst 0.002", detail)
+        self.assertIn("candidate seed 3: mean overlap 0.002 > 0.001 R", detail)
+
+    def test_candidate_sigma_off_balance_fails_even_when_the_base_is_off_too(self):
+        r = gate.evaluate_point(runs(sigma=1.03), runs(sigma=1.02), SEEDS)
+        self.assertEqual(failed(r), [C])
+
+    def test_gauge_the_base_violates_is_inherited_up_to_its_worst_times_the_margin(self):
+        limits = {"mean_overlap": (1e-3, "overlap", "mean overlap [R]"),
+                  "opening": (0.1, "opening", "largest cohesive opening per step"),
+                  "piston": (1e-2, "piston", "piston force imbalance"),
+                  "net_force": (1e-2, "net force", "largest net force on a sphere")}
+        margin = 1.0 + gate.INHERITED_MARGIN
+        self.assertEqual(margin, 1.1)
+        for key, (limit, gauge, label) in limits.items():
+            worst = 1.65 * limit                                   # base seed 9, as measured
+            base = runs(**{key: lambda s, lim=limit, w=worst: w if s == 9 else 0.5 * lim})
+            # the candidate out in more runs than the base, its worst at the base's × 1.1
+            # (passes), and × 1.11 (fails)
+            for factor, verdict in ((0.96, f"PASS (inherited: {gauge})"),
+                                    (margin, f"PASS (inherited: {gauge})"),
+                                    (1.11, "FAIL")):
+                cand = runs(**{key: lambda s, lim=limit, w=worst * factor:
+                               w if s == 4 else 1.2 * lim})
+                r = gate.evaluate_point(base, cand, SEEDS)
+                self.assertEqual(r["verdict"], verdict, (key, factor, failed(r)))
+                detail = check(r, "(d)")["detail"]
+                self.assertIn("runs out (base 1 of 10, candidate 10 of 10)", detail)
+                if verdict == "FAIL":
+                    self.assertEqual(failed(r), [D])
+                    self.assertEqual(r["inherited"], [])
+                    self.assertIn(f"worse than the base (its worst × 1.1): {label}: base worst "
+                                  f"{worst:.4g}, candidate worst {worst * factor:.4g} > "
+                                  f"{worst * margin:.4g}", detail)
+                else:
+                    self.assertEqual(r["inherited"], [gauge])
+                    self.assertIn(f"inherited from the base (not worse than its worst × 1.1): "
+                                  f"{label}: base worst {worst:.4g}", detail)
+
+    def test_inherited_opening_as_on_the_quick_scene(self):
+        base = runs(opening=lambda s: {1: 0.1145, 3: 0.1436, 9: 0.165}.get(s, 0.08))
+        cand = runs(opening=lambda s: {1: 0.1141, 3: 0.158, 10: 0.1275}.get(s, 0.08))
+        r = gate.evaluate_point(base, cand, SEEDS)
+        self.assertEqual(r["verdict"], "PASS (inherited: opening)", failed(r))
+        md = "\n".join(gate.tables([{**r, "point": [0.0, 0.0]}]))
+        self.assertIn("| **PASS (inherited: opening)** |", md)
+        self.assertIn("  - inherited from the base (not worse than its worst × 1.1): largest "
+                      "cohesive opening per step: base worst 0.165, candidate worst 0.158", md)
+        self.assertIn("(0, 0) (d) every run blocked, candidate gauges within the contract: runs "
+                      "out (base 3 of 10, candidate 3 of 10)", md)
+        self.assertIn("Every check passed at every point.", md)
+
+    def test_a_candidate_gauge_that_is_not_a_number_is_not_inherited(self):
+        r = gate.evaluate_point(runs(opening=0.2), runs(opening=lambda s: math.nan if s == 2
+                                                        else 0.15), SEEDS)
+        self.assertEqual(failed(r), [D])
+
+    def test_unblocked_runs_fail_even_when_the_base_is_unblocked_too(self):
+        r = gate.evaluate_point(runs(blocked=lambda s: s != 2), runs(blocked=lambda s: s != 2),
+                                SEEDS)
+        self.assertEqual(failed(r), [D])
+        self.assertIn("base seed 2: not blocked", check(r, "(d)")["detail"])
+        self.assertIn("candidate seed 2: not blocked", check(r, "(d)")["detail"])
 
     def test_unblocked_run_fails(self):
         r = gate.evaluate_point(runs(), runs(blocked=lambda s: s != 2), SEEDS)
@@ -225,7 +308,8 @@ class Arguments(unittest.TestCase):
 
 
 # A stand-in for cdpowder: `compact SCENE --out DIR --quiet --set k=v …` writes a summary.json
-# whose porosity is 0.7 + 0.01 × deposition.seed + 0.1 × mu_roll + test.shift; it rejects the
+# whose porosity is 0.7 + 0.01 × deposition.seed + 0.1 × mu_roll + test.shift and largest
+# cohesive opening per step test.opening (default 0.01); it rejects the
 # key bad.key with exit status 2, as cdpowder rejects an unknown key, and counts its runs.
 FAKE = r'''
 import json, os, pathlib, sys
@@ -245,7 +329,8 @@ out.mkdir(parents=True, exist_ok=True)
     "porosity": E,
     "stress": {"sigma_zz_over_pressure": 1.0, "sigma_zz_compressive_over_pressure": 2.0,
                "sigma_zz_tensile_over_pressure": -1.0},
-    "accuracy": {"mean_overlap": 1e-9, "max_cohesive_opening_per_range": 0.01,
+    "accuracy": {"mean_overlap": 1e-9,
+                 "max_cohesive_opening_per_range": float(sets.get("test.opening", 0.01)),
                  "max_net_force": 1e-6},
     "piston": {"force_imbalance": 1e-5},
     "scene": {"run": {"blocked": {"force_balance": 0.01}}, "deposition": {"radius_min": 1.0},
@@ -312,6 +397,28 @@ class Command(unittest.TestCase):
         self.assertEqual(r.returncode, 1, r.stderr)
         self.assertIn("|mean ΔE| = 1.00e-02", r.stdout)
         self.assertIn("**FAIL**", r.stdout)
+
+    def test_inherited_opening_passes_and_is_named_in_the_report(self):
+        out = self.dir / "gate"
+        r = self.gate(out, "--base-set", "test.opening=0.15", "--candidate-set",
+                      "test.opening=0.16")
+        self.assertEqual(r.returncode, 0, r.stderr + r.stdout)
+        g = json.loads((out / "gate.json").read_text())
+        self.assertEqual(g["verdict"], "PASS")
+        self.assertEqual([p["verdict"] for p in g["points"]], ["PASS (inherited: opening)"] * 2)
+        self.assertEqual([p["inherited"] for p in g["points"]], [["opening"]] * 2)
+        md = (out / "gate.md").read_text()
+        self.assertIn("**PASS** (inherited from the base: (0, 0): opening; (1, 0): opening)", md)
+        self.assertIn("| **PASS (inherited: opening)** |", md)
+        self.assertIn("inherited from the base (not worse than its worst × 1.1): largest cohesive "
+                      "opening per step: base worst 0.15, candidate worst 0.16", md)
+        # worse than the base's worst × 1.1: fails (only the candidate side runs again)
+        r = self.gate(out, "--base-set", "test.opening=0.15", "--candidate-set",
+                      "test.opening=0.1666")
+        self.assertEqual(r.returncode, 1, r.stderr + r.stdout)
+        self.assertIn("worse than the base (its worst × 1.1): largest cohesive opening per step: "
+                      "base worst 0.15, candidate worst 0.1666 > 0.165", r.stdout)
+        self.assertEqual(self.ncalls(), 18)
 
     def test_bad_arguments_exit_2_with_the_argument_named(self):
         cases = [(("--jobs", "0"), "--jobs: got '0'"),
