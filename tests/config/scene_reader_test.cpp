@@ -398,6 +398,50 @@ std::vector<std::string> issues_with(const std::string& text, const SceneReadOpt
   return result;
 }
 
+// The adaptive time step's keys (settings.hpp TimeStepControl): read, written back, and
+// their ranges and relations checked.
+TEST_F(SceneReader, ReadsTheAdaptiveTimeStepKeys) {
+  const Scene s = read(std::string(kParticles) +
+                       "[solver]\nadaptive_dt = true\ndt = 0.02\ndt_min = 0.001\ndt_max = 0.1\n"
+                       "opening_per_step = 0.04\nmax_opening_per_step = 0.08\n"
+                       "displacement_per_step = 0.3\ndt_growth = 1.5\n");
+  const TimeStepControl& c = s.step.solver.time_step;
+  EXPECT_TRUE(c.adaptive);
+  EXPECT_EQ(c.dt_min, 0.001);
+  EXPECT_EQ(c.dt_max, 0.1);
+  EXPECT_EQ(c.opening_per_step, 0.04);
+  EXPECT_EQ(c.max_opening_per_step, 0.08);
+  EXPECT_EQ(c.displacement_per_step, 0.3);
+  EXPECT_EQ(c.growth, 1.5);
+  const Scene again = read(s.effective_toml);
+  EXPECT_EQ(again.effective_toml, s.effective_toml);
+}
+
+TEST_F(SceneReader, AnAdaptiveDtMustStartWithinItsBounds) {
+  const auto found =
+      issues(std::string(kParticles) + "[solver]\nadaptive_dt = true\ndt = 0.2\ndt_max = 0.1\n");
+  ASSERT_EQ(found.size(), 1U);
+  EXPECT_THAT(found[0], AllOf(HasSubstr("solver.dt_max"), HasSubstr("solver.dt = 0.2"),
+                              HasSubstr("≤ solver.dt_max = 0.1")));
+  // without adaptive_dt the bounds do not apply
+  EXPECT_NO_THROW(read(std::string(kParticles) + "[solver]\ndt = 0.2\ndt_max = 0.1\n"));
+}
+
+TEST_F(SceneReader, TheOpeningTargetMustNotExceedItsBound) {
+  const auto found = issues(std::string(kParticles) +
+                            "[solver]\nopening_per_step = 0.2\nmax_opening_per_step = 0.1\n");
+  ASSERT_EQ(found.size(), 1U);
+  EXPECT_THAT(found[0], AllOf(HasSubstr("solver.opening_per_step: got 0.2"),
+                              HasSubstr("solver.max_opening_per_step = 0.1")));
+  const auto fraction = issues(std::string(kParticles) + "[solver]\ndisplacement_per_step = 1.5\n");
+  ASSERT_EQ(fraction.size(), 1U);
+  EXPECT_THAT(fraction[0], AllOf(HasSubstr("solver.displacement_per_step"), HasSubstr("got 1.5"),
+                                 HasSubstr("> 0 and ≤ 1")));
+  const auto growth = issues(std::string(kParticles) + "[solver]\ndt_growth = 0.9\n");
+  ASSERT_EQ(growth.size(), 1U);
+  EXPECT_THAT(growth[0], AllOf(HasSubstr("solver.dt_growth"), HasSubstr("≥ 1")));
+}
+
 TEST(DepositionSection, ReadsEveryKeyAndDerivesTheCell) {
   const Scene s = read_scene_text(
       "[system]\nlx = 12.0\nly = 8.0\n[deposition]\nspheres = 50\nradius_min = 0.5\n"

@@ -11,17 +11,21 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 namespace cdpowder::testing {
 namespace {
 
 // The quick example at (μt, μn) = (0, 0), 1000 steps: a deposit, cohesion, the piston, warm
 // start and the sweep-order stream all carry state from step to step.
-Scene quick_scene() {
+Scene quick_scene(std::vector<std::string> extra = {}) {
   SceneReadOptions options;
   options.compaction = true;
+  std::vector<std::string> overrides = {"contact.mu_roll=0", "contact.mu_twist=0",
+                                        "run.max_duration=10"};
+  overrides.insert(overrides.end(), extra.begin(), extra.end());
   return read_scene(std::filesystem::path(CDPOWDER_SOURCE_DIR) / "examples/quick/scene.toml",
-                    {"contact.mu_roll=0", "contact.mu_twist=0", "run.max_duration=10"}, options);
+                    overrides, options);
 }
 
 struct Engine {
@@ -76,6 +80,32 @@ TEST(StateFile, AResumedRunEndsBitIdenticalToAnUninterruptedOne) {
             state_hash(whole.world, whole.work.action_cache));
   EXPECT_EQ(resumed.world.time, whole.world.time);
   EXPECT_EQ(resumed.world.step, whole.world.step);
+}
+
+// The same with the adaptive time step: the controller's Δt and the steps it repeated carry
+// over too. 60 t0 of the (0,0) compaction, stopped at every tenth step of it once.
+TEST(StateFile, AnAdaptiveRunResumesBitIdentically) {
+  const Scene scene = quick_scene({"solver.adaptive_dt=true", "run.max_duration=60"});
+  Engine whole(scene);
+  const RunResult uninterrupted = run(scene, whole);
+  ASSERT_GT(uninterrupted.steps, 100);
+  EXPECT_LT(uninterrupted.min_dt, uninterrupted.max_dt);  // it did adapt
+  for (const std::int64_t stop_at : {uninterrupted.steps / 10, uninterrupted.steps / 2}) {
+    Engine first(scene);
+    run(scene, first, stop_at);
+    Engine resumed(scene);
+    restore_run(
+        decode_state(encode_state(scene.effective_toml, first.world, first.work, first.state),
+                     "memory"),
+        scene.run, scene.step.solver.dt, resumed.world, resumed.work, resumed.state);
+    const RunResult continued = run(scene, resumed);
+    expect_same_run(continued, uninterrupted);
+    EXPECT_EQ(continued.repeated_steps, uninterrupted.repeated_steps);
+    EXPECT_EQ(continued.min_dt, uninterrupted.min_dt);
+    EXPECT_EQ(state_hash(resumed.world, resumed.work.action_cache),
+              state_hash(whole.world, whole.work.action_cache))
+        << "stopped at " << stop_at;
+  }
 }
 
 TEST(StateFile, EncodingIsStableThroughADecode) {
@@ -146,14 +176,20 @@ TEST(StateFile, BadFilesAreRefusedWithTheReason) {
   }
 }
 
-// A saved window of another length (another window or Δt) cannot continue this run.
+// A saved blocked-state window that cannot belong to this scene's window (a held step older
+// than the window) is refused, not silently cut.
 TEST(StateFile, ASavedRunThatDoesNotFitTheSceneIsRefused) {
-  Scene scene = quick_scene();
+  const Scene scene = quick_scene();
   Engine engine(scene);
   run(scene, engine, 5);
   SavedRun saved = decode_state(
       encode_state(scene.effective_toml, engine.world, engine.work, engine.state), "memory");
-  scene.run.blocked.window *= 2.0;
+  ASSERT_TRUE(saved.detector.has_value());
+  saved.detector->clock = 3.0 * scene.run.blocked.window;
+  saved.detector->time_held = 2.0 * scene.run.blocked.window;
+  saved.detector->steps_held = 2;
+  saved.detector->entries = {{0.5 * scene.run.blocked.window, 10.0, 0.0},
+                             {3.0 * scene.run.blocked.window, 10.0, 0.0}};
   Engine other(scene);
   EXPECT_THROW(restore_run(std::move(saved), scene.run, scene.step.solver.dt, other.world,
                            other.work, other.state),

@@ -128,6 +128,13 @@ TEST(StateHash, CompactionWithoutTorques) {
       hash_after(quick_scene({"run.max_duration=3", "contact.mu_roll=0", "contact.mu_twist=0"})));
 }
 
+// The first 60 t0 of the (0, 0) compaction with the adaptive time step.
+TEST(StateHash, AdaptiveCompaction) {
+  expect_golden("compact_quick_mu00_adaptive_60t0",
+                hash_after(quick_scene({"run.max_duration=60", "contact.mu_roll=0",
+                                        "contact.mu_twist=0", "solver.adaptive_dt=true"})));
+}
+
 // Radii uniform in [0.7, 1.3] R (c ≠ 0 couples sliding and rolling, §5.2), μt = μn = 0.3,
 // otherwise the quick example.
 constexpr const char* kPolydisperseScene = R"(

@@ -62,7 +62,23 @@ Scene read_values(TableReader& in, const std::filesystem::path& base_dir,
 
   SolverSettings& solver = s.step.solver;
   solver.dt = in.number("solver.dt", solver.dt, kPositive);
+  TimeStepControl& control = solver.time_step;
+  control.adaptive = in.boolean("solver.adaptive_dt", control.adaptive);
+  control.dt_min = in.number("solver.dt_min", control.dt_min, kPositive);
+  control.dt_max = in.number("solver.dt_max", control.dt_max, kPositive);
+  constexpr detail::Range kFraction{detail::Range::Kind::FractionAbove, 0.0};
+  control.opening_per_step =
+      in.number("solver.opening_per_step", control.opening_per_step, kFraction);
+  control.max_opening_per_step =
+      in.number("solver.max_opening_per_step", control.max_opening_per_step, kPositive);
+  control.displacement_per_step =
+      in.number("solver.displacement_per_step", control.displacement_per_step, kFraction);
+  control.growth = in.number("solver.dt_growth", control.growth,
+                             detail::Range{detail::Range::Kind::AtLeast, 1.0});
   solver.tolerance = in.number("solver.tolerance", solver.tolerance, kPositive);
+  solver.max_error_amplification =
+      in.number("solver.max_error_amplification", solver.max_error_amplification,
+                detail::Range{detail::Range::Kind::AtLeast, 1.0});
   solver.min_sweeps =
       static_cast<int>(in.integer("solver.min_sweeps", solver.min_sweeps, 1, kIntMax));
   solver.max_sweeps =
@@ -211,6 +227,24 @@ void check_consistency(TableReader& in, const Scene& s, const SceneReadOptions& 
                  fmt::format("got {}, expected at most 1e6 steps of solver.dt = {}, i.e. {}",
                              s.run.blocked.window, solver.dt, kMaxWindowSteps * solver.dt),
                  in_file("run.blocked.window"));
+  }
+  // an adaptive Δt starts at solver.dt and stays in [dt_min, dt_max]
+  const TimeStepControl& control = solver.time_step;
+  if (control.adaptive && !in.failed("solver.dt") && !in.failed("solver.dt_min") &&
+      !in.failed("solver.dt_max") && (control.dt_min > solver.dt || solver.dt > control.dt_max)) {
+    const char* key = control.dt_min > solver.dt ? "solver.dt_min" : "solver.dt_max";
+    in.add_issue(key, where(key),
+                 fmt::format("with solver.adaptive_dt = true, expected solver.dt_min = {} ≤ "
+                             "solver.dt = {} ≤ solver.dt_max = {}",
+                             control.dt_min, solver.dt, control.dt_max),
+                 in_file(key));
+  }
+  if (control.opening_per_step > control.max_opening_per_step &&
+      !in.failed("solver.opening_per_step") && !in.failed("solver.max_opening_per_step")) {
+    in.add_issue("solver.opening_per_step", where("solver.opening_per_step"),
+                 fmt::format("got {}, expected at most solver.max_opening_per_step = {}",
+                             control.opening_per_step, control.max_opening_per_step),
+                 in_file("solver.opening_per_step"));
   }
   if (solver.min_sweeps > solver.max_sweeps && !in.failed("solver.min_sweeps") &&
       !in.failed("solver.max_sweeps")) {

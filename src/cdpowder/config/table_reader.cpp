@@ -84,6 +84,8 @@ bool Range::contains(double value) const {
       return value >= bound;
     case Kind::Above:
       return value > bound;
+    case Kind::FractionAbove:
+      return value > bound && value <= 1.0;
     case Kind::Any:
       break;
   }
@@ -96,6 +98,8 @@ std::string Range::describe() const {
       return fmt::format("a number ≥ {}", bound);
     case Kind::Above:
       return fmt::format("a number > {}", bound);
+    case Kind::FractionAbove:
+      return fmt::format("a number > {} and ≤ 1", bound);
     case Kind::Any:
       break;
   }

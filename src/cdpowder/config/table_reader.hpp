@@ -32,9 +32,10 @@ inline constexpr std::string_view kOverrideSource = "--set";
 /// No upper bound for TableReader::integer.
 inline constexpr std::int64_t kNoMaximum = std::numeric_limits<std::int64_t>::max();
 
-/// The allowed values of a number: any finite one, ≥ bound, or > bound.
+/// The allowed values of a number: any finite one, ≥ bound, > bound, or a fraction
+/// (> bound and ≤ 1).
 struct Range {
-  enum class Kind { Any, AtLeast, Above };
+  enum class Kind { Any, AtLeast, Above, FractionAbove };
   Kind kind = Kind::Any;
   double bound = 0.0;
 

@@ -1,6 +1,6 @@
 // blocked_state.hpp — has the piston come to rest? (physics.md §9; Bartels et al. call
 // the static end state "blocked"). The packing is blocked once, over a sliding window of
-// steps (BlockedCriteria::window),
+// simulated time (BlockedCriteria::window; with a fixed Δt, window/Δt steps),
 //   * at every step |V_P| and the spheres' mass-weighted RMS speed stay below their
 //     thresholds (RMS, not the fastest sphere: a rattler flying through a pore of a
 //     resting packing, or a sphere rolling freely on a neighbour, does not make it flow;
@@ -28,47 +28,77 @@ namespace cdpowder {
 
 class BlockedStateDetector {
  public:
+  /// `dt`: the step length update(world, d) assumes (a fixed-Δt run's Δt).
   BlockedStateDetector(const BlockedCriteria& criteria, double dt);
 
-  /// Feeds the state after a step; returns true once a whole window meets the criteria.
-  bool update(const World& world, const StepDiagnostics& diagnostics);
+  /// Feeds the state after a step of length `dt` [t0]; returns true once a whole window
+  /// (BlockedCriteria::window of simulated time) meets the criteria.
+  bool update(const World& world, const StepDiagnostics& diagnostics, double dt);
+
+  bool update(const World& world, const StepDiagnostics& diagnostics) {
+    return update(world, diagnostics, dt_);
+  }
 
   /// A whole window has met the per-step criteria (speeds and height drift); only the
   /// force balance may be missing.
-  [[nodiscard]] bool at_rest_for_window() const { return held_ >= window_steps_; }
+  [[nodiscard]] bool at_rest_for_window() const { return window_complete(time_held_); }
 
-  /// Steps of one window.
-  [[nodiscard]] std::int64_t window_steps() const { return window_steps_; }
+  /// Whether `elapsed` simulated time fills a window: elapsed ≥ window up to a relative
+  /// 1e-9, so that with a fixed Δt a window is exactly window/Δt steps (sums of Δt carry
+  /// round-off; a step is ≥ 1e-6 of the window).
+  [[nodiscard]] bool window_complete(double elapsed) const {
+    return elapsed >= criteria_.window * (1.0 - kWindowSlack);
+  }
 
   /// Steps in a row that met the per-step criteria (speeds and height drift).
-  [[nodiscard]] std::int64_t steps_held() const { return held_; }
+  [[nodiscard]] std::int64_t steps_held() const { return steps_held_; }
 
-  /// Mean piston force imbalance over the last min(steps_held, window) steps (0 if none).
+  /// Mean piston force imbalance over the held steps of the last window (0 if none): a plain
+  /// mean over steps, so with an adaptive Δt short steps weigh as much as long ones.
   [[nodiscard]] double mean_force_imbalance() const;
+
+  /// One held step in the window: the detector's clock at its end, piston height, imbalance.
+  struct Entry {
+    double time = 0.0;
+    double height = 0.0;
+    double imbalance = 0.0;
+  };
 
   /// What the detector remembers between steps, as a state file stores it.
   struct Memory {
-    std::int64_t held = 0;
-    std::int64_t steps_seen = 0;
-    std::vector<double> heights;     ///< ring of window_steps() piston heights [R]
-    std::vector<double> imbalances;  ///< ring of window_steps() force imbalances [-]
+    double clock = 0.0;      ///< simulated time fed so far [t0]
+    double time_held = 0.0;  ///< duration of the current run of held steps [t0]
+    std::int64_t steps_held = 0;
+    std::vector<Entry> entries;  ///< held steps of the last window, oldest first
   };
 
-  [[nodiscard]] Memory memory() const { return {held_, steps_seen_, heights_, imbalances_}; }
+  [[nodiscard]] Memory memory() const;
 
-  /// Continues from a saved memory. Throws std::invalid_argument when its rings are not
-  /// window_steps() long (the window or Δt differ from the run that saved it).
+  /// Continues from a saved memory. Throws std::invalid_argument when it cannot belong to
+  /// this detector (negative counts, entries out of order or older than a window).
   void restore(const Memory& memory);
 
  private:
+  static constexpr double kWindowSlack = 1e-9;
+
+  /// Drops entries older than a window, keeping those of the window that ends now.
+  void trim();
+  void push(const Entry& entry);
+
+  [[nodiscard]] const Entry& entry(std::size_t k) const {  // k = 0: oldest
+    return ring_[(head_ + k) % ring_.size()];
+  }
+
   BlockedCriteria criteria_;
-  std::int64_t window_steps_;
-  std::int64_t held_ = 0;
-  /// Piston height and force imbalance of the last window_steps_ steps, a ring indexed by
-  /// the step count modulo window_steps_.
-  std::vector<double> heights_;
-  std::vector<double> imbalances_;
-  std::int64_t steps_seen_ = 0;
+  double dt_;
+  double clock_ = 0.0;
+  double time_held_ = 0.0;
+  std::int64_t steps_held_ = 0;
+  /// Held steps of the last window, a ring (head_ = oldest, count_ entries). It grows when a
+  /// window holds more steps than ever before (an adaptive Δt that shrank), never per step.
+  std::vector<Entry> ring_;
+  std::size_t head_ = 0;
+  std::size_t count_ = 0;
 };
 
 }  // namespace cdpowder

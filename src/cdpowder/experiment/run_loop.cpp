@@ -2,6 +2,7 @@
 #include "cdpowder/experiment/run_loop.hpp"
 
 #include "cdpowder/experiment/blocked_state.hpp"
+#include "cdpowder/solver/time_step_control.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -42,6 +43,43 @@ bool spheres_balanced(const StepReport& at_rest, const BlockedCriteria& criteria
   return at_rest.diagnostics.max_net_force <= criteria.force_balance * load;
 }
 
+/// What a step changes that undoing it must restore: the World, the warm-start cache and the
+/// sweep-order stream (everything else of a workspace is rebuilt by the step). Buffers are
+/// kept from step to step, so saving allocates nothing once they have grown.
+struct StepStart {
+  World world;
+  ActionCache actions;
+  Rng rng;
+};
+
+/// One step of an adaptive run: solved, and while it opened a cohesion-active contact by more
+/// than max_opening_per_step × d_coh (and Δt is above dt_min), undone and solved again with a
+/// shorter Δt (time_step_control.hpp). Leaves the Δt used in settings.solver.dt; the undone
+/// steps' time is added to result.stage_seconds and counted in result.repeated_steps.
+StepReport step_within_opening_bound(World& world, StepWorkspace& work, StepSettings& settings,
+                                     StepStart& before, RunResult& result) {
+  const TimeStepControl& control = settings.solver.time_step;
+  before.world = world;
+  before.actions = work.action_cache;
+  before.rng = work.solver.rng;
+  StepReport report = step(world, work, settings);
+  while (report.diagnostics.max_cohesive_opening_per_range > control.max_opening_per_step &&
+         settings.solver.dt > control.dt_min) {
+    for (std::size_t s = 0; s < result.stage_seconds.size(); ++s) {
+      result.stage_seconds[s] += report.times[s];
+    }
+    ++result.repeated_steps;
+    result.repeated_sweeps += report.solver.sweeps;
+    world = before.world;
+    work.action_cache = before.actions;
+    work.solver.rng = before.rng;
+    settings.solver.dt = retry_time_step(control, settings.solver.dt,
+                                         report.diagnostics.max_cohesive_opening_per_range);
+    report = step(world, work, settings);
+  }
+  return report;
+}
+
 }  // namespace
 
 RunResult run_simulation(World& world, StepWorkspace& work, const StepSettings& settings,
@@ -58,20 +96,32 @@ RunResult run_simulation(World& world, StepWorkspace& work, const StepSettings& 
   if (result.blocked) return result;  // a finished run has nothing left to do
   result.interrupted = false;         // a resumed run goes on
   const auto start = std::chrono::steady_clock::now();
-  const double dt = settings.solver.dt;
+  if (!state.started) {
+    state.started = true;
+    state.start_time = world.time;
+    state.dt = settings.solver.dt;
+  }
+  const bool adaptive = settings.solver.time_step.adaptive;
   const double budget = run.until_blocked ? run.max_duration : run.duration;
-  // step count from the budget, so round-off in t never adds or drops a step
-  const auto max_steps = static_cast<std::int64_t>(std::llround(budget / dt));
+  // a fixed Δt: the step count from the budget, so round-off in t never adds or drops a
+  // step; an adaptive Δt: until the simulated time has reached the budget
+  const std::int64_t max_steps =
+      adaptive ? std::numeric_limits<std::int64_t>::max()
+               : static_cast<std::int64_t>(std::llround(budget / settings.solver.dt));
+  const auto elapsed = [&] { return world.time - state.start_time; };
+  const auto budget_spent = [&] { return adaptive && elapsed() >= budget * (1.0 - 1e-12); };
+  StepSettings current = settings;  // with the Δt of the step about to run
+  StepStart before;                 // an adaptive step's starting point, to undo it
   std::optional<BlockedStateDetector>& detector = state.detector;
-  if (run.until_blocked && !detector) detector.emplace(run.blocked, dt);
-  std::int64_t& next_rest_check = state.next_rest_check;
-  std::int64_t& next_probe = state.next_probe;
+  if (run.until_blocked && !detector) detector.emplace(run.blocked, settings.solver.dt);
   int& deferred_windows = state.deferred_windows;
   bool& probing = state.probing;
   const double load = world.walls.piston.force;
 
   const auto account = [&](const StepReport& report) {
     result.last = report;
+    result.min_dt = result.steps == 0 ? report.dt : std::min(result.min_dt, report.dt);
+    result.max_dt = std::max(result.max_dt, report.dt);
     ++result.steps;
     result.total_sweeps += report.solver.sweeps;
     if (!report.solver.converged) ++result.capped_steps;
@@ -95,21 +145,29 @@ RunResult run_simulation(World& world, StepWorkspace& work, const StepSettings& 
   };
 
   // result.steps counts the steps of every call, so k continues where a saved run stopped
-  for (std::int64_t k = result.steps; k < max_steps; ++k) {
-    account(step(world, work, settings));
-    const double fraction = static_cast<double>(k + 1) / static_cast<double>(max_steps);
-    const bool blocked = detector && detector->update(world, result.last.diagnostics);
+  for (std::int64_t k = result.steps; k < max_steps && !budget_spent(); ++k) {
+    current.solver.dt = state.dt;
+    if (adaptive) {
+      account(step_within_opening_bound(world, work, current, before, result));
+      state.dt = current.solver.dt;  // a repeated step continues from its shorter Δt
+    } else {
+      account(step(world, work, current));
+    }
+    const double fraction = adaptive ? std::min(1.0, elapsed() / budget)
+                                     : static_cast<double>(k + 1) / static_cast<double>(max_steps);
+    const bool blocked =
+        detector && detector->update(world, result.last.diagnostics, current.solver.dt);
     if (observer) observer(world, result.last, fraction);
     // Blocked by the window's tests: the packing is measured on a static solve of a copy,
     // and adopted unless that solve shows a sphere out of balance; then the run goes on
     // unchanged and the test is repeated a window later, at most kMaxDeferredWindows times
     // (a packing whose static solve never balances is then measured as it is, and its
     // gauges say so; without the bound such a run could go on to max_duration).
-    if (blocked && k >= next_rest_check) {
-      next_rest_check = k + detector->window_steps();
+    if (blocked && detector->window_complete(world.time - state.last_rest_check)) {
+      state.last_rest_check = world.time;
       World rest_world = world;
       StepWorkspace rest_work = work;
-      const StepReport at_rest = solve_at_rest(rest_world, rest_work, settings, run.blocked);
+      const StepReport at_rest = solve_at_rest(rest_world, rest_work, current, run.blocked);
       if (spheres_balanced(at_rest, run.blocked, load) || deferred_windows >= kMaxDeferredWindows) {
         world = std::move(rest_world);
         work = std::move(rest_work);
@@ -126,12 +184,13 @@ RunResult run_simulation(World& world, StepWorkspace& work, const StepSettings& 
     // So test the balance on a static solve of a copy instead, once per window: if the
     // packing at rest carries the load with every sphere in balance, it is blocked;
     // otherwise the run goes on unchanged.
-    if (!blocked && probing && detector && detector->at_rest_for_window() && k >= next_probe) {
-      next_probe = k + detector->window_steps();
+    if (!blocked && probing && detector && detector->at_rest_for_window() &&
+        detector->window_complete(world.time - state.last_probe)) {
+      state.last_probe = world.time;
       const auto probe_start = std::chrono::steady_clock::now();
       World probe_world = world;
       StepWorkspace probe_work = work;
-      const StepReport probe = solve_at_rest(probe_world, probe_work, settings, run.blocked);
+      const StepReport probe = solve_at_rest(probe_world, probe_work, current, run.blocked);
       ++result.probes;
       result.probe_sweeps += probe.solver.sweeps;
       result.probe_seconds +=
@@ -150,6 +209,11 @@ RunResult run_simulation(World& world, StepWorkspace& work, const StepSettings& 
         }
         ++result.unbalanced_rest_solves;
       }
+    }
+    if (adaptive) {
+      state.dt = next_time_step(settings.solver.time_step, current.solver.dt, world,
+                                result.last.diagnostics.max_cohesive_opening_speed, settings.laws,
+                                settings.solver.skin);
     }
     if (stop_requested && stop_requested()) {
       result.interrupted = true;

@@ -9,6 +9,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <optional>
 
 namespace cdpowder {
@@ -19,6 +20,12 @@ struct RunResult {
   std::int64_t steps = 0;
   std::int64_t total_sweeps = 0;
   std::int64_t capped_steps = 0;  ///< steps whose NLGS hit max_sweeps
+  double min_dt = 0.0;            ///< shortest and longest Δt of the run's steps [t0]
+  double max_dt = 0.0;
+  /// adaptive Δt: steps undone and solved again with a shorter Δt because a contact opened
+  /// by more than max_opening_per_step × d_coh, and their sweeps (not in steps/total_sweeps)
+  std::int64_t repeated_steps = 0;
+  std::int64_t repeated_sweeps = 0;
   double max_overlap_seen = 0.0;  ///< largest overlap after any step [R]
   /// largest max_cohesive_opening_speed × Δt / d_coh of any step: above ≈ 0.1 the cohesion
   /// range is crossed in a few steps and Δt should be smaller (physics.md §6.4)
@@ -58,13 +65,16 @@ struct RunState {
   RunResult result;  ///< steps done so far (result.steps), sums and gauges
   /// the blocked-state test and its window (until_blocked runs; made at the first step)
   std::optional<BlockedStateDetector> detector;
-  /// first steps at which the next static solve on a copy may run, at most one per window:
-  /// a blocked window's check, and a probe (kept apart, so that a failed probe never
-  /// delays the check of a window that is blocked by its own tests)
-  std::int64_t next_rest_check = 0;
-  std::int64_t next_probe = 0;
+  /// times of the last static solve on a copy, of which at most one per window may run: a
+  /// blocked window's check, and a probe (kept apart, so that a failed probe never delays
+  /// the check of a window that is blocked by its own tests) [t0]
+  double last_rest_check = -std::numeric_limits<double>::infinity();
+  double last_probe = -std::numeric_limits<double>::infinity();
   int deferred_windows = 0;  ///< blocked windows deferred by a sphere out of balance
   bool probing = true;       ///< false once a probe failed to converge
+  bool started = false;      ///< the first call has set start_time and dt
+  double start_time = 0.0;   ///< world.time when the run began [t0]
+  double dt = 0.0;           ///< Δt of the next step [t0] (time_step_control.hpp)
 };
 
 RunResult run_simulation(World& world, StepWorkspace& work, const StepSettings& settings,

@@ -89,6 +89,7 @@ SolverStats read_solver_stats(ByteReader& in) {
 }
 
 void write_step_report(ByteWriter& out, const StepReport& r) {
+  out.f64(r.dt);
   write_solver_stats(out, r.solver);
   const StepDiagnostics& d = r.diagnostics;
   out.u64(d.contacts);
@@ -104,6 +105,7 @@ void write_step_report(ByteWriter& out, const StepReport& r) {
 
 StepReport read_step_report(ByteReader& in) {
   StepReport r;
+  r.dt = in.f64();
   r.solver = read_solver_stats(in);
   StepDiagnostics& d = r.diagnostics;
   d.contacts = in.u64();
@@ -124,6 +126,10 @@ void write_run_result(ByteWriter& out, const RunResult& r) {
   out.i64(r.steps);
   out.i64(r.total_sweeps);
   out.i64(r.capped_steps);
+  out.f64(r.min_dt);
+  out.f64(r.max_dt);
+  out.i64(r.repeated_steps);
+  out.i64(r.repeated_sweeps);
   out.f64(r.max_overlap_seen);
   out.f64(r.max_cohesive_opening_per_range);
   out.f64(r.wall_seconds);
@@ -145,6 +151,10 @@ RunResult read_run_result(ByteReader& in) {
   r.steps = in.i64();
   r.total_sweeps = in.i64();
   r.capped_steps = in.i64();
+  r.min_dt = in.f64();
+  r.max_dt = in.f64();
+  r.repeated_steps = in.i64();
+  r.repeated_sweeps = in.i64();
   r.max_overlap_seen = in.f64();
   r.max_cohesive_opening_per_range = in.f64();
   r.wall_seconds = in.f64();
@@ -281,15 +291,22 @@ std::string encode_state(std::string_view scene_toml, const World& world, const 
   out.boolean(run.detector.has_value());
   if (run.detector) {
     const BlockedStateDetector::Memory memory = run.detector->memory();
-    out.i64(memory.held);
-    out.i64(memory.steps_seen);
-    write_array(out, memory.heights, [&](double x) { out.f64(x); });
-    write_array(out, memory.imbalances, [&](double x) { out.f64(x); });
+    out.f64(memory.clock);
+    out.f64(memory.time_held);
+    out.i64(memory.steps_held);
+    write_array(out, memory.entries, [&](const BlockedStateDetector::Entry& e) {
+      out.f64(e.time);
+      out.f64(e.height);
+      out.f64(e.imbalance);
+    });
   }
-  out.i64(run.next_rest_check);
-  out.i64(run.next_probe);
+  out.f64(run.last_rest_check);
+  out.f64(run.last_probe);
   out.i64(run.deferred_windows);
   out.boolean(run.probing);
+  out.boolean(run.started);
+  out.f64(run.start_time);
+  out.f64(run.dt);
   out.tag("SUM ");
   std::string bytes = out.bytes();
   ByteWriter checksum;
@@ -330,18 +347,24 @@ SavedRun decode_state(std::string_view bytes, const std::string& source) {
   saved.result = read_run_result(in);
   if (in.boolean()) {
     BlockedStateDetector::Memory memory;
-    memory.held = in.i64();
-    memory.steps_seen = in.i64();
-    memory.heights.resize(in.count(kDoubleBytes));
-    for (double& x : memory.heights) x = in.f64();
-    memory.imbalances.resize(in.count(kDoubleBytes));
-    for (double& x : memory.imbalances) x = in.f64();
+    memory.clock = in.f64();
+    memory.time_held = in.f64();
+    memory.steps_held = in.i64();
+    memory.entries.resize(in.count(3 * kDoubleBytes));
+    for (BlockedStateDetector::Entry& e : memory.entries) {
+      e.time = in.f64();
+      e.height = in.f64();
+      e.imbalance = in.f64();
+    }
     saved.detector = std::move(memory);
   }
-  saved.next_rest_check = in.i64();
-  saved.next_probe = in.i64();
+  saved.last_rest_check = in.f64();
+  saved.last_probe = in.f64();
   saved.deferred_windows = static_cast<int>(in.i64());
   saved.probing = in.boolean();
+  saved.started = in.boolean();
+  saved.start_time = in.f64();
+  saved.dt = in.f64();
   in.tag("SUM ");
   in.u64();
   if (!in.at_end()) in.fail("unexpected bytes after the checksum");
@@ -382,10 +405,13 @@ void restore_run(SavedRun saved, const RunConfig& run, double dt, World& world, 
           fmt::format("the saved run does not fit this scene: {}", mismatch.what()));
     }
   }
-  state.next_rest_check = saved.next_rest_check;
-  state.next_probe = saved.next_probe;
+  state.last_rest_check = saved.last_rest_check;
+  state.last_probe = saved.last_probe;
   state.deferred_windows = saved.deferred_windows;
   state.probing = saved.probing;
+  state.started = saved.started;
+  state.start_time = saved.start_time;
+  state.dt = saved.dt;
   world = std::move(saved.world);
   work.action_cache = std::move(saved.actions);
   work.solver.rng = saved.sweep_order;

@@ -47,10 +47,13 @@ struct SavedRun {
   Rng sweep_order;  ///< NlgsWorkspace::rng
   RunResult result;
   std::optional<BlockedStateDetector::Memory> detector;
-  std::int64_t next_rest_check = 0;
-  std::int64_t next_probe = 0;
+  double last_rest_check = 0.0;
+  double last_probe = 0.0;
   int deferred_windows = 0;
   bool probing = true;
+  bool started = false;
+  double start_time = 0.0;
+  double dt = 0.0;
 };
 
 /// The World and the warm-start cache through the shared serialiser (also state_hash).

@@ -105,6 +105,13 @@ std::string summary_json(const Scene& scene, const World& world, const Contacts&
       {"interrupted", result.interrupted},
       {"until_blocked", scene.run.until_blocked},
       {"steps", result.steps},
+      // Δt of the steps: equal without solver.adaptive_dt [t0]
+      {"dt_min", result.min_dt},
+      {"dt_max", result.max_dt},
+      // adaptive Δt: steps undone and repeated with a shorter Δt, and their sweeps (not in
+      // steps and total_sweeps)
+      {"repeated_steps", result.repeated_steps},
+      {"repeated_sweeps", result.repeated_sweeps},
       {"total_sweeps", result.total_sweeps},
       {"sweeps_per_step", result.steps > 0 ? static_cast<double>(result.total_sweeps) /
                                                  static_cast<double>(result.steps)

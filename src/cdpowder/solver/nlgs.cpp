@@ -272,7 +272,10 @@ SolverStats solve_nlgs(Contacts& contacts, VelocityCache& velocities,
       rho = std::clamp(rho, 0.0, kMaxContraction);
     }
     stats.contraction = rho;
-    stats.error_estimate = stats.residual / (1.0 - rho);
+    // min() of the two forms: residual/(1 − ρ) ≤ 999.99… × residual when ρ ≤ 0.999, so the
+    // default bound of 1000 returns the first form to the last bit
+    stats.error_estimate =
+        std::min(stats.residual / (1.0 - rho), stats.residual * settings.max_error_amplification);
 
     const bool done =
         sweep >= settings.min_sweeps && (settings.stopping_rule == StoppingRule::Residual

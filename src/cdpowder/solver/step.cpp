@@ -28,6 +28,7 @@ class StageClock {
 
 StepReport step(World& world, StepWorkspace& work, const StepSettings& settings) {
   StepReport report;
+  report.dt = settings.solver.dt;
   StageClock clock;
 
   detect_contacts(world, settings, work.grid, work.contacts);

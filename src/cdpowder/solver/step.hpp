@@ -22,6 +22,7 @@ enum class Stage { DetectContacts, BuildLocalProblems, SolveNlgs, Integrate, Ana
 using StageTimes = std::array<double, static_cast<std::size_t>(Stage::Count)>;
 
 struct StepReport {
+  double dt = 0.0;  ///< Δt of the step [t0]
   SolverStats solver;
   StepDiagnostics diagnostics;
   StageTimes times{};
