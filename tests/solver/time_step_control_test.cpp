@@ -14,6 +14,8 @@ struct OneSphere {
     world.bodies.add_sphere(Vec3(0.0, 0.0, 1.0), 1.0, 1.0);
     laws.spheres.cohesion_range = laws.walls.cohesion_range = 0.01;
     control.adaptive = true;
+    control.dt_max = 0.05;  // the tests below are written for these bounds
+    control.dt_min = 1e-4;
   }
 
   World world;
