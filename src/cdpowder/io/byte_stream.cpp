@@ -83,7 +83,7 @@ bool ByteReader::boolean() {
 
 std::string ByteReader::string() {
   const std::size_t n = count(1);
-  return std::string(take(n), n);
+  return {take(n), n};
 }
 
 void ByteReader::tag(std::string_view four_letters) {

@@ -222,8 +222,9 @@ World read_world(ByteReader& in) {
   World world;
   Bodies& b = world.bodies;
   in.tag("WRLD");
-  // per sphere: 8 vectors and 3 scalars of 8 bytes, and the fixed flag
-  const std::size_t n = in.count(8 * 3 * kDoubleBytes + 3 * kDoubleBytes + 1);
+  // per sphere: 5 vectors (15 doubles) and 3 scalars, and the fixed flag
+  constexpr std::size_t kSphereBytes = 18 * kDoubleBytes + 1;
+  const std::size_t n = in.count(kSphereBytes);
   const auto vecs = [&](std::vector<Vec3>& values) {
     values.resize(n);
     for (Vec3& v : values) v = in.vec3();
@@ -395,7 +396,7 @@ SavedRun load_state(const std::filesystem::path& path) {
 void restore_run(SavedRun saved, const RunConfig& run, double dt, World& world, StepWorkspace& work,
                  RunState& state) {
   state = RunState{};
-  state.result = std::move(saved.result);
+  state.result = saved.result;
   if (saved.detector) {
     state.detector.emplace(run.blocked, dt);
     try {
