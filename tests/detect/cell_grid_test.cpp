@@ -1,12 +1,13 @@
-// Tests for src/cdpowder/detect/cell_grid.cpp and detect_contacts.cpp: the grid finds
-// exactly the pairs a brute-force minimum-image search finds, also in boxes of one or
-// two cells, across the periodic boundaries.
+// Tests for src/cdpowder/detect/cell_grid.cpp: the grid finds exactly the pairs a
+// brute-force minimum-image search finds, each once, also in boxes of one or two cells,
+// across the periodic boundaries. detect_contacts_test.cpp tests the production path.
 #include "cdpowder/detect/cell_grid.hpp"
 
 #include "cdpowder/core/rng.hpp"
 
 #include <gtest/gtest.h>
 
+#include <map>
 #include <set>
 #include <utility>
 
@@ -34,18 +35,32 @@ void check_against_brute_force(double lx, double ly, double height, int n, doubl
   CellGrid grid;
   grid.rebuild(x, box, reach);
   std::set<std::pair<BodyIndex, BodyIndex>> found;
-  int visits = 0;
+  std::map<std::pair<BodyIndex, BodyIndex>, int> visits;  // every visited pair, near or not
   grid.for_each_near_pair([&](BodyIndex i, BodyIndex j) {
-    ++visits;
+    ++visits[{i, j}];
+    ++visits[{j, i}];  // (i, j) and (j, i) are one pair
     if (box.minimum_image(x[j] - x[i]).norm() < reach) found.insert({i, j});
   });
   const auto expected = brute_force(x, box, reach);
   EXPECT_EQ(found, expected) << "lx=" << lx << " cells " << grid.cells_x();
   EXPECT_GT(expected.size(), 0U);
-  // no pair is visited twice
-  int distinct = 0;
-  grid.for_each_near_pair([&](BodyIndex, BodyIndex) { ++distinct; });
-  EXPECT_EQ(visits, distinct);
+  // no pair is visited twice, in either order
+  for (const auto& [pair, count] : visits) {
+    EXPECT_EQ(count, 1) << "pair (" << pair.first << ", " << pair.second << "), cells "
+                        << grid.cells_x() << "×" << grid.cells_y() << "×" << grid.cells_z();
+  }
+  // for_each_near, the production path: every neighbour of i once, i itself included
+  for (BodyIndex i = 0; i < x.size(); ++i) {
+    std::map<BodyIndex, int> near;
+    grid.for_each_near(i, [&](BodyIndex j) { ++near[j]; });
+    EXPECT_EQ(near.count(i), 1U);
+    for (const auto& [j, count] : near) EXPECT_EQ(count, 1) << "sphere " << i << ", near " << j;
+    for (const auto& [a, b] : expected) {
+      if (a == i) {
+        EXPECT_EQ(near.count(b), 1U) << "sphere " << i << " misses " << b;
+      }
+    }
+  }
 }
 
 TEST(CellGrid, FindsAllPairsOfARandomGas) {

@@ -1,6 +1,8 @@
 // action_cache.cpp — storing and merge-joining last step's contact actions.
 #include "cdpowder/contact/action_cache.hpp"
 
+#include "cdpowder/core/assert.hpp"
+
 #include <utility>
 
 namespace cdpowder {
@@ -19,6 +21,9 @@ void ActionCache::store(const Contacts& contacts) {
   walls_.clear();
   for (std::size_t k = 0; k < contacts.pairs.size(); ++k) {
     const PairProblem& p = contacts.pairs[k];
+    CDP_ASSERT(
+        k == 0 || pair_key(contacts.pairs[k - 1].a, contacts.pairs[k - 1].b) < pair_key(p.a, p.b),
+        "pairs not strictly ascending by key (a, b)");
     const bool cohesive = contacts.pair_cohesive[k] != 0;
     // Zero-force, non-cohesive contacts carry nothing into the next step.
     if (!cohesive && !is_nonzero(contacts.pair_actions[k])) continue;
@@ -26,6 +31,9 @@ void ActionCache::store(const Contacts& contacts) {
   }
   for (std::size_t k = 0; k < contacts.walls.size(); ++k) {
     const WallProblem& w = contacts.walls[k];
+    CDP_ASSERT(k == 0 || wall_key(contacts.walls[k - 1].wall, contacts.walls[k - 1].sphere) <
+                             wall_key(w.wall, w.sphere),
+               "walls not strictly ascending by key (wall, sphere)");
     const bool cohesive = contacts.wall_cohesive[k] != 0;
     if (!cohesive && !is_nonzero(contacts.wall_actions[k])) continue;
     walls_.push_back({wall_key(w.wall, w.sphere), contacts.wall_actions[k], cohesive});
@@ -41,6 +49,8 @@ void ActionCache::restore(std::vector<CachedAction> pairs, std::vector<CachedAct
 
 const CachedAction* ActionCache::find(const std::vector<CachedAction>& entries, std::size_t& cursor,
                                       std::uint64_t key) {
+  // a key below an entry the cursor has passed would miss that entry: lookups must ascend
+  CDP_ASSERT(cursor == 0 || entries[cursor - 1].key < key, "lookups not in ascending key order");
   while (cursor < entries.size() && entries[cursor].key < key) ++cursor;
   if (cursor < entries.size() && entries[cursor].key == key) return &entries[cursor];
   return nullptr;

@@ -3,6 +3,8 @@
 #include "cdpowder/detect/detect_contacts.hpp"
 
 #include "cdpowder/contact/contact_law.hpp"
+#include "cdpowder/core/assert.hpp"
+#include "cdpowder/model/finite.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -25,6 +27,8 @@ double candidate_gap(const World& world, const StepSettings& settings) {
 
 void detect_contacts(World& world, const StepSettings& settings, CellGrid& grid,
                      Contacts& contacts) {
+  // stage 1 is the start of a step: its inputs must be finite (debug builds only)
+  CDP_ASSERT(all_finite(world) && std::isfinite(settings.solver.dt), "non-finite step input");
   Bodies& bodies = world.bodies;
   const PeriodicBox& box = world.box;
   for (Vec3& p : bodies.position) box.wrap(p);
@@ -56,6 +60,8 @@ void detect_contacts(World& world, const StepSettings& settings, CellGrid& grid,
       p.lever_a = bodies.radius[a] + 0.5 * p.gap;
       p.lever_b = bodies.radius[b] + 0.5 * p.gap;
       p.r_eff = effective_radius(bodies.radius[a], bodies.radius[b]);
+      // the kernels assume a unit normal (d/|d| is one to a few ulp) and a finite gap
+      CDP_ASSERT(std::abs(p.normal.norm() - 1.0) < 1e-12 && std::isfinite(p.gap), "n or g");
       contacts.pairs.push_back(p);
     });
     std::sort(contacts.pairs.begin() + static_cast<std::ptrdiff_t>(first), contacts.pairs.end(),
@@ -70,6 +76,7 @@ void detect_contacts(World& world, const StepSettings& settings, CellGrid& grid,
     w.normal = Vec3(0.0, 0.0, normal_z);
     w.gap = gap;
     w.radius = bodies.radius[i];
+    CDP_ASSERT(std::isfinite(gap), "non-finite wall gap");
     contacts.walls.push_back(w);
   };
   if (world.walls.bottom.enabled) {

@@ -2,6 +2,10 @@
 #include "cdpowder/solver/build.hpp"
 
 #include "cdpowder/contact/local_solve.hpp"
+#include "cdpowder/core/assert.hpp"
+
+#include <algorithm>
+#include <cmath>
 
 namespace cdpowder {
 
@@ -149,6 +153,13 @@ void build_local_problems(const World& world, const StepSettings& settings, Acti
         settings.solver.warm_start ? warm_start(last, w.normal, w.cohesion) : ContactAction{};
     apply_wall_action(w, contacts.wall_actions[k], velocities);
   }
+  // the sweeps assume finite v*, ω* (debug builds only; one pass over the spheres)
+  CDP_ASSERT(std::isfinite(velocities.piston_velocity) &&
+                 std::all_of(velocities.spheres.begin(), velocities.spheres.end(),
+                             [](const SphereVelocity& s) {
+                               return s.linear.allFinite() && s.angular.allFinite();
+                             }),
+             "non-finite predicted velocity");
 }
 
 void apply_pair_action(const PairProblem& p, const ContactAction& delta, VelocityCache& v) {

@@ -1,0 +1,265 @@
+// Tests for src/cdpowder/detect/detect_contacts.cpp, the production broad phase
+// (CellGrid::for_each_near): on random packings of mixed radii, across the periodic x/y
+// boundaries and in boxes of one, two or three cells per axis, the candidates are exactly
+// those of a brute-force O(N²) minimum-image search with the same cutoff, each pair once,
+// in the key order the warm-start merge of ActionCache relies on (physics.md §4.3, §7.4).
+#include "cdpowder/detect/detect_contacts.hpp"
+
+#include "cdpowder/contact/action_cache.hpp"
+#include "cdpowder/core/rng.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace cdpowder {
+namespace {
+
+/// The brute force repeats detect_contacts' formulas, so the two differ by round-off in the
+/// last bits at most (a different evaluation order of the same sum) [R].
+constexpr double kRoundOff = 1e-12;
+
+struct Packing {
+  double lx = 10.0;      ///< L_x [R]
+  double ly = 10.0;      ///< L_y [R]
+  double height = 10.0;  ///< spheres' centres in [0, height), the piston at height [R]
+  int spheres = 100;
+  double min_radius = 0.5;  ///< radii uniform in [min_radius, max_radius] [R]
+  double max_radius = 1.0;
+  double max_speed = 1.0;  ///< velocities uniform in a cube of this half-width [R/t0]
+  std::uint64_t seed = 1;
+};
+
+/// Random spheres, overlaps allowed (the broad phase must not care). Every fifth sphere sits
+/// within 0.05 R of a periodic x or y boundary, on either side, some centres outside the box
+/// (detect_contacts wraps them); every seventh is fixed.
+World make_world(const Packing& p) {
+  Rng rng = make_rng(p.seed, RngStream::Deposition);
+  World world;
+  world.box = PeriodicBox{p.lx, p.ly};
+  world.walls.bottom.enabled = true;
+  world.walls.piston.enabled = true;
+  world.walls.piston.height = p.height;
+  world.walls.piston.velocity = -0.1;
+  for (int i = 0; i < p.spheres; ++i) {
+    Vec3 centre(p.lx * uniform01(rng), p.ly * uniform01(rng), p.height * uniform01(rng));
+    if (i % 5 == 0) {
+      const double offset = 0.1 * uniform01(rng) - 0.05;  // in [−0.05, 0.05) R
+      if (i % 10 == 0) {
+        centre.x() = offset;
+      } else {
+        centre.y() = p.ly + offset;
+      }
+    }
+    const double radius = p.min_radius + (p.max_radius - p.min_radius) * uniform01(rng);
+    const BodyIndex b = world.bodies.add_sphere(centre, radius, 1.0, i % 7 == 3);
+    if (world.bodies.fixed[b] == 0) {
+      world.bodies.velocity[b] =
+          p.max_speed *
+          Vec3(2.0 * uniform01(rng) - 1.0, 2.0 * uniform01(rng) - 1.0, 2.0 * uniform01(rng) - 1.0);
+      world.bodies.angular_velocity[b] = Vec3(0.0, 0.0, p.max_speed * uniform01(rng));
+    }
+  }
+  return world;
+}
+
+/// Every pair a < b whose minimum-image centre distance is below R_a + R_b + cutoff, except
+/// pairs of two fixed spheres, keyed by pair_key.
+std::map<std::uint64_t, PairProblem> brute_force_pairs(const World& world, double cutoff) {
+  const Bodies& bodies = world.bodies;
+  std::map<std::uint64_t, PairProblem> pairs;
+  const auto n = static_cast<BodyIndex>(bodies.size());
+  for (BodyIndex a = 0; a < n; ++a) {
+    for (BodyIndex b = a + 1; b < n; ++b) {
+      if (bodies.fixed[a] != 0 && bodies.fixed[b] != 0) continue;
+      const Vec3 d = world.box.minimum_image(bodies.position[b] - bodies.position[a]);
+      const double reach = bodies.radius[a] + bodies.radius[b] + cutoff;
+      if (d.norm() >= reach) continue;
+      PairProblem p;
+      p.a = a;
+      p.b = b;
+      p.normal = d.normalized();
+      p.gap = d.norm() - bodies.radius[a] - bodies.radius[b];
+      pairs[pair_key(a, b)] = p;
+    }
+  }
+  return pairs;
+}
+
+/// Bottom-wall candidates of free spheres, then piston candidates of all spheres, each in
+/// sphere order: (wall kind, sphere) ascending.
+std::vector<WallProblem> brute_force_walls(const World& world, double cutoff) {
+  const Bodies& bodies = world.bodies;
+  std::vector<WallProblem> walls;
+  for (BodyIndex i = 0; i < bodies.size(); ++i) {
+    const double gap = bodies.position[i].z() - bodies.radius[i];
+    if (gap < cutoff && bodies.fixed[i] == 0) {
+      walls.push_back({.sphere = i, .wall = WallKind::Bottom, .gap = gap});
+    }
+  }
+  for (BodyIndex i = 0; i < bodies.size(); ++i) {
+    const double gap = world.walls.piston.height - bodies.position[i].z() - bodies.radius[i];
+    if (gap < cutoff) walls.push_back({.sphere = i, .wall = WallKind::Piston, .gap = gap});
+  }
+  return walls;
+}
+
+struct Checked {
+  CellGrid grid;  ///< so callers can check the cell counts they aimed at
+  std::size_t pairs = 0;
+  std::size_t walls = 0;
+};
+
+/// Runs detect_contacts on the packing and checks it against the brute force.
+Checked check_against_brute_force(const Packing& packing) {
+  World world = make_world(packing);
+  const StepSettings settings;
+  CellGrid grid;
+  Contacts contacts;
+  detect_contacts(world, settings, grid, contacts);
+  // detect_contacts wraps the positions and changes nothing the cutoff depends on
+  const double cutoff = candidate_gap(world, settings);
+  const std::string where = "packing seed " + std::to_string(packing.seed) + ", cells " +
+                            std::to_string(grid.cells_x()) + "×" + std::to_string(grid.cells_y()) +
+                            "×" + std::to_string(grid.cells_z());
+
+  // pairs: strictly ascending keys (so each pair once, a < b), the brute force's set
+  for (std::size_t k = 0; k < contacts.pairs.size(); ++k) {
+    const PairProblem& p = contacts.pairs[k];
+    EXPECT_LT(p.a, p.b) << where;
+    if (k > 0) {
+      const PairProblem& q = contacts.pairs[k - 1];
+      EXPECT_LT(pair_key(q.a, q.b), pair_key(p.a, p.b)) << where << ", pair " << k;
+    }
+  }
+  const auto expected = brute_force_pairs(world, cutoff);
+  EXPECT_EQ(contacts.pairs.size(), expected.size()) << where;
+  std::size_t matched = 0;
+  for (const PairProblem& p : contacts.pairs) {
+    const auto it = expected.find(pair_key(p.a, p.b));
+    if (it == expected.end()) {
+      ADD_FAILURE() << where << ": pair (" << p.a << ", " << p.b << ") is not a candidate";
+      continue;
+    }
+    ++matched;
+    const PairProblem& e = it->second;
+    EXPECT_NEAR(p.gap, e.gap, kRoundOff) << where;
+    EXPECT_NEAR((p.normal - e.normal).norm(), 0.0, kRoundOff) << where;
+    // levers to the middle of the gap (physics.md §4.2)
+    EXPECT_EQ(p.lever_a, world.bodies.radius[p.a] + 0.5 * p.gap);
+    EXPECT_EQ(p.lever_b, world.bodies.radius[p.b] + 0.5 * p.gap);
+    EXPECT_EQ(p.r_eff, effective_radius(world.bodies.radius[p.a], world.bodies.radius[p.b]));
+  }
+  EXPECT_EQ(matched, expected.size()) << where;
+
+  // walls: the same list in the same order, (wall kind, sphere) strictly ascending
+  const auto expected_walls = brute_force_walls(world, cutoff);
+  EXPECT_EQ(contacts.walls.size(), expected_walls.size()) << where;
+  for (std::size_t k = 0; k < std::min(contacts.walls.size(), expected_walls.size()); ++k) {
+    const WallProblem& w = contacts.walls[k];
+    const WallProblem& e = expected_walls[k];
+    EXPECT_EQ(wall_key(w.wall, w.sphere), wall_key(e.wall, e.sphere)) << where << ", wall " << k;
+    EXPECT_EQ(w.gap, e.gap) << where;
+    EXPECT_EQ(w.normal, Vec3(0.0, 0.0, w.wall == WallKind::Bottom ? 1.0 : -1.0)) << where;
+    if (k > 0) {
+      const WallProblem& v = contacts.walls[k - 1];
+      EXPECT_LT(wall_key(v.wall, v.sphere), wall_key(w.wall, w.sphere)) << where;
+    }
+  }
+  return {grid, expected.size(), expected_walls.size()};
+}
+
+TEST(DetectContacts, MatchesBruteForceOnRandomPackingsOfSeveralSizes) {
+  for (const int n : {2, 10, 60, 300, 1200}) {
+    std::size_t pairs = 0;
+    std::size_t walls = 0;
+    for (const std::uint64_t seed : {1U, 2U, 3U}) {
+      // a solid fraction of ≈ 0.15 whatever n
+      const double side = std::cbrt(12.0 * n);
+      const Checked checked = check_against_brute_force({.lx = side,
+                                                         .ly = 0.8 * side,
+                                                         .height = side,
+                                                         .spheres = n,
+                                                         .min_radius = 0.3,
+                                                         .max_radius = 1.0,
+                                                         .seed = seed});
+      pairs += checked.pairs;
+      walls += checked.walls;
+    }
+    if (n >= 60) {  // dense enough to test something
+      EXPECT_GT(pairs, 0U) << n << " spheres";
+      EXPECT_GT(walls, 0U) << n << " spheres";
+    }
+  }
+}
+
+TEST(DetectContacts, MatchesBruteForceWithOneTwoOrThreeCellsPerAxis) {
+  // cell edge = 2 max R + cutoff ≈ 2.06 R at these speeds, so L = 2.5, 4.5, 6.5 give
+  // 1, 2 and 3 cells: neighbour offsets ±1 wrap onto the same cell below three
+  for (const int cells_x : {1, 2, 3}) {
+    for (const int cells_y : {1, 2, 3}) {
+      for (const std::uint64_t seed : {4U, 5U}) {
+        const Packing packing{.lx = 0.5 + 2.0 * cells_x,
+                              .ly = 0.5 + 2.0 * cells_y,
+                              .height = 8.0,
+                              .spheres = 12 * cells_x * cells_y,
+                              .min_radius = 0.5,
+                              .max_radius = 1.0,
+                              .max_speed = 0.5,
+                              .seed = seed};
+        const Checked checked = check_against_brute_force(packing);
+        EXPECT_EQ(checked.grid.cells_x(), cells_x);
+        EXPECT_EQ(checked.grid.cells_y(), cells_y);
+        EXPECT_GT(checked.pairs, 0U);
+      }
+    }
+  }
+}
+
+TEST(DetectContacts, FastSpheresWidenTheCutoffAndTheCells) {
+  // 2 v_max Δt = 2 × 20 × 0.01 = 0.4 R dominates d_coh: a larger cutoff, larger cells
+  const Checked checked = check_against_brute_force({.lx = 12.0,
+                                                     .ly = 9.0,
+                                                     .height = 10.0,
+                                                     .spheres = 200,
+                                                     .min_radius = 0.4,
+                                                     .max_radius = 1.2,
+                                                     .max_speed = 20.0,
+                                                     .seed = 6});
+  EXPECT_GT(checked.pairs, 0U);
+}
+
+TEST(DetectContacts, FindsPairsAcrossEveryPeriodicBoundary) {
+  // pairs of unit spheres touching through the x boundary, the y boundary and the corner,
+  // each pair at its own height so that only partners meet
+  World world;
+  world.box = PeriodicBox{10.0, 10.0};
+  const double corner = 10.0 - std::sqrt(2.0) + 0.5;
+  for (const Vec3& centre : {Vec3(0.5, 5.0, 2.0), Vec3(8.5, 5.0, 2.0),  // across x: d = −2 e_x
+                             Vec3(5.0, 0.5, 6.0), Vec3(5.0, 8.5, 6.0),  // across y: d = −2 e_y
+                             Vec3(0.5, 0.5, 10.0), Vec3(corner, corner, 10.0)}) {
+    world.bodies.add_sphere(centre, 1.0, 1.0);
+  }
+  const StepSettings settings;
+  CellGrid grid;
+  Contacts contacts;
+  detect_contacts(world, settings, grid, contacts);
+  std::vector<std::uint64_t> keys;
+  for (const PairProblem& p : contacts.pairs) keys.push_back(pair_key(p.a, p.b));
+  ASSERT_EQ(keys, (std::vector<std::uint64_t>{pair_key(0, 1), pair_key(2, 3), pair_key(4, 5)}));
+  for (const PairProblem& p : contacts.pairs) EXPECT_NEAR(p.gap, 0.0, kRoundOff);
+  const std::array<Vec3, 3> expected_normals = {Vec3(-1.0, 0.0, 0.0), Vec3(0.0, -1.0, 0.0),
+                                                Vec3(-1.0, -1.0, 0.0).normalized()};
+  for (std::size_t k = 0; k < 3; ++k) {
+    EXPECT_NEAR((contacts.pairs[k].normal - expected_normals[k]).norm(), 0.0, kRoundOff);
+  }
+}
+
+}  // namespace
+}  // namespace cdpowder
