@@ -76,19 +76,26 @@ int run_scene(const RunOptions& options, const SceneReadOptions& read_options) {
   const std::string header = provenance_header(scene);
   write_file_atomically(options.out / "scene.toml", scene.effective_toml);
   write_file_atomically(options.out / "initial_particles.csv", particles_csv(world.bodies, header));
-  TimeseriesWriter timeseries(options.out / "timeseries.csv", header, scene.run.timeseries_every);
+  TimeseriesWriter timeseries(options.out / "timeseries.csv", header,
+                              Cadence(scene.run.timeseries_every, scene.run.timeseries_interval));
 
   StepWorkspace work(scene.step.solver.seed);
   VtkSnapshotSeries snapshots(options.out);
-  const int snapshot_every = scene.run.snapshot_every;
-  if (snapshot_every > 0) snapshots.write(world, work.contacts);  // t = 0, no contacts yet
+  Cadence snapshot_cadence(scene.run.snapshot_every, scene.run.snapshot_interval);
+  const bool snapshots_on = snapshot_cadence.enabled();
+  std::int64_t last_snapshot_step = world.step;
+  if (snapshots_on) {
+    snapshots.write(world, work.contacts);  // t = 0, no contacts yet
+    snapshot_cadence.due(world);            // and the time cadence starts from there
+  }
   ProgressLine progress(options.quiet);
   const RunResult result = run_simulation(
       world, work, scene.step, scene.run,
       [&](const World& w, const StepReport& report, double fraction) {
         timeseries.record(w, report);
         progress.update(w, report, fraction);
-        if (snapshot_every > 0 && w.step % snapshot_every == 0) {
+        if (snapshots_on && w.step != last_snapshot_step && snapshot_cadence.due(w)) {
+          last_snapshot_step = w.step;
           snapshots.write(w, work.contacts);
         }
       },
@@ -96,7 +103,7 @@ int run_scene(const RunOptions& options, const SceneReadOptions& read_options) {
   progress.finish();
   timeseries.record(world, result.last, /*force=*/true);
   timeseries.commit();
-  if (snapshot_every > 0 && world.step % snapshot_every != 0) snapshots.write(world, work.contacts);
+  if (snapshots_on && world.step != last_snapshot_step) snapshots.write(world, work.contacts);
 
   write_file_atomically(options.out / "particles.csv", particles_csv(world.bodies, header));
   write_file_atomically(options.out / "contacts.csv", contacts_csv(work.contacts, header));

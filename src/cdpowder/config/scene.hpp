@@ -63,6 +63,10 @@ struct RunConfig {
   double max_duration = 1.0e5;  ///< give up on blocking after this simulated time [t0]
   int timeseries_every = 1;     ///< a timeseries.csv row every K steps
   int snapshot_every = 0;       ///< a VTK snapshot (.vtp + .pvd) every K steps; 0 = none
+  /// > 0: a row / a snapshot every this much simulated time instead of every K steps (for
+  /// an adaptive Δt, whose steps differ in length) [t0]
+  double timeseries_interval = 0.0;
+  double snapshot_interval = 0.0;
   BlockedCriteria blocked;
 };
 

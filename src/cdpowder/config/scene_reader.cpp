@@ -144,6 +144,9 @@ Scene read_values(TableReader& in, const std::filesystem::path& base_dir,
       static_cast<int>(in.integer("run.timeseries_every", run.timeseries_every, 1, kIntMax));
   run.snapshot_every =
       static_cast<int>(in.integer("run.snapshot_every", run.snapshot_every, 0, kIntMax));
+  run.timeseries_interval =
+      in.number("run.timeseries_interval", run.timeseries_interval, kNonNegative);
+  run.snapshot_interval = in.number("run.snapshot_interval", run.snapshot_interval, kNonNegative);
   BlockedCriteria& blocked = run.blocked;
   blocked.window = in.number("run.blocked.window", blocked.window, kPositive);
   blocked.piston_speed = in.number("run.blocked.piston_speed", blocked.piston_speed, kPositive);

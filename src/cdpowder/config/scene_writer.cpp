@@ -130,6 +130,8 @@ std::string write_effective_toml(const Scene& s) {
                    {"max_duration", s.run.max_duration},
                    {"timeseries_every", s.run.timeseries_every},
                    {"snapshot_every", s.run.snapshot_every},
+                   {"timeseries_interval", s.run.timeseries_interval},
+                   {"snapshot_interval", s.run.snapshot_interval},
                    {"blocked", toml::table{{"window", blocked.window},
                                            {"piston_speed", blocked.piston_speed},
                                            {"sphere_speed", blocked.sphere_speed},

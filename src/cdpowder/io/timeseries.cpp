@@ -8,8 +8,8 @@
 namespace cdpowder {
 
 TimeseriesWriter::TimeseriesWriter(const std::filesystem::path& path, const std::string& header,
-                                   int every)
-    : file_(path), every_(every) {
+                                   Cadence cadence)
+    : file_(path), cadence_(cadence) {
   file_.stream() << header
                  << "step,time,piston_height,piston_velocity,porosity,kinetic_energy,sweeps,"
                     "converged,residual,error_estimate,contacts,closed_contacts,mean_overlap,"
@@ -18,7 +18,7 @@ TimeseriesWriter::TimeseriesWriter(const std::filesystem::path& path, const std:
 
 void TimeseriesWriter::record(const World& world, const StepReport& r, bool force) {
   if (world.step == last_step_) return;
-  if (!force && world.step % every_ != 0) return;
+  if (!cadence_.due(world) && !force) return;
   last_step_ = world.step;
   const StepDiagnostics& d = r.diagnostics;
   file_.stream() << fmt::format(
