@@ -44,6 +44,7 @@ int main(int argc, char** argv) {
     double updates = 0.0;
     double nlgs = 0.0;
     double other = 0.0;
+    StageTimes stages{};
     const auto start = std::chrono::steady_clock::now();
     for (int k = 0; k < steps; ++k) {
       const StepReport report = step(world, work, scene.step);
@@ -54,6 +55,7 @@ int main(int argc, char** argv) {
                  static_cast<double>(report.diagnostics.contacts);
       for (std::size_t s = 0; s < report.times.size(); ++s) {
         (s == static_cast<std::size_t>(Stage::SolveNlgs) ? nlgs : other) += report.times[s];
+        stages[s] += report.times[s];
       }
     }
     const double wall =
@@ -63,6 +65,10 @@ int main(int argc, char** argv) {
         "opening/step={:.3f}d_coh wall={:.2f}s porosity={:.6f} hash={}\n",
         steps, static_cast<double>(sweeps) / steps, capped, 1e9 * nlgs / updates,
         1e6 * other / steps, opening, wall, porosity(world), hash_text(state_hash(world, work.action_cache)));
+    fmt::print("per step [us]: detect {:.0f}, build {:.0f}, solve {:.0f}, integrate {:.0f}, "
+               "analyse {:.0f}\n",
+               1e6 * stages[0] / steps, 1e6 * stages[1] / steps, 1e6 * stages[2] / steps,
+               1e6 * stages[3] / steps, 1e6 * stages[4] / steps);
     return 0;
   } catch (const std::exception& error) {
     fmt::print(stderr, "fixture_steps: {}\n", error.what());
