@@ -93,6 +93,7 @@ Scene read_values(TableReader& in, const std::filesystem::path& base_dir,
       in.integer("solver.acceleration_interval", solver.acceleration_interval, 1, 100));
   solver.warm_start = in.boolean("solver.warm_start", solver.warm_start);
   solver.skin = in.number("solver.skin", solver.skin, kNonNegative);
+  solver.verlet_margin = in.number("solver.verlet_margin", solver.verlet_margin, kNonNegative);
   solver.seed = static_cast<std::uint64_t>(
       in.integer("solver.seed", static_cast<std::int64_t>(solver.seed), 0));
 

@@ -122,6 +122,7 @@ std::string write_effective_toml(const Scene& s) {
                              {"acceleration_interval", solver.acceleration_interval},
                              {"warm_start", solver.warm_start},
                              {"skin", solver.skin},
+                             {"verlet_margin", solver.verlet_margin},
                              {"seed", static_cast<std::int64_t>(solver.seed)}}},
       {"piston", std::move(piston)},
       {"run",

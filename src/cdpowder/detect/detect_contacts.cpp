@@ -25,8 +25,8 @@ double candidate_gap(const World& world, const StepSettings& settings) {
   return std::max(range, 2.0 * v_max * settings.solver.dt) + settings.solver.skin;
 }
 
-void detect_contacts(World& world, const StepSettings& settings, CellGrid& grid,
-                     Contacts& contacts) {
+void detect_contacts(World& world, const StepSettings& settings, CellGrid& grid, Contacts& contacts,
+                     CandidateList* reuse) {
   // stage 1 is the start of a step: its inputs must be finite (debug builds only)
   CDP_ASSERT(all_finite(world) && std::isfinite(settings.solver.dt), "non-finite step input");
   Bodies& bodies = world.bodies;
@@ -36,37 +36,37 @@ void detect_contacts(World& world, const StepSettings& settings, CellGrid& grid,
   const double cutoff = candidate_gap(world, settings);
   contacts.clear();
 
-  // sphere–sphere: centre distance < R_a + R_b + cutoff. Visiting a in index order and
-  // sorting each sphere's few partners b gives the list sorted by (a, b) — the order of the
-  // warm-start cache — without sorting the whole list.
-  grid.rebuild(bodies.position, box, 2.0 * bodies.max_radius() + cutoff);
-  const auto sphere_count = static_cast<BodyIndex>(bodies.size());
-  for (BodyIndex a = 0; a < sphere_count; ++a) {
-    const std::size_t first = contacts.pairs.size();
-    grid.for_each_near(a, [&](BodyIndex b) {
-      if (b <= a || (bodies.fixed[a] != 0 && bodies.fixed[b] != 0)) return;
-      const Vec3 d = box.minimum_image(bodies.position[b] - bodies.position[a]);
-      const double reach = bodies.radius[a] + bodies.radius[b] + cutoff;
-      const double distance_squared = d.squaredNorm();
-      if (distance_squared >= reach * reach) return;
-      const double distance = std::sqrt(distance_squared);
-      PairProblem p;
-      p.a = a;
-      p.b = b;
-      // coincident centres have no normal; any unit vector keeps the kernel finite
-      p.normal = distance > 0.0 ? Vec3(d / distance) : Vec3::UnitZ();
-      p.gap = distance - bodies.radius[a] - bodies.radius[b];
-      // levers to the common contact point, the middle of the gap (physics.md §4.2)
-      p.lever_a = bodies.radius[a] + 0.5 * p.gap;
-      p.lever_b = bodies.radius[b] + 0.5 * p.gap;
-      p.r_eff = effective_radius(bodies.radius[a], bodies.radius[b]);
-      // the kernels assume a unit normal (d/|d| is one to a few ulp) and a finite gap
-      CDP_ASSERT(std::abs(p.normal.norm() - 1.0) < 1e-12 && std::isfinite(p.gap), "n or g");
-      contacts.pairs.push_back(p);
-    });
-    std::sort(contacts.pairs.begin() + static_cast<std::ptrdiff_t>(first), contacts.pairs.end(),
-              [](const PairProblem& x, const PairProblem& y) { return x.b < y.b; });
+  // sphere–sphere: centre distance < R_a + R_b + cutoff, among the pairs of the candidate
+  // list (sorted by (a, b), the order of the warm-start cache), rebuilt when it no longer
+  // covers this step's cutoff
+  CandidateList fresh;
+  CandidateList& list = reuse != nullptr ? *reuse : fresh;
+  if (!list.covers(bodies, box, cutoff)) {
+    list.rebuild(bodies, box, grid, cutoff, settings.solver.verlet_margin);
   }
+  for (const CandidateList::Pair& pair : list.pairs()) {
+    const BodyIndex a = pair.a;
+    const BodyIndex b = pair.b;
+    const Vec3 d = box.minimum_image(bodies.position[b] - bodies.position[a]);
+    const double reach = bodies.radius[a] + bodies.radius[b] + cutoff;
+    const double distance_squared = d.squaredNorm();
+    if (distance_squared >= reach * reach) continue;
+    const double distance = std::sqrt(distance_squared);
+    PairProblem p;
+    p.a = a;
+    p.b = b;
+    // coincident centres have no normal; any unit vector keeps the kernel finite
+    p.normal = distance > 0.0 ? Vec3(d / distance) : Vec3::UnitZ();
+    p.gap = distance - bodies.radius[a] - bodies.radius[b];
+    // levers to the common contact point, the middle of the gap (physics.md §4.2)
+    p.lever_a = bodies.radius[a] + 0.5 * p.gap;
+    p.lever_b = bodies.radius[b] + 0.5 * p.gap;
+    p.r_eff = effective_radius(bodies.radius[a], bodies.radius[b]);
+    // the kernels assume a unit normal (d/|d| is one to a few ulp) and a finite gap
+    CDP_ASSERT(std::abs(p.normal.norm() - 1.0) < 1e-12 && std::isfinite(p.gap), "n or g");
+    contacts.pairs.push_back(p);
+  }
+  const auto sphere_count = static_cast<BodyIndex>(bodies.size());
 
   // sphere–wall, bottom first then piston, each in sphere order (the cache's key order)
   const auto add_wall = [&](WallKind kind, BodyIndex i, double gap, double normal_z) {

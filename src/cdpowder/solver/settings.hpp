@@ -75,6 +75,10 @@ struct SolverSettings {
   int acceleration_interval = 3;
   bool warm_start = true;  ///< start from last step's actions (§7.4)
   double skin = 0.05;      ///< extra candidate distance beyond max(d_coh, 2 v_max Δt) [R]
+  /// extra distance of the candidate list (detect/candidate_list.hpp) beyond the candidate
+  /// gap: the list is rebuilt once a sphere has moved about half of it; 0 rebuilds every
+  /// step. Speed only: the contacts of every step are the same for any value [R]
+  double verlet_margin = 0.2;
   std::uint64_t seed = 1;  ///< seed of the sweep-order stream
 };
 

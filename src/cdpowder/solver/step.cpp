@@ -31,7 +31,7 @@ StepReport step(World& world, StepWorkspace& work, const StepSettings& settings)
   report.dt = settings.solver.dt;
   StageClock clock;
 
-  detect_contacts(world, settings, work.grid, work.contacts);
+  detect_contacts(world, settings, work.grid, work.contacts, &work.candidates);
   clock.lap(Stage::DetectContacts, report.times);
 
   build_local_problems(world, settings, work.action_cache, work.contacts, work.velocities);

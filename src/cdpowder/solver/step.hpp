@@ -5,6 +5,7 @@
 #include "cdpowder/contact/action_cache.hpp"
 #include "cdpowder/contact/local_problem.hpp"
 #include "cdpowder/core/rng.hpp"
+#include "cdpowder/detect/candidate_list.hpp"
 #include "cdpowder/detect/cell_grid.hpp"
 #include "cdpowder/model/world.hpp"
 #include "cdpowder/solver/nlgs.hpp"
@@ -34,6 +35,7 @@ struct StepWorkspace {
   explicit StepWorkspace(std::uint64_t seed) : solver(seed) {}
 
   CellGrid grid;
+  CandidateList candidates;  ///< sphere pairs reused across steps (detect/candidate_list.hpp)
   Contacts contacts;
   VelocityCache velocities;
   ActionCache action_cache;
