@@ -34,7 +34,9 @@ void add_run_options(CLI::App& command, cdpowder::app::RunOptions& options) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+namespace {
+
+int run_command_line(int argc, char** argv) {
   CLI::App cli{"cdpowder — contact dynamics of cohesive powders of rigid spheres"};
   cli.set_version_flag("--version",
                        std::string(cdpowder::kVersion) + " (commit " + cdpowder::kGitCommit + ")");
@@ -119,6 +121,21 @@ int main(int argc, char** argv) {
   } catch (const std::exception& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
     return kExitRunFailed;
+  }
+  return kExitRunFailed;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  // run_command_line turns the expected exceptions into messages; building the command line
+  // itself may still throw (CLI::ConstructionError, std::bad_alloc): a message, not terminate
+  try {
+    return run_command_line(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+  } catch (...) {
+    std::fprintf(stderr, "error: unknown exception\n");
   }
   return kExitRunFailed;
 }

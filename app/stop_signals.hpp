@@ -3,7 +3,8 @@
 // The handlers only set atomics; the commands ask them between steps or runs.
 #pragma once
 
-#include <signal.h>
+// sigaction and struct sigaction are POSIX, declared by <signal.h> and not by <csignal>
+#include <signal.h>  // NOLINT(modernize-deprecated-headers)
 
 namespace cdpowder::app {
 

@@ -1,7 +1,19 @@
 #!/usr/bin/env bash
-# Runs clang-tidy (config in .clang-tidy) over the library, app, tests and benchmarks,
-# using the compile commands of the release build.
+# Runs clang-tidy (config in .clang-tidy, every warning an error) with the compile commands
+# of a configured build, two files at a time (the machine has two cores):
+#   tools/tidy.sh [build folder] [folders...]    default: build/ci (CI builds it first), src app
+#   tools/tidy.sh build/ci src app tests         the tests too (docs/testing.md: their cost)
 set -euo pipefail
 cd "$(git rev-parse --show-toplevel)"
-[ -f build/release/compile_commands.json ] || cmake --preset release >/dev/null
-run-clang-tidy-14 -quiet -p build/release "$@" 'src/|app/|tests/|bench/'
+build=${1:-build/ci}
+[ $# -eq 0 ] || shift
+folders=("$@")
+[ ${#folders[@]} -gt 0 ] || folders=(src app)
+if [ ! -f "$build/compile_commands.json" ]; then
+  echo "tidy: $build/compile_commands.json is missing: configure that build first" \
+    "(CMakeLists.txt sets CMAKE_EXPORT_COMPILE_COMMANDS)" >&2
+  exit 2
+fi
+# anchored at the source tree, so the sources CMake generates inside the build are left out
+pattern="^$PWD/($(IFS='|'; echo "${folders[*]}"))/"
+run-clang-tidy -quiet -j 2 -p "$build" "$pattern"

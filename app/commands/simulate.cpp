@@ -22,7 +22,8 @@
 #include <algorithm>
 #include <atomic>
 #include <cstdio>
-#include <signal.h>
+// sigaction and struct sigaction are POSIX, declared by <signal.h> and not by <csignal>
+#include <signal.h>  // NOLINT(modernize-deprecated-headers)
 
 namespace cdpowder::app {
 

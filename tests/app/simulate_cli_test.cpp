@@ -57,11 +57,10 @@ TEST_F(SimulateCli, WritesEveryOutputAndAResultLine) {
 TEST_F(SimulateCli, SameSeedGivesIdenticalStateAnotherSeedADifferentOne) {
   const std::string scene = (kExamples / "lattice/scene.toml").string();
   for (const char* run : {"a", "b"}) {
-    ASSERT_EQ(
-        run_cdpowder("simulate " + scene + " --out " + (scratch_ / run).string() + " " + kShort,
-                     scratch_)
-            .status,
-        0);
+    std::string command = "simulate " + scene;
+    command += " --out " + (scratch_ / run).string();
+    command += " " + kShort;
+    ASSERT_EQ(run_cdpowder(command, scratch_).status, 0);
   }
   ASSERT_EQ(run_cdpowder("simulate " + scene + " --out " + (scratch_ / "c").string() + " " +
                              kShort + " --set solver.seed=2",

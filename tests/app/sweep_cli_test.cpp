@@ -38,7 +38,7 @@ using SweepCli = cdpowder::testing::ScratchFolderTest;
 
 /// 2 × 2 grid, 2 seeds, each run 5 t0 of the quick example's compaction (≈ 0.1 s).
 fs::path write_short_sweep(const fs::path& folder) {
-  const fs::path file = folder / "sweep.toml";
+  fs::path file = folder / "sweep.toml";
   std::ofstream(file) << "scene = \"" << kQuick.string() << "\"\n"
                       << "seeds = 2\nset = [\"run.max_duration=5\"]\n"
                       << "[grid.contact]\nmu_roll = [0.0, 1.0]\nmu_twist = [0.0, 1.0]\n";

@@ -23,15 +23,15 @@ namespace fs = std::filesystem;
 class ParticlesCsv : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir = fs::temp_directory_path() /
-          ("cdpowder_particles_csv_" + std::to_string(std::random_device{}()));
-    fs::create_directories(dir);
+    dir_ = fs::temp_directory_path() /
+           ("cdpowder_particles_csv_" + std::to_string(std::random_device{}()));
+    fs::create_directories(dir_);
   }
 
-  void TearDown() override { fs::remove_all(dir); }
+  void TearDown() override { fs::remove_all(dir_); }
 
   fs::path write(const std::string& text) {
-    fs::path file = dir / "p.csv";
+    fs::path file = dir_ / "p.csv";
     std::ofstream(file) << text;
     return file;
   }
@@ -52,7 +52,7 @@ class ParticlesCsv : public ::testing::Test {
     return result;
   }
 
-  fs::path dir;
+  fs::path dir_;
 };
 
 TEST_F(ParticlesCsv, ReadsColumnsByNameInAnyOrderSkippingCommentsAndBlanks) {
@@ -90,7 +90,7 @@ TEST_F(ParticlesCsv, AppendsToExistingBodies) {
 TEST_F(ParticlesCsv, ReportsMissingRequiredColumn) {
   const auto found = issues("# header\nx,y,r\n1,2,3\n");
   ASSERT_EQ(found.size(), 1U);
-  EXPECT_EQ(found[0], (dir / "p.csv").string() + ":2: z: missing required column (x, y, z, r)");
+  EXPECT_EQ(found[0], (dir_ / "p.csv").string() + ":2: z: missing required column (x, y, z, r)");
 }
 
 TEST_F(ParticlesCsv, ReportsUnknownAndDuplicateColumns) {
@@ -133,7 +133,7 @@ TEST_F(ParticlesCsv, RejectsAFileWithoutParticles) {
 
 TEST_F(ParticlesCsv, ReportsAMissingFile) {
   Bodies bodies;
-  EXPECT_THROW(read_particles_csv(dir / "absent.csv", 1.0, bodies), ConfigError);
+  EXPECT_THROW(read_particles_csv(dir_ / "absent.csv", 1.0, bodies), ConfigError);
 }
 
 /// A scene whose spheres need L ≥ 2 (2·1 + 0.01 + 0.05) = 4.12.

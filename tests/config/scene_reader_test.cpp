@@ -25,16 +25,16 @@ constexpr const char* kParticles = "[particles]\nfile = \"p.csv\"\n";
 class SceneReader : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir = fs::temp_directory_path() /
-          ("cdpowder_scene_reader_" + std::to_string(std::random_device{}()));
-    fs::create_directories(dir);
-    std::ofstream(dir / "p.csv") << "x,y,z,r\n1,1,1,1\n";
+    dir_ = fs::temp_directory_path() /
+           ("cdpowder_scene_reader_" + std::to_string(std::random_device{}()));
+    fs::create_directories(dir_);
+    std::ofstream(dir_ / "p.csv") << "x,y,z,r\n1,1,1,1\n";
   }
 
-  void TearDown() override { fs::remove_all(dir); }
+  void TearDown() override { fs::remove_all(dir_); }
 
   Scene read(const std::string& text, const std::vector<std::string>& overrides = {}) {
-    return read_scene_text(text, "scene.toml", overrides, dir);
+    return read_scene_text(text, "scene.toml", overrides, dir_);
   }
 
   /// The formatted issues of a text that must fail to read.
@@ -52,7 +52,7 @@ class SceneReader : public ::testing::Test {
     return result;
   }
 
-  fs::path dir;
+  fs::path dir_;
 };
 
 TEST_F(SceneReader, UsesTheStructDefaultsForAbsentKeys) {
@@ -92,7 +92,7 @@ TEST_F(SceneReader, UsesTheStructDefaultsForAbsentKeys) {
   EXPECT_EQ(s.run.timeseries_every, d.run.timeseries_every);
   EXPECT_EQ(s.run.blocked.window, d.run.blocked.window);
   EXPECT_EQ(s.run.blocked.sphere_speed, d.run.blocked.sphere_speed);
-  EXPECT_EQ(s.particles_file, dir / "p.csv");
+  EXPECT_EQ(s.particles_file, dir_ / "p.csv");
   EXPECT_EQ(s.source, fs::path("scene.toml"));
 }
 
@@ -325,20 +325,20 @@ TEST_F(SceneReader, ReportsBadOverrideValueAsSet) {
 }
 
 TEST_F(SceneReader, ReadsAFileAndResolvesParticlesAgainstItsFolder) {
-  fs::create_directories(dir / "scenes");
-  std::ofstream(dir / "scenes" / "s.toml") << "[particles]\nfile = \"../p.csv\"\n";
-  const Scene s = read_scene(dir / "scenes" / "s.toml", {});
-  EXPECT_EQ(s.particles_file, dir / "p.csv");
-  EXPECT_EQ(s.source, dir / "scenes" / "s.toml");
+  fs::create_directories(dir_ / "scenes");
+  std::ofstream(dir_ / "scenes" / "s.toml") << "[particles]\nfile = \"../p.csv\"\n";
+  const Scene s = read_scene(dir_ / "scenes" / "s.toml", {});
+  EXPECT_EQ(s.particles_file, dir_ / "p.csv");
+  EXPECT_EQ(s.source, dir_ / "scenes" / "s.toml");
 }
 
 TEST_F(SceneReader, ReportsAMissingSceneFile) {
   try {
-    read_scene(dir / "nope.toml", {});
+    read_scene(dir_ / "nope.toml", {});
     FAIL() << "no ConfigError";
   } catch (const ConfigError& error) {
     ASSERT_EQ(error.issues().size(), 1U);
-    EXPECT_EQ(error.issues()[0].file, (dir / "nope.toml").string());
+    EXPECT_EQ(error.issues()[0].file, (dir_ / "nope.toml").string());
     EXPECT_THAT(error.what(), HasSubstr("nope.toml: cannot open"));
   }
 }

@@ -242,11 +242,15 @@ TEST(LocalSolve, TwoIndependentVisitsSideBySideEqualTwoInARow) {
     VisitChange second2;
     solve_two_pairs(p, x2, a2, b2, first2, q, y2, c2, d2, second2);
 
+    // bit-identical is the claim, so memcmp (it tells −0.0 from 0.0); neither type has
+    // padding (their static_asserts pin the sizes)
+    // NOLINTBEGIN(bugprone-suspicious-memory-comparison)
     ASSERT_EQ(std::memcmp(&x, &x2, sizeof x), 0) << trial;
     ASSERT_EQ(std::memcmp(&y, &y2, sizeof y), 0) << trial;
     for (const auto& [u, v] : {std::pair{&a, &a2}, {&b, &b2}, {&c, &c2}, {&d, &d2}}) {
       ASSERT_EQ(std::memcmp(u, v, sizeof(SphereVelocity)), 0) << trial;
     }
+    // NOLINTEND(bugprone-suspicious-memory-comparison)
     ASSERT_EQ(first.change_sq, first2.change_sq);
     ASSERT_EQ(second.change_sq, second2.change_sq);
   }

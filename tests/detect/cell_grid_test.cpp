@@ -29,6 +29,7 @@ void check_against_brute_force(double lx, double ly, double height, int n, doubl
   const PeriodicBox box{lx, ly};
   Rng rng = make_rng(3, RngStream::Deposition);
   std::vector<Vec3> x;
+  x.reserve(static_cast<std::size_t>(n));
   for (int i = 0; i < n; ++i) {
     x.emplace_back(lx * uniform01(rng), ly * uniform01(rng), height * uniform01(rng));
   }

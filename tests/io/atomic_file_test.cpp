@@ -25,12 +25,12 @@ namespace fs = std::filesystem;
 class AtomicFile : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir = fs::temp_directory_path() /
-          ("cdpowder_atomic_file_" + std::to_string(std::random_device{}()));
-    fs::create_directories(dir);
+    dir_ = fs::temp_directory_path() /
+           ("cdpowder_atomic_file_" + std::to_string(std::random_device{}()));
+    fs::create_directories(dir_);
   }
 
-  void TearDown() override { fs::remove_all(dir); }
+  void TearDown() override { fs::remove_all(dir_); }
 
   /// The whole file as bytes.
   static std::string read(const fs::path& file) {
@@ -40,10 +40,10 @@ class AtomicFile : public ::testing::Test {
     return text.str();
   }
 
-  /// Names in `dir` that start with '.': the temporaries of atomic_file.
+  /// Names in `dir_` that start with '.': the temporaries of atomic_file.
   [[nodiscard]] std::vector<std::string> hidden_files() const {
     std::vector<std::string> names;
-    for (const fs::directory_entry& entry : fs::directory_iterator(dir)) {
+    for (const fs::directory_entry& entry : fs::directory_iterator(dir_)) {
       const std::string name = entry.path().filename().string();
       if (name.starts_with('.')) {
         names.push_back(name);
@@ -52,21 +52,21 @@ class AtomicFile : public ::testing::Test {
     return names;
   }
 
-  fs::path dir;
+  fs::path dir_;
 };
 
 // Binary content with a NUL, a CR LF and no final newline: written byte for byte.
 constexpr std::string_view kContent = "a,b\r\n1,2\n\0tail"sv;
 
 TEST_F(AtomicFile, WriteCreatesFileWithExactContentAndNoTemporary) {
-  const fs::path file = dir / "summary.json";
+  const fs::path file = dir_ / "summary.json";
   write_file_atomically(file, kContent);
   EXPECT_EQ(read(file), kContent);
   EXPECT_THAT(hidden_files(), ::testing::IsEmpty());
 }
 
 TEST_F(AtomicFile, OverwriteReplacesTheOldContentWhole) {
-  const fs::path file = dir / "particles.csv";
+  const fs::path file = dir_ / "particles.csv";
   write_file_atomically(file, std::string(1000, 'x'));
   write_file_atomically(file, "short\n");
   EXPECT_EQ(read(file), "short\n");  // no tail of the longer old content
@@ -74,7 +74,7 @@ TEST_F(AtomicFile, OverwriteReplacesTheOldContentWhole) {
 }
 
 TEST_F(AtomicFile, WriteIntoMissingFolderThrowsNamingThePathAndCreatesNothing) {
-  const fs::path missing = dir / "no_such_folder";
+  const fs::path missing = dir_ / "no_such_folder";
   const fs::path file = missing / "out.csv";
   try {
     write_file_atomically(file, kContent);
@@ -83,22 +83,22 @@ TEST_F(AtomicFile, WriteIntoMissingFolderThrowsNamingThePathAndCreatesNothing) {
     EXPECT_THAT(error.what(), HasSubstr(file.string()));
   }
   EXPECT_FALSE(fs::exists(missing));
-  EXPECT_TRUE(fs::is_empty(dir));
+  EXPECT_TRUE(fs::is_empty(dir_));
 }
 
 TEST_F(AtomicFile, StreamWithoutCommitLeavesNoFileAndNoTemporary) {
-  const fs::path file = dir / "timeseries.csv";
+  const fs::path file = dir_ / "timeseries.csv";
   {
     AtomicFileStream out(file);
     out.stream() << "t,z\n0,1\n";
     EXPECT_FALSE(fs::exists(file));  // not under the final name while being written
   }
   EXPECT_FALSE(fs::exists(file));
-  EXPECT_TRUE(fs::is_empty(dir));
+  EXPECT_TRUE(fs::is_empty(dir_));
 }
 
 TEST_F(AtomicFile, StreamWithCommitAppearsWithTheStreamedContent) {
-  const fs::path file = dir / "timeseries.csv";
+  const fs::path file = dir_ / "timeseries.csv";
   {
     AtomicFileStream out(file);
     out.stream() << "t,z\n";
@@ -110,7 +110,7 @@ TEST_F(AtomicFile, StreamWithCommitAppearsWithTheStreamedContent) {
 }
 
 TEST_F(AtomicFile, StreamDestroyedWithoutCommitLeavesPreviousFileUntouched) {
-  const fs::path file = dir / "timeseries.csv";
+  const fs::path file = dir_ / "timeseries.csv";
   write_file_atomically(file, kContent);
   {
     AtomicFileStream out(file);

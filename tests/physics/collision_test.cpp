@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 namespace cdpowder::testing {
 namespace {
 
@@ -40,7 +42,7 @@ double angular_momentum_drift(double dt, double& relative_to) {
   b.angular_velocity[1] = Vec3(-0.3, 0.2, 0.1);
   const Vec3 l0 = total_angular_momentum(b);
   relative_to = l0.norm();
-  s.run(static_cast<int>(3.0 / dt + 0.5));
+  s.run(static_cast<int>(std::lround(3.0 / dt)));
   return (total_angular_momentum(b) - l0).norm();
 }
 

@@ -69,6 +69,7 @@ mu_roll = [0.0, 0.5]
   std::vector<std::size_t> all = {0, 1, 2, 3, 4, 5};
   order_seed_by_seed(plan, all);
   std::vector<std::pair<std::size_t, std::int64_t>> point_and_seed;
+  point_and_seed.reserve(all.size());
   for (const std::size_t i : all)
     point_and_seed.emplace_back(plan.runs[i].point, plan.runs[i].seed);
   EXPECT_THAT(point_and_seed, ElementsAre(std::pair<std::size_t, std::int64_t>(0, 4),

@@ -18,7 +18,7 @@ using Rng = pcg32;
 enum class RngStream : std::uint64_t { SweepOrder = 1, Deposition = 2 };
 
 inline Rng make_rng(std::uint64_t seed, RngStream stream) {
-  return Rng(seed, static_cast<std::uint64_t>(stream));
+  return {seed, static_cast<std::uint64_t>(stream)};
 }
 
 /// Uniform double in [0, 1) with 53 random bits, identical on every platform.

@@ -33,13 +33,13 @@ struct Bodies {
         density * 4.0 / 3.0 * std::numbers::pi * sphere_radius * sphere_radius * sphere_radius;
     const double inertia = 0.4 * mass * sphere_radius * sphere_radius;
     position.push_back(centre);
-    velocity.push_back(Vec3::Zero());
-    angular_velocity.push_back(Vec3::Zero());
+    velocity.emplace_back(Vec3::Zero());
+    angular_velocity.emplace_back(Vec3::Zero());
     radius.push_back(sphere_radius);
     inverse_mass.push_back(is_fixed ? 0.0 : 1.0 / mass);
     inverse_inertia.push_back(is_fixed ? 0.0 : 1.0 / inertia);
-    external_force.push_back(Vec3::Zero());
-    external_torque.push_back(Vec3::Zero());
+    external_force.emplace_back(Vec3::Zero());
+    external_torque.emplace_back(Vec3::Zero());
     fixed.push_back(is_fixed ? 1 : 0);
     return static_cast<BodyIndex>(position.size() - 1);
   }

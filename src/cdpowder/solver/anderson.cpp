@@ -150,7 +150,9 @@ bool AndersonAccelerator::extrapolate(const std::vector<double>& x, const std::v
   dispatch_by_count(n_others, [&](auto count) {
     pass.run<decltype(count)::value>(other_f, cross, rhs, new_new, new_rhs, n_others);
   });
-  const auto at = [](int s, int t) { return static_cast<std::size_t>(s * kMaxDepth + t); };
+  const auto at = [](int s, int t) {
+    return static_cast<std::size_t>(s) * kMaxDepth + static_cast<std::size_t>(t);
+  };
   gram_[at(slot, slot)] = new_new;
   for (int j = 0; j < n_others; ++j) {
     const int s = others[static_cast<std::size_t>(j)];

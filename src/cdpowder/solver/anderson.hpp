@@ -61,7 +61,7 @@ class AndersonAccelerator {
   std::vector<double> delta_g_;  ///< slot s holds g_{j+1} − g_j
   /// ΔF_sᵀΔF_t between ring slots s and t (row-major, kMaxDepth × kMaxDepth): a sweep
   /// computes only the products of its new difference.
-  std::array<double, kMaxDepth * kMaxDepth> gram_{};
+  std::array<double, static_cast<std::size_t>(kMaxDepth) * kMaxDepth> gram_{};
 };
 
 }  // namespace cdpowder

@@ -2,6 +2,7 @@
 #include "cdpowder/sweep/time_limit.hpp"
 
 #include <algorithm>
+#include <array>
 #include <charconv>
 #include <cmath>
 #include <string>
@@ -12,7 +13,7 @@ std::optional<double> parse_duration(std::string_view text) {
   if (text.empty()) return std::nullopt;
   // units in the order they must appear, with their length in seconds
   constexpr std::string_view kUnits = "hms";
-  constexpr double kSeconds[] = {3600.0, 60.0, 1.0};
+  constexpr std::array<double, 3> kSeconds = {3600.0, 60.0, 1.0};
   double total = 0.0;
   std::size_t next_unit = 0;  // units before this one are used up
   std::size_t pos = 0;
