@@ -1,0 +1,442 @@
+#!/usr/bin/python3
+"""Keeps the documentation and the code telling the same story. Three checks:
+
+(a) citations: every `physics.md §X` in src/ app/ tests/ bench/ tools/ docs/ and README.md,
+    and every unqualified `§X` there, names a section heading X of docs/physics.md. In this
+    repository an unqualified § always means docs/physics.md (its preamble says so); a § right
+    after another source's name (`Bartels et al. §3`, `UK03 §…`, `style.md §…`) is that
+    source's and is not checked. Ranges (`§7.2–7.3`) check every section they span;
+    chains (`§5.4, §6`) keep the owner of their first member.
+(b) scene keys: every key the scene reader accepts (the string literals passed to in.number,
+    in.integer, in.boolean, in.choice, in.optional_number, in.vector3, in.required_string
+    in src/cdpowder/config/scene_reader.cpp, including the keys of lambdas called with a
+    table name, e.g. read_law("contact.wall")) has a row in a key table of docs/config.md,
+    under a heading that names its section (`[solver]`); and every documented key is read.
+(c) test labels: every label of the docs/testing.md label table and of the ctest presets'
+    label filters (CMakePresets.json) is carried by some test of tests/CMakeLists.txt, and
+    every label a test carries is in the table.
+
+Debian python3, standard library only. Exit status 0 when all hold, 1 with one line per
+problem otherwise. `--self-test` runs the checks on small synthetic trees, each broken in one
+way, and fails unless each break is reported (and the unbroken tree passes).
+"""
+import argparse
+import json
+import pathlib
+import re
+import sys
+import tempfile
+import unittest
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+
+# ---------------------------------------------------------------------------------------------
+# (a) citations of docs/physics.md
+
+CITATION_SCOPE = ["src", "app", "tests", "bench", "tools", "docs", "README.md"]
+TEXT_SUFFIXES = {".cpp", ".hpp", ".h", ".in", ".py", ".sh", ".md", ".txt", ".toml", ".cmake",
+                 ".json", ".csv"}
+SECTION = r"\d+(?:\.\d+)*"
+CITATION = re.compile(r"§\s?(" + SECTION + r")(?:\s?[–-]\s?(" + SECTION + r"))?")
+HEADING = re.compile(r"^#{1,6}\s+(?:§\s?)?(" + SECTION + r")\.?(?:\s|$)")
+# a § right after one of these belongs to that source, not to physics.md
+FOREIGN_OWNER = re.compile(
+    r"(?:Bartels et al\.?|BUKWK\]?|UK03\]?|SUK09\]?|S\+12\]?|UKW05\]?|paper(?:'s)?|"
+    r"style guide|(?<!physics)\.md|Sect\.|section)[\s,]*$", re.IGNORECASE)
+PHYSICS_OWNER = re.compile(r"physics\.md[`\])]*[\s,]*(?:\([^)]*\)\s*)?$")
+CHAIN = re.compile(r"^[\s,;/]*(?:and|or|&|,)?[\s,]*$")
+
+
+def physics_sections(physics_md):
+    """Section numbers of the headings of docs/physics.md, outside code fences."""
+    sections = set()
+    fenced = False
+    for line in physics_md.splitlines():
+        if line.lstrip().startswith("```"):
+            fenced = not fenced
+            continue
+        match = None if fenced else HEADING.match(line)
+        if match:
+            sections.add(match.group(1))
+    return sections
+
+
+def expand_range(first, last):
+    """§7.2–7.3 → 7.2, 7.3; §5.3–5.5 → 5.3, 5.4, 5.5; otherwise the two ends."""
+    a, b = first.split("."), last.split(".")
+    if len(a) == len(b) and a[:-1] == b[:-1] and int(a[-1]) <= int(b[-1]):
+        return [".".join(a[:-1] + [str(k)]) for k in range(int(a[-1]), int(b[-1]) + 1)]
+    return [first, last]
+
+
+def citations_in_line(line):
+    """The physics.md sections cited in one line (unqualified or after physics.md)."""
+    cited = []
+    previous_end = None
+    previous_owner = None
+    for match in CITATION.finditer(line):
+        before = line[:match.start()]
+        between = line[previous_end:match.start()] if previous_end is not None else None
+        if between is not None and CHAIN.match(between):
+            owner = previous_owner
+        elif PHYSICS_OWNER.search(before):
+            owner = "physics"
+        elif FOREIGN_OWNER.search(before[-40:]):
+            owner = "foreign"
+        else:
+            owner = "physics"  # an unqualified § is physics.md's (docs/physics.md preamble)
+        if owner == "physics":
+            if match.group(2):
+                cited.extend(expand_range(match.group(1), match.group(2)))
+            else:
+                cited.append(match.group(1))
+        previous_end, previous_owner = match.end(), owner
+    return cited
+
+
+def scoped_files(root):
+    for entry in CITATION_SCOPE:
+        path = root / entry
+        if path.is_file():
+            yield path
+        elif path.is_dir():
+            for f in sorted(path.rglob("*")):
+                if f.is_file() and (f.suffix in TEXT_SUFFIXES or f.name == "CMakeLists.txt"):
+                    yield f
+
+
+def check_citations(root):
+    problems = []
+    physics = root / "docs" / "physics.md"
+    if not physics.is_file():
+        return [f"{physics.relative_to(root)}: missing; the code cites its sections"]
+    sections = physics_sections(physics.read_text(encoding="utf-8"))
+    if not sections:
+        return ["docs/physics.md: no numbered section headings found (expected '## 5. …', "
+                "'### 5.4 …')"]
+    cited_any = 0
+    for f in scoped_files(root):
+        if f.resolve() == pathlib.Path(__file__).resolve():
+            continue  # this file's § are the self-test's synthetic citations
+        try:
+            text = f.read_text(encoding="utf-8")
+        except UnicodeDecodeError:
+            continue  # binary fixtures
+        for number, line in enumerate(text.splitlines(), 1):
+            if "§" not in line:
+                continue
+            for section in citations_in_line(line):
+                cited_any += 1
+                if section not in sections:
+                    problems.append(
+                        f"{f.relative_to(root)}:{number}: cites physics.md §{section}, but "
+                        f"docs/physics.md has no heading '{section}' ({nearby(section, sections)})")
+    if cited_any == 0:
+        problems.append("no physics.md citation found at all: the citation parser is broken")
+    return problems
+
+
+def section_key(section):
+    return [int(part) for part in section.split(".")]
+
+
+def nearby(section, sections):
+    """The headings next to a missing one, for the message."""
+    parent = section.rsplit(".", 1)[0] if "." in section else None
+    siblings = [s for s in sections if parent is not None and s.rsplit(".", 1)[0] == parent
+                and "." in s]
+    if siblings:
+        return f"§{parent} has §{', §'.join(sorted(siblings, key=section_key))}"
+    tops = sorted((s for s in sections if "." not in s), key=section_key)
+    return f"its sections are §{', §'.join(tops)}"
+
+
+# ---------------------------------------------------------------------------------------------
+# (b) scene keys
+
+READ_METHODS = r"(?:number|integer|boolean|choice|optional_number|vector3|required_string|string)"
+DIRECT_READ = re.compile(r"\bin\." + READ_METHODS + r"\(\s*\"([a-z0-9_.]+)\"")
+PREFIXED_READ = re.compile(r"\bin\." + READ_METHODS + r"\(\s*(\w+)\s*\+\s*\"(\.[a-z0-9_.]+)\"")
+LAMBDA = re.compile(r"\b(?:const\s+)?auto\s+(\w+)\s*=\s*\[[^\]]*\]\s*\(\s*const\s+std::string\s*&\s*(\w+)")
+
+
+def reader_keys(reader_cpp):
+    """Keys the scene reader accepts, and problems understanding it."""
+    keys = set(DIRECT_READ.findall(reader_cpp))
+    problems = []
+    lambdas = {name: param for name, param in LAMBDA.findall(reader_cpp)}
+    for param, suffix in PREFIXED_READ.findall(reader_cpp):
+        owners = [name for name, p in lambdas.items() if p == param]
+        if not owners:
+            problems.append(f"scene_reader.cpp: a key '{param} + \"{suffix}\"' whose table the "
+                            "check cannot resolve (expected a lambda taking "
+                            f"'const std::string& {param}')")
+            continue
+        for name in owners:
+            for table in re.findall(r"\b" + name + r"\(\s*\"([a-z0-9_.]+)\"", reader_cpp):
+                keys.add(table + suffix)
+    return keys, problems
+
+
+TABLE_HEADING = re.compile(r"^#{1,6}\s.*?`\[([a-z0-9_.]+)\]`")
+
+
+def documented_keys(config_md):
+    """Keys of the key tables of docs/config.md: section from the heading, key from the first
+    cell (`a`, `b` in one cell are two keys). Only tables whose first header cell is 'key'."""
+    keys = {}
+    section = None
+    table_is_keys = False
+    in_table = False
+    for number, line in enumerate(config_md.splitlines(), 1):
+        heading = re.match(r"^#{1,6}\s", line)
+        if heading:
+            match = TABLE_HEADING.match(line)
+            section = match.group(1) if match else None
+            in_table = False
+            continue
+        if not line.startswith("|"):
+            in_table = False
+            continue
+        cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        if not in_table:
+            in_table = True
+            table_is_keys = cells[0].lower() == "key"
+            continue
+        if set(cells[0]) <= set("-: ") or not table_is_keys or section is None:
+            continue
+        for key in re.findall(r"`([a-z0-9_]+)`", cells[0]):
+            keys.setdefault(f"{section}.{key}", number)
+    return keys
+
+
+def check_scene_keys(root):
+    reader = root / "src" / "cdpowder" / "config" / "scene_reader.cpp"
+    config = root / "docs" / "config.md"
+    read, problems = reader_keys(reader.read_text(encoding="utf-8"))
+    if not read:
+        return problems + [f"{reader.relative_to(root)}: no keys found: the key parser is broken"]
+    documented = documented_keys(config.read_text(encoding="utf-8"))
+    for key in sorted(read - documented.keys()):
+        problems.append(f"docs/config.md: scene key '{key}' is accepted by "
+                        f"{reader.relative_to(root)} but has no row in the key table of "
+                        f"`[{key.rsplit('.', 1)[0]}]`")
+    for key in sorted(documented.keys() - read):
+        problems.append(f"docs/config.md:{documented[key]}: documents scene key '{key}', which "
+                        f"{reader.relative_to(root)} does not read")
+    return problems
+
+
+# ---------------------------------------------------------------------------------------------
+# (c) test labels
+
+def carried_labels(tests_cmake):
+    """Labels set on tests in tests/CMakeLists.txt (literal LABELS "a;b" only)."""
+    labels = set()
+    for value in re.findall(r"\bLABELS\s+\"([^\"]*)\"", tests_cmake):
+        if "$" in value:
+            continue  # the helper passing its argument on
+        labels.update(v.strip() for v in value.split(";") if v.strip())
+    return labels
+
+
+def doc_labels(testing_md):
+    """Labels of the table under the '## Labels' heading of docs/testing.md."""
+    labels = {}
+    in_section = False
+    for number, line in enumerate(testing_md.splitlines(), 1):
+        if re.match(r"^#{1,6}\s", line):
+            in_section = re.match(r"^#{1,6}\s+labels\b", line, re.IGNORECASE) is not None
+            continue
+        if in_section and line.startswith("|"):
+            first = line.strip().strip("|").split("|")[0]
+            for label in re.findall(r"`([A-Za-z0-9_-]+)`", first):
+                labels.setdefault(label, number)
+    return labels
+
+
+def preset_labels(presets_json):
+    """Labels named in the testPresets' include/exclude label filters (a regex: alternatives
+    of plain names)."""
+    labels = {}
+    for preset in json.loads(presets_json).get("testPresets", []):
+        for kind in ("include", "exclude"):
+            value = preset.get("filter", {}).get(kind, {}).get("label")
+            if value:
+                for label in re.split(r"\|", value.strip("^$()")):
+                    labels.setdefault(label.strip("^$() "), []).append(preset.get("name", "?"))
+    return labels
+
+
+def check_labels(root):
+    problems = []
+    carried = carried_labels((root / "tests" / "CMakeLists.txt").read_text(encoding="utf-8"))
+    if not carried:
+        return ["tests/CMakeLists.txt: no test labels found: the label parser is broken"]
+    documented = doc_labels((root / "docs" / "testing.md").read_text(encoding="utf-8"))
+    if not documented:
+        problems.append("docs/testing.md: no label table under a '## Labels' heading")
+    presets = root / "CMakePresets.json"
+    in_presets = preset_labels(presets.read_text(encoding="utf-8")) if presets.is_file() else {}
+    for label, line in sorted(documented.items()):
+        if label not in carried:
+            problems.append(f"docs/testing.md:{line}: label '{label}' is carried by no test in "
+                            "tests/CMakeLists.txt")
+    for label, names in sorted(in_presets.items()):
+        if label not in carried:
+            problems.append(f"CMakePresets.json: test presets {', '.join(names)} filter on label "
+                            f"'{label}', which no test in tests/CMakeLists.txt carries")
+    for label in sorted(carried - documented.keys()):
+        problems.append(f"tests/CMakeLists.txt: label '{label}' is not in the label table of "
+                        "docs/testing.md")
+    return problems
+
+
+def run_checks(root):
+    return check_citations(root) + check_scene_keys(root) + check_labels(root)
+
+
+# ---------------------------------------------------------------------------------------------
+# self-test on synthetic trees
+
+GOOD_TREE = {
+    "docs/physics.md": "# Spec\n\n## 2. Units\n\n## 5. Local problem\n\n### 5.3 Cache\n\n"
+                       "### 5.4 Laws\n\n### 5.5 Code\n\n```\n## 9 not a heading\n```\n",
+    "src/a.hpp": "// a.hpp — the laws (physics.md §5.4, §2); cache (§5.3–5.5).\n"
+                 "// paper value (Bartels et al. §3); style guide 3.7\n",
+    "docs/model.md": "Units (physics.md §2). See [physics.md §5](physics.md).\n",
+    "README.md": "nothing cited\n",
+    "src/cdpowder/config/scene_reader.cpp":
+        'x = in.number("solver.dt", x, kPositive);\n'
+        'y = static_cast<int>(in.integer(\n      "solver.max_sweeps", y, 1));\n'
+        'const auto read_law = [&in](const std::string& table, const L& d) {\n'
+        '  l.mu = in.number(table + ".mu", d.mu, kNonNegative);\n};\n'
+        'laws.spheres = read_law("contact", laws.spheres);\n'
+        'laws.walls = read_law("contact.wall", laws.spheres);\n'
+        'if (in.has("deposition")) {}\n',
+    "docs/config.md": "# Scene\n\n## `[solver]` — time step\n\n| key | default |\n| --- | --- |\n"
+                      "| `dt`, `max_sweeps` | 0.01 |\n\n## `[contact]` — laws\n\n"
+                      "| key | default |\n| --- | --- |\n| `mu` | 0.3 |\n\n"
+                      "## `[contact.wall]` — walls\n\n| key | default |\n| --- | --- |\n"
+                      "| `mu` | `contact.mu` |\n\n## `[particles]`\n\n| column | meaning |\n"
+                      "| --- | --- |\n| `x`, `y` | centre |\n",
+    "tests/CMakeLists.txt": 'cdpowder_add_test(a SOURCE a.cpp LABELS "unit;physics")\n'
+                            'function(f name)\n  g(${name} LABELS "${ARG_LABELS}")\nendfunction()\n'
+                            'set_tests_properties(t PROPERTIES LABELS "slow")\n',
+    "docs/testing.md": "# Testing\n\n## Labels\n\n| label | what |\n| --- | --- |\n"
+                       "| `unit` | x |\n| `physics`, `slow` | y |\n\n## Habits\n\n| `other` | z |\n",
+    "CMakePresets.json": json.dumps({"testPresets": [
+        {"name": "release", "filter": {"exclude": {"label": "slow"}}},
+        {"name": "slow", "filter": {"include": {"label": "slow"}}}]}),
+}
+
+
+def write_tree(base, tree):
+    for name, text in tree.items():
+        path = base / name
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(text, encoding="utf-8")
+
+
+class SelfTest(unittest.TestCase):
+    def problems(self, **changes):
+        tree = dict(GOOD_TREE)
+        for name, edit in changes.items():
+            name = name.replace("__", "/").replace("_DOT_", ".")
+            tree[name] = edit(tree.get(name, ""))
+        with tempfile.TemporaryDirectory() as tmp:
+            write_tree(pathlib.Path(tmp), tree)
+            return run_checks(pathlib.Path(tmp))
+
+    def assert_reported(self, problems, *fragments):
+        text = "\n".join(problems)
+        for fragment in fragments:
+            self.assertIn(fragment, text, f"not reported: {fragment!r}; got:\n{text}")
+
+    def test_good_tree_passes(self):
+        self.assertEqual(self.problems(), [])
+
+    def test_citation_of_a_missing_section(self):
+        p = self.problems(src__b_DOT_cpp=lambda _: "// see physics.md §7.6\n")
+        self.assert_reported(p, "src/b.cpp:1: cites physics.md §7.6")
+
+    def test_unqualified_citation_and_chain(self):
+        p = self.problems(tests__t_DOT_cpp=lambda _: "// the laws (§5.4, §12.11)\n")
+        self.assert_reported(p, "tests/t.cpp:1: cites physics.md §12.11")
+        self.assertEqual(len(p), 1)
+
+    def test_range_checks_every_section(self):
+        p = self.problems(src__c_DOT_hpp=lambda _: "// physics.md §5.3–5.6\n")
+        self.assert_reported(p, "cites physics.md §5.6", "§5 has §5.3, §5.4, §5.5")
+        self.assertEqual(len(p), 1)
+
+    def test_other_sources_are_not_physics(self):
+        self.assertEqual(citations_in_line("(Bartels et al. §3; physics.md §8)"), ["8"])
+        self.assertEqual(citations_in_line("paper §4; see physics.md §5.4"), ["5.4"])
+        self.assertEqual(citations_in_line("(Bartels et al. §2, §3)"), [])
+        self.assertEqual(citations_in_line("physics.md §15 items 3–5"), ["15"])
+        self.assertEqual(citations_in_line("(§3, §7.6)"), ["3", "7.6"])
+
+    def test_heading_removed_from_physics_md(self):
+        p = self.problems(docs__physics_DOT_md=lambda t: t.replace("### 5.4 Laws\n", ""))
+        self.assert_reported(p, "src/a.hpp:1: cites physics.md §5.4", "cites physics.md §5.4")
+
+    def test_undocumented_scene_key(self):
+        p = self.problems(src__cdpowder__config__scene_reader_DOT_cpp=lambda t: t +
+                          'z = in.boolean("solver.warm_start", z);\n')
+        self.assert_reported(p, "scene key 'solver.warm_start' is accepted")
+
+    def test_undocumented_key_of_a_lambda_table(self):
+        p = self.problems(src__cdpowder__config__scene_reader_DOT_cpp=lambda t: t.replace(
+            'read_law("contact.wall", laws.spheres)', 'read_law("contact.walls", laws.spheres)'))
+        self.assert_reported(p, "scene key 'contact.walls.mu' is accepted",
+                             "documents scene key 'contact.wall.mu'")
+
+    def test_documented_key_the_reader_lacks(self):
+        p = self.problems(docs__config_DOT_md=lambda t: t.replace("| `mu` | 0.3 |",
+                                                                  "| `mu`, `nu` | 0.3 |"))
+        self.assert_reported(p, "documents scene key 'contact.nu'")
+
+    def test_label_in_docs_carried_by_no_test(self):
+        p = self.problems(docs__testing_DOT_md=lambda t: t.replace("| `unit` | x |",
+                                                                   "| `unit`, `gpu` | x |"))
+        self.assert_reported(p, "label 'gpu' is carried by no test")
+
+    def test_label_of_a_preset_carried_by_no_test(self):
+        p = self.problems(CMakePresets_DOT_json=lambda t: t.replace('"include": {"label": "slow"}',
+                                                                    '"include": {"label": "slo"}'))
+        self.assert_reported(p, "test presets slow filter on label 'slo'")
+
+    def test_label_on_a_test_missing_from_docs(self):
+        p = self.problems(tests__CMakeLists_DOT_txt=lambda t: t +
+                          'set_tests_properties(u PROPERTIES LABELS "unit;bench")\n')
+        self.assert_reported(p, "label 'bench' is not in the label table")
+
+    def test_labels_outside_the_label_section_do_not_count(self):
+        self.assertNotIn("other", doc_labels(GOOD_TREE["docs/testing.md"]))
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--root", type=pathlib.Path, default=ROOT, help="repository root")
+    parser.add_argument("--self-test", action="store_true",
+                        help="run the checks on synthetic broken trees instead")
+    args = parser.parse_args()
+    if args.self_test:
+        suite = unittest.defaultTestLoader.loadTestsFromTestCase(SelfTest)
+        result = unittest.TextTestRunner(verbosity=1).run(suite)
+        return 0 if result.wasSuccessful() else 1
+    problems = run_checks(args.root.resolve())
+    for problem in problems:
+        print(problem)
+    sys.stdout.flush()
+    if problems:
+        print(f"check_docs: {len(problems)} problem(s); docs/physics.md, docs/config.md and "
+              "docs/testing.md must match the code (tests/docs/check_docs.py)")
+        return 1
+    print("check_docs: citations, scene keys and test labels agree with the docs")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
