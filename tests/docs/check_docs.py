@@ -241,14 +241,23 @@ def carried_labels(tests_cmake):
 
 
 def doc_labels(testing_md):
-    """Labels of the table under the '## Labels' heading of docs/testing.md."""
+    """Labels of the first table under the '## Labels' heading of docs/testing.md (the one
+    whose first column is headed 'label'; later tables of the section list tests)."""
     labels = {}
     in_section = False
+    in_table = False
     for number, line in enumerate(testing_md.splitlines(), 1):
         if re.match(r"^#{1,6}\s", line):
             in_section = re.match(r"^#{1,6}\s+labels\b", line, re.IGNORECASE) is not None
+            in_table = False
             continue
-        if in_section and line.startswith("|"):
+        if in_section and line.startswith("|") and not in_table and not labels:
+            in_table = line.strip().strip("|").split("|")[0].strip().lower() == "label"
+            continue
+        if not line.startswith("|"):
+            in_table = False
+            continue
+        if in_section and in_table:
             first = line.strip().strip("|").split("|")[0]
             for label in re.findall(r"`([A-Za-z0-9_-]+)`", first):
                 labels.setdefault(label, number)
