@@ -2,9 +2,10 @@
 // the pair contacts into colours without a shared sphere (plus an overflow set), and a
 // coloured sweep is an exact reordering of the scalar one: visiting the same contacts in
 // the same sequence gives the same bits.
+#include "cdpowder/solver/coloured_sweep.hpp"
+
 #include "cdpowder/detect/detect_contacts.hpp"
 #include "cdpowder/solver/build.hpp"
-#include "cdpowder/solver/coloured_sweep.hpp"
 #include "cdpowder/solver/nlgs.hpp"
 #include "support/tiny_world.hpp"
 
@@ -27,8 +28,7 @@ struct SmallPacking {
   explicit SmallPacking(double mu_roll) {
     Rng rng = make_rng(7, RngStream::Deposition);
     const double a = 2.0 * std::sqrt(2.0);
-    const Vec3 basis[4] = {Vec3(0, 0, 0), Vec3(0.5, 0.5, 0), Vec3(0.5, 0, 0.5),
-                           Vec3(0, 0.5, 0.5)};
+    const Vec3 basis[4] = {Vec3(0, 0, 0), Vec3(0.5, 0.5, 0), Vec3(0.5, 0, 0.5), Vec3(0, 0.5, 0.5)};
     double top = 0.0;
     for (int k = 0; k < 5; ++k) {
       for (int j = 0; j < 4; ++j) {
@@ -121,26 +121,31 @@ TEST(Colouring, EveryContactOnceAndNoSharedSphereWithinAColour) {
 // One contact per colour, colours in storage order, the wall group last: the scalar sweep's
 // storage order, so the batched kernel (one lane in use) must give the scalar bits.
 TEST(ColouredSweep, OneContactPerColourEqualsTheScalarSweepBitForBit) {
-  for (const double mu_roll : {0.0, 0.1}) {
-    SmallPacking packing(mu_roll);
-    Contacts scalar = packing.scene.work.contacts;
-    VelocityCache scalar_v = packing.scene.work.velocities;
-    Contacts coloured = scalar;
-    VelocityCache coloured_v = scalar_v;
-    scalar.visit_order.resize(scalar.size());
-    std::iota(scalar.visit_order.begin(), scalar.visit_order.end(), ContactIndex{0});
-    ColouredSweep sweep;
-    colour_one_per_colour(coloured.pairs.size(), sweep.colouring);
-    build_batches(coloured, coloured_v, sweep);
-    Rng rng = make_rng(1, RngStream::SweepOrder);
-    order_groups(sweep, VisitOrder::Fixed, rng);
-    for (int s = 0; s < 5; ++s) {
-      const SweepSums a = run_sweep(scalar, scalar_v);
-      const SweepSums b = run_coloured_sweep(coloured, coloured_v, sweep);
-      expect_same_sums(a, b);
-      expect_same_state(scalar, scalar_v, coloured, coloured_v);
+  for (const bool avx2 : {false, true}) {
+    if (avx2 && !allow_avx2_kernel(true)) continue;  // no AVX2 here
+    allow_avx2_kernel(avx2);
+    for (const double mu_roll : {0.0, 0.1}) {
+      SmallPacking packing(mu_roll);
+      Contacts scalar = packing.scene.work.contacts;
+      VelocityCache scalar_v = packing.scene.work.velocities;
+      Contacts coloured = scalar;
+      VelocityCache coloured_v = scalar_v;
+      scalar.visit_order.resize(scalar.size());
+      std::iota(scalar.visit_order.begin(), scalar.visit_order.end(), ContactIndex{0});
+      ColouredSweep sweep;
+      colour_one_per_colour(coloured.pairs.size(), sweep.colouring);
+      build_batches(coloured, coloured_v, sweep);
+      Rng rng = make_rng(1, RngStream::SweepOrder);
+      order_groups(sweep, VisitOrder::Fixed, rng);
+      for (int s = 0; s < 5; ++s) {
+        const SweepSums a = run_sweep(scalar, scalar_v);
+        const SweepSums b = run_coloured_sweep(coloured, coloured_v, sweep);
+        expect_same_sums(a, b);
+        expect_same_state(scalar, scalar_v, coloured, coloured_v);
+      }
     }
   }
+  allow_avx2_kernel(true);
 }
 
 // Which branches of the kernel a sweep took: open contacts, sliding ones (on the rim of the
@@ -157,10 +162,12 @@ Branches branches(const Contacts& c) {
     const double S = x.normal_force + p.cohesion;
     if (S == 0.0) ++b.open;
     if (S > 0.0 && std::abs(x.tangential_force.norm() - p.mu * S) < 1e-12 * S) ++b.sliding;
-    if (S > 0.0 && std::abs(x.rolling_torque.norm() - p.roll_cap * S) < 1e-12 * S && p.roll_cap > 0) {
+    if (S > 0.0 && std::abs(x.rolling_torque.norm() - p.roll_cap * S) < 1e-12 * S &&
+        p.roll_cap > 0) {
       ++b.rolling;
     }
-    if (S > 0.0 && std::abs(std::abs(x.twisting_torque) - p.twist_cap * S) < 1e-12 * S) ++b.twisting;
+    if (S > 0.0 && std::abs(std::abs(x.twisting_torque) - p.twist_cap * S) < 1e-12 * S)
+      ++b.twisting;
   }
   return b;
 }
@@ -168,42 +175,49 @@ Branches branches(const Contacts& c) {
 // The greedy colouring in a random colour order: batches of 4 independent contacts give the
 // bits of the scalar sweep visiting the same contacts one by one in the same sequence.
 TEST(ColouredSweep, FullBatchesEqualTheScalarSweepInTheSameSequence) {
-  for (const double mu_roll : {0.0, 0.1}) {
-    SmallPacking packing(mu_roll);
-    Contacts scalar = packing.scene.work.contacts;
-    VelocityCache scalar_v = packing.scene.work.velocities;
-    Contacts coloured = scalar;
-    VelocityCache coloured_v = scalar_v;
-    ColouredSweep sweep;
-    prepare_coloured_sweep(coloured, coloured_v, sweep);
-    ASSERT_GT(sweep.colours(), 6U);
-    Rng rng = make_rng(3, RngStream::SweepOrder);
-    order_groups(sweep, VisitOrder::RandomEachStep, rng);
-    scalar.visit_order.clear();
-    for (const std::uint32_t g : sweep.group_order) {
-      if (g == sweep.colours()) {
-        scalar.visit_order.insert(scalar.visit_order.end(), sweep.sequential.begin(),
-                                  sweep.sequential.end());
-      } else {
-        for (std::uint32_t m = sweep.colouring.colour_start[g];
-             m < sweep.colouring.colour_start[g + 1]; ++m) {
-          scalar.visit_order.push_back(sweep.colouring.members[m]);
+  for (const bool avx2 : {false, true}) {
+    if (avx2 && !allow_avx2_kernel(true)) continue;  // no AVX2 here
+    allow_avx2_kernel(avx2);
+    for (const double mu_roll : {0.0, 0.1}) {
+      SmallPacking packing(mu_roll);
+      Contacts scalar = packing.scene.work.contacts;
+      VelocityCache scalar_v = packing.scene.work.velocities;
+      Contacts coloured = scalar;
+      VelocityCache coloured_v = scalar_v;
+      ColouredSweep sweep;
+      prepare_coloured_sweep(coloured, coloured_v, sweep);
+      ASSERT_GT(sweep.colours(), 6U);
+      Rng rng = make_rng(3, RngStream::SweepOrder);
+      order_groups(sweep, VisitOrder::RandomEachStep, rng);
+      scalar.visit_order.clear();
+      for (const std::uint32_t g : sweep.group_order) {
+        if (g == sweep.colours()) {
+          scalar.visit_order.insert(scalar.visit_order.end(), sweep.sequential.begin(),
+                                    sweep.sequential.end());
+        } else {
+          for (std::uint32_t m = sweep.colouring.colour_start[g];
+               m < sweep.colouring.colour_start[g + 1]; ++m) {
+            scalar.visit_order.push_back(sweep.colouring.members[m]);
+          }
         }
       }
+      ASSERT_EQ(scalar.visit_order.size(), scalar.size());
+      for (int s = 0; s < 5; ++s) {
+        const SweepSums a = run_sweep(scalar, scalar_v);
+        const SweepSums b = run_coloured_sweep(coloured, coloured_v, sweep);
+        expect_same_sums(a, b);
+        expect_same_state(scalar, scalar_v, coloured, coloured_v);
+      }
+      const Branches taken = branches(coloured);
+      EXPECT_GT(taken.open, 0);
+      EXPECT_GT(taken.sliding, 0);
+      EXPECT_GT(taken.twisting, 0);
+      if (mu_roll > 0.0) {
+        EXPECT_GT(taken.rolling, 0);
+      }
     }
-    ASSERT_EQ(scalar.visit_order.size(), scalar.size());
-    for (int s = 0; s < 5; ++s) {
-      const SweepSums a = run_sweep(scalar, scalar_v);
-      const SweepSums b = run_coloured_sweep(coloured, coloured_v, sweep);
-      expect_same_sums(a, b);
-      expect_same_state(scalar, scalar_v, coloured, coloured_v);
-    }
-    const Branches taken = branches(coloured);
-    EXPECT_GT(taken.open, 0);
-    EXPECT_GT(taken.sliding, 0);
-    EXPECT_GT(taken.twisting, 0);
-    if (mu_roll > 0.0) EXPECT_GT(taken.rolling, 0);
   }
+  allow_avx2_kernel(true);
 }
 
 // Whole steps with the coloured kernel converge to forces within the contact laws, with

@@ -39,11 +39,11 @@ struct alignas(64) PairBatch {
 /// The step's colours, batches and group order; reused from step to step.
 struct ColouredSweep {
   PairColouring colouring;
-  std::vector<std::uint64_t> masks;            ///< scratch of the colouring
-  std::vector<PairBatch> batches;              ///< colour by colour
-  std::vector<std::uint32_t> colour_batches;   ///< colour c: batches [cb[c], cb[c + 1])
-  std::vector<ContactIndex> sequential;        ///< overflow pairs, then walls (n_pairs + w)
-  std::vector<std::uint32_t> group_order;      ///< colours 0..C−1 and C = the sequential group
+  std::vector<std::uint64_t> masks;           ///< scratch of the colouring
+  std::vector<PairBatch> batches;             ///< colour by colour
+  std::vector<std::uint32_t> colour_batches;  ///< colour c: batches [cb[c], cb[c + 1])
+  std::vector<ContactIndex> sequential;       ///< overflow pairs, then walls (n_pairs + w)
+  std::vector<std::uint32_t> group_order;     ///< colours 0..C−1 and C = the sequential group
 
   [[nodiscard]] std::size_t colours() const {
     return colour_batches.empty() ? 0 : colour_batches.size() - 1;
@@ -55,11 +55,15 @@ void prepare_coloured_sweep(const Contacts& contacts, const VelocityCache& veloc
                             ColouredSweep& sweep);
 
 /// Builds the batches and the sequential group from sweep.colouring (set by the caller).
-void build_batches(const Contacts& contacts, const VelocityCache& velocities,
-                   ColouredSweep& sweep);
+void build_batches(const Contacts& contacts, const VelocityCache& velocities, ColouredSweep& sweep);
 
 /// Group order: storage order for VisitOrder::Fixed, else a fresh permutation from `rng`.
 void order_groups(ColouredSweep& sweep, VisitOrder policy, Rng& rng);
+
+/// Lets the sweep use the AVX2 kernel where the CPU has it (default, unless the environment
+/// says CDPOWDER_KERNEL_ISA=sse2), or keeps it on SSE2; both give the same bits. Returns
+/// whether AVX2 is used.
+bool allow_avx2_kernel(bool allowed);
 
 /// One sweep over the groups in sweep.group_order.
 SweepSums run_coloured_sweep(Contacts& contacts, VelocityCache& velocities,

@@ -9,8 +9,8 @@
 
 namespace cdpowder {
 
-void colour_pairs(const std::vector<PairProblem>& pairs, std::size_t sphere_count,
-                  int max_colours, PairColouring& out, std::vector<std::uint64_t>& masks) {
+void colour_pairs(const std::vector<PairProblem>& pairs, std::size_t sphere_count, int max_colours,
+                  PairColouring& out, std::vector<std::uint64_t>& masks) {
   assert(max_colours > 0 && max_colours <= 64);
   masks.assign(sphere_count, 0);
   const std::uint64_t allowed =
@@ -42,7 +42,8 @@ void colour_pairs(const std::vector<PairProblem>& pairs, std::size_t sphere_coun
     if (counts[c + 1] > 0) used = c + 1;
   }
   out.colour_start.assign(used + 1, 0);
-  for (std::size_t c = 0; c < used; ++c) out.colour_start[c + 1] = out.colour_start[c] + counts[c + 1];
+  for (std::size_t c = 0; c < used; ++c)
+    out.colour_start[c + 1] = out.colour_start[c] + counts[c + 1];
   std::array<std::uint32_t, 64> next{};
   std::copy(out.colour_start.begin(), out.colour_start.end() - 1, next.begin());
   out.members.resize(out.colour_start.back());

@@ -30,8 +30,8 @@ struct PairColouring {
 
 /// Colours `pairs` (bodies < sphere_count) with at most `max_colours` ≤ 64 colours.
 /// `masks` is scratch (one word per sphere), kept by the caller to avoid allocation.
-void colour_pairs(const std::vector<PairProblem>& pairs, std::size_t sphere_count,
-                  int max_colours, PairColouring& out, std::vector<std::uint64_t>& masks);
+void colour_pairs(const std::vector<PairProblem>& pairs, std::size_t sphere_count, int max_colours,
+                  PairColouring& out, std::vector<std::uint64_t>& masks);
 
 /// One contact per colour, in storage order: the coloured sweep in VisitOrder::Fixed then
 /// visits exactly what the scalar sweep visits (for tests).
