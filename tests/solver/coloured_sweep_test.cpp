@@ -84,7 +84,12 @@ void expect_same_sums(const SweepSums& s, const SweepSums& t) {
 
 void expect_valid_colouring(const PairColouring& colouring, const std::vector<PairProblem>& pairs,
                             int max_colours) {
-  ASSERT_LE(colouring.colours(), static_cast<std::size_t>(max_colours));
+  ASSERT_FALSE(colouring.chunk_colours.empty());
+  ASSERT_EQ(colouring.chunk_colours.back(), colouring.colours());
+  for (std::size_t j = 0; j + 1 < colouring.chunk_colours.size(); ++j) {
+    EXPECT_LE(colouring.chunk_colours[j + 1] - colouring.chunk_colours[j],
+              static_cast<std::uint32_t>(max_colours));
+  }
   std::vector<int> seen(pairs.size(), 0);
   for (std::size_t c = 0; c < colouring.colours(); ++c) {
     std::set<BodyIndex> spheres;
@@ -109,11 +114,22 @@ TEST(Colouring, EveryContactOnceAndNoSharedSphereWithinAColour) {
   const std::size_t spheres = packing.scene.world.bodies.size();
   PairColouring colouring;
   std::vector<std::uint64_t> masks;
-  colour_pairs(c.pairs, spheres, kMaxColours, colouring, masks);
+  colour_pairs(c.pairs, spheres, kMaxColours, 0, colouring, masks);
   expect_valid_colouring(colouring, c.pairs, kMaxColours);
   EXPECT_TRUE(colouring.overflow.empty());  // coordination ≤ 12: at most 23 colours needed
+  EXPECT_EQ(colouring.chunk_colours.size(), 2U);
+  // in chunks of 100 consecutive contacts, each chunk with its own colours
+  colour_pairs(c.pairs, spheres, kMaxColours, 100, colouring, masks);
+  expect_valid_colouring(colouring, c.pairs, kMaxColours);
+  ASSERT_EQ(colouring.chunk_colours.size(), (c.pairs.size() + 99) / 100 + 1);
+  for (std::size_t j = 0; j + 1 < colouring.chunk_colours.size(); ++j) {
+    for (std::uint32_t m = colouring.colour_start[colouring.chunk_colours[j]];
+         m < colouring.colour_start[colouring.chunk_colours[j + 1]]; ++m) {
+      EXPECT_EQ(colouring.members[m] / 100, j) << "a chunk holds its own contacts";
+    }
+  }
   // few colours: the contacts that find none go to the overflow set
-  colour_pairs(c.pairs, spheres, 3, colouring, masks);
+  colour_pairs(c.pairs, spheres, 3, 0, colouring, masks);
   expect_valid_colouring(colouring, c.pairs, 3);
   EXPECT_FALSE(colouring.overflow.empty());
 }
@@ -172,8 +188,9 @@ Branches branches(const Contacts& c) {
   return b;
 }
 
-// The greedy colouring in a random colour order: batches of 4 independent contacts give the
-// bits of the scalar sweep visiting the same contacts one by one in the same sequence.
+// The greedy colouring (chunks of 256 contacts) in a random order: batches of 4 independent
+// contacts give the bits of the scalar sweep visiting the same contacts one by one in the same
+// sequence.
 TEST(ColouredSweep, FullBatchesEqualTheScalarSweepInTheSameSequence) {
   for (const bool avx2 : {false, true}) {
     if (avx2 && !allow_avx2_kernel(true)) continue;  // no AVX2 here
@@ -185,7 +202,10 @@ TEST(ColouredSweep, FullBatchesEqualTheScalarSweepInTheSameSequence) {
       Contacts coloured = scalar;
       VelocityCache coloured_v = scalar_v;
       ColouredSweep sweep;
-      prepare_coloured_sweep(coloured, coloured_v, sweep);
+      colour_pairs(coloured.pairs, coloured_v.spheres.size(), kMaxColours, 256, sweep.colouring,
+                   sweep.masks);
+      build_batches(coloured, coloured_v, sweep);
+      ASSERT_GT(sweep.colouring.chunk_colours.size(), 3U);
       ASSERT_GT(sweep.colours(), 6U);
       Rng rng = make_rng(3, RngStream::SweepOrder);
       order_groups(sweep, VisitOrder::RandomEachStep, rng);
@@ -218,6 +238,36 @@ TEST(ColouredSweep, FullBatchesEqualTheScalarSweepInTheSameSequence) {
     }
   }
   allow_avx2_kernel(true);
+}
+
+// The solver stores the pairs in colour order during a step: the same sweeps as on the
+// pairs in storage order, and restore_storage_order gives the storage order back.
+TEST(ColouredSweep, StoringThePairsInColourOrderChangesNoBit) {
+  SmallPacking packing(0.1);
+  Contacts in_place = packing.scene.work.contacts;
+  VelocityCache in_place_v = packing.scene.work.velocities;
+  Contacts moved = in_place;
+  VelocityCache moved_v = in_place_v;
+  ColouredSweep a;
+  colour_pairs(in_place.pairs, in_place_v.spheres.size(), kMaxColours, 256, a.colouring, a.masks);
+  build_batches(in_place, in_place_v, a);
+  ColouredSweep b;
+  prepare_coloured_sweep(moved, moved_v, b, 256);
+  ASSERT_EQ(a.colours(), b.colours());
+  ASSERT_GT(b.colouring.chunk_colours.size(), 3U);
+  Rng rng_a = make_rng(5, RngStream::SweepOrder);
+  Rng rng_b = make_rng(5, RngStream::SweepOrder);
+  order_groups(a, VisitOrder::RandomEachStep, rng_a);
+  order_groups(b, VisitOrder::RandomEachStep, rng_b);
+  ASSERT_EQ(a.group_order, b.group_order);
+  for (int s = 0; s < 5; ++s) {
+    expect_same_sums(run_coloured_sweep(in_place, in_place_v, a),
+                     run_coloured_sweep(moved, moved_v, b));
+  }
+  restore_storage_order(moved, b);
+  EXPECT_TRUE(same_bits(in_place.pairs, moved.pairs));
+  EXPECT_TRUE(same_bits(in_place.pair_cohesive, moved.pair_cohesive));
+  expect_same_state(in_place, in_place_v, moved, moved_v);
 }
 
 // Whole steps with the coloured kernel converge to forces within the contact laws, with

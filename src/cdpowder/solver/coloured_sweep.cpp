@@ -147,17 +147,77 @@ void build_batches(const Contacts& contacts, const VelocityCache& velocities,
   std::iota(sweep.group_order.begin(), sweep.group_order.end(), std::uint32_t{0});
 }
 
-void prepare_coloured_sweep(const Contacts& contacts, const VelocityCache& velocities,
-                            ColouredSweep& sweep) {
-  colour_pairs(contacts.pairs, velocities.spheres.size(), kMaxColours, sweep.colouring,
+namespace {
+
+/// v[i] = old v[from[i]]
+template <typename T>
+void gather_into(std::vector<T>& v, const std::vector<ContactIndex>& from,
+                 std::vector<T>& scratch) {
+  scratch.resize(v.size());
+  for (std::size_t i = 0; i < from.size(); ++i) scratch[i] = v[from[i]];
+  v.swap(scratch);
+}
+
+/// v[from[i]] = old v[i]
+template <typename T>
+void scatter_back(std::vector<T>& v, const std::vector<ContactIndex>& from,
+                  std::vector<T>& scratch) {
+  scratch.resize(v.size());
+  for (std::size_t i = 0; i < from.size(); ++i) scratch[from[i]] = v[i];
+  v.swap(scratch);
+}
+
+}  // namespace
+
+void prepare_coloured_sweep(Contacts& contacts, const VelocityCache& velocities,
+                            ColouredSweep& sweep, std::size_t chunk) {
+  PairColouring& colouring = sweep.colouring;
+  colour_pairs(contacts.pairs, velocities.spheres.size(), kMaxColours, chunk, colouring,
                sweep.masks);
+  // store the pairs in the order the batches visit them, overflow last
+  std::vector<ContactIndex>& from = sweep.storage_index;
+  from.assign(colouring.members.begin(), colouring.members.end());
+  from.insert(from.end(), colouring.overflow.begin(), colouring.overflow.end());
+  gather_into(contacts.pairs, from, sweep.pair_scratch);
+  gather_into(contacts.pair_actions, from, sweep.action_scratch);
+  gather_into(contacts.pair_cohesive, from, sweep.flag_scratch);
+  std::iota(colouring.members.begin(), colouring.members.end(), ContactIndex{0});
+  std::iota(colouring.overflow.begin(), colouring.overflow.end(),
+            static_cast<ContactIndex>(colouring.members.size()));
   build_batches(contacts, velocities, sweep);
 }
 
+void restore_storage_order(Contacts& contacts, ColouredSweep& sweep) {
+  const std::vector<ContactIndex>& from = sweep.storage_index;
+  if (from.size() != contacts.pairs.size()) return;  // not prepared
+  scatter_back(contacts.pairs, from, sweep.pair_scratch);
+  scatter_back(contacts.pair_actions, from, sweep.action_scratch);
+  scatter_back(contacts.pair_cohesive, from, sweep.flag_scratch);
+  sweep.storage_index.clear();
+}
+
 void order_groups(ColouredSweep& sweep, VisitOrder policy, Rng& rng) {
-  std::iota(sweep.group_order.begin(), sweep.group_order.end(), std::uint32_t{0});
-  if (policy != VisitOrder::Fixed) {
-    shuffle_indices(std::span<std::uint32_t>(sweep.group_order), rng);
+  const std::vector<std::uint32_t>& chunk_colours = sweep.colouring.chunk_colours;
+  const auto chunks = static_cast<std::uint32_t>(chunk_colours.size() - 1);
+  const bool shuffle = policy != VisitOrder::Fixed;
+  // the chunks and the sequential group (id `chunks`) in a random order, and each chunk's
+  // colours in a random order
+  sweep.chunk_order.resize(chunks + 1);
+  std::iota(sweep.chunk_order.begin(), sweep.chunk_order.end(), std::uint32_t{0});
+  if (shuffle) shuffle_indices(std::span<std::uint32_t>(sweep.chunk_order), rng);
+  sweep.group_order.clear();
+  for (const std::uint32_t chunk : sweep.chunk_order) {
+    if (chunk == chunks) {
+      sweep.group_order.push_back(static_cast<std::uint32_t>(sweep.colours()));
+      continue;
+    }
+    const std::size_t first = sweep.group_order.size();
+    for (std::uint32_t c = chunk_colours[chunk]; c < chunk_colours[chunk + 1]; ++c) {
+      sweep.group_order.push_back(c);
+    }
+    if (shuffle) {
+      shuffle_indices(std::span<std::uint32_t>(sweep.group_order).subspan(first), rng);
+    }
   }
 }
 

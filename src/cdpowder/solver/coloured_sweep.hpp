@@ -44,20 +44,32 @@ struct ColouredSweep {
   std::vector<std::uint32_t> colour_batches;  ///< colour c: batches [cb[c], cb[c + 1])
   std::vector<ContactIndex> sequential;       ///< overflow pairs, then walls (n_pairs + w)
   std::vector<std::uint32_t> group_order;     ///< colours 0..C−1 and C = the sequential group
+  std::vector<std::uint32_t> chunk_order;     ///< scratch of order_groups
+  std::vector<ContactIndex> storage_index;  ///< pair i is stored pair storage_index[i] of the step
+  std::vector<PairProblem> pair_scratch;
+  std::vector<ContactAction> action_scratch;
+  std::vector<std::uint8_t> flag_scratch;
 
   [[nodiscard]] std::size_t colours() const {
     return colour_batches.empty() ? 0 : colour_batches.size() - 1;
   }
 };
 
-/// Colours the step's pairs greedily and builds the batches.
-void prepare_coloured_sweep(const Contacts& contacts, const VelocityCache& velocities,
-                            ColouredSweep& sweep);
+/// Colours the step's pairs greedily (chunks of kColourChunk contacts), stores them in the
+/// order the sweep visits them (so a sweep streams through the pairs and their actions;
+/// restore_storage_order undoes it) and builds the batches.
+void prepare_coloured_sweep(Contacts& contacts, const VelocityCache& velocities,
+                            ColouredSweep& sweep, std::size_t chunk = kColourChunk);
+
+/// Puts the pairs, their actions and flags back in storage order (sorted by sphere pair), as
+/// the rest of the step expects them.
+void restore_storage_order(Contacts& contacts, ColouredSweep& sweep);
 
 /// Builds the batches and the sequential group from sweep.colouring (set by the caller).
 void build_batches(const Contacts& contacts, const VelocityCache& velocities, ColouredSweep& sweep);
 
-/// Group order: storage order for VisitOrder::Fixed, else a fresh permutation from `rng`.
+/// Group order: storage order for VisitOrder::Fixed, else the chunks (and the sequential
+/// group) in a fresh random order from `rng`, each chunk's colours in a random order.
 void order_groups(ColouredSweep& sweep, VisitOrder policy, Rng& rng);
 
 /// Lets the sweep use the AVX2 kernel where the CPU has it (default, unless the environment

@@ -211,17 +211,34 @@ void prepare_visit_order(Contacts& contacts, VisitOrder policy, NlgsWorkspace& w
   if (policy == VisitOrder::RandomEachStep) shuffle_blocks(order, work.blocks, work.rng);
 }
 
+namespace {
+SolverStats sweep_until_done(Contacts& contacts, VelocityCache& velocities,
+                             const SolverSettings& settings, double reference_force,
+                             NlgsWorkspace& work);
+}  // namespace
+
 SolverStats solve_nlgs(Contacts& contacts, VelocityCache& velocities,
                        const SolverSettings& settings, double reference_force,
                        NlgsWorkspace& work) {
+  if (settings.kernel != SweepKernel::Coloured) {
+    prepare_visit_order(contacts, settings.visit_order, work);
+    return sweep_until_done(contacts, velocities, settings, reference_force, work);
+  }
+  // the pairs are stored in colour order during the sweeps (and the mixing)
+  prepare_coloured_sweep(contacts, velocities, work.coloured);
+  order_groups(work.coloured, settings.visit_order, work.rng);
+  const SolverStats stats = sweep_until_done(contacts, velocities, settings, reference_force, work);
+  restore_storage_order(contacts, work.coloured);
+  return stats;
+}
+
+namespace {
+
+SolverStats sweep_until_done(Contacts& contacts, VelocityCache& velocities,
+                             const SolverSettings& settings, double reference_force,
+                             NlgsWorkspace& work) {
   std::vector<ContactIndex>& order = contacts.visit_order;
   const bool coloured = settings.kernel == SweepKernel::Coloured;
-  if (coloured) {
-    prepare_coloured_sweep(contacts, velocities, work.coloured);
-    order_groups(work.coloured, settings.visit_order, work.rng);
-  } else {
-    prepare_visit_order(contacts, settings.visit_order, work);
-  }
   const bool accelerate = settings.acceleration_depth > 0;
   const MixedModes modes = accelerate ? mixed_modes(contacts) : MixedModes{};
   if (accelerate) {
@@ -305,5 +322,7 @@ SolverStats solve_nlgs(Contacts& contacts, VelocityCache& velocities,
   }
   return stats;
 }
+
+}  // namespace
 
 }  // namespace cdpowder
