@@ -36,6 +36,47 @@ BENCHMARK(BM_NlgsSweep)
     ->Args({100000, 1})
     ->Unit(benchmark::kMicrosecond);
 
+// One sweep of the coloured kernel (solver.kernel = "coloured"): the step's colours in one
+// random order, batches of 4 pair contacts per colour; items are contact visits. range(1):
+// contacts per colouring chunk (0 = the solver's kColourChunk, 1 = one chunk); the pairs are
+// stored in colour order, as in the solver. Counters:
+// colours, the share of contacts in the sequential group (overflow and walls), the share of
+// unused lanes. CDPOWDER_KERNEL_ISA=sse2 keeps the SSE2 kernel on an AVX2 machine.
+void BM_NlgsSweepColoured(benchmark::State& state) {
+  Packing packing = fcc_packing_with_vacancies(static_cast<int>(state.range(0)));
+  StepWorkspace work(1);
+  prepare_contacts(packing, work);
+  Contacts& contacts = work.contacts;
+  ColouredSweep& sweep = work.solver.coloured;
+  const auto chunk = static_cast<std::size_t>(state.range(1));
+  prepare_coloured_sweep(contacts, work.velocities, sweep,
+                         chunk == 0 ? kColourChunk : (chunk == 1 ? 0 : chunk));
+  order_groups(sweep, VisitOrder::RandomEachStep, work.solver.rng);
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(run_coloured_sweep(contacts, work.velocities, sweep));
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(contacts.size()));
+  state.counters["contacts"] = static_cast<double>(contacts.size());
+  state.counters["colours"] = static_cast<double>(sweep.colours());
+  state.counters["sequential"] =
+      static_cast<double>(sweep.sequential.size()) / static_cast<double>(contacts.size());
+  state.counters["idle_lanes"] =
+      1.0 - static_cast<double>(contacts.pairs.size() - sweep.colouring.overflow.size()) /
+                (static_cast<double>(kBatchLanes) * static_cast<double>(sweep.batches.size()));
+  state.counters["ns_per_update"] = benchmark::Counter(
+      static_cast<double>(state.iterations()) * static_cast<double>(contacts.size()),
+      benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+
+BENCHMARK(BM_NlgsSweepColoured)
+    ->Args({1000, 0})
+    ->Args({100000, 0})
+    ->Args({1000, 1})
+    ->Args({100000, 1})
+    ->Args({100000, 512})
+    ->Args({100000, 8192})
+    ->Unit(benchmark::kMicrosecond);
+
 // A whole cold-started solve of the frozen packing under the piston, at the default
 // settings (Anderson acceleration) and as plain NLGS; reports the sweeps it took.
 void BM_NlgsSolveColdStart(benchmark::State& state) {

@@ -87,6 +87,7 @@ Scene read_values(TableReader& in, const std::filesystem::path& base_dir,
       in.choice("solver.stopping_rule", solver.stopping_rule, detail::kStoppingRuleNames);
   solver.visit_order =
       in.choice("solver.visit_order", solver.visit_order, detail::kVisitOrderNames);
+  solver.kernel = in.choice("solver.kernel", solver.kernel, detail::kSweepKernelNames);
   solver.acceleration_depth = static_cast<int>(in.integer(
       "solver.acceleration_depth", solver.acceleration_depth, 0, AndersonAccelerator::kMaxDepth));
   solver.acceleration_interval = static_cast<int>(

@@ -21,6 +21,8 @@ inline constexpr EnumNames<VisitOrder, 3> kVisitOrderNames = {
     {{"random_each_step", VisitOrder::RandomEachStep},
      {"random_each_sweep", VisitOrder::RandomEachSweep},
      {"fixed", VisitOrder::Fixed}}};
+inline constexpr EnumNames<SweepKernel, 2> kSweepKernelNames = {
+    {{"scalar", SweepKernel::Scalar}, {"coloured", SweepKernel::Coloured}}};
 
 /// The validated scene as TOML: every key with its effective value. Unset optional keys
 /// (piston.pressure, piston.force, piston.height) are left out: TOML has no null.

@@ -148,15 +148,6 @@ double sum_action_size_sq(const Contacts& contacts) {
 
 namespace {
 
-void add_visit(SweepSums& sums, const VisitChange& change, double normal_force, double cohesion) {
-  sums.max_change_sq = std::max(sums.max_change_sq, change.change_sq);
-  sums.sum_change_sq += change.change_sq;
-  if (normal_force + cohesion > 0.0) {
-    sums.sum_closed_normal += std::abs(normal_force);
-    ++sums.closed;
-  }
-}
-
 void visit(ContactIndex k, Contacts& contacts, VelocityCache& velocities, SweepSums& sums) {
   const auto n_pairs = static_cast<ContactIndex>(contacts.pairs.size());
   std::vector<SphereVelocity>& spheres = velocities.spheres;
@@ -220,11 +211,34 @@ void prepare_visit_order(Contacts& contacts, VisitOrder policy, NlgsWorkspace& w
   if (policy == VisitOrder::RandomEachStep) shuffle_blocks(order, work.blocks, work.rng);
 }
 
+namespace {
+SolverStats sweep_until_done(Contacts& contacts, VelocityCache& velocities,
+                             const SolverSettings& settings, double reference_force,
+                             NlgsWorkspace& work);
+}  // namespace
+
 SolverStats solve_nlgs(Contacts& contacts, VelocityCache& velocities,
                        const SolverSettings& settings, double reference_force,
                        NlgsWorkspace& work) {
+  if (settings.kernel != SweepKernel::Coloured) {
+    prepare_visit_order(contacts, settings.visit_order, work);
+    return sweep_until_done(contacts, velocities, settings, reference_force, work);
+  }
+  // the pairs are stored in colour order during the sweeps (and the mixing)
+  prepare_coloured_sweep(contacts, velocities, work.coloured);
+  order_groups(work.coloured, settings.visit_order, work.rng);
+  const SolverStats stats = sweep_until_done(contacts, velocities, settings, reference_force, work);
+  restore_storage_order(contacts, work.coloured);
+  return stats;
+}
+
+namespace {
+
+SolverStats sweep_until_done(Contacts& contacts, VelocityCache& velocities,
+                             const SolverSettings& settings, double reference_force,
+                             NlgsWorkspace& work) {
   std::vector<ContactIndex>& order = contacts.visit_order;
-  prepare_visit_order(contacts, settings.visit_order, work);
+  const bool coloured = settings.kernel == SweepKernel::Coloured;
   const bool accelerate = settings.acceleration_depth > 0;
   const MixedModes modes = accelerate ? mixed_modes(contacts) : MixedModes{};
   if (accelerate) {
@@ -249,9 +263,14 @@ SolverStats solve_nlgs(Contacts& contacts, VelocityCache& velocities,
   for (int sweep = 1; sweep <= settings.max_sweeps; ++sweep) {
     // a fresh order every sweep, so corrections spread without a preferred direction (§7.1)
     if (settings.visit_order == VisitOrder::RandomEachSweep) {
-      shuffle_indices(std::span<ContactIndex>(order), work.rng);
+      if (coloured) {
+        order_groups(work.coloured, settings.visit_order, work.rng);
+      } else {
+        shuffle_indices(std::span<ContactIndex>(order), work.rng);
+      }
     }
-    const SweepSums sums = run_sweep(contacts, velocities);
+    const SweepSums sums = coloured ? run_coloured_sweep(contacts, velocities, work.coloured)
+                                    : run_sweep(contacts, velocities);
     const double mean_closed =
         sums.closed > 0 ? sums.sum_closed_normal / static_cast<double>(sums.closed) : 0.0;
     stats.force_scale = std::max({reference_force, mean_closed, 1e-300});
@@ -303,5 +322,7 @@ SolverStats solve_nlgs(Contacts& contacts, VelocityCache& velocities,
   }
   return stats;
 }
+
+}  // namespace
 
 }  // namespace cdpowder

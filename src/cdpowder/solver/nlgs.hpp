@@ -5,7 +5,9 @@
 #include "cdpowder/contact/local_problem.hpp"
 #include "cdpowder/core/rng.hpp"
 #include "cdpowder/solver/anderson.hpp"
+#include "cdpowder/solver/coloured_sweep.hpp"
 #include "cdpowder/solver/settings.hpp"
+#include "cdpowder/solver/sweep_sums.hpp"
 #include "cdpowder/solver/velocity_cache.hpp"
 
 namespace cdpowder {
@@ -33,6 +35,7 @@ struct NlgsWorkspace {
   std::vector<double> swept;  ///< actions after the sweep
   std::vector<double> mixed;  ///< accelerated actions
   std::vector<ContactIndex> blocks;  ///< block permutation of the per-step order
+  ColouredSweep coloured;            ///< colours and batches of solver.kernel = "coloured"
 };
 
 /// Sweeps until the stopping rule holds or max_sweeps is reached. Each visit solves one
@@ -49,13 +52,6 @@ void prepare_visit_order(Contacts& contacts, VisitOrder policy, NlgsWorkspace& w
 
 /// One sweep in the given order; returns the sweep's largest change and sums. Exposed for
 /// the benchmark of the kernel.
-struct SweepSums {
-  double max_change_sq = 0.0;  ///< largest squared correction of a visit [F_coh²]
-  double sum_change_sq = 0.0;
-  double sum_closed_normal = 0.0;
-  std::size_t closed = 0;
-};
-
 SweepSums run_sweep(Contacts& contacts, VelocityCache& velocities);
 
 }  // namespace cdpowder

@@ -34,6 +34,18 @@ enum class VisitOrder {
   Fixed,  ///< storage order (sorted by body indices); for tests and benchmarks
 };
 
+/// How a sweep solves the contacts (docs/performance.md, "Coloured kernel (prototype)").
+enum class SweepKernel {
+  /// Default. One contact after the other in the visiting order (two independent ones side
+  /// by side); the order is a permutation of blocks of contacts.
+  Scalar,
+  /// Prototype. Sphere–sphere contacts graph-coloured each step, each colour solved in
+  /// batches of 4 side by side (the same arithmetic per contact); overflow and wall contacts
+  /// one by one; the colours visited in a random order per step (per sweep with
+  /// random_each_sweep, storage order with fixed). Converges differently from "scalar".
+  Coloured,
+};
+
 /// Adaptive time step (physics.md §6.4): after every step the next Δt is the largest that
 /// keeps, at the velocities the step left, (1) every cohesion-active contact's normal
 /// opening per step below opening_per_step × d_coh, and (2) every sphere's surface and the
@@ -68,6 +80,7 @@ struct SolverSettings {
   int max_sweeps = 2000;  ///< N_max; a capped step is flagged in its report
   StoppingRule stopping_rule = StoppingRule::Residual;
   VisitOrder visit_order = VisitOrder::RandomEachStep;
+  SweepKernel kernel = SweepKernel::Scalar;
   int acceleration_depth = 5;  ///< Anderson acceleration history m; 0 = plain NLGS (anderson.hpp)
   /// Sweeps between two mixing steps: the accelerated map is k sweeps in a row. The mixing
   /// moves ≈ 2m + 10 doubles per force component, about a sweep's cost on a paper-size

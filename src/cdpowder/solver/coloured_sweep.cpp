@@ -1,0 +1,256 @@
+// coloured_sweep.cpp — batches of independent pair contacts solved side by side
+// (coloured_sweep.hpp). The lane arithmetic is solve_pair's, operation for operation
+// (Eigen's 3-vector dot products sum left to right, its cross products are the textbook
+// formula), with the kernel's two branches computed in every lane and selected: the same
+// bits as solve_pair, contact by contact (coloured_kernel.inc). The kernel is compiled twice:
+// for SSE2 (2 lanes per register, the x86-64 baseline without -march flags) and for AVX2
+// (4 lanes), chosen at run time. Neither uses fused multiply-add (-ffp-contract=off), so
+// the results do not depend on the machine.
+#include "cdpowder/solver/coloured_sweep.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <numeric>
+#include <span>
+#include <string_view>
+
+#if defined(__x86_64__)
+#include <immintrin.h>
+#elif defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
+namespace cdpowder {
+
+#define CDP_INLINE [[gnu::always_inline]] inline
+
+// SSE2, the x86-64 baseline: lanes in pairs (2 doubles per register).
+namespace sse2 {
+namespace {
+using P = double __attribute__((vector_size(16)));
+using M = std::int64_t __attribute__((vector_size(16)));
+constexpr int kLanes = 2;
+
+CDP_INLINE P vsqrt(P x) {
+#if defined(__SSE2__)
+  return reinterpret_cast<P>(_mm_sqrt_pd(reinterpret_cast<__m128d>(x)));
+#else
+  return P{std::sqrt(x[0]), std::sqrt(x[1])};
+#endif
+}
+
+#include "cdpowder/solver/coloured_kernel.inc"
+}  // namespace
+}  // namespace sse2
+
+#if defined(__x86_64__) && defined(__GNUC__)
+// AVX2 where the CPU has it (chosen at run time): 4 lanes per register. The same IEEE
+// operations on the same operands as SSE2 (no FMA: target "avx2" does not enable it, and
+// -ffp-contract=off), so the same bits.
+#define CDP_HAVE_AVX2 1
+#pragma GCC push_options
+#pragma GCC target("avx2")
+
+namespace avx2 {
+namespace {
+using P = double __attribute__((vector_size(32)));
+using M = std::int64_t __attribute__((vector_size(32)));
+constexpr int kLanes = 4;
+
+CDP_INLINE P vsqrt(P x) {
+  return reinterpret_cast<P>(_mm256_sqrt_pd(reinterpret_cast<__m256d>(x)));
+}
+
+#include "cdpowder/solver/coloured_kernel.inc"
+}  // namespace
+}  // namespace avx2
+
+#pragma GCC pop_options
+#endif
+
+namespace {
+
+/// CDPOWDER_KERNEL_ISA=sse2 in the environment keeps the SSE2 kernel on an AVX2 machine
+/// (to compare the two); so does allow_avx2_kernel(false).
+bool avx2_allowed = [] {
+  const char* isa = std::getenv("CDPOWDER_KERNEL_ISA");
+  return isa == nullptr || std::string_view(isa) != "sse2";
+}();
+
+void visit_sequential(ContactIndex k, Contacts& contacts, VelocityCache& velocities,
+                      SweepSums& sums) {
+  const auto n_pairs = static_cast<ContactIndex>(contacts.pairs.size());
+  std::vector<SphereVelocity>& spheres = velocities.spheres;
+  if (k < n_pairs) {
+    const PairProblem& p = contacts.pairs[k];
+    ContactAction& action = contacts.pair_actions[k];
+    const VisitChange change = solve_pair(p, action, spheres[p.a], spheres[p.b]);
+    add_visit(sums, change, action.normal_force, p.cohesion);
+  } else {
+    const WallProblem& w = contacts.walls[k - n_pairs];
+    ContactAction& action = contacts.wall_actions[k - n_pairs];
+    const VisitChange change = solve_wall(w, action, spheres[w.sphere], velocities.piston_velocity);
+    add_visit(sums, change, action.normal_force, w.cohesion);
+  }
+}
+
+}  // namespace
+
+void build_batches(const Contacts& contacts, const VelocityCache& velocities,
+                   ColouredSweep& sweep) {
+  const PairColouring& colouring = sweep.colouring;
+  const std::size_t colours = colouring.colours();
+  sweep.batches.clear();
+  sweep.colour_batches.assign(colours + 1, 0);
+  for (std::size_t c = 0; c < colours; ++c) {
+    for (std::uint32_t m = colouring.colour_start[c]; m < colouring.colour_start[c + 1];
+         m += kBatchLanes) {
+      PairBatch& batch = sweep.batches.emplace_back();
+      batch.lanes = std::min<std::uint32_t>(kBatchLanes, colouring.colour_start[c + 1] - m);
+      for (std::uint32_t l = 0; l < batch.lanes; ++l) {
+        const ContactIndex k = colouring.members[m + l];
+        const PairProblem& p = contacts.pairs[k];
+        const SphereVelocity& a = velocities.spheres[p.a];
+        const SphereVelocity& b = velocities.spheres[p.b];
+        batch.pair[l] = k;
+        batch.a[l] = p.a;
+        batch.b[l] = p.b;
+        batch.nx[l] = p.normal.x();
+        batch.ny[l] = p.normal.y();
+        batch.nz[l] = p.normal.z();
+        batch.gap_rate[l] = p.gap_rate;
+        batch.lever_a[l] = p.lever_a;
+        batch.lever_b[l] = p.lever_b;
+        batch.inv_dt_w_n[l] = p.inv_dt_w_n;
+        batch.inv_dt_w_t[l] = p.inv_dt_w_t;
+        batch.inv_dt_w_r[l] = p.inv_dt_w_r;
+        batch.cohesion[l] = p.cohesion;
+        batch.mu[l] = p.mu;
+        batch.roll_cap[l] = p.roll_cap;
+        batch.twist_cap[l] = p.twist_cap;
+        const detail::ModeBlock block = pair_mode_block(p, a, b);
+        batch.coupling[l] = block.coupling;
+        batch.inv_r_sq[l] = block.inv_r_sq;
+      }
+    }
+    sweep.colour_batches[c + 1] = static_cast<std::uint32_t>(sweep.batches.size());
+  }
+  const auto n_pairs = static_cast<ContactIndex>(contacts.pairs.size());
+  sweep.sequential.assign(colouring.overflow.begin(), colouring.overflow.end());
+  for (std::size_t w = 0; w < contacts.walls.size(); ++w) {
+    sweep.sequential.push_back(n_pairs + static_cast<ContactIndex>(w));
+  }
+  sweep.group_order.resize(colours + 1);
+  std::iota(sweep.group_order.begin(), sweep.group_order.end(), std::uint32_t{0});
+}
+
+namespace {
+
+/// v[i] = old v[from[i]]
+template <typename T>
+void gather_into(std::vector<T>& v, const std::vector<ContactIndex>& from,
+                 std::vector<T>& scratch) {
+  scratch.resize(v.size());
+  for (std::size_t i = 0; i < from.size(); ++i) scratch[i] = v[from[i]];
+  v.swap(scratch);
+}
+
+/// v[from[i]] = old v[i]
+template <typename T>
+void scatter_back(std::vector<T>& v, const std::vector<ContactIndex>& from,
+                  std::vector<T>& scratch) {
+  scratch.resize(v.size());
+  for (std::size_t i = 0; i < from.size(); ++i) scratch[from[i]] = v[i];
+  v.swap(scratch);
+}
+
+}  // namespace
+
+void prepare_coloured_sweep(Contacts& contacts, const VelocityCache& velocities,
+                            ColouredSweep& sweep, std::size_t chunk) {
+  PairColouring& colouring = sweep.colouring;
+  colour_pairs(contacts.pairs, velocities.spheres.size(), kMaxColours, chunk, colouring,
+               sweep.masks);
+  // store the pairs in the order the batches visit them, overflow last
+  std::vector<ContactIndex>& from = sweep.storage_index;
+  from.assign(colouring.members.begin(), colouring.members.end());
+  from.insert(from.end(), colouring.overflow.begin(), colouring.overflow.end());
+  gather_into(contacts.pairs, from, sweep.pair_scratch);
+  gather_into(contacts.pair_actions, from, sweep.action_scratch);
+  gather_into(contacts.pair_cohesive, from, sweep.flag_scratch);
+  std::iota(colouring.members.begin(), colouring.members.end(), ContactIndex{0});
+  std::iota(colouring.overflow.begin(), colouring.overflow.end(),
+            static_cast<ContactIndex>(colouring.members.size()));
+  build_batches(contacts, velocities, sweep);
+}
+
+void restore_storage_order(Contacts& contacts, ColouredSweep& sweep) {
+  const std::vector<ContactIndex>& from = sweep.storage_index;
+  if (from.size() != contacts.pairs.size()) return;  // not prepared
+  scatter_back(contacts.pairs, from, sweep.pair_scratch);
+  scatter_back(contacts.pair_actions, from, sweep.action_scratch);
+  scatter_back(contacts.pair_cohesive, from, sweep.flag_scratch);
+  sweep.storage_index.clear();
+}
+
+void order_groups(ColouredSweep& sweep, VisitOrder policy, Rng& rng) {
+  const std::vector<std::uint32_t>& chunk_colours = sweep.colouring.chunk_colours;
+  const auto chunks = static_cast<std::uint32_t>(chunk_colours.size() - 1);
+  const bool shuffle = policy != VisitOrder::Fixed;
+  // the chunks and the sequential group (id `chunks`) in a random order, and each chunk's
+  // colours in a random order
+  sweep.chunk_order.resize(chunks + 1);
+  std::iota(sweep.chunk_order.begin(), sweep.chunk_order.end(), std::uint32_t{0});
+  if (shuffle) shuffle_indices(std::span<std::uint32_t>(sweep.chunk_order), rng);
+  sweep.group_order.clear();
+  for (const std::uint32_t chunk : sweep.chunk_order) {
+    if (chunk == chunks) {
+      sweep.group_order.push_back(static_cast<std::uint32_t>(sweep.colours()));
+      continue;
+    }
+    const std::size_t first = sweep.group_order.size();
+    for (std::uint32_t c = chunk_colours[chunk]; c < chunk_colours[chunk + 1]; ++c) {
+      sweep.group_order.push_back(c);
+    }
+    if (shuffle) {
+      shuffle_indices(std::span<std::uint32_t>(sweep.group_order).subspan(first), rng);
+    }
+  }
+}
+
+bool allow_avx2_kernel(bool allowed) {
+  avx2_allowed = allowed;
+#if defined(CDP_HAVE_AVX2)
+  return allowed && __builtin_cpu_supports("avx2");
+#else
+  return false;
+#endif
+}
+
+SweepSums run_coloured_sweep(Contacts& contacts, VelocityCache& velocities,
+                             const ColouredSweep& sweep) {
+  SweepSums sums;
+  const std::size_t colours = sweep.colours();
+  SphereVelocity* const spheres = velocities.spheres.data();
+  ContactAction* const actions = contacts.pair_actions.data();
+#if defined(CDP_HAVE_AVX2)
+  static const bool has_avx2 = __builtin_cpu_supports("avx2");
+  const auto solve = has_avx2 && avx2_allowed ? avx2::solve_batches : sse2::solve_batches;
+#else
+  const auto solve = sse2::solve_batches;
+#endif
+  for (const std::uint32_t group : sweep.group_order) {
+    if (group == colours) {
+      for (const ContactIndex k : sweep.sequential) visit_sequential(k, contacts, velocities, sums);
+      continue;
+    }
+    solve(sweep.batches.data(), sweep.colour_batches[group], sweep.colour_batches[group + 1],
+          spheres, actions, sums);
+  }
+  return sums;
+}
+
+}  // namespace cdpowder

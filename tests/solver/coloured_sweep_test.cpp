@@ -1,0 +1,294 @@
+// The coloured sweep kernel (solver.kernel = "coloured"): the colouring is a partition of
+// the pair contacts into colours without a shared sphere (plus an overflow set), and a
+// coloured sweep is an exact reordering of the scalar one: visiting the same contacts in
+// the same sequence gives the same bits.
+#include "cdpowder/solver/coloured_sweep.hpp"
+
+#include "cdpowder/detect/detect_contacts.hpp"
+#include "cdpowder/solver/build.hpp"
+#include "cdpowder/solver/nlgs.hpp"
+#include "support/tiny_world.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <numeric>
+#include <set>
+
+namespace cdpowder::testing {
+namespace {
+
+// A jittered FCC block of ≈ 300 spheres of slightly unequal radii (so the sliding change
+// moves Ω: c ≠ 0) on the bottom wall under a piston, random velocities: contacts that
+// open, stick, slide, roll and twist in the first sweeps.
+struct SmallPacking {
+  TinyScene scene{4 * 2.0 * std::sqrt(2.0), 4 * 2.0 * std::sqrt(2.0)};
+
+  explicit SmallPacking(double mu_roll) {
+    Rng rng = make_rng(7, RngStream::Deposition);
+    const double a = 2.0 * std::sqrt(2.0);
+    const Vec3 basis[4] = {Vec3(0, 0, 0), Vec3(0.5, 0.5, 0), Vec3(0.5, 0, 0.5), Vec3(0, 0.5, 0.5)};
+    double top = 0.0;
+    for (int k = 0; k < 5; ++k) {
+      for (int j = 0; j < 4; ++j) {
+        for (int i = 0; i < 4; ++i) {
+          for (const Vec3& b : basis) {
+            if (uniform01(rng) < 0.1) continue;  // a few vacancies
+            const Vec3 jitter(uniform01(rng) - 0.5, uniform01(rng) - 0.5, uniform01(rng) - 0.5);
+            const Vec3 p = a * (Vec3(i, j, k) + b) + Vec3(0, 0, 1.01) + 0.004 * jitter;
+            const double r = 1.0 - 0.004 * uniform01(rng);
+            const BodyIndex s = scene.add(p, r);
+            scene.world.bodies.velocity[s] =
+                0.05 * Vec3(uniform01(rng) - 0.5, uniform01(rng) - 0.5, uniform01(rng) - 0.5);
+            scene.world.bodies.angular_velocity[s] =
+                0.05 * Vec3(uniform01(rng) - 0.5, uniform01(rng) - 0.5, uniform01(rng) - 0.5);
+            top = std::max(top, p.z() + r);
+          }
+        }
+      }
+    }
+    scene.settings.laws.spheres.mu_roll = mu_roll;
+    scene.settings.laws.spheres.mu_twist = 0.2;
+    scene.settings.laws.walls = scene.settings.laws.spheres;
+    scene.world.walls.bottom.enabled = true;
+    scene.world.walls.piston.enabled = true;
+    scene.world.walls.piston.mass = 100.0;
+    scene.world.walls.piston.force = 1.0;
+    scene.world.walls.piston.height = top + 0.002;
+    StepWorkspace& w = scene.work;
+    detect_contacts(scene.world, scene.settings, w.grid, w.contacts);
+    build_local_problems(scene.world, scene.settings, w.action_cache, w.contacts, w.velocities);
+  }
+};
+
+template <typename T>
+bool same_bits(const std::vector<T>& x, const std::vector<T>& y) {
+  return x.size() == y.size() && std::memcmp(x.data(), y.data(), x.size() * sizeof(T)) == 0;
+}
+
+void expect_same_state(const Contacts& c, const VelocityCache& v, const Contacts& d,
+                       const VelocityCache& u) {
+  EXPECT_TRUE(same_bits(c.pair_actions, d.pair_actions));
+  EXPECT_TRUE(same_bits(c.wall_actions, d.wall_actions));
+  EXPECT_TRUE(same_bits(v.spheres, u.spheres));
+  EXPECT_EQ(std::memcmp(&v.piston_velocity, &u.piston_velocity, sizeof(double)), 0);
+}
+
+void expect_same_sums(const SweepSums& s, const SweepSums& t) {
+  EXPECT_EQ(std::memcmp(&s.max_change_sq, &t.max_change_sq, sizeof(double)), 0);
+  EXPECT_EQ(std::memcmp(&s.sum_change_sq, &t.sum_change_sq, sizeof(double)), 0);
+  EXPECT_EQ(std::memcmp(&s.sum_closed_normal, &t.sum_closed_normal, sizeof(double)), 0);
+  EXPECT_EQ(s.closed, t.closed);
+}
+
+void expect_valid_colouring(const PairColouring& colouring, const std::vector<PairProblem>& pairs,
+                            int max_colours) {
+  ASSERT_FALSE(colouring.chunk_colours.empty());
+  ASSERT_EQ(colouring.chunk_colours.back(), colouring.colours());
+  for (std::size_t j = 0; j + 1 < colouring.chunk_colours.size(); ++j) {
+    EXPECT_LE(colouring.chunk_colours[j + 1] - colouring.chunk_colours[j],
+              static_cast<std::uint32_t>(max_colours));
+  }
+  std::vector<int> seen(pairs.size(), 0);
+  for (std::size_t c = 0; c < colouring.colours(); ++c) {
+    std::set<BodyIndex> spheres;
+    for (std::uint32_t m = colouring.colour_start[c]; m < colouring.colour_start[c + 1]; ++m) {
+      const PairProblem& p = pairs[colouring.members[m]];
+      EXPECT_TRUE(spheres.insert(p.a).second) << "colour " << c << " repeats sphere " << p.a;
+      EXPECT_TRUE(spheres.insert(p.b).second) << "colour " << c << " repeats sphere " << p.b;
+      ++seen[colouring.members[m]];
+      if (m > colouring.colour_start[c]) {
+        EXPECT_LT(colouring.members[m - 1], colouring.members[m]) << "storage order";
+      }
+    }
+  }
+  for (const ContactIndex k : colouring.overflow) ++seen[k];
+  for (std::size_t k = 0; k < pairs.size(); ++k) EXPECT_EQ(seen[k], 1) << "contact " << k;
+}
+
+TEST(Colouring, EveryContactOnceAndNoSharedSphereWithinAColour) {
+  SmallPacking packing(0.1);
+  const Contacts& c = packing.scene.work.contacts;
+  ASSERT_GT(c.pairs.size(), 500U);
+  const std::size_t spheres = packing.scene.world.bodies.size();
+  PairColouring colouring;
+  std::vector<std::uint64_t> masks;
+  colour_pairs(c.pairs, spheres, kMaxColours, 0, colouring, masks);
+  expect_valid_colouring(colouring, c.pairs, kMaxColours);
+  EXPECT_TRUE(colouring.overflow.empty());  // coordination ≤ 12: at most 23 colours needed
+  EXPECT_EQ(colouring.chunk_colours.size(), 2U);
+  // in chunks of 100 consecutive contacts, each chunk with its own colours
+  colour_pairs(c.pairs, spheres, kMaxColours, 100, colouring, masks);
+  expect_valid_colouring(colouring, c.pairs, kMaxColours);
+  ASSERT_EQ(colouring.chunk_colours.size(), (c.pairs.size() + 99) / 100 + 1);
+  for (std::size_t j = 0; j + 1 < colouring.chunk_colours.size(); ++j) {
+    for (std::uint32_t m = colouring.colour_start[colouring.chunk_colours[j]];
+         m < colouring.colour_start[colouring.chunk_colours[j + 1]]; ++m) {
+      EXPECT_EQ(colouring.members[m] / 100, j) << "a chunk holds its own contacts";
+    }
+  }
+  // few colours: the contacts that find none go to the overflow set
+  colour_pairs(c.pairs, spheres, 3, 0, colouring, masks);
+  expect_valid_colouring(colouring, c.pairs, 3);
+  EXPECT_FALSE(colouring.overflow.empty());
+}
+
+// One contact per colour, colours in storage order, the wall group last: the scalar sweep's
+// storage order, so the batched kernel (one lane in use) must give the scalar bits.
+TEST(ColouredSweep, OneContactPerColourEqualsTheScalarSweepBitForBit) {
+  for (const bool avx2 : {false, true}) {
+    if (avx2 && !allow_avx2_kernel(true)) continue;  // no AVX2 here
+    allow_avx2_kernel(avx2);
+    for (const double mu_roll : {0.0, 0.1}) {
+      SmallPacking packing(mu_roll);
+      Contacts scalar = packing.scene.work.contacts;
+      VelocityCache scalar_v = packing.scene.work.velocities;
+      Contacts coloured = scalar;
+      VelocityCache coloured_v = scalar_v;
+      scalar.visit_order.resize(scalar.size());
+      std::iota(scalar.visit_order.begin(), scalar.visit_order.end(), ContactIndex{0});
+      ColouredSweep sweep;
+      colour_one_per_colour(coloured.pairs.size(), sweep.colouring);
+      build_batches(coloured, coloured_v, sweep);
+      Rng rng = make_rng(1, RngStream::SweepOrder);
+      order_groups(sweep, VisitOrder::Fixed, rng);
+      for (int s = 0; s < 5; ++s) {
+        const SweepSums a = run_sweep(scalar, scalar_v);
+        const SweepSums b = run_coloured_sweep(coloured, coloured_v, sweep);
+        expect_same_sums(a, b);
+        expect_same_state(scalar, scalar_v, coloured, coloured_v);
+      }
+    }
+  }
+  allow_avx2_kernel(true);
+}
+
+// Which branches of the kernel a sweep took: open contacts, sliding ones (on the rim of the
+// friction disc), rolling and twisting ones at their thresholds.
+struct Branches {
+  int open = 0, sliding = 0, rolling = 0, twisting = 0;
+};
+
+Branches branches(const Contacts& c) {
+  Branches b;
+  for (std::size_t k = 0; k < c.pairs.size(); ++k) {
+    const PairProblem& p = c.pairs[k];
+    const ContactAction& x = c.pair_actions[k];
+    const double S = x.normal_force + p.cohesion;
+    if (S == 0.0) ++b.open;
+    if (S > 0.0 && std::abs(x.tangential_force.norm() - p.mu * S) < 1e-12 * S) ++b.sliding;
+    if (S > 0.0 && std::abs(x.rolling_torque.norm() - p.roll_cap * S) < 1e-12 * S &&
+        p.roll_cap > 0) {
+      ++b.rolling;
+    }
+    if (S > 0.0 && std::abs(std::abs(x.twisting_torque) - p.twist_cap * S) < 1e-12 * S)
+      ++b.twisting;
+  }
+  return b;
+}
+
+// The greedy colouring (chunks of 256 contacts) in a random order: batches of 4 independent
+// contacts give the bits of the scalar sweep visiting the same contacts one by one in the same
+// sequence.
+TEST(ColouredSweep, FullBatchesEqualTheScalarSweepInTheSameSequence) {
+  for (const bool avx2 : {false, true}) {
+    if (avx2 && !allow_avx2_kernel(true)) continue;  // no AVX2 here
+    allow_avx2_kernel(avx2);
+    for (const double mu_roll : {0.0, 0.1}) {
+      SmallPacking packing(mu_roll);
+      Contacts scalar = packing.scene.work.contacts;
+      VelocityCache scalar_v = packing.scene.work.velocities;
+      Contacts coloured = scalar;
+      VelocityCache coloured_v = scalar_v;
+      ColouredSweep sweep;
+      colour_pairs(coloured.pairs, coloured_v.spheres.size(), kMaxColours, 256, sweep.colouring,
+                   sweep.masks);
+      build_batches(coloured, coloured_v, sweep);
+      ASSERT_GT(sweep.colouring.chunk_colours.size(), 3U);
+      ASSERT_GT(sweep.colours(), 6U);
+      Rng rng = make_rng(3, RngStream::SweepOrder);
+      order_groups(sweep, VisitOrder::RandomEachStep, rng);
+      scalar.visit_order.clear();
+      for (const std::uint32_t g : sweep.group_order) {
+        if (g == sweep.colours()) {
+          scalar.visit_order.insert(scalar.visit_order.end(), sweep.sequential.begin(),
+                                    sweep.sequential.end());
+        } else {
+          for (std::uint32_t m = sweep.colouring.colour_start[g];
+               m < sweep.colouring.colour_start[g + 1]; ++m) {
+            scalar.visit_order.push_back(sweep.colouring.members[m]);
+          }
+        }
+      }
+      ASSERT_EQ(scalar.visit_order.size(), scalar.size());
+      for (int s = 0; s < 5; ++s) {
+        const SweepSums a = run_sweep(scalar, scalar_v);
+        const SweepSums b = run_coloured_sweep(coloured, coloured_v, sweep);
+        expect_same_sums(a, b);
+        expect_same_state(scalar, scalar_v, coloured, coloured_v);
+      }
+      const Branches taken = branches(coloured);
+      EXPECT_GT(taken.open, 0);
+      EXPECT_GT(taken.sliding, 0);
+      EXPECT_GT(taken.twisting, 0);
+      if (mu_roll > 0.0) {
+        EXPECT_GT(taken.rolling, 0);
+      }
+    }
+  }
+  allow_avx2_kernel(true);
+}
+
+// The solver stores the pairs in colour order during a step: the same sweeps as on the
+// pairs in storage order, and restore_storage_order gives the storage order back.
+TEST(ColouredSweep, StoringThePairsInColourOrderChangesNoBit) {
+  SmallPacking packing(0.1);
+  Contacts in_place = packing.scene.work.contacts;
+  VelocityCache in_place_v = packing.scene.work.velocities;
+  Contacts moved = in_place;
+  VelocityCache moved_v = in_place_v;
+  ColouredSweep a;
+  colour_pairs(in_place.pairs, in_place_v.spheres.size(), kMaxColours, 256, a.colouring, a.masks);
+  build_batches(in_place, in_place_v, a);
+  ColouredSweep b;
+  prepare_coloured_sweep(moved, moved_v, b, 256);
+  ASSERT_EQ(a.colours(), b.colours());
+  ASSERT_GT(b.colouring.chunk_colours.size(), 3U);
+  Rng rng_a = make_rng(5, RngStream::SweepOrder);
+  Rng rng_b = make_rng(5, RngStream::SweepOrder);
+  order_groups(a, VisitOrder::RandomEachStep, rng_a);
+  order_groups(b, VisitOrder::RandomEachStep, rng_b);
+  ASSERT_EQ(a.group_order, b.group_order);
+  for (int s = 0; s < 5; ++s) {
+    expect_same_sums(run_coloured_sweep(in_place, in_place_v, a),
+                     run_coloured_sweep(moved, moved_v, b));
+  }
+  restore_storage_order(moved, b);
+  EXPECT_TRUE(same_bits(in_place.pairs, moved.pairs));
+  EXPECT_TRUE(same_bits(in_place.pair_cohesive, moved.pair_cohesive));
+  expect_same_state(in_place, in_place_v, moved, moved_v);
+}
+
+// Whole steps with the coloured kernel converge to forces within the contact laws, with
+// the same contact set as the scalar kernel (a different visiting order, so not the same bits).
+TEST(ColouredSweep, StepsConvergeLikeTheScalarKernel) {
+  SmallPacking scalar(0.1);
+  SmallPacking coloured(0.1);
+  coloured.scene.settings.solver.kernel = SweepKernel::Coloured;
+  for (int k = 0; k < 5; ++k) {
+    const StepReport a = scalar.scene.run(1);
+    const StepReport b = coloured.scene.run(1);
+    EXPECT_TRUE(a.solver.converged);
+    EXPECT_TRUE(b.solver.converged);
+    EXPECT_EQ(a.diagnostics.contacts, b.diagnostics.contacts);
+  }
+  const Bodies& x = scalar.scene.world.bodies;
+  const Bodies& y = coloured.scene.world.bodies;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    EXPECT_LT((x.velocity[i] - y.velocity[i]).norm(), 1e-6) << "sphere " << i;
+  }
+}
+
+}  // namespace
+}  // namespace cdpowder::testing
