@@ -23,10 +23,11 @@ constexpr std::array<const char*, 2> kFixtures = {"paper_front_mu00_t350.cdps",
 constexpr int kStepsPerIteration = 100;
 
 void BM_FixtureSteps(benchmark::State& state) {
-  const std::filesystem::path file =
-      std::filesystem::path(CDPOWDER_FIXTURE_DIR) / kFixtures.at(static_cast<std::size_t>(state.range(0)));
+  const std::filesystem::path file = std::filesystem::path(CDPOWDER_FIXTURE_DIR) /
+                                     kFixtures.at(static_cast<std::size_t>(state.range(0)));
   if (!std::filesystem::exists(file)) {
-    state.SkipWithError(("missing " + file.string() + ": run bench/fixtures/make_fixtures.sh").c_str());
+    state.SkipWithError(
+        ("missing " + file.string() + ": run bench/fixtures/make_fixtures.sh").c_str());
     return;
   }
   const SavedRun saved = load_state(file);

@@ -64,11 +64,13 @@ int main(int argc, char** argv) {
         "steps={} sweeps/step={:.1f} capped={} ns/update={:.1f} overhead={:.0f}us/step "
         "opening/step={:.3f}d_coh wall={:.2f}s porosity={:.6f} hash={}\n",
         steps, static_cast<double>(sweeps) / steps, capped, 1e9 * nlgs / updates,
-        1e6 * other / steps, opening, wall, porosity(world), hash_text(state_hash(world, work.action_cache)));
-    fmt::print("per step [us]: detect {:.0f}, build {:.0f}, solve {:.0f}, integrate {:.0f}, "
-               "analyse {:.0f}\n",
-               1e6 * stages[0] / steps, 1e6 * stages[1] / steps, 1e6 * stages[2] / steps,
-               1e6 * stages[3] / steps, 1e6 * stages[4] / steps);
+        1e6 * other / steps, opening, wall, porosity(world),
+        hash_text(state_hash(world, work.action_cache)));
+    fmt::print(
+        "per step [us]: detect {:.0f}, build {:.0f}, solve {:.0f}, integrate {:.0f}, "
+        "analyse {:.0f}\n",
+        1e6 * stages[0] / steps, 1e6 * stages[1] / steps, 1e6 * stages[2] / steps,
+        1e6 * stages[3] / steps, 1e6 * stages[4] / steps);
     return 0;
   } catch (const std::exception& error) {
     fmt::print(stderr, "fixture_steps: {}\n", error.what());

@@ -35,9 +35,9 @@ int main(int argc, char** argv) {
     cdpowder::World world = cdpowder::make_world(scene);
     cdpowder::StepWorkspace work(scene.step.solver.seed);
     cdpowder::RunState state;
-    const cdpowder::RunResult& result = cdpowder::run_simulation(
-        world, work, scene.step, scene.run, state, {},
-        [&] { return world.time >= time - 0.5 * scene.step.solver.dt; });
+    const cdpowder::RunResult& result =
+        cdpowder::run_simulation(world, work, scene.step, scene.run, state, {},
+                                 [&] { return world.time >= time - 0.5 * scene.step.solver.dt; });
     if (!result.interrupted) {
       fmt::print(stderr, "make_fixture: the run ended (blocked={}) at t = {} before t = {}\n",
                  result.blocked, world.time, time);
