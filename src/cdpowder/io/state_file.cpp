@@ -7,7 +7,9 @@
 
 #include <fmt/format.h>
 
+#include <array>
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <utility>
@@ -19,154 +21,245 @@ namespace {
 // Bytes of the smallest record of each kind: a corrupted count is refused before anything
 // is allocated for it (ByteReader::count).
 constexpr std::size_t kDoubleBytes = 8;
-constexpr std::size_t kCachedActionBytes = 8 + 8 * 8 + 1;
+constexpr std::size_t kCachedActionBytes = 8 + 8 * kDoubleBytes + 1;
+constexpr std::size_t kWindowEntryBytes = 3 * kDoubleBytes;
+// per sphere: 5 vectors (15 doubles) and 3 scalars, and the fixed flag
+constexpr std::size_t kSphereBytes = 18 * kDoubleBytes + 1;
 
-template <typename T, typename Write>
-void write_array(ByteWriter& out, const std::vector<T>& values, Write write) {
-  out.u64(values.size());
-  for (const T& v : values) write(v);
+// Every section is written and read by one list of its fields, a template over Encode or
+// Decode: the reader cannot fall out of step with the writer. Encode takes the fields as
+// const, Decode assigns them.
+struct Encode {
+  ByteWriter& out;
+
+  void operator()(const double& x) { out.f64(x); }
+
+  void operator()(const Vec3& x) { out.vec3(x); }
+
+  void operator()(const bool& x) { out.boolean(x); }
+
+  void operator()(const int& x) { out.i64(x); }
+
+  void operator()(const std::int64_t& x) { out.i64(x); }
+
+  void operator()(const std::uint64_t& x) { out.u64(x); }
+
+  void operator()(const std::uint8_t& x) { out.u8(x); }
+
+  template <typename T, std::size_t N>
+  void operator()(const std::array<T, N>& values) {
+    for (const T& x : values) (*this)(x);
+  }
+
+  void tag(std::string_view four_letters) { out.tag(four_letters); }
+
+  /// A length and the items.
+  template <typename T, typename Fields>
+  void array(const std::vector<T>& values, std::size_t /*min_item_bytes*/, Fields fields) {
+    out.u64(values.size());
+    for (const T& v : values) fields(v);
+  }
+
+  /// The items of an array whose length was written before (arrays of one length).
+  template <typename T>
+  void items(const std::vector<T>& values, std::size_t /*n*/) {
+    for (const T& v : values) (*this)(v);
+  }
+
+  std::size_t length(std::size_t n, std::size_t /*min_item_bytes*/) {
+    out.u64(n);
+    return n;
+  }
+
+  template <typename T, typename Fields>
+  void optional(const std::optional<T>& value, Fields fields) {
+    out.boolean(value.has_value());
+    if (value) fields(*value);
+  }
+};
+
+struct Decode {
+  ByteReader& in;
+
+  void operator()(double& x) { x = in.f64(); }
+
+  void operator()(Vec3& x) { x = in.vec3(); }
+
+  void operator()(bool& x) { x = in.boolean(); }
+
+  void operator()(int& x) { x = static_cast<int>(in.i64()); }
+
+  void operator()(std::int64_t& x) { x = in.i64(); }
+
+  void operator()(std::uint64_t& x) { x = in.u64(); }
+
+  void operator()(std::uint8_t& x) { x = in.u8(); }
+
+  template <typename T, std::size_t N>
+  void operator()(std::array<T, N>& values) {
+    for (T& x : values) (*this)(x);
+  }
+
+  void tag(std::string_view four_letters) { in.tag(four_letters); }
+
+  template <typename T, typename Fields>
+  void array(std::vector<T>& values, std::size_t min_item_bytes, Fields fields) {
+    values.resize(in.count(min_item_bytes));
+    for (T& v : values) fields(v);
+  }
+
+  template <typename T>
+  void items(std::vector<T>& values, std::size_t n) {
+    values.resize(n);
+    for (T& v : values) (*this)(v);
+  }
+
+  std::size_t length(std::size_t /*n*/, std::size_t min_item_bytes) {
+    return in.count(min_item_bytes);
+  }
+
+  template <typename T, typename Fields>
+  void optional(std::optional<T>& value, Fields fields) {
+    value.reset();
+    if (in.boolean()) fields(value.emplace());
+  }
+};
+
+template <typename Io, typename Action>
+void action_fields(Io& io, Action& a) {
+  io(a.normal_force);
+  io(a.tangential_force);
+  io(a.rolling_torque);
+  io(a.twisting_torque);
 }
 
-void write_action(ByteWriter& out, const ContactAction& a) {
-  out.f64(a.normal_force);
-  out.vec3(a.tangential_force);
-  out.vec3(a.rolling_torque);
-  out.f64(a.twisting_torque);
-}
-
-ContactAction read_action(ByteReader& in) {
-  ContactAction a;
-  a.normal_force = in.f64();
-  a.tangential_force = in.vec3();
-  a.rolling_torque = in.vec3();
-  a.twisting_torque = in.f64();
-  return a;
-}
-
-void write_entries(ByteWriter& out, const std::vector<CachedAction>& entries) {
-  write_array(out, entries, [&](const CachedAction& e) {
-    out.u64(e.key);
-    write_action(out, e.action);
-    out.boolean(e.cohesive);
+template <typename Io, typename Entries>
+void entries_fields(Io& io, Entries& entries) {
+  io.array(entries, kCachedActionBytes, [&](auto& e) {
+    io(e.key);
+    action_fields(io, e.action);
+    io(e.cohesive);
   });
 }
 
-std::vector<CachedAction> read_entries(ByteReader& in, std::string_view family) {
-  std::vector<CachedAction> entries(in.count(kCachedActionBytes));
-  for (std::size_t k = 0; k < entries.size(); ++k) {
-    CachedAction& e = entries[k];
-    e.key = in.u64();
-    e.action = read_action(in);
-    e.cohesive = in.boolean();
-    // the warm start's merge join needs ascending keys (action_cache.hpp)
-    if (k > 0 && e.key <= entries[k - 1].key) {
+template <typename Io, typename Stats>
+void solver_stats_fields(Io& io, Stats& s) {
+  io(s.sweeps);
+  io(s.converged);
+  io(s.residual);
+  io(s.contraction);
+  io(s.error_estimate);
+  io(s.relative_change);
+  io(s.force_scale);
+}
+
+template <typename Io, typename Report>
+void step_report_fields(Io& io, Report& r) {
+  io(r.dt);
+  solver_stats_fields(io, r.solver);
+  auto& d = r.diagnostics;
+  io(d.contacts);
+  io(d.closed_contacts);
+  io(d.cohesive_contacts);
+  io(d.mean_overlap);
+  io(d.max_overlap);
+  io(d.kinetic_energy);
+  io(d.max_speed);
+  io(d.rms_speed);
+  io(d.piston_contact_force);
+  io(d.piston_imbalance);
+  io(d.max_net_force);
+  io(d.max_cohesive_opening_speed);
+  io(d.max_cohesive_opening_per_range);
+  io(r.times);
+}
+
+template <typename Io, typename Result>
+void run_result_fields(Io& io, Result& r) {
+  io(r.blocked);
+  io(r.interrupted);
+  io(r.steps);
+  io(r.total_sweeps);
+  io(r.capped_steps);
+  io(r.min_dt);
+  io(r.max_dt);
+  io(r.repeated_steps);
+  io(r.repeated_sweeps);
+  io(r.max_overlap_seen);
+  io(r.max_cohesive_opening_per_range);
+  io(r.wall_seconds);
+  io(r.stage_seconds);
+  step_report_fields(io, r.last);
+  io.optional(r.final_solve, [&](auto& s) { solver_stats_fields(io, s); });
+  io(r.probes);
+  io(r.probe_sweeps);
+  io(r.probe_seconds);
+  io(r.blocked_by_probe);
+  io(r.unbalanced_rest_solves);
+}
+
+/// The RUNS section: the run's result, the blocked-state window, the loop's schedule.
+/// `Loop` is a RunState (writing) or a SavedRun (reading): the same member names.
+template <typename Io, typename Result, typename Flag, typename Memory, typename Loop>
+void run_fields(Io& io, Result& result, Flag& has_detector, Memory& m, Loop& loop) {
+  io.tag("RUNS");
+  run_result_fields(io, result);
+  io(has_detector);
+  if (has_detector) {
+    io(m.clock);
+    io(m.time_held);
+    io(m.steps_held);
+    io.array(m.entries, kWindowEntryBytes, [&](auto& e) {
+      io(e.time);
+      io(e.height);
+      io(e.imbalance);
+    });
+  }
+  io(loop.last_rest_check);
+  io(loop.last_probe);
+  io(loop.deferred_windows);
+  io(loop.probing);
+  io(loop.started);
+  io(loop.start_time);
+  io(loop.dt);
+}
+
+template <typename Io, typename WorldRef>
+void world_fields(Io& io, WorldRef& world) {
+  auto& b = world.bodies;
+  io.tag("WRLD");
+  const std::size_t n = io.length(b.position.size(), kSphereBytes);
+  io.items(b.position, n);
+  io.items(b.velocity, n);
+  io.items(b.angular_velocity, n);
+  io.items(b.radius, n);
+  io.items(b.inverse_mass, n);
+  io.items(b.inverse_inertia, n);
+  io.items(b.external_force, n);
+  io.items(b.external_torque, n);
+  io.items(b.fixed, n);
+  auto& piston = world.walls.piston;
+  io(world.walls.bottom.enabled);
+  io(piston.enabled);
+  io(piston.height);
+  io(piston.velocity);
+  io(piston.mass);
+  io(piston.force);
+  io(world.box.lx);
+  io(world.box.ly);
+  io(world.gravity);
+  io(world.time);
+  io(world.step);
+}
+
+void check_ascending(const ByteReader& in, const std::vector<CachedAction>& entries,
+                     std::string_view family) {
+  // the warm start's merge join needs ascending keys (action_cache.hpp)
+  for (std::size_t k = 1; k < entries.size(); ++k) {
+    if (entries[k].key <= entries[k - 1].key) {
       in.fail(fmt::format("the {} actions are not in ascending key order", family));
     }
   }
-  return entries;
-}
-
-void write_solver_stats(ByteWriter& out, const SolverStats& s) {
-  out.i64(s.sweeps);
-  out.boolean(s.converged);
-  out.f64(s.residual);
-  out.f64(s.contraction);
-  out.f64(s.error_estimate);
-  out.f64(s.relative_change);
-  out.f64(s.force_scale);
-}
-
-SolverStats read_solver_stats(ByteReader& in) {
-  SolverStats s;
-  s.sweeps = static_cast<int>(in.i64());
-  s.converged = in.boolean();
-  s.residual = in.f64();
-  s.contraction = in.f64();
-  s.error_estimate = in.f64();
-  s.relative_change = in.f64();
-  s.force_scale = in.f64();
-  return s;
-}
-
-void write_step_report(ByteWriter& out, const StepReport& r) {
-  out.f64(r.dt);
-  write_solver_stats(out, r.solver);
-  const StepDiagnostics& d = r.diagnostics;
-  out.u64(d.contacts);
-  out.u64(d.closed_contacts);
-  out.u64(d.cohesive_contacts);
-  for (const double x : {d.mean_overlap, d.max_overlap, d.kinetic_energy, d.max_speed, d.rms_speed,
-                         d.piston_contact_force, d.piston_imbalance, d.max_net_force,
-                         d.max_cohesive_opening_speed, d.max_cohesive_opening_per_range}) {
-    out.f64(x);
-  }
-  for (const double t : r.times) out.f64(t);
-}
-
-StepReport read_step_report(ByteReader& in) {
-  StepReport r;
-  r.dt = in.f64();
-  r.solver = read_solver_stats(in);
-  StepDiagnostics& d = r.diagnostics;
-  d.contacts = in.u64();
-  d.closed_contacts = in.u64();
-  d.cohesive_contacts = in.u64();
-  for (double* x : {&d.mean_overlap, &d.max_overlap, &d.kinetic_energy, &d.max_speed, &d.rms_speed,
-                    &d.piston_contact_force, &d.piston_imbalance, &d.max_net_force,
-                    &d.max_cohesive_opening_speed, &d.max_cohesive_opening_per_range}) {
-    *x = in.f64();
-  }
-  for (double& t : r.times) t = in.f64();
-  return r;
-}
-
-void write_run_result(ByteWriter& out, const RunResult& r) {
-  out.boolean(r.blocked);
-  out.boolean(r.interrupted);
-  out.i64(r.steps);
-  out.i64(r.total_sweeps);
-  out.i64(r.capped_steps);
-  out.f64(r.min_dt);
-  out.f64(r.max_dt);
-  out.i64(r.repeated_steps);
-  out.i64(r.repeated_sweeps);
-  out.f64(r.max_overlap_seen);
-  out.f64(r.max_cohesive_opening_per_range);
-  out.f64(r.wall_seconds);
-  for (const double t : r.stage_seconds) out.f64(t);
-  write_step_report(out, r.last);
-  out.boolean(r.final_solve.has_value());
-  if (r.final_solve) write_solver_stats(out, *r.final_solve);
-  out.i64(r.probes);
-  out.i64(r.probe_sweeps);
-  out.f64(r.probe_seconds);
-  out.boolean(r.blocked_by_probe);
-  out.i64(r.unbalanced_rest_solves);
-}
-
-RunResult read_run_result(ByteReader& in) {
-  RunResult r;
-  r.blocked = in.boolean();
-  r.interrupted = in.boolean();
-  r.steps = in.i64();
-  r.total_sweeps = in.i64();
-  r.capped_steps = in.i64();
-  r.min_dt = in.f64();
-  r.max_dt = in.f64();
-  r.repeated_steps = in.i64();
-  r.repeated_sweeps = in.i64();
-  r.max_overlap_seen = in.f64();
-  r.max_cohesive_opening_per_range = in.f64();
-  r.wall_seconds = in.f64();
-  for (double& t : r.stage_seconds) t = in.f64();
-  r.last = read_step_report(in);
-  if (in.boolean()) r.final_solve = read_solver_stats(in);
-  r.probes = static_cast<int>(in.i64());
-  r.probe_sweeps = in.i64();
-  r.probe_seconds = in.f64();
-  r.blocked_by_probe = in.boolean();
-  r.unbalanced_rest_solves = static_cast<int>(in.i64());
-  return r;
 }
 
 std::string rng_text(const Rng& rng) {
@@ -186,88 +279,33 @@ Rng read_rng(ByteReader& in) {
 }  // namespace
 
 void write_world(ByteWriter& out, const World& world) {
-  const Bodies& b = world.bodies;
-  out.tag("WRLD");
-  out.u64(b.size());
-  const auto vecs = [&](const std::vector<Vec3>& values) {
-    for (const Vec3& v : values) out.vec3(v);
-  };
-  const auto doubles = [&](const std::vector<double>& values) {
-    for (const double v : values) out.f64(v);
-  };
-  vecs(b.position);
-  vecs(b.velocity);
-  vecs(b.angular_velocity);
-  doubles(b.radius);
-  doubles(b.inverse_mass);
-  doubles(b.inverse_inertia);
-  vecs(b.external_force);
-  vecs(b.external_torque);
-  for (const std::uint8_t f : b.fixed) out.u8(f);
-  const Piston& piston = world.walls.piston;
-  out.boolean(world.walls.bottom.enabled);
-  out.boolean(piston.enabled);
-  out.f64(piston.height);
-  out.f64(piston.velocity);
-  out.f64(piston.mass);
-  out.f64(piston.force);
-  out.f64(world.box.lx);
-  out.f64(world.box.ly);
-  out.vec3(world.gravity);
-  out.f64(world.time);
-  out.i64(world.step);
+  Encode io{out};
+  world_fields(io, world);
 }
 
 World read_world(ByteReader& in) {
   World world;
-  Bodies& b = world.bodies;
-  in.tag("WRLD");
-  // per sphere: 5 vectors (15 doubles) and 3 scalars, and the fixed flag
-  constexpr std::size_t kSphereBytes = 18 * kDoubleBytes + 1;
-  const std::size_t n = in.count(kSphereBytes);
-  const auto vecs = [&](std::vector<Vec3>& values) {
-    values.resize(n);
-    for (Vec3& v : values) v = in.vec3();
-  };
-  const auto doubles = [&](std::vector<double>& values) {
-    values.resize(n);
-    for (double& v : values) v = in.f64();
-  };
-  vecs(b.position);
-  vecs(b.velocity);
-  vecs(b.angular_velocity);
-  doubles(b.radius);
-  doubles(b.inverse_mass);
-  doubles(b.inverse_inertia);
-  vecs(b.external_force);
-  vecs(b.external_torque);
-  b.fixed.resize(n);
-  for (std::uint8_t& f : b.fixed) f = in.u8();
-  Piston& piston = world.walls.piston;
-  world.walls.bottom.enabled = in.boolean();
-  piston.enabled = in.boolean();
-  piston.height = in.f64();
-  piston.velocity = in.f64();
-  piston.mass = in.f64();
-  piston.force = in.f64();
-  world.box.lx = in.f64();
-  world.box.ly = in.f64();
-  world.gravity = in.vec3();
-  world.time = in.f64();
-  world.step = in.i64();
+  Decode io{in};
+  world_fields(io, world);
   return world;
 }
 
 void write_actions(ByteWriter& out, const ActionCache& actions) {
-  out.tag("ACTS");
-  write_entries(out, actions.pair_entries());
-  write_entries(out, actions.wall_entries());
+  Encode io{out};
+  io.tag("ACTS");
+  entries_fields(io, actions.pair_entries());
+  entries_fields(io, actions.wall_entries());
 }
 
 ActionCache read_actions(ByteReader& in) {
-  in.tag("ACTS");
-  std::vector<CachedAction> pairs = read_entries(in, "sphere pair");
-  std::vector<CachedAction> walls = read_entries(in, "wall");
+  Decode io{in};
+  io.tag("ACTS");
+  std::vector<CachedAction> pairs;
+  std::vector<CachedAction> walls;
+  entries_fields(io, pairs);
+  check_ascending(in, pairs, "sphere pair");
+  entries_fields(io, walls);
+  check_ascending(in, walls, "wall");
   ActionCache cache;
   cache.restore(std::move(pairs), std::move(walls));
   return cache;
@@ -287,27 +325,11 @@ std::string encode_state(std::string_view scene_toml, const World& world, const 
   write_actions(out, work.action_cache);
   out.tag("RNGS");
   out.string(rng_text(work.solver.rng));
-  out.tag("RUNS");
-  write_run_result(out, run.result);
-  out.boolean(run.detector.has_value());
-  if (run.detector) {
-    const BlockedStateDetector::Memory memory = run.detector->memory();
-    out.f64(memory.clock);
-    out.f64(memory.time_held);
-    out.i64(memory.steps_held);
-    write_array(out, memory.entries, [&](const BlockedStateDetector::Entry& e) {
-      out.f64(e.time);
-      out.f64(e.height);
-      out.f64(e.imbalance);
-    });
-  }
-  out.f64(run.last_rest_check);
-  out.f64(run.last_probe);
-  out.i64(run.deferred_windows);
-  out.boolean(run.probing);
-  out.boolean(run.started);
-  out.f64(run.start_time);
-  out.f64(run.dt);
+  Encode io{out};
+  const bool has_detector = run.detector.has_value();
+  const BlockedStateDetector::Memory memory =
+      has_detector ? run.detector->memory() : BlockedStateDetector::Memory{};
+  run_fields(io, run.result, has_detector, memory, run);
   out.tag("SUM ");
   std::string bytes = out.bytes();
   ByteWriter checksum;
@@ -344,28 +366,11 @@ SavedRun decode_state(std::string_view bytes, const std::string& source) {
   saved.actions = read_actions(in);
   in.tag("RNGS");
   saved.sweep_order = read_rng(in);
-  in.tag("RUNS");
-  saved.result = read_run_result(in);
-  if (in.boolean()) {
-    BlockedStateDetector::Memory memory;
-    memory.clock = in.f64();
-    memory.time_held = in.f64();
-    memory.steps_held = in.i64();
-    memory.entries.resize(in.count(3 * kDoubleBytes));
-    for (BlockedStateDetector::Entry& e : memory.entries) {
-      e.time = in.f64();
-      e.height = in.f64();
-      e.imbalance = in.f64();
-    }
-    saved.detector = std::move(memory);
-  }
-  saved.last_rest_check = in.f64();
-  saved.last_probe = in.f64();
-  saved.deferred_windows = static_cast<int>(in.i64());
-  saved.probing = in.boolean();
-  saved.started = in.boolean();
-  saved.start_time = in.f64();
-  saved.dt = in.f64();
+  Decode io{in};
+  bool has_detector = false;
+  BlockedStateDetector::Memory memory;
+  run_fields(io, saved.result, has_detector, memory, saved);
+  if (has_detector) saved.detector = std::move(memory);
   in.tag("SUM ");
   in.u64();
   if (!in.at_end()) in.fail("unexpected bytes after the checksum");
