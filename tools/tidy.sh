@@ -15,5 +15,6 @@ if [ ! -f "$build/compile_commands.json" ]; then
   exit 2
 fi
 # anchored at the source tree, so the sources CMake generates inside the build are left out
-pattern="^$PWD/($(IFS='|'; echo "${folders[*]}"))/"
+# (a folder or a single file: "src", "src/cdpowder/io/state_file.cpp")
+pattern="^$PWD/($(IFS='|'; echo "${folders[*]}"))(/|\$)"
 run-clang-tidy -quiet -j 2 -p "$build" "$pattern"

@@ -15,6 +15,7 @@
 #include "cdpowder/solver/sweep_sums.hpp"
 #include "cdpowder/solver/velocity_cache.hpp"
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -25,14 +26,15 @@ inline constexpr int kBatchLanes = 4;
 /// kBatchLanes pair contacts of one colour, the frozen data of PairProblem lane by lane.
 /// Unused lanes (the last batch of a colour) hold zeros and touch no sphere.
 struct alignas(64) PairBatch {
-  double nx[kBatchLanes], ny[kBatchLanes], nz[kBatchLanes];
-  double gap_rate[kBatchLanes], lever_a[kBatchLanes], lever_b[kBatchLanes];
-  double inv_dt_w_n[kBatchLanes], inv_dt_w_t[kBatchLanes], inv_dt_w_r[kBatchLanes];
-  double cohesion[kBatchLanes], mu[kBatchLanes], roll_cap[kBatchLanes], twist_cap[kBatchLanes];
-  double coupling[kBatchLanes];  ///< Δt c of pair_mode_block
-  double inv_r_sq[kBatchLanes];  ///< 1/r_eff²
-  ContactIndex pair[kBatchLanes];
-  BodyIndex a[kBatchLanes], b[kBatchLanes];
+  using Lanes = std::array<double, kBatchLanes>;
+  Lanes nx{}, ny{}, nz{};
+  Lanes gap_rate{}, lever_a{}, lever_b{};
+  Lanes inv_dt_w_n{}, inv_dt_w_t{}, inv_dt_w_r{};
+  Lanes cohesion{}, mu{}, roll_cap{}, twist_cap{};
+  Lanes coupling{};  ///< Δt c of pair_mode_block
+  Lanes inv_r_sq{};  ///< 1/r_eff²
+  std::array<ContactIndex, kBatchLanes> pair{};
+  std::array<BodyIndex, kBatchLanes> a{}, b{};
   std::uint32_t lanes = 0;  ///< lanes in use, 1..kBatchLanes
 };
 
