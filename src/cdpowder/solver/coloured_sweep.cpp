@@ -80,23 +80,6 @@ bool avx2_allowed = [] {
   return isa == nullptr || std::string_view(isa) != "sse2";
 }();
 
-void visit_sequential(ContactIndex k, Contacts& contacts, VelocityCache& velocities,
-                      SweepSums& sums) {
-  const auto n_pairs = static_cast<ContactIndex>(contacts.pairs.size());
-  std::vector<SphereVelocity>& spheres = velocities.spheres;
-  if (k < n_pairs) {
-    const PairProblem& p = contacts.pairs[k];
-    ContactAction& action = contacts.pair_actions[k];
-    const VisitChange change = solve_pair(p, action, spheres[p.a], spheres[p.b]);
-    add_visit(sums, change, action.normal_force, p.cohesion);
-  } else {
-    const WallProblem& w = contacts.walls[k - n_pairs];
-    ContactAction& action = contacts.wall_actions[k - n_pairs];
-    const VisitChange change = solve_wall(w, action, spheres[w.sphere], velocities.piston_velocity);
-    add_visit(sums, change, action.normal_force, w.cohesion);
-  }
-}
-
 }  // namespace
 
 void build_batches(const Contacts& contacts, const VelocityCache& velocities,
@@ -244,7 +227,7 @@ SweepSums run_coloured_sweep(Contacts& contacts, VelocityCache& velocities,
 #endif
   for (const std::uint32_t group : sweep.group_order) {
     if (group == colours) {
-      for (const ContactIndex k : sweep.sequential) visit_sequential(k, contacts, velocities, sums);
+      for (const ContactIndex k : sweep.sequential) visit_contact(k, contacts, velocities, sums);
       continue;
     }
     solve(sweep.batches.data(), sweep.colour_batches[group], sweep.colour_batches[group + 1],

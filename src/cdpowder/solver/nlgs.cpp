@@ -148,22 +148,6 @@ double sum_action_size_sq(const Contacts& contacts) {
 
 namespace {
 
-void visit(ContactIndex k, Contacts& contacts, VelocityCache& velocities, SweepSums& sums) {
-  const auto n_pairs = static_cast<ContactIndex>(contacts.pairs.size());
-  std::vector<SphereVelocity>& spheres = velocities.spheres;
-  if (k < n_pairs) {
-    const PairProblem& p = contacts.pairs[k];
-    ContactAction& action = contacts.pair_actions[k];
-    const VisitChange change = solve_pair(p, action, spheres[p.a], spheres[p.b]);
-    add_visit(sums, change, action.normal_force, p.cohesion);
-  } else {
-    const WallProblem& w = contacts.walls[k - n_pairs];
-    ContactAction& action = contacts.wall_actions[k - n_pairs];
-    const VisitChange change = solve_wall(w, action, spheres[w.sphere], velocities.piston_velocity);
-    add_visit(sums, change, action.normal_force, w.cohesion);
-  }
-}
-
 bool share_a_sphere(const PairProblem& p, const PairProblem& q) {
   return p.a == q.a || p.a == q.b || p.b == q.a || p.b == q.b;
 }
@@ -198,7 +182,7 @@ SweepSums run_sweep(Contacts& contacts, VelocityCache& velocities) {
       i += 2;
       continue;
     }
-    visit(order[i], contacts, velocities, sums);
+    visit_contact(order[i], contacts, velocities, sums);
     ++i;
   }
   return sums;

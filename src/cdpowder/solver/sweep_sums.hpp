@@ -1,5 +1,5 @@
 // sweep_sums.hpp — what a sweep reports to the stopping rules, shared by the scalar sweep
-// (nlgs.cpp) and the coloured one (coloured_sweep.cpp).
+// (nlgs.cpp) and the coloured one (coloured_sweep.cpp), and the scalar visit both use.
 #pragma once
 
 #include "cdpowder/contact/local_solve.hpp"
@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <vector>
 
 namespace cdpowder {
 
@@ -26,6 +27,25 @@ inline void add_visit(SweepSums& sums, const VisitChange& change, double normal_
   if (normal_force + cohesion > 0.0) {
     sums.sum_closed_normal += std::abs(normal_force);
     ++sums.closed;
+  }
+}
+
+/// One visit of contact k of the combined index range (pairs first, then walls) with the
+/// scalar kernels, added to the sums.
+inline void visit_contact(ContactIndex k, Contacts& contacts, VelocityCache& velocities,
+                          SweepSums& sums) {
+  const auto n_pairs = static_cast<ContactIndex>(contacts.pairs.size());
+  std::vector<SphereVelocity>& spheres = velocities.spheres;
+  if (k < n_pairs) {
+    const PairProblem& p = contacts.pairs[k];
+    ContactAction& action = contacts.pair_actions[k];
+    const VisitChange change = solve_pair(p, action, spheres[p.a], spheres[p.b]);
+    add_visit(sums, change, action.normal_force, p.cohesion);
+  } else {
+    const WallProblem& w = contacts.walls[k - n_pairs];
+    ContactAction& action = contacts.wall_actions[k - n_pairs];
+    const VisitChange change = solve_wall(w, action, spheres[w.sphere], velocities.piston_velocity);
+    add_visit(sums, change, action.normal_force, w.cohesion);
   }
 }
 
