@@ -28,6 +28,13 @@ World moving_packing(double speed) {
   return world;
 }
 
+/// Free flight for one step: r += Δt v.
+void drift(World& world, double dt) {
+  for (std::size_t i = 0; i < world.bodies.size(); ++i) {
+    world.bodies.position[i] += dt * world.bodies.velocity[i];
+  }
+}
+
 void expect_same_pairs(const Contacts& reused, const Contacts& fresh, const std::string& where) {
   ASSERT_EQ(reused.pairs.size(), fresh.pairs.size()) << where;
   for (std::size_t k = 0; k < fresh.pairs.size(); ++k) {
@@ -59,9 +66,7 @@ TEST(CandidateList, AReusedListGivesEveryStepTheContactsOfAFreshSearch) {
     detect_contacts(world, settings, fresh_grid, fresh);  // a list of its own, built now
     expect_same_pairs(reused, fresh, "step " + std::to_string(step));
     ASSERT_FALSE(HasFatalFailure());
-    for (std::size_t i = 0; i < world.bodies.size(); ++i) {
-      world.bodies.position[i] += settings.solver.dt * world.bodies.velocity[i];
-    }
+    drift(world, settings.solver.dt);
   }
   // up to 2·√3/2 R/t0 × 0.01 t0 ≈ 0.017 R a step and a slack of 0.05 R: a rebuild every few
   // steps, far fewer than 300
@@ -79,9 +84,7 @@ TEST(CandidateList, MarginZeroRebuildsWheneverASphereMoved) {
   Contacts contacts;
   for (int step = 0; step < 10; ++step) {
     detect_contacts(world, settings, grid, contacts, &list);
-    for (std::size_t i = 0; i < world.bodies.size(); ++i) {
-      world.bodies.position[i] += settings.solver.dt * world.bodies.velocity[i];
-    }
+    drift(world, settings.solver.dt);
   }
   EXPECT_EQ(list.builds(), 10);
 }

@@ -26,7 +26,8 @@ struct ContactLaw {
 /// Which pairs are cohesion-active in a step (physics.md §6.2).
 enum class CohesionRule {
   Graph,    ///< active iff the start-of-step gap g ≤ d_coh
-  History,  ///< active iff g ≤ 0, or active in the previous step and g ≤ d_coh
+  History,  ///< active iff g ≤ 1e-6 R (touching, solver/build.cpp), or active in the previous step
+            ///< and g ≤ d_coh
 };
 
 /// All laws of a scene.
