@@ -79,6 +79,8 @@ Scene read_values(TableReader& in, const std::filesystem::path& base_dir,
   solver.max_error_amplification =
       in.number("solver.max_error_amplification", solver.max_error_amplification,
                 detail::Range{detail::Range::Kind::AtLeast, 1.0});
+  solver.kinematic_tolerance =
+      in.number("solver.kinematic_tolerance", solver.kinematic_tolerance, kNonNegative);
   solver.min_sweeps =
       static_cast<int>(in.integer("solver.min_sweeps", solver.min_sweeps, 1, kIntMax));
   solver.max_sweeps =

@@ -114,6 +114,7 @@ std::string write_effective_toml(const Scene& s) {
                              {"dt_growth", solver.time_step.growth},
                              {"tolerance", solver.tolerance},
                              {"max_error_amplification", solver.max_error_amplification},
+                             {"kinematic_tolerance", solver.kinematic_tolerance},
                              {"min_sweeps", solver.min_sweeps},
                              {"max_sweeps", solver.max_sweeps},
                              {"stopping_rule", name_of(solver.stopping_rule, kStoppingRuleNames)},

@@ -21,6 +21,25 @@ constexpr int kContractionWindow = 8;
 /// ρ is capped here, so the error estimate is at most 1000 × the residual.
 constexpr double kMaxContraction = 0.999;
 
+/// The last kContractionWindow + 1 values of a per-sweep measure (residual, kinematic
+/// change) and the contraction ρ per sweep they show.
+class ContractionWindow {
+ public:
+  /// Adds the measure of sweep `sweep` (1, 2, …) and returns ρ = (x_k / x_{k−w})^{1/w} over
+  /// the last w = min(kContractionWindow, k − 1) sweeps, clamped to [0, kMaxContraction].
+  double add(int sweep, double value) {
+    recent_[static_cast<std::size_t>(sweep) % recent_.size()] = value;
+    const int window = std::min(kContractionWindow, sweep - 1);
+    if (window == 0) return kMaxContraction;
+    const double earlier = recent_[static_cast<std::size_t>(sweep - window) % recent_.size()];
+    const double rho = earlier > 0.0 ? std::pow(value / earlier, 1.0 / window) : 0.0;
+    return std::clamp(rho, 0.0, kMaxContraction);
+  }
+
+ private:
+  std::array<double, kContractionWindow + 1> recent_{};
+};
+
 /// A sweep whose residual exceeds the best of the step by this factor discards the
 /// acceleration history: the active set changed and the old differences mislead.
 constexpr double kRestartGrowth = 10.0;
@@ -242,8 +261,10 @@ SolverStats sweep_until_done(Contacts& contacts, VelocityCache& velocities,
     stats.converged = true;
     return stats;
   }
-  // residuals of the last kContractionWindow + 1 sweeps, for the contraction estimate
-  std::array<double, kContractionWindow + 1> recent{};
+  ContractionWindow forces;
+  ContractionWindow spheres_moved;
+  ContractionWindow piston_moved;
+  const bool kinematic_rule = settings.kinematic_tolerance > 0.0;
   for (int sweep = 1; sweep <= settings.max_sweeps; ++sweep) {
     // a fresh order every sweep, so corrections spread without a preferred direction (§7.1)
     if (settings.visit_order == VisitOrder::RandomEachSweep) {
@@ -253,6 +274,7 @@ SolverStats sweep_until_done(Contacts& contacts, VelocityCache& velocities,
         shuffle_indices(std::span<ContactIndex>(order), work.rng);
       }
     }
+    if (kinematic_rule) work.kinematic.before_sweep(velocities, sweep == 1);
     const SweepSums sums = coloured ? run_coloured_sweep(contacts, velocities, work.coloured)
                                     : run_sweep(contacts, velocities);
     const double mean_closed =
@@ -264,26 +286,34 @@ SolverStats sweep_until_done(Contacts& contacts, VelocityCache& velocities,
       const double size_sq = sum_action_size_sq(contacts);
       stats.relative_change = size_sq > 0.0 ? std::sqrt(sums.sum_change_sq / size_sq) : 0.0;
     }
-    recent[static_cast<std::size_t>(sweep) % recent.size()] = stats.residual;
-
-    // ρ from the residuals kContractionWindow sweeps apart (fewer in the first sweeps)
-    const int window = std::min(kContractionWindow, sweep - 1);
-    double rho = kMaxContraction;
-    if (window > 0) {
-      const double earlier = recent[static_cast<std::size_t>(sweep - window) % recent.size()];
-      rho = earlier > 0.0 ? std::pow(stats.residual / earlier, 1.0 / window) : 0.0;
-      rho = std::clamp(rho, 0.0, kMaxContraction);
-    }
-    stats.contraction = rho;
+    stats.contraction = forces.add(sweep, stats.residual);
     // min() of the two forms: residual/(1 − ρ) ≤ 999.99… × residual when ρ ≤ 0.999, so the
     // default bound of 1000 returns the first form to the last bit
-    stats.error_estimate =
-        std::min(stats.residual / (1.0 - rho), stats.residual * settings.max_error_amplification);
+    stats.error_estimate = std::min(stats.residual / (1.0 - stats.contraction),
+                                    stats.residual * settings.max_error_amplification);
+    if (kinematic_rule) {
+      const auto estimate = [&](ContractionWindow& window, double change) {
+        const double rho = window.add(sweep, change);
+        return std::min(change / (1.0 - rho), change * settings.max_error_amplification);
+      };
+      const SweepMotion motion = work.kinematic.after_sweep(velocities);
+      // relative to the motion: a packing at rest never stops on this rule (its noise would
+      // let it creep), a flowing front stops once its velocities are settled to κ
+      stats.kinematic_error = estimate(spheres_moved, motion.largest_change) /
+                              std::max(motion.rms_surface_speed, 1e-300);
+      stats.piston_speed_error = estimate(piston_moved, motion.piston_change) /
+                                 std::max(std::abs(velocities.piston_velocity), 1e-300);
+    }
 
-    const bool done =
-        sweep >= settings.min_sweeps && (settings.stopping_rule == StoppingRule::Residual
-                                             ? stats.error_estimate <= settings.tolerance
-                                             : stats.relative_change <= settings.tolerance);
+    const bool forces_done = settings.stopping_rule == StoppingRule::Residual
+                                 ? stats.error_estimate <= settings.tolerance
+                                 : stats.relative_change <= settings.tolerance;
+    // the kinematic estimates need a full window of sweeps: ρ over two sweeps at the start of
+    // a step is optimistic
+    const bool kinematics_done = kinematic_rule && sweep > kContractionWindow &&
+                                 stats.kinematic_error <= settings.kinematic_tolerance &&
+                                 stats.piston_speed_error <= settings.kinematic_tolerance;
+    const bool done = sweep >= settings.min_sweeps && (forces_done || kinematics_done);
     if (done) {
       stats.converged = true;
       break;

@@ -6,6 +6,7 @@
 #include "cdpowder/core/rng.hpp"
 #include "cdpowder/solver/anderson.hpp"
 #include "cdpowder/solver/coloured_sweep.hpp"
+#include "cdpowder/solver/kinematic_change.hpp"
 #include "cdpowder/solver/settings.hpp"
 #include "cdpowder/solver/sweep_sums.hpp"
 #include "cdpowder/solver/velocity_cache.hpp"
@@ -21,7 +22,11 @@ struct SolverStats {
   double error_estimate = 0.0;  ///< residual/(1 − ρ): remaining relative force error
   double relative_change =
       0.0;  ///< √(Σ|ΔX|²/Σ|X|²) of the last sweep ([S+12] criterion II, RMS form)
-  double force_scale = 0.0;  ///< F_ref = max(F_coh, mean |R_n| of closed contacts) [F_coh]
+  /// the kinematic rule's estimate of the largest error of a sphere's surface velocity over
+  /// the RMS surface speed; 0 unless the rule is on (SolverSettings::kinematic_tolerance) [-]
+  double kinematic_error = 0.0;
+  double piston_speed_error = 0.0;  ///< the same for the piston, over its speed [-]
+  double force_scale = 0.0;         ///< F_ref = max(F_coh, mean |R_n| of closed contacts) [F_coh]
 };
 
 /// Scratch state of the solver reused across steps: the sweep-order stream and the
@@ -35,6 +40,7 @@ struct NlgsWorkspace {
   std::vector<double> swept;  ///< actions after the sweep
   std::vector<double> mixed;  ///< accelerated actions
   std::vector<ContactIndex> blocks;  ///< block permutation of the per-step order
+  KinematicChange kinematic;         ///< the kinematic rule's velocity snapshot
   ColouredSweep coloured;            ///< colours and batches of solver.kernel = "coloured"
 };
 

@@ -76,6 +76,14 @@ struct SolverSettings {
   /// estimate. ρ is capped at 0.999, so the default 1000 leaves the rule as it was; a smaller
   /// bound stops slowly contracting steps (ρ → 1 at the compaction front) sooner [-].
   double max_error_amplification = 1000.0;
+  /// κ of the kinematic rule, a second way to finish a step (physics.md §7.3): the step also
+  /// stops when the largest change of a sphere's surface velocity over the last sweep,
+  /// / (1 − ρ) with ρ its contraction per sweep, is at most κ × the RMS surface speed of the
+  /// spheres, and the same holds for the piston against its own speed. Forces of a rigid
+  /// packing are not unique (§12.4): at the compaction front the force residual stalls while
+  /// the velocities no longer move, and the velocities are what a step passes on. Relative,
+  /// so a packing at rest is left to the residual rule. 0 = off [-]
+  double kinematic_tolerance = 0.0;
   int min_sweeps = 3;     ///< never stop before this many sweeps
   int max_sweeps = 2000;  ///< N_max; a capped step is flagged in its report
   StoppingRule stopping_rule = StoppingRule::Residual;
