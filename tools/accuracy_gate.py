@@ -217,7 +217,12 @@ def parse_arguments(argv):
     parser = argparse.ArgumentParser(
         prog="tools/accuracy_gate.py",
         description="Paired multi-seed accuracy gate: base against candidate, seed by seed.")
-    parser.add_argument("--base", required=True, help="the program before the change")
+    parser.add_argument("--base", help="the program before the change")
+    parser.add_argument("--base-runs", metavar="SWEEP_DIR",
+                        help="instead of --base: the finished runs of an earlier `cdpowder sweep` "
+                             "(SWEEP_DIR/runs/<point>/seed_<s>/summary.json, e.g. results/table1), "
+                             "made with the sweep's default seed keys (deposition.seed = "
+                             "solver.seed = s)")
     parser.add_argument("--candidate", required=True, help="the program with the change")
     parser.add_argument("--scene", required=True, help="the scene, e.g. examples/quick/scene.toml")
     parser.add_argument("--seeds", required=True, help="seeds: 1-10, 1,3,5 (at least 2)")
@@ -249,6 +254,14 @@ def parse_arguments(argv):
     points = [parse_point(p) for p in args.points]
     if len(set(points)) != len(points):
         raise BadArgument(f"--points: {' '.join(args.points)} names a point twice")
+    if (args.base is None) == (args.base_runs is None):
+        raise BadArgument("give exactly one of --base PROGRAM and --base-runs SWEEP_DIR")
+    base_runs = None
+    if args.base_runs is not None:
+        base_runs = pathlib.Path(args.base_runs).resolve()
+        if not (base_runs / "runs").is_dir():
+            raise BadArgument(f"--base-runs: '{args.base_runs}' has no runs/ folder; allowed: "
+                              "the --out of a `cdpowder sweep`, e.g. results/table1")
     reuse = []
     for r in args.reuse:
         if not pathlib.Path(r).is_dir():
@@ -256,8 +269,9 @@ def parse_arguments(argv):
                               "earlier gate")
         reuse.append(pathlib.Path(r).resolve())
     return argparse.Namespace(
-        binaries={"base": executable(args.base, "--base"),
+        binaries={"base": None if base_runs else executable(args.base, "--base"),
                   "candidate": executable(args.candidate, "--candidate")},
+        base_runs=base_runs,
         scene=scene.resolve(), seeds=parse_seeds(args.seeds), points=points,
         out=pathlib.Path(args.out).resolve(), jobs=jobs, reuse=reuse,
         common=[parse_set(s, "--set") for s in args.common],
@@ -680,15 +694,49 @@ def version_of(binary):
         return f"unknown ({e})"
 
 
+def sweep_run_folder(sweep_dir, point, seed):
+    """The folder of point (μt, μn) and seed in a sweep's runs/, whatever the number format of
+    its name (contact.mu_roll=0.3,contact.mu_twist=0.0); None when the sweep has no such run."""
+    for folder in sorted((sweep_dir / "runs").iterdir()):
+        values = dict(part.split("=", 1) for part in folder.name.split(",") if "=" in part)
+        try:
+            found = (float(values.get("contact.mu_roll", "nan")),
+                     float(values.get("contact.mu_twist", "nan")))
+        except ValueError:
+            continue
+        if len(values) == 2 and found == tuple(point):
+            run = folder / f"seed_{seed}"
+            return run if run.is_dir() else None
+    return None
+
+
+def swept_run(sweep_dir, point, seed):
+    """(folder, summary) of a finished run of an earlier sweep, or (place, None)."""
+    folder = sweep_run_folder(sweep_dir, point, seed)
+    if folder is None:
+        return sweep_dir / "runs" / f"{point_label(point)}" / f"seed_{seed}", None
+    summary = read_json(folder / "summary.json")
+    if summary is None or summary.get("run", {}).get("interrupted", True):
+        return folder, None
+    return folder, summary
+
+
 def plan(args):
     """Every run: side, point, seed, its folder, identity and (if finished) summary."""
-    hashes = {side: sha256(b) for side, b in args.binaries.items()}
+    hashes = {side: (sha256(b) if b is not None else None) for side, b in args.binaries.items()}
     scene_hash = sha256(args.scene)
     runs = []
     for s in args.seeds:
         for point in args.points:
             for side in SIDES:
                 label = point_label(point)
+                if side == "base" and args.base_runs is not None:
+                    folder, summary = swept_run(args.base_runs, point, s)
+                    runs.append({"side": side, "point": point, "label": label, "seed": s,
+                                 "folder": folder, "source": folder, "binary": None,
+                                 "scene": None, "identity": None, "summary": summary,
+                                 "swept": True})
+                    continue
                 identity = {"binary_sha256": hashes[side], "scene_sha256": scene_hash,
                             "overrides": overrides_for(point, s, args.common,
                                                        args.side_sets[side])}
@@ -717,6 +765,12 @@ def main(argv=None):
         return 2
     args.out.mkdir(parents=True, exist_ok=True)
     runs, hashes = plan(args)
+    missing = [r for r in runs if r.get("swept") and r["summary"] is None]
+    if missing:
+        names = ", ".join(f"{r['folder']}" for r in missing[:5])
+        print(f"error: --base-runs: {len(missing)} base runs missing or unfinished: {names}",
+              file=sys.stderr)
+        return 2
     pending = [r for r in runs if r["summary"] is None]
     print(f"accuracy gate: {len(runs)} runs, {len(runs) - len(pending)} finished before, "
           f"{len(pending)} to run, {args.jobs} at a time", file=sys.stderr, flush=True)
@@ -745,8 +799,12 @@ def main(argv=None):
     verdict = "PASS" if all(r["verdict"].startswith("PASS") for r in results) else "FAIL"
 
     command = shlex.join([sys.argv[0]] + (sys.argv[1:] if argv is None else list(argv)))
-    programs = {side: {"binary": str(args.binaries[side]), "sha256": hashes[side],
-                       "version": version_of(args.binaries[side])} for side in SIDES}
+    programs = {side: ({"binary": str(args.binaries[side]), "sha256": hashes[side],
+                        "version": version_of(args.binaries[side])}
+                       if args.binaries[side] is not None else
+                       {"binary": f"runs of {args.base_runs}", "sha256": "-",
+                        "version": "as each run's summary.json records"})
+                for side in SIDES}
     gate = {
         "verdict": verdict,
         "command": command,

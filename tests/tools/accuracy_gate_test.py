@@ -392,6 +392,49 @@ class Command(unittest.TestCase):
         self.assertEqual(r.returncode, 0, r.stderr)
         self.assertEqual(self.ncalls(), 25)
 
+    def test_base_runs_of_an_earlier_sweep(self):
+        # a sweep's layout: runs/<point, numbers as the sweep file wrote them>/seed_<s>/
+        sweep = self.dir / "sweep"
+        # the fake candidate's numbers at (0, 0); 0.01 above them at (1, 0)
+        for point, shift in (("contact.mu_roll=0.0,contact.mu_twist=0.0", 0.0),
+                             ("contact.mu_roll=1.0,contact.mu_twist=0.0", 0.11)):
+            for seed in (1, 2, 3):
+                run = sweep / "runs" / point / f"seed_{seed}"
+                run.mkdir(parents=True)
+                (run / "summary.json").write_text(json.dumps(summary(
+                    porosity=0.7 + 0.01 * seed + shift, sigma_plus=2.0, sigma_minus=-1.0)))
+        out = self.dir / "gate"
+        r = subprocess.run(
+            [sys.executable, str(TOOL), "--base-runs", str(sweep), "--candidate", str(self.fake),
+             "--scene", str(self.scene), "--seeds", "1-3", "--points", "0,0", "1,0",
+             "--out", str(out), "--jobs", "2"],
+            capture_output=True, text=True, env={**os.environ, "FAKE_CALLS": str(self.calls)})
+        self.assertEqual(self.ncalls(), 6)                     # the candidate side only
+        g = json.loads((out / "gate.json").read_text())
+        base = [run["folder"] for run in g["runs"] if run["side"] == "base"]
+        self.assertIn(str(sweep / "runs" / "contact.mu_roll=1.0,contact.mu_twist=0.0" / "seed_2"),
+                      base)
+        self.assertEqual(g["programs"]["base"]["binary"], f"runs of {sweep}")
+        self.assertEqual([p["verdict"].split()[0] for p in g["points"]], ["PASS", "FAIL"], r.stdout)
+        # a seed the sweep lacks is named, and nothing runs
+        r = subprocess.run(
+            [sys.executable, str(TOOL), "--base-runs", str(sweep), "--candidate", str(self.fake),
+             "--scene", str(self.scene), "--seeds", "1-4", "--points", "0,0",
+             "--out", str(out), "--jobs", "2"],
+            capture_output=True, text=True, env={**os.environ, "FAKE_CALLS": str(self.calls)})
+        self.assertEqual(r.returncode, 2)
+        self.assertIn("1 base runs missing or unfinished", r.stderr)
+        self.assertIn("seed_4", r.stderr)
+        self.assertEqual(self.ncalls(), 6)
+
+    def test_base_and_base_runs_exclude_each_other(self):
+        r = subprocess.run(
+            [sys.executable, str(TOOL), "--base", str(self.fake), "--base-runs", str(self.dir),
+             "--candidate", str(self.fake), "--scene", str(self.scene), "--seeds", "1-3",
+             "--points", "0,0", "--out", str(self.dir / "g")], capture_output=True, text=True)
+        self.assertEqual(r.returncode, 2)
+        self.assertIn("exactly one of --base PROGRAM and --base-runs SWEEP_DIR", r.stderr)
+
     def test_shifted_candidate_fails(self):
         r = self.gate(self.dir / "gate", "--candidate-set", "test.shift=0.01")
         self.assertEqual(r.returncode, 1, r.stderr)
