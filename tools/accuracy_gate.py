@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """The paired multi-seed accuracy gate: does a candidate build (or setting) give the base's results?
 
-    tools/accuracy_gate.py --base BIN_A --candidate BIN_B --scene SCENE.toml --seeds 1-10
+    tools/accuracy_gate.py (--base BIN_A | --base-runs SWEEP_DIR)
+        (--candidate BIN_B | --candidate-runs SWEEP_DIR) [--scene SCENE.toml] --seeds 1-10
         --points 0,0 1,1 --out DIR [--jobs N] [--set key=value ...]
         [--base-set key=value ...] [--candidate-set key=value ...] [--reuse OTHER_DIR ...]
 
@@ -45,6 +46,12 @@ the gate needs at least two seeds.
 A run is reused (the gate resumes) when DIR/<side>/<point>/seed<s> (or the same place in a
 --reuse folder) holds a summary.json of a finished run (not interrupted) and a gate_run.json
 naming the same binary (SHA-256), the same scene file (SHA-256) and the same overrides.
+
+Either side may instead be the finished runs of a `cdpowder sweep` (--base-runs DIR,
+--candidate-runs DIR: DIR/runs/<point>/seed_<s>/summary.json, made with the sweep's default
+seed keys, deposition.seed = solver.seed = s): the paper-scale gate against the committed
+runs of results/table1, or a rerun of a whole table against the committed one. Such a side
+never runs; a missing or unfinished run is named and nothing runs (exit status 2).
 
 Writes DIR/gate.json (every run's numbers, the per-point statistics and checks) and
 DIR/gate.md, and prints the table. Exit status 0 when every point passes (inherited
@@ -223,8 +230,11 @@ def parse_arguments(argv):
                              "(SWEEP_DIR/runs/<point>/seed_<s>/summary.json, e.g. results/table1), "
                              "made with the sweep's default seed keys (deposition.seed = "
                              "solver.seed = s)")
-    parser.add_argument("--candidate", required=True, help="the program with the change")
-    parser.add_argument("--scene", required=True, help="the scene, e.g. examples/quick/scene.toml")
+    parser.add_argument("--candidate", help="the program with the change")
+    parser.add_argument("--candidate-runs", metavar="SWEEP_DIR",
+                        help="instead of --candidate: the finished runs of a sweep (as --base-runs)")
+    parser.add_argument("--scene", help="the scene, e.g. examples/quick/scene.toml (needed when "
+                                        "a side runs)")
     parser.add_argument("--seeds", required=True, help="seeds: 1-10, 1,3,5 (at least 2)")
     parser.add_argument("--points", required=True, nargs="+", metavar="MUT,MUN",
                         help="points μt,μn, e.g. 0,0 1,1")
@@ -247,21 +257,27 @@ def parse_arguments(argv):
         jobs = 0
     if jobs < 1:
         raise BadArgument(f"--jobs: got '{args.jobs}', expected an integer ≥ 1")
-    scene = pathlib.Path(args.scene)
-    if not scene.is_file():
-        raise BadArgument(f"--scene: '{args.scene}' is not a file; allowed: a scene (TOML), "
-                          "e.g. examples/quick/scene.toml")
     points = [parse_point(p) for p in args.points]
     if len(set(points)) != len(points):
         raise BadArgument(f"--points: {' '.join(args.points)} names a point twice")
-    if (args.base is None) == (args.base_runs is None):
-        raise BadArgument("give exactly one of --base PROGRAM and --base-runs SWEEP_DIR")
-    base_runs = None
-    if args.base_runs is not None:
-        base_runs = pathlib.Path(args.base_runs).resolve()
-        if not (base_runs / "runs").is_dir():
-            raise BadArgument(f"--base-runs: '{args.base_runs}' has no runs/ folder; allowed: "
-                              "the --out of a `cdpowder sweep`, e.g. results/table1")
+    swept = {}
+    for side, program, runs in (("base", args.base, args.base_runs),
+                                ("candidate", args.candidate, args.candidate_runs)):
+        if (program is None) == (runs is None):
+            raise BadArgument(f"give exactly one of --{side} PROGRAM and --{side}-runs SWEEP_DIR")
+        swept[side] = None
+        if runs is not None:
+            swept[side] = pathlib.Path(runs).resolve()
+            if not (swept[side] / "runs").is_dir():
+                raise BadArgument(f"--{side}-runs: '{runs}' has no runs/ folder; allowed: the "
+                                  "--out of a `cdpowder sweep`, e.g. results/table1")
+    runs_a_side = any(folder is None for folder in swept.values())
+    if runs_a_side and args.scene is None:
+        raise BadArgument("--scene: required when a side runs (--base or --candidate)")
+    scene = pathlib.Path(args.scene) if args.scene is not None else None
+    if scene is not None and not scene.is_file():
+        raise BadArgument(f"--scene: '{args.scene}' is not a file; allowed: a scene (TOML), "
+                          "e.g. examples/quick/scene.toml")
     reuse = []
     for r in args.reuse:
         if not pathlib.Path(r).is_dir():
@@ -269,10 +285,11 @@ def parse_arguments(argv):
                               "earlier gate")
         reuse.append(pathlib.Path(r).resolve())
     return argparse.Namespace(
-        binaries={"base": None if base_runs else executable(args.base, "--base"),
-                  "candidate": executable(args.candidate, "--candidate")},
-        base_runs=base_runs,
-        scene=scene.resolve(), seeds=parse_seeds(args.seeds), points=points,
+        binaries={side: None if swept[side] else executable(program, f"--{side}")
+                  for side, program in (("base", args.base), ("candidate", args.candidate))},
+        swept=swept,
+        scene=scene.resolve() if scene is not None else None, seeds=parse_seeds(args.seeds),
+        points=points,
         out=pathlib.Path(args.out).resolve(), jobs=jobs, reuse=reuse,
         common=[parse_set(s, "--set") for s in args.common],
         side_sets={"base": [parse_set(s, "--base-set") for s in args.base_set],
@@ -724,14 +741,14 @@ def swept_run(sweep_dir, point, seed):
 def plan(args):
     """Every run: side, point, seed, its folder, identity and (if finished) summary."""
     hashes = {side: (sha256(b) if b is not None else None) for side, b in args.binaries.items()}
-    scene_hash = sha256(args.scene)
+    scene_hash = sha256(args.scene) if args.scene is not None else None
     runs = []
     for s in args.seeds:
         for point in args.points:
             for side in SIDES:
                 label = point_label(point)
-                if side == "base" and args.base_runs is not None:
-                    folder, summary = swept_run(args.base_runs, point, s)
+                if args.swept[side] is not None:
+                    folder, summary = swept_run(args.swept[side], point, s)
                     runs.append({"side": side, "point": point, "label": label, "seed": s,
                                  "folder": folder, "source": folder, "binary": None,
                                  "scene": None, "identity": None, "summary": summary,
@@ -768,8 +785,9 @@ def main(argv=None):
     missing = [r for r in runs if r.get("swept") and r["summary"] is None]
     if missing:
         names = ", ".join(f"{r['folder']}" for r in missing[:5])
-        print(f"error: --base-runs: {len(missing)} base runs missing or unfinished: {names}",
-              file=sys.stderr)
+        sides = sorted({r["side"] for r in missing})
+        print(f"error: --{'/'.join(sides)}-runs: {len(missing)} "
+              f"{' and '.join(sides)} runs missing or unfinished: {names}", file=sys.stderr)
         return 2
     pending = [r for r in runs if r["summary"] is None]
     print(f"accuracy gate: {len(runs)} runs, {len(runs) - len(pending)} finished before, "
@@ -802,7 +820,7 @@ def main(argv=None):
     programs = {side: ({"binary": str(args.binaries[side]), "sha256": hashes[side],
                         "version": version_of(args.binaries[side])}
                        if args.binaries[side] is not None else
-                       {"binary": f"runs of {args.base_runs}", "sha256": "-",
+                       {"binary": f"runs of {args.swept[side]}", "sha256": "-",
                         "version": "as each run's summary.json records"})
                 for side in SIDES}
     gate = {

@@ -426,6 +426,15 @@ class Command(unittest.TestCase):
         self.assertIn("1 base runs missing or unfinished", r.stderr)
         self.assertIn("seed_4", r.stderr)
         self.assertEqual(self.ncalls(), 6)
+        # two sweeps against each other (a rerun of a table): nothing runs, no scene needed
+        r = subprocess.run(
+            [sys.executable, str(TOOL), "--base-runs", str(sweep), "--candidate-runs", str(sweep),
+             "--seeds", "1-3", "--points", "0,0", "1,0", "--out", str(self.dir / "two")],
+            capture_output=True, text=True, env={**os.environ, "FAKE_CALLS": str(self.calls)})
+        self.assertEqual(r.returncode, 0, r.stderr + r.stdout)
+        self.assertEqual(self.ncalls(), 6)
+        g = json.loads((self.dir / "two" / "gate.json").read_text())
+        self.assertEqual([p["n"] for p in g["points"]], [3, 3])
 
     def test_base_and_base_runs_exclude_each_other(self):
         r = subprocess.run(
