@@ -195,9 +195,9 @@ class BondRange:
     before its pass breaks at 1e-3 R instead of d_coh. Measured on a 150-sphere deposit at
     (0.3, 0.3): passes every step and every 10 steps give the same run to the last digit
     (porosity 0.68300); every 50 and 100 steps 0.68514 and 0.68060, no passes 0.67870. The
-    default is 10 steps (0.1 t0). The passes run in Python, outside YADE's engines, and cost
-    about a seventh of YADE's own time; their CPU time is part of `cpu_seconds` and is also
-    reported on its own."""
+    default is 10 steps (0.1 t0). The passes run in Python, outside YADE's engines, and take
+    about a tenth of the CPU time (10 of 100 s at paper size); their time is part of
+    `cpu_seconds` and is also reported on its own."""
 
     def __init__(self, unp_max):
         self.unp_max = unp_max  # [R] plastic opening at which a bond breaks
