@@ -5,8 +5,9 @@
 //       steps the fixture S steps, then writes the next N steps' problems, before the
 //       solver stage, to DIR/step_K.json (K = 0..N−1) with what the engine's solver did on
 //       them, and the engine's solution to DIR/step_K_cdpowder.json
-//   contact_problem judge DIR/step_K.json SOLUTION.json [--json] [--velocities OUT.json]
-//       one NLGS sweep from the solution: the residual of physics.md §7.3, and the gauges
+//   contact_problem judge DIR/step_K.json SOLUTION.json [--presweeps K] [--json]
+//       [--velocities OUT.json]: one NLGS sweep from the solution (after K sweeps that
+//       post-process it): the residual of physics.md §7.3, and the gauges
 //   contact_problem solve DIR/step_K.json [--cold] [--repeat N] [--out SOLUTION.json]
 //       [--set k=v ...]: the engine's solver on the exported problem, timed, then judged
 #include "contact_problem/judge.hpp"
@@ -131,10 +132,10 @@ void print_judgement(const Judgement& j) {
 }
 
 int run_judge(const std::string& problem_file, const std::string& solution_file, std::uint64_t seed,
-              bool as_json, const std::string& velocities_file) {
+              int presweeps, bool as_json, const std::string& velocities_file) {
   const ContactProblem problem = contact_problem_from_json(read_json_file(problem_file));
   const ContactActions actions = actions_from_json(read_json_file(solution_file).at("actions"));
-  const Judgement j = judge(problem, actions, seed);
+  const Judgement j = judge(problem, actions, seed, presweeps);
   if (!velocities_file.empty()) {
     write_json_file(velocities_file, contact_velocities(problem, actions));
   }
@@ -223,6 +224,11 @@ int main(int argc, char** argv) {
       ->required()
       ->check(CLI::ExistingFile);
   judger->add_option("--seed", seed, "seed of the judging sweep's block order");
+  int presweeps = 0;
+  judger
+      ->add_option("--presweeps", presweeps,
+                   "engine sweeps applied to the solution before it is judged")
+      ->check(CLI::NonNegativeNumber);
   judger->add_flag("--json", as_json, "print one JSON object");
   judger->add_option("--velocities", velocities_file, "write each contact's V and g_pos/dt");
 
@@ -240,7 +246,9 @@ int main(int argc, char** argv) {
   CLI11_PARSE(cli, argc, argv);
   try {
     if (*exporter) return run_export(fixture, skip, count, out_dir, overrides);
-    if (*judger) return run_judge(problem_file, solution_file, seed, as_json, velocities_file);
+    if (*judger) {
+      return run_judge(problem_file, solution_file, seed, presweeps, as_json, velocities_file);
+    }
     return run_solve(problem_file, cold, repeat, solution_file, overrides, as_json);
   } catch (const std::exception& error) {
     fmt::print(stderr, "contact_problem: {}\n", error.what());

@@ -111,10 +111,15 @@ void read_gauges(const ContactProblem& problem, const Contacts& contacts, const 
 
 }  // namespace
 
-Judgement judge(const ContactProblem& problem, const ContactActions& actions, std::uint64_t seed) {
+Judgement judge(const ContactProblem& problem, const ContactActions& actions, std::uint64_t seed,
+                int presweeps) {
   Contacts contacts = problem.contacts;
   set_actions(actions, contacts);
   VelocityCache velocities = velocities_for(contacts, problem.free_velocities);
+  // the engine's default order (block-random, one permutation for the step)
+  NlgsWorkspace work(seed);
+  prepare_visit_order(contacts, VisitOrder::RandomEachStep, work);
+  for (int k = 0; k < presweeps; ++k) run_sweep(contacts, velocities);
 
   Judgement out;
   read_gauges(problem, contacts, velocities, out);
@@ -123,9 +128,6 @@ Judgement judge(const ContactProblem& problem, const ContactActions& actions, st
     local_sq = std::max(local_sq, local_change_sq(contacts, velocities, k));
   }
 
-  // one sweep of the engine, in the engine's default (block-random, per step) order
-  NlgsWorkspace work(seed);
-  prepare_visit_order(contacts, VisitOrder::RandomEachStep, work);
   const SweepSums sums = run_sweep(contacts, velocities);
   const double mean_closed =
       sums.closed > 0 ? sums.sum_closed_normal / static_cast<double>(sums.closed) : 0.0;

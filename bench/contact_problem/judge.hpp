@@ -44,7 +44,11 @@ struct Judgement {
 
 /// Judges `actions` on `problem`: the velocity cache is v_free + Δt M⁻¹ Σ actions (§5.3),
 /// then the gauges are read and one sweep is run in a block-random order from `seed`.
-Judgement judge(const ContactProblem& problem, const ContactActions& actions, std::uint64_t seed);
+/// With presweeps = k > 0 the solution is first passed through k engine sweeps (in the same
+/// order), and what they leave is judged: a solver's output followed by k sweeps, e.g. to
+/// project an iterate that lies outside the contact law back onto it.
+Judgement judge(const ContactProblem& problem, const ContactActions& actions, std::uint64_t seed,
+                int presweeps = 0);
 
 nlohmann::json to_json(const Judgement& judgement);
 
