@@ -27,6 +27,12 @@ class StageClock {
 }  // namespace
 
 StepReport step(World& world, StepWorkspace& work, const StepSettings& settings) {
+  StepReport report = begin_step(world, work, settings);
+  finish_step(world, work, settings, report);
+  return report;
+}
+
+StepReport begin_step(World& world, StepWorkspace& work, const StepSettings& settings) {
   StepReport report;
   report.dt = settings.solver.dt;
   StageClock clock;
@@ -36,7 +42,12 @@ StepReport step(World& world, StepWorkspace& work, const StepSettings& settings)
 
   build_local_problems(world, settings, work.action_cache, work.contacts, work.velocities);
   clock.lap(Stage::BuildLocalProblems, report.times);
+  return report;
+}
 
+void finish_step(World& world, StepWorkspace& work, const StepSettings& settings,
+                 StepReport& report) {
+  StageClock clock;
   const double reference_force = settings.laws.spheres.cohesion_force;
   report.solver =
       solve_nlgs(work.contacts, work.velocities, settings.solver, reference_force, work.solver);
@@ -50,7 +61,6 @@ StepReport step(World& world, StepWorkspace& work, const StepSettings& settings)
   report.diagnostics = analyse_step(world, work.contacts, settings.laws, settings.solver.dt);
   report.diagnostics.max_net_force = net_force;
   clock.lap(Stage::Analyse, report.times);
-  return report;
 }
 
 }  // namespace cdpowder

@@ -42,7 +42,17 @@ struct StepWorkspace {
   NlgsWorkspace solver;
 };
 
-/// Advances `world` by one step of Δt = settings.solver.dt.
+/// Advances `world` by one step of Δt = settings.solver.dt: begin_step, then finish_step.
 StepReport step(World& world, StepWorkspace& work, const StepSettings& settings);
+
+/// Stages 1–2 (detect, build): leaves the step's contact problem in work.contacts (with the
+/// warm-start actions) and work.velocities (v*, ω*, V_P* with those actions applied, §5.3).
+/// For tools that read or solve the problem themselves; step() is the two halves in a row.
+StepReport begin_step(World& world, StepWorkspace& work, const StepSettings& settings);
+
+/// Stages 3–5 (solve, integrate, analyse) on the problem begin_step left in `work`; adds
+/// their times and results to `report`.
+void finish_step(World& world, StepWorkspace& work, const StepSettings& settings,
+                 StepReport& report);
 
 }  // namespace cdpowder
