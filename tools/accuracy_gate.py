@@ -26,8 +26,9 @@ A point PASSES when (docs/performance.md, "Accuracy gate"; physics.md §17):
   (d) every run (base and candidate) is blocked, not interrupted and has every field the gate
       reads (a missing one is named), and every candidate run's accuracy gauges are within the
       contract: mean overlap ≤ 1e-3 R, largest cohesive opening per step ≤ 0.1 d_coh, piston
-      force imbalance and largest net force on a sphere each ≤ the scene's
-      run.blocked.force_balance.
+      force imbalance ≤ the scene's run.blocked.force_balance, and the largest net force on a
+      sphere ≤ force_balance × F, the piston's load (physics.md §17; the engine's own balance
+      test before it adopts a blocked state, run_loop.cpp, uses the same bound).
 The gate judges the candidate, not the engine's state before the change: base runs out of
 the contract in (c) or (d) are counted and listed ("base N of 10") but fail nothing by
 themselves. A candidate gauge out of the contract at a point where the base is out on the
@@ -123,6 +124,7 @@ FIELDS = {
     "piston_imbalance": ("piston", "force_imbalance"),
     "max_net_force": ("accuracy", "max_net_force"),
     "force_balance": ("scene", "run", "blocked", "force_balance"),
+    "load": ("piston", "applied_force"),
     "blocked": ("run", "blocked"),
     "interrupted": ("run", "interrupted"),
     "wall_seconds": ("run", "wall_seconds"),
@@ -473,12 +475,17 @@ def gauge_problems(side, seed, v):
         problems.append(("d", "opening", f"{where}: largest cohesive opening per step "
                                          f"{opening:.4g} d_coh > {MAX_OPENING_PER_RANGE:g}"))
     tolerance = number("force_balance")
-    for name, gauge, label in (("piston_imbalance", "piston", "piston force imbalance"),
-                               ("max_net_force", "net force", "largest net force on a sphere")):
-        x = number(name)
-        if x is not None and tolerance is not None and not x <= tolerance:
-            problems.append(("d", gauge, f"{where}: {label} {x:.4g} > force_balance "
-                                         f"{tolerance:g}"))
+    imbalance = number("piston_imbalance")  # relative to the load F already
+    if imbalance is not None and tolerance is not None and not imbalance <= tolerance:
+        problems.append(("d", "piston", f"{where}: piston force imbalance {imbalance:.4g} > "
+                                        f"force_balance {tolerance:g}"))
+    net_force = number("max_net_force")  # in F_coh: bounded by force_balance × F
+    load = number("load")
+    if net_force is not None and tolerance is not None and load is not None and \
+            not net_force <= tolerance * load:
+        problems.append(("d", "net force", f"{where}: largest net force on a sphere "
+                                           f"{net_force:.4g} F_coh > force_balance × F = "
+                                           f"{tolerance:g} × {load:g}"))
     return problems
 
 
@@ -653,7 +660,8 @@ def tables(results):
         md.append(fmt_row([f"({r['point'][0]:g}, {r['point'][1]:g})", str(r["n"]), de.text(),
                            spread, dp.text(), dm.text(), f"**{r['verdict']}**"]))
     md += ["", "Worst accuracy gauges over each side's runs (contract: mean overlap ≤ 1e-3 R, "
-           "opening ≤ 0.1 d_coh, piston imbalance and net force ≤ force_balance, "
+           "opening ≤ 0.1 d_coh, piston imbalance ≤ force_balance, net force ≤ "
+           "force_balance × F, "
            "|σzz/p − 1| ≤ 0.01, every run blocked):", "",
            fmt_row(["point", "side", "mean overlap [R]", "opening/step [d_coh]",
                     "piston imbalance", "net force [F_coh]", "max \\|σzz/p − 1\\|", "blocked"]),
@@ -838,7 +846,8 @@ def main(argv=None):
                    "max_mean_overlap_per_R": MAX_MEAN_OVERLAP,
                    "max_opening_per_range": MAX_OPENING_PER_RANGE,
                    "inherited_margin": INHERITED_MARGIN,
-                   "force_balance": "each run's scene run.blocked.force_balance"},
+                   "force_balance": "each run's scene run.blocked.force_balance",
+                   "max_net_force": "force_balance × the run's piston.applied_force"},
         "runs": [{"side": r["side"], "label": r["label"], "seed": r["seed"],
                   "folder": str(r["source"]), "finished": r["summary"] is not None}
                  for r in runs],

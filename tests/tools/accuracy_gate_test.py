@@ -22,7 +22,7 @@ SEEDS = list(range(1, 11))
 
 def summary(porosity=0.7, sigma_plus=3.0, sigma_minus=-2.0, sigma=1.0, mean_overlap=1e-8,
             opening=0.01, piston=1e-5, net_force=1e-6, force_balance=1e-2, blocked=True,
-            radius=1.0, drop=()):
+            radius=1.0, load=1.0, drop=()):
     """A summary.json as the program writes it (the fields the gate reads)."""
     s = {"porosity": porosity,
          "stress": {"sigma_zz_over_pressure": sigma,
@@ -30,7 +30,7 @@ def summary(porosity=0.7, sigma_plus=3.0, sigma_minus=-2.0, sigma=1.0, mean_over
                     "sigma_zz_tensile_over_pressure": sigma_minus},
          "accuracy": {"mean_overlap": mean_overlap, "max_cohesive_opening_per_range": opening,
                       "max_net_force": net_force},
-         "piston": {"force_imbalance": piston},
+         "piston": {"force_imbalance": piston, "applied_force": load},
          "scene": {"run": {"blocked": {"force_balance": force_balance}},
                    "deposition": {"radius_min": radius}},
          "run": {"blocked": blocked, "interrupted": False, "wall_seconds": 1.0}}
@@ -169,6 +169,19 @@ class Verdict(unittest.TestCase):
         r = gate.evaluate_point(runs(force_balance=1e-3), runs(force_balance=1e-3, piston=2e-3),
                                 SEEDS)
         self.assertIn("force_balance 0.001", check(r, "(d)")["detail"])
+
+    def test_net_force_is_bounded_by_force_balance_times_the_load(self):
+        # physics.md §17: the largest net force [F_coh] ≤ force_balance × F; the paper's
+        # piston carries F = 1.5625 F_coh, the quick scene's 0.5625
+        for load in (1.5625, 0.5625):
+            limit = 1e-2 * load
+            ok = gate.evaluate_point(runs(load=load), runs(load=load, net_force=0.99 * limit),
+                                     SEEDS)
+            self.assertEqual(ok["verdict"], "PASS", (load, failed(ok)))
+            bad = gate.evaluate_point(runs(load=load), runs(load=load, net_force=1.01 * limit),
+                                      SEEDS)
+            self.assertEqual(failed(bad), [D], load)
+            self.assertIn(f"force_balance × F = 0.01 × {load:g}", check(bad, "(d)")["detail"])
 
     def test_overlap_is_in_units_of_the_radius(self):
         r = gate.evaluate_point(runs(radius=2.0), runs(radius=2.0, mean_overlap=1.9e-3), SEEDS)
@@ -332,7 +345,7 @@ out.mkdir(parents=True, exist_ok=True)
     "accuracy": {"mean_overlap": 1e-9,
                  "max_cohesive_opening_per_range": float(sets.get("test.opening", 0.01)),
                  "max_net_force": 1e-6},
-    "piston": {"force_imbalance": 1e-5},
+    "piston": {"force_imbalance": 1e-5, "applied_force": 1.0},
     "scene": {"run": {"blocked": {"force_balance": 0.01}}, "deposition": {"radius_min": 1.0},
               "solver": {"seed": int(sets["solver.seed"])}},
     "run": {"blocked": True, "interrupted": False, "wall_seconds": 0.0}}))
