@@ -1,5 +1,7 @@
 // main.cpp — the cdpowder command line. The only place that turns exceptions into text
-// and exit codes: 0 done, 1 the run failed, 2 bad input (nothing written).
+// and exit codes: 0 done, 1 the run failed or was interrupted, 2 bad input (nothing
+// written); a run also exits 3 when a fault stopped it and 4 when it did not block
+// (simulate.hpp).
 #include "commands/deposit.hpp"
 #include "commands/simulate.hpp"
 #include "commands/sweep.hpp"

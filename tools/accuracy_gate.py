@@ -125,6 +125,7 @@ FIELDS = {
     "max_net_force": ("accuracy", "max_net_force"),
     "force_balance": ("scene", "run", "blocked", "force_balance"),
     "load": ("piston", "applied_force"),
+    "load_with_weight": ("piston", "load"),
     "blocked": ("run", "blocked"),
     "interrupted": ("run", "interrupted"),
     "wall_seconds": ("run", "wall_seconds"),
@@ -413,7 +414,7 @@ def run_values(summary):
     """The numbers the gate needs from one summary.json, and the names of fields it lacks."""
     values = {name: dig(summary, path) for name, path in FIELDS.items()}
     missing = [".".join(FIELDS[name]) for name, v in values.items()
-               if v is None and name != "wall_seconds"]
+               if v is None and name not in ("wall_seconds", "load_with_weight")]
     radius = dig(summary, RADIUS_FIELD)
     values["radius"] = float(radius) if isinstance(radius, (int, float)) else 1.0
     values["missing"] = missing
@@ -480,7 +481,9 @@ def gauge_problems(side, seed, v):
         problems.append(("d", "piston", f"{where}: piston force imbalance {imbalance:.4g} > "
                                         f"force_balance {tolerance:g}"))
     net_force = number("max_net_force")  # in F_coh: bounded by force_balance × F
-    load = number("load")
+    # the push plus the piston's weight where the summary has it (gravity), else the push
+    load = number("load_with_weight") if number("load_with_weight") is not None \
+        else number("load")
     if net_force is not None and tolerance is not None and load is not None and \
             not net_force <= tolerance * load:
         problems.append(("d", "net force", f"{where}: largest net force on a sphere "

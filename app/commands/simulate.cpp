@@ -13,6 +13,7 @@
 #include "cdpowder/io/atomic_file.hpp"
 #include "cdpowder/io/provenance.hpp"
 #include "cdpowder/io/state_csv.hpp"
+#include "cdpowder/io/state_file.hpp"
 #include "cdpowder/io/summary.hpp"
 #include "cdpowder/io/timeseries.hpp"
 #include "cdpowder/io/vtk.hpp"
@@ -90,8 +91,9 @@ int run_scene(const RunOptions& options, const SceneReadOptions& read_options) {
     snapshot_cadence.due(world);            // and the time cadence starts from there
   }
   ProgressLine progress(options.quiet);
+  RunState state;  // kept for the failed state file
   const RunResult result = run_simulation(
-      world, work, scene.step, scene.run,
+      world, work, scene.step, scene.run, state,
       [&](const World& w, const StepReport& report, double fraction) {
         timeseries.record(w, report);
         progress.update(w, report, fraction);
@@ -113,8 +115,26 @@ int run_scene(const RunOptions& options, const SceneReadOptions& read_options) {
   write_file_atomically(options.out / "summary.json",
                         summary_json(scene, world, work.contacts, result, initial_porosity));
 
+  if (result.fault) {
+    // the state at the fault, to look at or to rerun the step from (io/state_file.hpp)
+    save_state(options.out / "failed_state.cdps", scene.effective_toml, world, work, state);
+  }
+
   std::printf("%s\n", result_line(scene, world, work.contacts, result).c_str());
-  return result.interrupted ? 1 : 0;  // outputs written, but the run is incomplete
+  if (result.fault) {
+    std::fprintf(stderr, "error: the run failed: %s; outputs and failed_state.cdps in %s\n",
+                 result.fault->message.c_str(), options.out.string().c_str());
+    return kExitFault;
+  }
+  if (result.interrupted) return kExitInterrupted;  // outputs written, but incomplete
+  if (scene.run.until_blocked && !result.blocked) {
+    std::fprintf(stderr,
+                 "error: the packing did not block within run.max_duration = %g t0 (t = %g "
+                 "t0); the summary says blocked = false\n",
+                 scene.run.max_duration, world.time);
+    return kExitNotBlocked;
+  }
+  return 0;
 }
 
 }  // namespace

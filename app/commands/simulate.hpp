@@ -10,6 +10,12 @@
 
 namespace cdpowder::app {
 
+/// Exit codes of a run besides 0 (done) and 2 (bad input, main.cpp); the outputs are
+/// written in every case.
+inline constexpr int kExitInterrupted = 1;  ///< stopped by a signal: incomplete
+inline constexpr int kExitFault = 3;        ///< a fault (run_fault.hpp) ended the run
+inline constexpr int kExitNotBlocked = 4;   ///< an until_blocked run reached max_duration
+
 struct RunOptions {
   std::filesystem::path scene;
   std::filesystem::path out;
@@ -22,7 +28,8 @@ struct RunOptions {
 /// contacts.csv, timeseries.csv, summary.json, particles.vtp, contacts.vtp, and with
 /// [run] snapshot_every > 0 snapshots/ with particles.pvd and contacts.pvd. Prints one
 /// result line on stdout. Throws ConfigError for bad input before anything is written.
-/// Returns the process exit code (0: done).
+/// Returns the process exit code: 0 done, kExitInterrupted, kExitFault (also writes
+/// failed_state.cdps), kExitNotBlocked.
 int run_simulate(const RunOptions& options);
 
 /// As run_simulate, but the scene must have an enabled piston and always runs until the

@@ -3,6 +3,7 @@
 #include "commands/sweep.hpp"
 
 #include "clock_text.hpp"
+#include "commands/simulate.hpp"
 #include "stop_signals.hpp"
 
 #include "cdpowder/config/config_error.hpp"
@@ -360,8 +361,12 @@ int run_sweep(const SweepOptions& options) {
     const SweepRun& run = plan.runs[i];
     const std::filesystem::path folder = options.out / run.folder;
     std::optional<RunRecord> record = read_run_record(folder / "summary.json");
-    const bool ok =
-        WIFEXITED(status) && WEXITSTATUS(status) == 0 && is_reusable(record, scene_texts[i]);
+    // a compaction that did not block is a finished run (blocked = 0 in the tables); a
+    // fault (exit kExitFault) or any other status fails it
+    const bool finished_run =
+        WIFEXITED(status) && (WEXITSTATUS(status) == 0 || WEXITSTATUS(status) == kExitNotBlocked);
+    const bool ok = finished_run && is_reusable(record, scene_texts[i]);
+    const bool fault = WIFEXITED(status) && WEXITSTATUS(status) == kExitFault;
     if (ok) {
       records[i] = std::move(record);
       ++done_now;
@@ -390,7 +395,10 @@ int run_sweep(const SweepOptions& options) {
     } else {
       std::fprintf(stderr, "[%zu/%zu] %s seed %lld: %s, see %s\n", finished, total,
                    plan.points[run.point].name.c_str(), static_cast<long long>(run.seed),
-                   stopped ? "interrupted" : "FAILED", (folder / "log.txt").string().c_str());
+                   stopped ? "interrupted"
+                   : fault ? "FAILED (a fault stopped it: unphysical state)"
+                           : "FAILED",
+                   (folder / "log.txt").string().c_str());
     }
   }
   write_tables(options, plan, records);

@@ -38,8 +38,10 @@ nlohmann::json without_timings(nlohmann::json j) {
 
 using CompactCli = cdpowder::testing::ScratchFolderTest;
 
-// A short, deterministic piece of the quick example's compaction (it does not block yet).
+// A short, deterministic piece of the quick example's compaction (it does not block yet, so
+// the program exits with kNotBlocked after writing every output).
 const std::string kShort = "--quiet --set run.max_duration=5";
+constexpr int kNotBlocked = 4;  // app/commands/simulate.hpp, kExitNotBlocked
 
 TEST_F(CompactCli, QuickExampleBlocksWithStressEqualToThePressure) {
   const fs::path out = scratch_ / "out";
@@ -108,7 +110,7 @@ TEST_F(CompactCli, SameSeedGivesIdenticalSummariesAnotherSeedADifferentOne) {
     const ProcessResult r = run_cdpowder("compact " + kQuick.string() + " --out " +
                                              (scratch_ / name).string() + " " + kShort + extra,
                                          scratch_);
-    EXPECT_EQ(r.status, 0) << r.err;
+    EXPECT_EQ(r.status, kNotBlocked) << r.err;
     return without_timings(summary_of(scratch_ / name));
   };
   const nlohmann::json a = run("a", "");
@@ -131,11 +133,11 @@ TEST_F(CompactCli, DepositFeedsACompactionThatStartsFromTheSameSpheres) {
       "compact " + kQuick.string() + " --out " + (scratch_ / "from_csv").string() +
           " --particles " + (scratch_ / "deposit/particles.csv").string() + " " + kShort,
       scratch_);
-  ASSERT_EQ(from_csv.status, 0) << from_csv.err;
+  ASSERT_EQ(from_csv.status, kNotBlocked) << from_csv.err;
   const ProcessResult direct = run_cdpowder(
       "compact " + kQuick.string() + " --out " + (scratch_ / "direct").string() + " " + kShort,
       scratch_);
-  ASSERT_EQ(direct.status, 0) << direct.err;
+  ASSERT_EQ(direct.status, kNotBlocked) << direct.err;
   const nlohmann::json a = summary_of(scratch_ / "from_csv");
   const nlohmann::json b = summary_of(scratch_ / "direct");
   EXPECT_DOUBLE_EQ(a["initial_porosity"].get<double>(), deposit["porosity"].get<double>());
@@ -227,6 +229,62 @@ TEST_F(CompactCli, MissingParticlesFileIsNamed) {
   EXPECT_EQ(r.status, 2);
   EXPECT_THAT(r.err, HasSubstr("particles.file"));
   EXPECT_THAT(r.err, HasSubstr("nowhere.csv"));
+}
+
+// A load far beyond what the contacts can hold: once measured to end with a negative
+// porosity and the piston below the wall, "blocked=yes", exit 0. Now the first step's fault
+// stops the run: every output is written, the summary names the fault, the state at the
+// fault is kept, and the exit status says so.
+TEST_F(CompactCli, AnUnphysicalStateStopsTheRunWithItsOwnStatusAndKeepsTheOutputs) {
+  const fs::path out = scratch_ / "out";
+  const ProcessResult r = run_cdpowder("compact " + kQuick.string() + " --out " + out.string() +
+                                           " --quiet --set piston.pressure=1e6",
+                                       scratch_);
+  EXPECT_EQ(r.status, 3) << r.err;  // kExitFault
+  EXPECT_THAT(r.err, HasSubstr("the run failed"));
+  EXPECT_THAT(r.err, HasSubstr("at step 1"));
+  const nlohmann::json s = summary_of(out);
+  EXPECT_TRUE(s["run"]["failed"].get<bool>());
+  EXPECT_FALSE(s["run"]["blocked"].get<bool>());
+  EXPECT_EQ(s["fault"]["step"], 1);
+  EXPECT_TRUE(fs::exists(out / "particles.csv"));
+  EXPECT_TRUE(fs::exists(out / "failed_state.cdps"));
+}
+
+// Values whose physics cannot work are refused before anything is written.
+TEST_F(CompactCli, ACaptureRadiusBeyondHalfTheCellAndAStepLongerThanTheRunAreRefused) {
+  for (const std::string set : {"deposition.capture_radius=1e10", "solver.dt=1e6"}) {
+    const fs::path out = scratch_ / "refused";
+    const ProcessResult r = run_cdpowder(
+        "compact " + kQuick.string() + " --out " + out.string() + " --quiet --set " + set,
+        scratch_);
+    EXPECT_EQ(r.status, 2) << set;
+    EXPECT_THAT(r.err, HasSubstr(set.substr(0, set.find('='))));
+    EXPECT_THAT(r.err, HasSubstr("expected at most"));
+    EXPECT_FALSE(fs::exists(out)) << set;
+  }
+}
+
+// Under gravity the piston's weight is part of its load: the compaction blocks (once it
+// never did), and the loads per area on the piston and the bottom wall differ by the
+// spheres' weight per area, σzz lying between them.
+TEST_F(CompactCli, ACompactionUnderGravityBlocksAndReportsTheLoadsOnBothWalls) {
+  const fs::path out = scratch_ / "out";
+  const ProcessResult r = run_cdpowder("compact " + kQuick.string() + " --out " + out.string() +
+                                           " --quiet --set system.gravity=[0,0,-0.001]",
+                                       scratch_);
+  ASSERT_EQ(r.status, 0) << r.err;
+  const nlohmann::json s = summary_of(out);
+  EXPECT_TRUE(s["run"]["blocked"].get<bool>());
+  const double area = 15.0 * 15.0;
+  const double top = s["stress"]["piston_load_per_area"].get<double>();
+  const double bottom = s["stress"]["bottom_load_per_area"].get<double>();
+  EXPECT_NEAR(top * area, s["piston"]["load"].get<double>(), 1e-3);
+  const double weight = s["spheres"].get<double>() * 4.0 / 3.0 * 3.141592653589793 * 0.001;
+  EXPECT_NEAR((bottom - top) * area, weight, 1e-3);
+  const double sigma_zz = s["stress"]["sigma"][2][2].get<double>();
+  EXPECT_GT(sigma_zz, top);
+  EXPECT_LT(sigma_zz, bottom);
 }
 
 }  // namespace

@@ -73,9 +73,9 @@ StepDiagnostics analyse_step(const World& world, const Contacts& contacts, const
   d.rms_speed = moving_mass > 0.0 ? std::sqrt(mass_v2 / moving_mass) : 0.0;
   if (piston.enabled) {
     d.kinetic_energy += 0.5 * piston.mass * piston.velocity * piston.velocity;
-    if (piston.force > 0.0) {
-      d.piston_imbalance = std::abs(d.piston_contact_force - piston.force) / piston.force;
-    }
+    // against the push and the piston's weight: under gravity the spheres carry both
+    const double load = piston_load(world);
+    if (load > 0.0) d.piston_imbalance = std::abs(d.piston_contact_force - load) / load;
   }
   return d;
 }

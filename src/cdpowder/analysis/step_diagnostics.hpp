@@ -23,7 +23,9 @@ struct StepDiagnostics {
   /// one rattler does not decide [R/t0]
   double rms_speed = 0.0;
   double piston_contact_force = 0.0;  ///< Σ R_c→P · e_z, upward push of the spheres [F_coh]
-  double piston_imbalance = 0.0;      ///< |Σ R_c→P·e_z − F| / F (0 without a piston load)
+  /// |Σ R_c→P·e_z − L| / L with L = F − M_P g_z the piston's load (piston_load; F without
+  /// gravity); 0 without a load
+  double piston_imbalance = 0.0;
   /// max over free spheres of the net force m|Δv|/Δt + net torque I|Δω|/(Δt r) of the step:
   /// the per-particle force balance of physics.md §17, ≈ 0 in a static packing [F_coh]
   double max_net_force = 0.0;

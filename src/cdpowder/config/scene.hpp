@@ -67,6 +67,9 @@ struct RunConfig {
   /// an adaptive Δt, whose steps differ in length) [t0]
   double timeseries_interval = 0.0;
   double snapshot_interval = 0.0;
+  /// a step after which any contact overlaps by more than this ends the run as failed
+  /// (run_fault.hpp): rigid contacts keep the mean overlap near 1e-3 R (physics.md §17) [R]
+  double max_overlap = 0.1;
   BlockedCriteria blocked;
 };
 

@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 #include <toml++/toml.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <fstream>
 #include <limits>
@@ -105,7 +106,9 @@ Scene read_values(TableReader& in, const std::filesystem::path& base_dir,
   piston.mass = in.number("piston.mass", piston.mass, kPositive);
   piston.pressure = in.optional_number("piston.pressure", kNonNegative);
   piston.force = in.optional_number("piston.force", kNonNegative);
-  piston.height = in.optional_number("piston.height", kAnyNumber);
+  // above the bottom wall z = 0; below the spheres' tops the first step stops the run at
+  // its overlap bound (run.max_overlap)
+  piston.height = in.optional_number("piston.height", kPositive);
   piston.start_gap = in.number("piston.start_gap", piston.start_gap, kNonNegative);
   piston.velocity = in.number("piston.velocity", piston.velocity, kAnyNumber);
 
@@ -151,6 +154,7 @@ Scene read_values(TableReader& in, const std::filesystem::path& base_dir,
   run.timeseries_interval =
       in.number("run.timeseries_interval", run.timeseries_interval, kNonNegative);
   run.snapshot_interval = in.number("run.snapshot_interval", run.snapshot_interval, kNonNegative);
+  run.max_overlap = in.number("run.max_overlap", run.max_overlap, kPositive);
   BlockedCriteria& blocked = run.blocked;
   blocked.window = in.number("run.blocked.window", blocked.window, kPositive);
   blocked.piston_speed = in.number("run.blocked.piston_speed", blocked.piston_speed, kPositive);
@@ -224,8 +228,28 @@ void check_consistency(TableReader& in, const Scene& s, const SceneReadOptions& 
                                d.capture_radius, d.radius_min + d.radius_max),
                    in_file("deposition.capture_radius"));
     }
+    // a capture sphere wider than half the periodic cell reaches a sphere's own images
+    // (measured: capture_radius = 1e10 put the spheres on top of each other)
+    const double half_cell = 0.5 * std::min(s.system.lx, s.system.ly);
+    if (d.capture_radius > half_cell && !in.failed("deposition.capture_radius") &&
+        !in.failed("system.lx") && !in.failed("system.ly")) {
+      in.add_issue("deposition.capture_radius", where("deposition.capture_radius"),
+                   fmt::format("got {}, expected at most half the cell, min(system.lx, "
+                               "system.ly) / 2 = {}",
+                               d.capture_radius, half_cell),
+                   in_file("deposition.capture_radius"));
+    }
   }
   const SolverSettings& solver = s.step.solver;
+  // a first step longer than the whole run would make a run of no step at all
+  const char* budget_key = s.run.until_blocked ? "run.max_duration" : "run.duration";
+  const double budget = s.run.until_blocked ? s.run.max_duration : s.run.duration;
+  if (solver.dt > budget && !in.failed("solver.dt") && !in.failed(budget_key)) {
+    in.add_issue("solver.dt", where("solver.dt"),
+                 fmt::format("got {}, expected at most {} = {} (the run would take no step)",
+                             solver.dt, budget_key, budget),
+                 in_file("solver.dt"));
+  }
   // the detector keeps the last window of piston heights and imbalances (16 bytes a step)
   constexpr double kMaxWindowSteps = 1e6;
   if (s.run.until_blocked && s.run.blocked.window / solver.dt > kMaxWindowSteps &&

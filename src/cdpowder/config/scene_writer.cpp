@@ -135,6 +135,7 @@ std::string write_effective_toml(const Scene& s) {
                    {"snapshot_every", s.run.snapshot_every},
                    {"timeseries_interval", s.run.timeseries_interval},
                    {"snapshot_interval", s.run.snapshot_interval},
+                   {"max_overlap", s.run.max_overlap},
                    {"blocked", toml::table{{"window", blocked.window},
                                            {"piston_speed", blocked.piston_speed},
                                            {"sphere_speed", blocked.sphere_speed},

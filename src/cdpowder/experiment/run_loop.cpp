@@ -1,6 +1,7 @@
 // run_loop.cpp — the time loop with its stop conditions.
 #include "cdpowder/experiment/run_loop.hpp"
 
+#include "cdpowder/analysis/porosity.hpp"
 #include "cdpowder/experiment/blocked_state.hpp"
 #include "cdpowder/solver/time_step_control.hpp"
 
@@ -38,9 +39,10 @@ StepReport solve_at_rest(World& world, StepWorkspace& work, const StepSettings& 
 
 /// Whether every sphere of a static solve is in balance: its net force (and torque over its
 /// radius, StepDiagnostics::max_net_force) below the blocked test's relative tolerance times
-/// the piston's push F. A sphere still pulled into a contact, or still decelerating, passes
-/// the kinematic tests when the sphere-speed bound is loose (an RMS over all spheres), but the
-/// static solve shows it: measured up to 0.37 F_coh in 4 of 380 runs of 100 spheres.
+/// the piston's load (its push F plus its weight, piston_load). A sphere still pulled into a
+/// contact, or still decelerating, passes the kinematic tests when the sphere-speed bound is loose
+/// (an RMS over all spheres), but the static solve shows it: measured up to 0.37 F_coh in 4 of 380
+/// runs of 100 spheres.
 bool spheres_balanced(const StepReport& at_rest, const BlockedCriteria& criteria, double load) {
   return at_rest.diagnostics.max_net_force <= criteria.force_balance * load;
 }
@@ -118,7 +120,9 @@ RunResult run_simulation(World& world, StepWorkspace& work, const StepSettings& 
   if (run.until_blocked && !detector) detector.emplace(run.blocked, settings.solver.dt);
   int& deferred_windows = state.deferred_windows;
   bool& probing = state.probing;
-  const double load = world.walls.piston.force;
+  const double load = piston_load(world);
+  // the grain volume is constant: computed once for the porosity check of every step
+  const FaultLimits fault_limits{run.max_overlap, grain_volume(world.bodies)};
 
   const auto account = [&](const StepReport& report) {
     result.last = report;
@@ -160,6 +164,9 @@ RunResult run_simulation(World& world, StepWorkspace& work, const StepSettings& 
     const bool blocked =
         detector && detector->update(world, result.last.diagnostics, current.solver.dt);
     if (observer) observer(world, result.last, fraction);
+    // a state no physical run reaches ends the run here, before any test reads it
+    result.fault = find_fault(world, work.contacts, result.last.diagnostics, fault_limits);
+    if (result.fault) break;
     // Blocked by the window's tests: the packing is measured on a static solve of a copy,
     // and adopted unless that solve shows a sphere out of balance; then the run goes on
     // unchanged and the test is repeated a window later, at most kMaxDeferredWindows times

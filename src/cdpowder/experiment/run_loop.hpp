@@ -5,6 +5,7 @@
 
 #include "cdpowder/config/scene.hpp"
 #include "cdpowder/experiment/blocked_state.hpp"
+#include "cdpowder/experiment/run_fault.hpp"
 #include "cdpowder/solver/step.hpp"
 
 #include <cstdint>
@@ -47,6 +48,11 @@ struct RunResult {
   /// Static solves (of a blocked window, or probes) not adopted because a sphere was out of
   /// balance in them (net force above force_balance × F); the run went on after each.
   int unbalanced_rest_solves = 0;
+  /// A state no physical run reaches (non-finite values, an overlap beyond
+  /// RunConfig::max_overlap, the piston through the wall, a porosity outside (0, 1)): the
+  /// run stopped after that step, neither blocked nor interrupted. Not in a state file: a
+  /// failed run is not continued.
+  std::optional<RunFault> fault;
 };
 
 /// Called after every step with the world after the step, its report, and the fraction of

@@ -29,6 +29,32 @@ nlohmann::json scene_json(const Scene& scene) {
   return nlohmann::json::parse(text.str());
 }
 
+/// The normal forces the spheres put on each wall, per area of the cell: what σzz should
+/// equal in a packing at rest between them (their mean under the packing's own weight)
+/// [F_coh/R²].
+struct WallLoads {
+  double piston = 0.0;
+  double bottom = 0.0;
+};
+
+WallLoads wall_loads_per_area(const Contacts& contacts, double area) {
+  WallLoads loads;
+  for (std::size_t k = 0; k < contacts.walls.size(); ++k) {
+    const double push = contacts.wall_actions[k].normal_force;
+    (contacts.walls[k].wall == WallKind::Piston ? loads.piston : loads.bottom) += push;
+  }
+  loads.piston /= area;
+  loads.bottom /= area;
+  return loads;
+}
+
+nlohmann::json fault_json(const RunFault& f) {
+  const auto index = [](std::int64_t i) { return i >= 0 ? nlohmann::json(i) : nullptr; };
+  return {{"quantity", f.quantity}, {"sphere", index(f.body)}, {"other_sphere", index(f.other)},
+          {"step", f.step},         {"time", f.time},          {"value", f.value},
+          {"message", f.message}};
+}
+
 }  // namespace
 
 std::string summary_json(const Scene& scene, const World& world, const Contacts& contacts,
@@ -52,6 +78,8 @@ std::string summary_json(const Scene& scene, const World& world, const Contacts&
                  {"velocity", piston.velocity},
                  {"applied_force", piston.force},
                  {"applied_pressure", pressure},
+                 // the push plus the piston's weight: what the spheres carry at rest
+                 {"load", piston.enabled ? piston_load(world) : 0.0},
                  {"contact_force", d.piston_contact_force},
                  {"force_imbalance", d.piston_imbalance}};
   j["stress"] = {{"volume", volume},
@@ -60,6 +88,9 @@ std::string summary_json(const Scene& scene, const World& world, const Contacts&
                  {"sigma_tensile", matrix(sigma.tensile)},
                  {"compressive_contacts", sigma.compressive_contacts},
                  {"tensile_contacts", sigma.tensile_contacts}};
+  const WallLoads loads = wall_loads_per_area(contacts, world.box.area());
+  j["stress"]["piston_load_per_area"] = loads.piston;
+  j["stress"]["bottom_load_per_area"] = loads.bottom;
   if (pressure > 0.0) {
     j["stress"]["sigma_zz_over_pressure"] = sigma.total(2, 2) / pressure;
     j["stress"]["sigma_zz_compressive_over_pressure"] = sigma.compressive(2, 2) / pressure;
@@ -103,6 +134,8 @@ std::string summary_json(const Scene& scene, const World& world, const Contacts&
       // of balance in them (run_loop.cpp)
       {"unbalanced_rest_solves", result.unbalanced_rest_solves},
       {"interrupted", result.interrupted},
+      // a fault ended the run (the "fault" object says which, where and when)
+      {"failed", result.fault.has_value()},
       {"until_blocked", scene.run.until_blocked},
       {"steps", result.steps},
       // Δt of the steps: equal without solver.adaptive_dt [t0]
@@ -123,6 +156,7 @@ std::string summary_json(const Scene& scene, const World& world, const Contacts&
         {"solve_nlgs", result.stage_seconds[2]},
         {"integrate", result.stage_seconds[3]},
         {"analyse", result.stage_seconds[4]}}}};
+  j["fault"] = result.fault ? fault_json(*result.fault) : nullptr;
   j["scene"] = scene_json(scene);
   j["scene_toml"] = scene.effective_toml;
   return j.dump(2) + "\n";

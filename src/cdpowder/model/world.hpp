@@ -20,4 +20,12 @@ struct World {
   std::int64_t step = 0;        ///< completed steps
 };
 
+/// The force the spheres must push the piston up with for it to rest: the applied push F
+/// plus the piston's weight −M_P g_z [F_coh]. F alone without gravity (the paper's case).
+/// The piston's force balance and the blocked state are judged against it.
+inline double piston_load(const World& world) {
+  const Piston& piston = world.walls.piston;
+  return piston.force - piston.mass * world.gravity.z();
+}
+
 }  // namespace cdpowder

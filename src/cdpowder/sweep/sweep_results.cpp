@@ -107,6 +107,7 @@ std::optional<RunRecord> read_run_record(const std::filesystem::path& summary_js
     const auto& run = j.at("run");
     r.blocked = run.at("blocked").get<bool>();
     r.interrupted = run.at("interrupted").get<bool>();
+    r.failed = run.value("failed", false);
     r.steps = run.at("steps").get<double>();
     r.total_sweeps = run.at("total_sweeps").get<double>();
     r.wall_seconds = run.at("wall_seconds").get<double>();
@@ -125,7 +126,8 @@ std::optional<RunRecord> read_run_record(const std::filesystem::path& summary_js
 }
 
 bool is_reusable(const std::optional<RunRecord>& record, const std::string& expected_scene_toml) {
-  return record.has_value() && !record->interrupted && record->scene_toml == expected_scene_toml;
+  return record.has_value() && !record->interrupted && !record->failed &&
+         record->scene_toml == expected_scene_toml;
 }
 
 std::string results_csv(const SweepPlan& plan, const std::vector<std::optional<RunRecord>>& records,
@@ -219,7 +221,8 @@ std::map<std::string, std::filesystem::path> finished_runs_by_scene(
        !error && it != std::filesystem::recursive_directory_iterator(); it.increment(error)) {
     if (it->path().filename() != "summary.json") continue;
     const std::optional<RunRecord> record = read_run_record(it->path());
-    if (record && !record->interrupted) found.emplace(record->scene_toml, it->path());
+    if (record && !record->interrupted && !record->failed)
+      found.emplace(record->scene_toml, it->path());
   }
   return found;
 }

@@ -24,6 +24,7 @@ struct RunRecord {
   double coordination_number = 0.0;
   bool blocked = false;
   bool interrupted = false;
+  bool failed = false;  ///< a fault stopped the run (summaries before faults existed: false)
   double steps = 0.0;
   double total_sweeps = 0.0;
   double capped_steps = 0.0;
@@ -40,8 +41,8 @@ struct RunRecord {
 /// not a complete summary (a run killed before it wrote one).
 std::optional<RunRecord> read_run_record(const std::filesystem::path& summary_json);
 
-/// Whether a run can be reused by a restarted sweep: it finished (not interrupted) and ran
-/// exactly the scene the sweep asks for now.
+/// Whether a run can be reused by a restarted sweep: it finished (neither interrupted nor
+/// failed) and ran exactly the scene the sweep asks for now.
 bool is_reusable(const std::optional<RunRecord>& record, const std::string& expected_scene_toml);
 
 /// results.csv: a row per run that has a record (records[i] belongs to plan.runs[i]),
