@@ -12,20 +12,48 @@
 
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
+#include <array>
 #include <cstdio>
 #include <exception>
+#include <filesystem>
 #include <optional>
 #include <string>
+#include <string_view>
+#include <system_error>
 
 namespace {
 
 constexpr int kExitRunFailed = 1;
 constexpr int kExitBadInput = 2;
 
+/// Why `--out` cannot be the output folder, or nothing: it (or a folder above it) is a file.
+/// Checked while the command line is read, so nothing is run or written (once the run's
+/// end brought the file system's own words and exit status 1).
+std::string output_folder_problem(const std::string& text) {
+  std::error_code error;
+  for (std::filesystem::path p = text; !p.empty(); p = p.parent_path()) {
+    const std::filesystem::file_status status = std::filesystem::status(p, error);
+    if (std::filesystem::is_directory(status)) return {};
+    if (std::filesystem::exists(status)) {
+      return p == std::filesystem::path(text)
+                 ? "'" + text + "' is a file; name a folder (created if missing)"
+                 : "'" + p.string() + "' in '" + text + "' is a file, not a folder";
+    }
+    if (p == p.parent_path()) break;
+  }
+  return {};
+}
+
+/// The subcommands, for the message when the first word names none of them.
+constexpr std::array<std::string_view, 4> kCommands{"simulate", "compact", "deposit", "sweep"};
+
 /// The options shared by simulate and compact.
 void add_run_options(CLI::App& command, cdpowder::app::RunOptions& options) {
   command.add_option("scene", options.scene, "Scene file (TOML); see docs/config.md")->required();
-  command.add_option("--out,-o", options.out, "Output folder (created if missing)")->required();
+  command.add_option("--out,-o", options.out, "Output folder (created if missing)")
+      ->required()
+      ->check(output_folder_problem, "FOLDER");
   command.add_option("--set", options.overrides,
                      "Override a scene key: --set section.key=value (repeatable)");
   command.add_option("--particles", options.particles,
@@ -39,6 +67,15 @@ void add_run_options(CLI::App& command, cdpowder::app::RunOptions& options) {
 namespace {
 
 int run_command_line(int argc, char** argv) {
+  // CLI11 says only "A subcommand is required" for a misspelt command
+  if (argc >= 2 && argv[1][0] != '-' &&
+      std::find(kCommands.begin(), kCommands.end(), std::string_view(argv[1])) == kCommands.end()) {
+    std::fprintf(stderr,
+                 "error: unknown command '%s'; the commands are simulate, compact, deposit and "
+                 "sweep (cdpowder --help)\n",
+                 cdpowder::shown(argv[1]).c_str());
+    return kExitBadInput;
+  }
   CLI::App cli{"cdpowder — contact dynamics of cohesive powders of rigid spheres"};
   cli.set_version_flag("--version",
                        std::string(cdpowder::kVersion) + " (commit " + cdpowder::kGitCommit + ")");
@@ -62,7 +99,8 @@ int run_command_line(int argc, char** argv) {
   deposit_cmd->add_option("scene", deposit.scene, "Scene file (TOML) with a [deposition] section")
       ->required();
   deposit_cmd->add_option("--out,-o", deposit.out, "Output folder (created if missing)")
-      ->required();
+      ->required()
+      ->check(output_folder_problem, "FOLDER");
   deposit_cmd->add_option("--set", deposit.overrides,
                           "Override a scene key: --set section.key=value (repeatable)");
 
@@ -72,7 +110,9 @@ int run_command_line(int argc, char** argv) {
       "Compact every parameter point × seed of a sweep file, in parallel and resumable; write "
       "results.csv and points.csv (docs/sweeps.md)");
   sweep_cmd->add_option("sweep", sweep.sweep, "Sweep file (TOML); see docs/sweeps.md")->required();
-  sweep_cmd->add_option("--out,-o", sweep.out, "Output folder (created if missing)")->required();
+  sweep_cmd->add_option("--out,-o", sweep.out, "Output folder (created if missing)")
+      ->required()
+      ->check(output_folder_problem, "FOLDER");
   sweep_cmd->add_option("--set", sweep.overrides,
                         "Override a scene key in every run: --set section.key=value (repeatable)");
   sweep_cmd->add_option("--jobs,-j", sweep.jobs, "Runs at a time (default: the number of cores)")

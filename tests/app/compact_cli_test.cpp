@@ -287,4 +287,24 @@ TEST_F(CompactCli, ACompactionUnderGravityBlocksAndReportsTheLoadsOnBothWalls) {
   EXPECT_LT(sigma_zz, bottom);
 }
 
+TEST_F(CompactCli, AMisspeltCommandIsNamedWithTheCommandsThatExist) {
+  const ProcessResult r = run_cdpowder("compcat " + kQuick.string() + " --out x", scratch_);
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.err, HasSubstr("unknown command 'compcat'; the commands are simulate, compact"));
+}
+
+// --out naming a file (or a path through one) is refused before anything runs
+TEST_F(CompactCli, AnOutputFolderThatIsAFileIsRefusedBeforeTheRun) {
+  const fs::path file = scratch_ / "a_file";
+  std::ofstream(file) << "keep me\n";
+  for (const fs::path& out : {file, file / "below"}) {
+    const ProcessResult r = run_cdpowder(
+        "compact " + kQuick.string() + " --out " + out.string() + " --quiet", scratch_);
+    EXPECT_EQ(r.status, 2) << out;
+    EXPECT_THAT(r.err, HasSubstr("--out: '" + file.string() + "'"));
+    EXPECT_THAT(r.err, HasSubstr("is a file"));
+  }
+  EXPECT_EQ(slurp(file), "keep me\n");
+}
+
 }  // namespace

@@ -100,6 +100,21 @@ TEST_F(ParticlesCsv, ReportsUnknownAndDuplicateColumns) {
   EXPECT_THAT(found[1], HasSubstr(":1: x: column appears twice"));
 }
 
+// spreadsheets begin a UTF-8 CSV with a byte order mark; it is not part of the first name
+TEST_F(ParticlesCsv, ReadsAFileThatBeginsWithAByteOrderMark) {
+  Bodies bodies;
+  read_particles_csv(write("\xEF\xBB\xBFid,x,y,z,r\n0,1,2,3,1\n"), 1.0, bodies);
+  ASSERT_EQ(bodies.size(), 1U);
+  EXPECT_DOUBLE_EQ(bodies.position[0].z(), 3.0);
+}
+
+TEST_F(ParticlesCsv, EchoesAtMostFortyCharactersOfABadField) {
+  const auto found = issues("x,y,z,r\n1,2," + std::string(100000, 'a') + ",1\n");
+  ASSERT_EQ(found.size(), 1U);
+  EXPECT_THAT(found[0], HasSubstr("'" + std::string(40, 'a') + "… (100000 characters)'"));
+  EXPECT_LT(found[0].size(), 200U);
+}
+
 TEST_F(ParticlesCsv, ReportsBadNumberWithLineAndColumn) {
   const auto found = issues("x,y,z,r\n1,2,3,1\n1,2,abc,1\n");
   ASSERT_EQ(found.size(), 1U);

@@ -3,6 +3,7 @@
 // TOML re-reading to the same Scene.
 #include "cdpowder/config/scene_reader.hpp"
 
+#include <fmt/format.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -153,8 +154,9 @@ TEST_F(SceneReader, ReportsWrongTypes) {
                             "[system]\ngravity = [0, -1]\n");
   ASSERT_EQ(found.size(), 4U);
   EXPECT_EQ(found[0], "scene.toml:4:6: contact.mu: got \"high\", expected a number ≥ 0");
-  EXPECT_THAT(found[1], AllOf(HasSubstr("scene.toml:6:"), HasSubstr("solver.max_sweeps"),
-                              HasSubstr("got 2.5, expected an integer ≥ 1")));
+  EXPECT_THAT(found[1],
+              AllOf(HasSubstr("scene.toml:6:"), HasSubstr("solver.max_sweeps"),
+                    HasSubstr("got 2.5 (a floating-point number), expected an integer ≥ 1")));
   EXPECT_THAT(found[2], AllOf(HasSubstr("solver.warm_start"), HasSubstr("true or false")));
   EXPECT_THAT(found[3], AllOf(HasSubstr("system.gravity"), HasSubstr("array of 3 numbers")));
 }
@@ -169,6 +171,50 @@ TEST_F(SceneReader, RejectsIntegersOutsideTheirRange) {
   EXPECT_THAT(found[1], HasSubstr("got 3000000000, expected an integer ≤ 2147483647"));
   EXPECT_THAT(found[2], HasSubstr("solver.acceleration_interval: got 0, expected an integer ≥ 1"));
   EXPECT_THAT(found[3], HasSubstr("run.timeseries_every: got 0, expected an integer ≥ 1"));
+}
+
+// 1e9 and 10.0 are TOML floats: the message says so and how to write the integer
+TEST_F(SceneReader, AnIntegerWrittenAsAFloatIsNamedAsSuch) {
+  const auto found = issues(std::string(kParticles) +
+                            "[solver]\nmax_sweeps = 1e3\n"
+                            "[run]\ntimeseries_every = 2.5\n");
+  ASSERT_EQ(found.size(), 2U);
+  EXPECT_THAT(found[0], HasSubstr("solver.max_sweeps: got 1000 (written as a floating-point "
+                                  "number; write 1000), expected an integer ≥ 1"));
+  EXPECT_THAT(found[1], HasSubstr("got 2.5 (a floating-point number)"));
+}
+
+TEST_F(SceneReader, LimitsTheDepositToTenMillionSpheres) {
+  const std::string deposit = "[deposition]\nspheres = {}\n[system]\nlx = 20.0\nly = 20.0\n";
+  EXPECT_NO_THROW(read(fmt::format(fmt::runtime(deposit), 10'000'000)));
+  const auto found = issues(fmt::format(fmt::runtime(deposit), 10'000'001));
+  ASSERT_EQ(found.size(), 1U);
+  EXPECT_THAT(found[0], HasSubstr("deposition.spheres: got 10000001, expected an integer ≤ "
+                                  "10000000"));
+}
+
+// A capture sphere wider than half the periodic cell reaches a sphere's own images; a first
+// step longer than the run makes a run of no step
+TEST_F(SceneReader, RejectsACaptureRadiusBeyondHalfTheCellAndAStepLongerThanTheRun) {
+  const std::string deposit =
+      "[deposition]\nspheres = 10\ncapture_radius = {}\n[system]\nlx = 20.0\nly = 12.0\n";
+  EXPECT_NO_THROW(read(fmt::format(fmt::runtime(deposit), 6.0)));
+  auto found = issues(fmt::format(fmt::runtime(deposit), 6.000001));
+  ASSERT_EQ(found.size(), 1U);
+  EXPECT_THAT(found[0], HasSubstr("deposition.capture_radius: got 6.000001, expected at most "
+                                  "half the cell, min(system.lx, system.ly) / 2 = 6"));
+  EXPECT_NO_THROW(read(std::string(kParticles) + "[solver]\ndt = 0.5\n[run]\nduration = 0.5\n"));
+  found = issues(std::string(kParticles) + "[solver]\ndt = 0.6\n[run]\nduration = 0.5\n");
+  ASSERT_EQ(found.size(), 1U);
+  EXPECT_THAT(found[0], HasSubstr("solver.dt: got 0.6, expected at most run.duration = 0.5"));
+}
+
+TEST_F(SceneReader, EchoesAtMostFortyCharactersOfAValue) {
+  const auto found = issues(std::string(kParticles) + "[solver]\nvisit_order = \"" +
+                            std::string(5000, 'q') + "\"\n");
+  ASSERT_EQ(found.size(), 1U);
+  EXPECT_THAT(found[0], HasSubstr("\"" + std::string(40, 'q') + "… (5000 characters)\""));
+  EXPECT_LT(found[0].size(), 300U);
 }
 
 TEST_F(SceneReader, ReportsAKnownTableThatIsNotATable) {

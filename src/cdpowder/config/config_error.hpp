@@ -62,6 +62,17 @@ class ConfigError : public std::runtime_error {
   std::vector<ConfigIssue> issues_;
 };
 
+/// Text from the input as a message shows it: at most 40 characters (cut at a UTF-8
+/// character boundary), longer text followed by its length. Measured before: a 20 MB field
+/// was echoed whole.
+inline std::string shown(std::string_view text) {
+  constexpr std::size_t kMax = 40;
+  if (text.size() <= kMax) return std::string(text);
+  std::size_t cut = kMax;
+  while (cut > 0 && (static_cast<unsigned char>(text[cut]) & 0xC0U) == 0x80U) --cut;
+  return std::string(text.substr(0, cut)) + "… (" + std::to_string(text.size()) + " characters)";
+}
+
 /// Levenshtein distance between two names (used only on short key names).
 inline std::size_t edit_distance(std::string_view a, std::string_view b) {
   std::vector<std::size_t> row(b.size() + 1);

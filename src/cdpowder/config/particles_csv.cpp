@@ -89,7 +89,7 @@ class CsvParser {
       const auto column = static_cast<std::size_t>(
           std::find(kColumnNames.begin(), kColumnNames.end(), field) - kColumnNames.begin());
       if (column == kColumnNames.size()) {
-        add(line_number, std::string(field),
+        add(line_number, shown(field),
             "unknown column" + did_you_mean(field, known) +
                 "; known: x, y, z, r, vx..vz, wx..wz, fx..fz, "
                 "tx..tz, fixed, id");
@@ -122,7 +122,7 @@ class CsvParser {
           column == Fixed ? parse_flag(fields[i]) : parse_number(fields[i]);
       if (!value) {
         add(line_number, name,
-            fmt::format("cannot read '{}' as {}", fields[i],
+            fmt::format("cannot read '{}' as {}", shown(fields[i]),
                         column == Fixed ? "0, 1, true or false" : "a number"));
         ok = false;
       } else if (!std::isfinite(*value)) {
@@ -171,7 +171,13 @@ void read_particles_csv(const std::filesystem::path& file, double density, Bodie
   int line_number = 0;
   for (std::string line; std::getline(stream, line);) {
     ++line_number;
-    const std::string_view content = trim(line);
+    std::string_view content = trim(line);
+    // a UTF-8 byte order mark (spreadsheets write one) is not part of the first column's
+    // name (measured: "id" became an unknown column)
+    constexpr std::string_view kByteOrderMark = "\xEF\xBB\xBF";
+    if (line_number == 1 && content.substr(0, kByteOrderMark.size()) == kByteOrderMark) {
+      content = trim(content.substr(kByteOrderMark.size()));
+    }
     if (content.empty() || content.front() == '#') {
       continue;  // blank, or a provenance header of our own outputs
     }

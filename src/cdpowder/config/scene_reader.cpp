@@ -114,7 +114,10 @@ Scene read_values(TableReader& in, const std::filesystem::path& base_dir,
 
   if (in.has("deposition")) {
     DepositionConfig d;
-    d.spheres = static_cast<int>(in.integer("deposition.spheres", d.spheres, 1, kIntMax));
+    // a run holds about 2 kB per sphere (state, candidates, contacts): 10⁷ spheres need
+    // ≈ 20 GB; beyond that the allocation would fail after the outputs were begun
+    constexpr std::int64_t kMaxSpheres = 10'000'000;
+    d.spheres = static_cast<int>(in.integer("deposition.spheres", d.spheres, 1, kMaxSpheres));
     // `radius` sets both ends of a monodisperse deposit; radius_min/max a uniform spread
     const double radius = in.number("deposition.radius", 1.0, kPositive);
     d.radius_min = in.number("deposition.radius_min", radius, kPositive);

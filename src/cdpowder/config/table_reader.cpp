@@ -117,7 +117,7 @@ std::string describe(const toml::node& node) {
     return boolean->get() ? "true" : "false";
   }
   if (const auto* string = node.as_string()) {
-    return fmt::format("\"{}\"", string->get());
+    return fmt::format("\"{}\"", shown(string->get()));
   }
   if (node.is_array()) {
     return "an array";
@@ -175,7 +175,16 @@ std::int64_t TableReader::integer(std::string_view key, std::int64_t fallback, s
     const bool too_large = integer != nullptr && integer->get() > maximum;
     const std::string allowed = too_large ? fmt::format("an integer ≤ {}", maximum)
                                           : fmt::format("an integer ≥ {}", minimum);
-    add_issue(key, node->source(), fmt::format("got {}, expected {}", describe(*node), allowed));
+    // 1e9 or 10.0 is a TOML float: say so, and how to write the integer it may mean
+    std::string hint;
+    if (const auto* floating = node->as_floating_point()) {
+      const double value = floating->get();
+      hint = std::trunc(value) == value && std::abs(value) < 9e15
+                 ? fmt::format(" (written as a floating-point number; write {:.0f})", value)
+                 : " (a floating-point number)";
+    }
+    add_issue(key, node->source(),
+              fmt::format("got {}{}, expected {}", describe(*node), hint, allowed));
     return fallback;
   }
   return integer->get();
