@@ -1,6 +1,7 @@
 // progress.hpp — the live progress line of long runs on stderr: simulated time, piston
 // height, porosity, sweeps per step, contacts, elapsed and estimated remaining wall time.
-// Redrawn at most every `interval` seconds; silent when quiet.
+// On a terminal redrawn in place at most every `interval` seconds, cut to its width; when
+// stderr is not a terminal (a log file), a plain line at most every 30 s. Silent when quiet.
 #pragma once
 
 #include "cdpowder/solver/step.hpp"
@@ -23,6 +24,7 @@ class ProgressLine {
  private:
   bool quiet_;
   double interval_;
+  int columns_;  ///< the terminal's width, 0 when stderr is not a terminal
   bool drawn_ = false;
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
   std::chrono::steady_clock::time_point last_ = start_;

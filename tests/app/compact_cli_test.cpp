@@ -307,4 +307,14 @@ TEST_F(CompactCli, AnOutputFolderThatIsAFileIsRefusedBeforeTheRun) {
   EXPECT_EQ(slurp(file), "keep me\n");
 }
 
+// stderr here is a pipe, as in a log file: no line redrawn with carriage returns
+TEST_F(CompactCli, TheProgressLineIsNotRedrawnIntoALog) {
+  const ProcessResult r =
+      run_cdpowder("compact " + kQuick.string() + " --out " + (scratch_ / "out").string() + " " +
+                       "--set run.max_duration=5",
+                   scratch_);
+  EXPECT_EQ(r.status, kNotBlocked) << r.err;
+  EXPECT_EQ(r.err.find('\r'), std::string::npos) << r.err;
+}
+
 }  // namespace
