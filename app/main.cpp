@@ -5,6 +5,7 @@
 #include "commands/deposit.hpp"
 #include "commands/simulate.hpp"
 #include "commands/sweep.hpp"
+#include "die_with_parent.hpp"
 
 #include "cdpowder/config/config_error.hpp"
 #include "cdpowder/sweep/time_limit.hpp"
@@ -170,6 +171,7 @@ int run_command_line(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  cdpowder::app::die_with_parent_if_asked();
   // run_command_line turns the expected exceptions into messages; building the command line
   // itself may still throw (CLI::ConstructionError, std::bad_alloc): a message, not terminate
   try {

@@ -2,6 +2,7 @@
 // then run, then write every output atomically. Prints one result line on stdout.
 #include "commands/simulate.hpp"
 
+#include "folder_lock.hpp"
 #include "progress.hpp"
 #include "stop_signals.hpp"
 
@@ -75,6 +76,8 @@ int run_scene(const RunOptions& options, const SceneReadOptions& read_options) {
   const double initial_porosity = porosity(world);
 
   std::filesystem::create_directories(options.out);
+  // one run per folder at a time: held until the process ends, whatever ends it
+  const FolderLock lock(run_lock_file(options.out), "another cdpowder run");
   const std::string header = provenance_header(scene);
   write_file_atomically(options.out / "scene.toml", scene.effective_toml);
   write_file_atomically(options.out / "initial_particles.csv", particles_csv(world.bodies, header));

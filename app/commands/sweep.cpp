@@ -4,6 +4,8 @@
 
 #include "clock_text.hpp"
 #include "commands/simulate.hpp"
+#include "die_with_parent.hpp"
+#include "folder_lock.hpp"
 #include "stop_signals.hpp"
 
 #include "cdpowder/config/config_error.hpp"
@@ -87,32 +89,6 @@ class RunningRuns {
   }
 
   std::map<pid_t, std::size_t> runs;  ///< process → index of the run in the plan
-};
-
-/// An exclusive lock on DIR/.lock for the sweep's lifetime: two sweeps writing into one
-/// folder would start the same runs twice.
-class FolderLock {
- public:
-  explicit FolderLock(const std::filesystem::path& folder) {
-    const std::string path = (folder / ".lock").string();
-    fd_ = open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-    if (fd_ < 0 || flock(fd_, LOCK_EX | LOCK_NB) != 0) {
-      if (fd_ >= 0) close(fd_);
-      throw std::runtime_error(fmt::format(
-          "{} is in use by another sweep (lock {}); wait for it or choose another --out",
-          folder.string(), path));
-    }
-  }
-
-  ~FolderLock() { close(fd_); }
-
-  FolderLock(const FolderLock&) = delete;
-  FolderLock& operator=(const FolderLock&) = delete;
-  FolderLock(FolderLock&&) = delete;
-  FolderLock& operator=(FolderLock&&) = delete;
-
- private:
-  int fd_ = -1;
 };
 
 /// Starts `exe compact scene --out folder --quiet --set …` in its own process group (so a
@@ -252,10 +228,12 @@ int run_sweep(const SweepOptions& options) {
   }
 
   std::filesystem::create_directories(options.out);
-  const FolderLock lock(options.out);
+  const FolderLock lock(options.out / ".lock", "another sweep");
   // the runs are this process's children: waitpid must see them (an inherited SIG_IGN for
   // SIGCHLD would let the kernel reap them unseen)
   signal(SIGCHLD, SIG_DFL);
+  // the runs end (as at Ctrl-C) when this process dies, even by SIGKILL (main.cpp)
+  setenv(kDieWithParentVariable, std::to_string(getpid()).c_str(), 1);
   write_file_atomically(options.out / "sweep.toml", read_text(options.sweep));
   std::size_t reused_count = 0;
   for (const auto& [i, source] : reused) {
@@ -297,6 +275,7 @@ int run_sweep(const SweepOptions& options) {
   std::size_t done_now = 0;
   std::size_t failed = 0;
   std::size_t left_for_later = 0;  // not started: not expected to finish within --time-limit
+  std::size_t held_elsewhere = 0;  // not started: an earlier process still writes its folder
   bool time_up = false;
   // how hard the running runs have been asked to stop: 0 not, 1 SIGTERM (a run finishes its
   // step, writes its outputs flagged interrupted, and is rerun next time), 2 SIGKILL. A run
@@ -332,6 +311,17 @@ int run_sweep(const SweepOptions& options) {
         continue;
       }
       const std::filesystem::path folder = options.out / plan.runs[i].folder;
+      // a process of an earlier sweep still writing into the folder (it got SIGTERM when
+      // that sweep died, and is finishing its step): left for the next run of this command
+      if (FolderLock::held(run_lock_file(folder))) {
+        ++held_elsewhere;
+        std::fprintf(stderr,
+                     "%s seed %lld: %s is still being written by an earlier process; "
+                     "left for later\n",
+                     plan.points[plan.runs[i].point].name.c_str(),
+                     static_cast<long long>(plan.runs[i].seed), folder.string().c_str());
+        continue;
+      }
       std::filesystem::create_directories(folder);
       std::string error;
       const pid_t child = start_run(plan.scene, folder, plan.runs[i].overrides, error);
@@ -378,7 +368,7 @@ int run_sweep(const SweepOptions& options) {
     if (options.quiet) continue;
     const double elapsed = seconds_since_start();
     const std::size_t finished = total - pending.size() + done_now;
-    const std::size_t left = pending.size() - done_now - failed - left_for_later;
+    const std::size_t left = pending.size() - done_now - failed - left_for_later - held_elsewhere;
     // throughput so far (runs finished per wall second, all jobs together) × runs left
     const std::string eta =
         done_now > 0 && !stopped
@@ -410,6 +400,12 @@ int run_sweep(const SweepOptions& options) {
     state = fmt::format(", {} failed (see their log.txt)", failed);
   }
   const std::size_t left = total - finished - failed;
+  if (held_elsewhere > 0) {
+    state += fmt::format(
+        "; {} run{} still written by an earlier process, left for later (run "
+        "the same command again)",
+        held_elsewhere, held_elsewhere == 1 ? "" : "s");
+  }
   if (g_signals.load() == 0 && (left_for_later > 0 || time_up) && left > 0) {
     state +=
         fmt::format("; time limit {}: {} run{} left for later (run the same command to resume)",

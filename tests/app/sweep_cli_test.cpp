@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 
 namespace {
@@ -187,6 +188,59 @@ TEST_F(SweepCli, InterruptKeepsFinishedResultsAndLeavesTheRestPending) {
   const ProcessResult listed =
       run_cdpowder("sweep " + sweep.string() + " --out " + out.string() + " --dry-run", scratch_);
   EXPECT_THAT(listed.out, HasSubstr("0 finished, 0 reused, 2 to run"));
+}
+
+/// Processes whose command line mentions `text` (from /proc: no procps needed).
+std::size_t processes_mentioning(const std::string& text) {
+  std::size_t count = 0;
+  for (const fs::directory_entry& entry : fs::directory_iterator("/proc")) {
+    const std::string name = entry.path().filename().string();
+    if (name.find_first_not_of("0123456789") != std::string::npos) continue;
+    std::ifstream in(entry.path() / "cmdline", std::ios::binary);
+    const std::string command((std::istreambuf_iterator<char>(in)), {});
+    if (command.find(text) != std::string::npos && command.find("compact") != std::string::npos) {
+      ++count;
+    }
+  }
+  return count;
+}
+
+// SIGKILL of a sweep once left its runs running, orphaned, and a restarted sweep ran them
+// a second time into the same folders. Now a run ends when its sweep dies (it gets SIGTERM,
+// writes its outputs flagged interrupted and exits), and a sweep never starts a run whose
+// folder another process still holds.
+TEST_F(SweepCli, ASweepKilledWithSigkillLeavesNoRunBehind) {
+  const fs::path sweep = scratch_ / "sweep.toml";
+  std::ofstream(sweep) << "scene = \"" << kQuick.string() << "\"\nseeds = 2\n"
+                       << "set = [\"run.blocked.piston_speed=1e-300\"]\n";
+  const fs::path out = scratch_ / "killed";
+  const fs::path run = out / "runs" / "base" / "seed_1";
+  const fs::path script = scratch_ / "kill.sh";
+  std::ofstream(script) << CDPOWDER_EXE << " sweep " << sweep.string() << " --out " << out.string()
+                        << " -j 1 &\npid=$!\n"
+                        << "for i in $(seq 1 1200); do [ -f " << (run / "scene.toml").string()
+                        << " ] && break; sleep 0.05; done\n"
+                        << "sleep 0.3\nkill -KILL $pid\n"
+                        << "for i in $(seq 1 200); do [ -f " << (run / "summary.json").string()
+                        << " ] && break; sleep 0.05; done\nsleep 0.5\n";
+  const ProcessResult r = cdpowder::testing::run_process("sh", script.string(), scratch_);
+  EXPECT_EQ(processes_mentioning(run.string()), 0U);
+  const nlohmann::json s = nlohmann::json::parse(slurp(run / "summary.json"));
+  EXPECT_TRUE(s["run"]["interrupted"].get<bool>());
+
+  // a run folder still held (here by flock(1), as an earlier process would) is not started
+  const fs::path held = scratch_ / "held.sh";
+  std::ofstream(held) << "flock " << (run / ".run.lock").string()
+                      << " sleep 5 &\nholder=$!\nsleep 0.5\n"
+                      << CDPOWDER_EXE << " sweep " << sweep.string() << " --out " << out.string()
+                      << " -j 1 --set run.max_duration=1 --quiet\n"
+                      << "echo \"exit $?\"\nkill $holder\n";
+  const std::string log_before = slurp(run / "log.txt");
+  const ProcessResult again = cdpowder::testing::run_process("sh", held.string(), scratch_);
+  EXPECT_THAT(again.err, HasSubstr("is still being written by an earlier process"));
+  EXPECT_THAT(again.out, HasSubstr("1 run still written by an earlier process"));
+  EXPECT_THAT(again.out, HasSubstr("exit 1"));
+  EXPECT_EQ(slurp(run / "log.txt"), log_before);  // not started again, its log untouched
 }
 
 TEST_F(SweepCli, TimeLimitStartsOnlyRunsExpectedToFinishInTime) {
