@@ -8,6 +8,7 @@
 #include "die_with_parent.hpp"
 
 #include "cdpowder/config/config_error.hpp"
+#include "cdpowder/core/stop_request.hpp"
 #include "cdpowder/sweep/time_limit.hpp"
 #include "cdpowder/version.hpp"
 
@@ -156,6 +157,9 @@ int run_command_line(int argc, char** argv) {
     if (compact_cmd->parsed()) return cdpowder::app::run_compact(compact);
     if (deposit_cmd->parsed()) return cdpowder::app::run_deposit(deposit);
     if (sweep_cmd->parsed()) return cdpowder::app::run_sweep(sweep);
+  } catch (const cdpowder::Interrupted& e) {
+    std::fprintf(stderr, "error: %s; nothing written\n", e.what());
+    return kExitRunFailed;
   } catch (const cdpowder::ConfigError& e) {
     for (const cdpowder::ConfigIssue& issue : e.issues()) {
       std::fprintf(stderr, "error: %s\n", cdpowder::format(issue).c_str());

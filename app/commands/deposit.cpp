@@ -1,6 +1,8 @@
 // deposit.cpp — the deposit command.
 #include "commands/deposit.hpp"
 
+#include "stop_signals.hpp"
+
 #include "cdpowder/analysis/porosity.hpp"
 #include "cdpowder/config/scene_reader.hpp"
 #include "cdpowder/experiment/deposition.hpp"
@@ -13,17 +15,31 @@
 
 #include <fmt/format.h>
 
+#include <atomic>
 #include <chrono>
 #include <cstdio>
 
 namespace cdpowder::app {
 
+namespace {
+
+/// Set by SIGINT/SIGTERM/SIGHUP: the deposit stops within 256 spheres, writing nothing.
+std::atomic<bool> g_stop_requested{false};
+
+extern "C" void request_deposit_stop(int /*signal*/) {
+  g_stop_requested.store(true);
+}
+
+}  // namespace
+
 int run_deposit(const DepositOptions& options) {
+  // one-shot: a second Ctrl-C ends the program at once
+  const StopSignals stop_on_signal(request_deposit_stop, SA_RESETHAND);
   SceneReadOptions how;
   how.deposition_required = true;
   const Scene scene = read_scene(options.scene, options.overrides, how);
   const auto start = std::chrono::steady_clock::now();
-  const World world = make_world(scene);  // deposits
+  const World world = make_world(scene, [] { return g_stop_requested.load(); });  // deposits
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 

@@ -72,7 +72,7 @@ int run_scene(const RunOptions& options, const SceneReadOptions& read_options) {
   SceneReadOptions how = read_options;
   how.particles_file = options.particles;
   const Scene scene = read_scene(options.scene, options.overrides, how);
-  World world = make_world(scene);
+  World world = make_world(scene, [] { return g_stop_requested.load(); });
   const double initial_porosity = porosity(world);
 
   std::filesystem::create_directories(options.out);

@@ -159,5 +159,24 @@ TEST(Deposition, PorosityOfAKnownLayerIsExact) {
               1e-15);
 }
 
+// Asked every 256 spheres: a stop request ends the deposit there (once measured: Ctrl-C was
+// not honoured during a 10 s deposit), with the spheres so far left in `bodies`.
+TEST(Deposition, StopsWithinTwoHundredFiftySixSpheresOfAStopRequest) {
+  DepositionConfig config = paper_config(3);
+  int asked = 0;
+  Bodies bodies;
+  try {
+    deposit_ballistically(config, kDensity, bodies, [&asked] { return ++asked == 3; });
+    ADD_FAILURE() << "no Interrupted";
+  } catch (const Interrupted& stop) {
+    EXPECT_EQ(std::string(stop.what()),
+              "interrupted during the deposition, after 512 of 1015 spheres");
+  }
+  EXPECT_EQ(bodies.size(), 512U);
+  Bodies never_stopped;
+  deposit_ballistically(config, kDensity, never_stopped, [] { return false; });
+  EXPECT_EQ(never_stopped.size(), 1015U);
+}
+
 }  // namespace
 }  // namespace cdpowder

@@ -6,6 +6,8 @@
 #include "cdpowder/analysis/porosity.hpp"
 #include "cdpowder/core/rng.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -73,7 +75,8 @@ double ray_hits_sphere(const Vec3& p, const Vec3& u, const Vec3& c, double reach
 
 }  // namespace
 
-void deposit_ballistically(const DepositionConfig& config, double density, Bodies& bodies) {
+void deposit_ballistically(const DepositionConfig& config, double density, Bodies& bodies,
+                           const StopRequest& stop_requested) {
   const PeriodicBox box{config.lx, config.ly};
   Rng rng = make_rng(config.seed, RngStream::Deposition);
   const double gap = config.capture_gap();
@@ -81,7 +84,12 @@ void deposit_ballistically(const DepositionConfig& config, double density, Bodie
   // horizontal reach of a capture: two largest spheres plus the capture gap
   ColumnGrid columns(box, 2.0 * r_max + std::max(gap, 0.0));
 
+  constexpr int kSpheresBetweenStopChecks = 256;
   for (int n = 0; n < config.spheres; ++n) {
+    if (n % kSpheresBetweenStopChecks == 0 && stop_requested && stop_requested()) {
+      throw Interrupted(fmt::format("interrupted during the deposition, after {} of {} spheres", n,
+                                    config.spheres));
+    }
     const double x = config.lx * uniform01(rng);
     const double y = config.ly * uniform01(rng);
     const double radius =

@@ -4,6 +4,7 @@
 // The result is a very loose, tree-like deposit, periodic in x and y.
 #pragma once
 
+#include "cdpowder/core/stop_request.hpp"
 #include "cdpowder/model/bodies.hpp"
 #include "cdpowder/model/periodic_box.hpp"
 
@@ -39,8 +40,11 @@ struct DepositionConfig {
 
 /// Appends config.spheres deposited spheres (at rest, density `density`) to `bodies`, which
 /// must be empty. Every sphere touches the substrate (z = R) or a sphere deposited before
-/// it; none overlaps another (up to round-off).
-void deposit_ballistically(const DepositionConfig& config, double density, Bodies& bodies);
+/// it; none overlaps another (up to round-off). `stop_requested` is asked every 256
+/// spheres (a 60 000-sphere deposit takes ≈ 10 s); when it answers true, throws Interrupted
+/// (and `bodies` holds the spheres deposited so far).
+void deposit_ballistically(const DepositionConfig& config, double density, Bodies& bodies,
+                           const StopRequest& stop_requested = {});
 
 /// Height of a deposit: max_i (z_i + R_i), 0 when empty [R].
 double deposit_height(const Bodies& bodies);

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "cdpowder/config/scene.hpp"
+#include "cdpowder/core/stop_request.hpp"
 #include "cdpowder/experiment/blocked_state.hpp"
 #include "cdpowder/experiment/run_fault.hpp"
 #include "cdpowder/solver/step.hpp"
@@ -60,8 +61,8 @@ struct RunResult {
 /// after a blocked run's static final solve, with the same fraction.
 using StepObserver = std::function<void(const World&, const StepReport&, double fraction)>;
 
-/// Asked after every step; true ends the run there, as a complete but interrupted run.
-using StopRequest = std::function<bool()>;
+// StopRequest (core/stop_request.hpp) is asked after every step; true ends the run there,
+// as a complete but interrupted run.
 
 /// Everything the time loop carries from one step to the next besides the World and the
 /// StepWorkspace: the counts and gauges so far, the blocked-state test's window and when the

@@ -8,13 +8,13 @@
 
 namespace cdpowder {
 
-World make_world(const Scene& scene) {
+World make_world(const Scene& scene, const StopRequest& stop_requested) {
   World world;
   world.box = PeriodicBox{scene.system.lx, scene.system.ly};
   world.gravity = scene.system.gravity;
   world.walls.bottom.enabled = scene.system.bottom_wall;
   if (scene.deposition) {
-    deposit_ballistically(*scene.deposition, scene.system.density, world.bodies);
+    deposit_ballistically(*scene.deposition, scene.system.density, world.bodies, stop_requested);
   } else {
     read_particles_csv(scene.particles_file, scene.system.density, world.bodies);
   }

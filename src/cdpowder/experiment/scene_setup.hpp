@@ -4,13 +4,15 @@
 #pragma once
 
 #include "cdpowder/config/scene.hpp"
+#include "cdpowder/core/stop_request.hpp"
 #include "cdpowder/model/world.hpp"
 
 namespace cdpowder {
 
 /// Builds the initial world. Throws ConfigError for bad particles or a cell too small for
 /// them. An unset piston height puts the piston at rest on the highest sphere plus
-/// piston.start_gap (physics.md §9).
-World make_world(const Scene& scene);
+/// piston.start_gap (physics.md §9). A deposit asks `stop_requested` as it goes and throws
+/// Interrupted when it answers true.
+World make_world(const Scene& scene, const StopRequest& stop_requested = {});
 
 }  // namespace cdpowder
