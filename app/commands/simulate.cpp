@@ -98,7 +98,14 @@ int run_scene(const RunOptions& options, const SceneReadOptions& read_options) {
   const RunResult result = run_simulation(
       world, work, scene.step, scene.run, state,
       [&](const World& w, const StepReport& report, double fraction) {
+        const bool failed_before = timeseries.failed();
         timeseries.record(w, report);
+        if (timeseries.failed() && !failed_before) {  // said at once; the run goes on
+          progress.finish();
+          std::fprintf(stderr,
+                       "warning: %s; the run goes on and writes its other outputs at its end\n",
+                       timeseries.error().c_str());
+        }
         progress.update(w, report, fraction);
         if (snapshots_on && w.step != last_snapshot_step && snapshot_cadence.due(w)) {
           last_snapshot_step = w.step;
@@ -107,16 +114,18 @@ int run_scene(const RunOptions& options, const SceneReadOptions& read_options) {
       },
       [] { return g_stop_requested.load(); });
   progress.finish();
-  timeseries.record(world, result.last, /*force=*/true);
-  timeseries.commit();
-  if (snapshots_on && world.step != last_snapshot_step) snapshots.write(world, work.contacts);
-
+  // the results first, the summary before the larger files, the time series last: a full
+  // disk then costs the least (measured before: the time series failed first and stopped
+  // everything after it)
+  write_file_atomically(options.out / "summary.json",
+                        summary_json(scene, world, work.contacts, result, initial_porosity));
   write_file_atomically(options.out / "particles.csv", particles_csv(world.bodies, header));
   write_file_atomically(options.out / "contacts.csv", contacts_csv(work.contacts, header));
   write_file_atomically(options.out / "particles.vtp", particles_vtp(world, &work.contacts));
   write_file_atomically(options.out / "contacts.vtp", contacts_vtp(world, work.contacts));
-  write_file_atomically(options.out / "summary.json",
-                        summary_json(scene, world, work.contacts, result, initial_porosity));
+  if (snapshots_on && world.step != last_snapshot_step) snapshots.write(world, work.contacts);
+  timeseries.record(world, result.last, /*force=*/true);
+  timeseries.commit();
 
   if (result.fault) {
     // the state at the fault, to look at or to rerun the step from (io/state_file.hpp)

@@ -5,6 +5,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -13,6 +14,9 @@
 #include <string>
 #include <string_view>
 #include <vector>
+
+// getrlimit and setrlimit are POSIX
+#include <sys/resource.h>
 
 namespace cdpowder {
 namespace {
@@ -81,6 +85,7 @@ TEST_F(AtomicFile, WriteIntoMissingFolderThrowsNamingThePathAndCreatesNothing) {
     FAIL() << "no exception writing into a missing folder";
   } catch (const std::runtime_error& error) {
     EXPECT_THAT(error.what(), HasSubstr(file.string()));
+    EXPECT_THAT(error.what(), HasSubstr("No such file or directory"));
   }
   EXPECT_FALSE(fs::exists(missing));
   EXPECT_TRUE(fs::is_empty(dir_));
@@ -90,7 +95,7 @@ TEST_F(AtomicFile, StreamWithoutCommitLeavesNoFileAndNoTemporary) {
   const fs::path file = dir_ / "timeseries.csv";
   {
     AtomicFileStream out(file);
-    out.stream() << "t,z\n0,1\n";
+    out.write("t,z\n0,1\n");
     EXPECT_FALSE(fs::exists(file));  // not under the final name while being written
   }
   EXPECT_FALSE(fs::exists(file));
@@ -101,8 +106,8 @@ TEST_F(AtomicFile, StreamWithCommitAppearsWithTheStreamedContent) {
   const fs::path file = dir_ / "timeseries.csv";
   {
     AtomicFileStream out(file);
-    out.stream() << "t,z\n";
-    out.stream() << "0,1\n";
+    out.write("t,z\n");
+    out.write("0,1\n");
     out.commit();
   }
   EXPECT_EQ(read(file), "t,z\n0,1\n");
@@ -114,11 +119,51 @@ TEST_F(AtomicFile, StreamDestroyedWithoutCommitLeavesPreviousFileUntouched) {
   write_file_atomically(file, kContent);
   {
     AtomicFileStream out(file);
-    out.stream() << "new content that must never appear\n";
-    out.stream().flush();
+    out.write("new content that must never appear\n");
     EXPECT_EQ(read(file), kContent);  // also untouched while the stream is open
   }
   EXPECT_EQ(read(file), kContent);
+  EXPECT_THAT(hidden_files(), ::testing::IsEmpty());
+}
+
+// The rename's own reason (once the cleanup's error code overwrote it: "…: Success")
+TEST_F(AtomicFile, AFailedRenameReportsItsReasonAndLeavesNoTemporary) {
+  const fs::path target = dir_ / "summary.json";
+  fs::create_directories(target / "occupied");  // a non-empty folder cannot be replaced
+  try {
+    write_file_atomically(target, kContent);
+    FAIL() << "no exception renaming over a folder";
+  } catch (const std::runtime_error& error) {
+    EXPECT_THAT(error.what(), HasSubstr("cannot write " + target.string()));
+    EXPECT_THAT(error.what(), ::testing::Not(HasSubstr("Success")));
+  }
+  EXPECT_THAT(hidden_files(), ::testing::IsEmpty());
+}
+
+// A write that fails in the middle of a run (a full disk; here the file-size limit, which
+// fails the same write(2) with EFBIG) is remembered with its reason, later writes are
+// dropped, and commit() throws it and leaves no file.
+TEST_F(AtomicFile, AStreamThatCannotWriteSaysWhyAndCommitsNothing) {
+  rlimit before{};
+  ASSERT_EQ(getrlimit(RLIMIT_FSIZE, &before), 0);
+  const auto previous_handler = signal(SIGXFSZ, SIG_IGN);  // EFBIG instead of the signal
+  rlimit small = before;
+  small.rlim_cur = rlim_t{100} * 1024;
+  ASSERT_EQ(setrlimit(RLIMIT_FSIZE, &small), 0);
+  const fs::path file = dir_ / "timeseries.csv";
+  {
+    AtomicFileStream out(file);
+    const std::string row(1000, 'r');
+    for (int k = 0; k < 300 && !out.failed(); ++k) out.write(row);
+    EXPECT_TRUE(out.failed());
+    EXPECT_THAT(out.error(), HasSubstr("cannot write " + file.string() + ": File too large"));
+    out.write(row);  // dropped, no second error
+    EXPECT_THAT(out.error(), HasSubstr("File too large"));
+    EXPECT_THROW(out.commit(), std::runtime_error);
+  }
+  setrlimit(RLIMIT_FSIZE, &before);
+  signal(SIGXFSZ, previous_handler);
+  EXPECT_FALSE(fs::exists(file));
   EXPECT_THAT(hidden_files(), ::testing::IsEmpty());
 }
 

@@ -1,10 +1,16 @@
-// atomic_file.cpp — temporary name + rename.
+// atomic_file.cpp — temporary name + rename, with POSIX calls so that every failure has its
+// errno (a std::ofstream says only that it failed).
 #include "cdpowder/io/atomic_file.hpp"
 
 #include <fmt/format.h>
 
+#include <cerrno>
+#include <cstring>
 #include <stdexcept>
 #include <system_error>
+
+// open, write, close and getpid are POSIX
+#include <fcntl.h>
 #include <unistd.h>
 
 namespace cdpowder {
@@ -16,11 +22,39 @@ std::filesystem::path temporary_name(const std::filesystem::path& path) {
          fmt::format(".{}.{}.tmp", path.filename().string(), static_cast<long>(::getpid()));
 }
 
+std::string failure(const std::filesystem::path& path, int error_number) {
+  return fmt::format("cannot write {}: {}", path.string(), std::strerror(error_number));
+}
+
+int open_for_writing(const std::filesystem::path& temporary, const std::filesystem::path& path) {
+  const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) throw std::runtime_error(failure(path, errno));
+  return fd;
+}
+
+/// Writes all of `text`; the errno of the failure, or 0.
+int write_all(int fd, std::string_view text) {
+  while (!text.empty()) {
+    const ssize_t written = ::write(fd, text.data(), text.size());
+    if (written < 0) {
+      if (errno == EINTR) continue;
+      return errno;
+    }
+    text.remove_prefix(static_cast<std::size_t>(written));
+  }
+  return 0;
+}
+
+void remove_quietly(const std::filesystem::path& file) {
+  std::error_code ignored;
+  std::filesystem::remove(file, ignored);
+}
+
 void rename_into_place(const std::filesystem::path& from, const std::filesystem::path& to) {
   std::error_code error;
   std::filesystem::rename(from, to, error);
   if (error) {
-    std::filesystem::remove(from, error);
+    remove_quietly(from);  // its own error code: the message keeps the rename's reason
     throw std::runtime_error(fmt::format("cannot write {}: {}", to.string(), error.message()));
   }
 }
@@ -29,38 +63,53 @@ void rename_into_place(const std::filesystem::path& from, const std::filesystem:
 
 void write_file_atomically(const std::filesystem::path& path, std::string_view content) {
   const std::filesystem::path temporary = temporary_name(path);
-  {
-    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    if (!out) throw std::runtime_error(fmt::format("cannot write {}", path.string()));
-    out.write(content.data(), static_cast<std::streamsize>(content.size()));
-    out.flush();
-    if (!out) {
-      std::error_code ignored;
-      std::filesystem::remove(temporary, ignored);
-      throw std::runtime_error(fmt::format("cannot write {}", path.string()));
-    }
+  const int fd = open_for_writing(temporary, path);
+  int error_number = write_all(fd, content);
+  if (::close(fd) != 0 && error_number == 0) error_number = errno;
+  if (error_number != 0) {
+    remove_quietly(temporary);
+    throw std::runtime_error(failure(path, error_number));
   }
   rename_into_place(temporary, path);
 }
 
 AtomicFileStream::AtomicFileStream(std::filesystem::path path)
     : path_(std::move(path)), temporary_(temporary_name(path_)) {
-  stream_.open(temporary_, std::ios::binary | std::ios::trunc);
-  if (!stream_) throw std::runtime_error(fmt::format("cannot write {}", path_.string()));
+  fd_ = open_for_writing(temporary_, path_);
 }
 
 AtomicFileStream::~AtomicFileStream() {
-  if (!committed_) {
-    stream_.close();
-    std::error_code ignored;
-    std::filesystem::remove(temporary_, ignored);
+  if (fd_ >= 0) ::close(fd_);
+  if (!committed_) remove_quietly(temporary_);
+}
+
+void AtomicFileStream::fail(int error_number) {
+  if (error_.empty()) error_ = failure(path_, error_number);
+}
+
+void AtomicFileStream::flush() {
+  if (!failed()) {
+    const int error_number = write_all(fd_, buffer_);
+    if (error_number != 0) fail(error_number);
   }
+  buffer_.clear();
+}
+
+void AtomicFileStream::write(std::string_view text) {
+  if (failed()) return;
+  buffer_ += text;
+  if (buffer_.size() >= kBufferBytes) flush();
 }
 
 void AtomicFileStream::commit() {
-  stream_.flush();
-  if (!stream_) throw std::runtime_error(fmt::format("cannot write {}", path_.string()));
-  stream_.close();
+  flush();
+  const int fd = fd_;
+  fd_ = -1;
+  if (::close(fd) != 0) fail(errno);
+  if (failed()) {
+    remove_quietly(temporary_);
+    throw std::runtime_error(error_);
+  }
   rename_into_place(temporary_, path_);
   committed_ = true;
 }

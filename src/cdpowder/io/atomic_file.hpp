@@ -1,35 +1,60 @@
 // atomic_file.hpp — outputs appear whole or not at all: every file is written under a
-// temporary name in its destination folder, flushed, then renamed over the final name
-// (rename is atomic within a file system). A killed run leaves earlier files intact.
+// temporary name in its destination folder, then renamed over the final name (rename is
+// atomic within a file system). A killed run leaves earlier files intact. Every failure
+// says which file and why, in the system's words (a full disk: "No space left on device"),
+// and leaves no temporary file behind.
 #pragma once
 
+#include <cstddef>
 #include <filesystem>
-#include <fstream>
+#include <string>
 #include <string_view>
 
 namespace cdpowder {
 
-/// Writes `content` to `path` atomically. Throws std::runtime_error naming the path.
+/// Writes `content` to `path` atomically. Throws std::runtime_error naming the path and the
+/// reason.
 void write_file_atomically(const std::filesystem::path& path, std::string_view content);
 
 /// A file that is written incrementally (a time series) and appears under its final name
 /// only when commit() is called; destroyed without commit, it removes its temporary file.
+/// A failed write is remembered, not thrown: the caller decides whether to go on (a run
+/// keeps running and writes its other outputs) and asks failed()/error().
 class AtomicFileStream {
  public:
+  /// Opens the temporary file; throws std::runtime_error naming the path and the reason.
   explicit AtomicFileStream(std::filesystem::path path);
   ~AtomicFileStream();
   AtomicFileStream(const AtomicFileStream&) = delete;
   AtomicFileStream& operator=(const AtomicFileStream&) = delete;
+  AtomicFileStream(AtomicFileStream&&) = delete;
+  AtomicFileStream& operator=(AtomicFileStream&&) = delete;
 
-  std::ofstream& stream() { return stream_; }
+  /// Appends `text` (nothing once a write has failed). Written to the file in blocks of
+  /// kBufferBytes, so a failure is seen within that much output.
+  void write(std::string_view text);
 
-  /// Flushes, closes and renames to the final name.
+  /// Whether a write failed, and "cannot write PATH: reason" of the first failure.
+  [[nodiscard]] bool failed() const { return !error_.empty(); }
+
+  [[nodiscard]] const std::string& error() const { return error_; }
+
+  /// Closes and renames to the final name. Throws std::runtime_error with the first
+  /// failure's reason (the temporary file is removed) if any write, the close or the rename
+  /// failed.
   void commit();
 
  private:
+  static constexpr std::size_t kBufferBytes = std::size_t{64} * 1024;
+
+  void fail(int error_number);
+  void flush();
+
   std::filesystem::path path_;
   std::filesystem::path temporary_;
-  std::ofstream stream_;
+  int fd_ = -1;
+  std::string buffer_;
+  std::string error_;
   bool committed_ = false;
 };
 

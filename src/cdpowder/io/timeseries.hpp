@@ -18,6 +18,11 @@ class TimeseriesWriter {
   /// Writes a row if the cadence says one is due (or `force`), at most one per step.
   void record(const World& world, const StepReport& report, bool force = false);
 
+  /// Whether a row could not be written, and why (the run goes on; commit() throws it).
+  [[nodiscard]] bool failed() const { return file_.failed(); }
+
+  [[nodiscard]] const std::string& error() const { return file_.error(); }
+
   void commit() { file_.commit(); }
 
  private:
