@@ -122,6 +122,17 @@ int run_command_line(int argc, char** argv) {
   sweep_cmd->add_flag("--quiet,-q", sweep.quiet, "No progress lines on stderr");
   sweep_cmd->add_flag("--dry-run", sweep.dry_run,
                       "List the runs and whether each is finished; run nothing");
+  CLI::Option* list = sweep_cmd->add_flag(
+      "--list", sweep.list,
+      "Print one shell command per run still to do (for GNU parallel, xargs -P or a Slurm "
+      "array; docs/sweeps.md); run nothing");
+  CLI::Option* task = sweep_cmd->add_option(
+      "--task", sweep.task,
+      "Run exactly run I of the plan (the index --list prints), as one of many runners");
+  CLI::Option* collect = sweep_cmd->add_flag(
+      "--collect", sweep.collect, "Write results.csv and points.csv from the finished runs");
+  list->excludes(task)->excludes(collect);
+  task->excludes(collect);
   sweep_cmd
       ->add_option("--reuse", sweep.reuse,
                    "Another sweep folder: copy in its finished runs whose scene is exactly a "

@@ -141,17 +141,25 @@ void write_tables(const SweepOptions& options, const SweepPlan& plan,
   write_file_atomically(options.out / "points.csv", points_csv(plan, records, header));
 }
 
-}  // namespace
+/// What a sweep folder holds against its plan: every run's resolved scene, the finished
+/// runs' records, and the runs still to do (those another sweep has done, with --reuse,
+/// apart).
+struct SweepState {
+  SweepPlan plan;
+  std::vector<std::string> scene_texts;
+  std::vector<std::optional<RunRecord>> records;
+  std::vector<std::size_t> pending;
+  std::map<std::size_t, std::filesystem::path> reused;
+};
 
-int run_sweep(const SweepOptions& options) {
-  // --time-limit counts from here, the command's start, as a batch system's limit would
-  const auto start = std::chrono::steady_clock::now();
-  const StopSignals signals(count_signal, 0);  // no SA_RESETHAND: the second signal is counted
-  g_signals.store(0);
-  const SweepPlan plan = read_sweep_plan(options.sweep, options.overrides);
-
+/// Reads the plan, checks every run's scene (ConfigError, nothing written) and what DIR
+/// already holds.
+SweepState read_sweep_state(const SweepOptions& options) {
+  SweepState state{read_sweep_plan(options.sweep, options.overrides), {}, {}, {}, {}};
+  const SweepPlan& plan = state.plan;
+  std::vector<std::string>& scene_texts = state.scene_texts;
+  scene_texts.resize(plan.runs.size());
   // every run's scene is checked before anything starts; each distinct mistake once
-  std::vector<std::string> scene_texts(plan.runs.size());
   std::vector<ConfigIssue> issues;
   std::set<std::string> seen;
   SceneReadOptions compaction;
@@ -180,8 +188,9 @@ int run_sweep(const SweepOptions& options) {
   }
   if (!issues.empty()) throw ConfigError(std::move(issues));
 
-  std::vector<std::optional<RunRecord>> records(plan.runs.size());
-  std::vector<std::size_t> pending;
+  std::vector<std::optional<RunRecord>>& records = state.records;
+  records.resize(plan.runs.size());
+  std::vector<std::size_t>& pending = state.pending;
   for (std::size_t i = 0; i < plan.runs.size(); ++i) {
     std::optional<RunRecord> record =
         read_run_record(options.out / plan.runs[i].folder / "summary.json");
@@ -192,7 +201,7 @@ int run_sweep(const SweepOptions& options) {
     }
   }
   // runs another sweep has already done, for exactly the same scene
-  std::map<std::size_t, std::filesystem::path> reused;
+  std::map<std::size_t, std::filesystem::path>& reused = state.reused;
   if (!options.reuse.empty()) {
     std::map<std::string, std::filesystem::path> elsewhere;
     for (const std::filesystem::path& folder : options.reuse) {
@@ -215,6 +224,124 @@ int run_sweep(const SweepOptions& options) {
     pending.swap(still_pending);
   }
   order_seed_by_seed(plan, pending);
+  return state;
+}
+
+/// `text` quoted for a POSIX shell.
+std::string shell_quoted(const std::string& text) {
+  std::string quoted = "'";
+  for (const char c : text) {
+    if (c == '\'') {
+      quoted += "'\\''";
+    } else {
+      quoted += c;
+    }
+  }
+  return quoted + "'";
+}
+
+/// --list: one shell command per pending run, each `cdpowder sweep … --task I` with the
+/// run's index in the full plan (stable: the plan's order) and folder beside it.
+int list_pending_runs(const SweepOptions& options, const SweepState& state) {
+  std::error_code error;
+  const std::filesystem::path self = std::filesystem::read_symlink(kSelf, error);
+  std::string common = shell_quoted(error ? std::string("cdpowder") : self.string()) + " sweep " +
+                       shell_quoted(std::filesystem::absolute(options.sweep).string()) + " --out " +
+                       shell_quoted(std::filesystem::absolute(options.out).string());
+  for (const std::string& o : options.overrides) common += " --set " + shell_quoted(o);
+  std::vector<std::size_t> listed = state.pending;
+  for (const auto& entry : state.reused) listed.push_back(entry.first);
+  std::sort(listed.begin(), listed.end());
+  for (const std::size_t i : listed) {
+    std::printf("%s --task %zu --quiet  # run %zu: %s\n", common.c_str(), i, i,
+                state.plan.runs[i].folder.generic_string().c_str());
+  }
+  return 0;
+}
+
+/// --task I: run I of the plan and nothing else, as one of many runners on the folder (no
+/// sweep lock: the run's own folder lock keeps two runners off one run).
+int run_task(const SweepOptions& options, const SweepState& state, std::size_t task) {
+  const SweepPlan& plan = state.plan;
+  if (task >= plan.runs.size()) {
+    throw ConfigError({{"--task", 0, 0, "",
+                        fmt::format("got {}, expected a run index from 0 to {} (--list prints "
+                                    "them)",
+                                    task, plan.runs.size() - 1)}});
+  }
+  const SweepRun& run = plan.runs[task];
+  const std::filesystem::path folder = options.out / run.folder;
+  const std::string name =
+      fmt::format("run {} ({} seed {})", task, plan.points[run.point].name, run.seed);
+  if (state.records[task]) {
+    if (!options.quiet) std::fprintf(stderr, "%s: already finished\n", name.c_str());
+    return 0;
+  }
+  if (FolderLock::held(run_lock_file(folder))) {
+    std::fprintf(stderr, "%s: %s is being written by another process\n", name.c_str(),
+                 folder.string().c_str());
+    return 1;
+  }
+  std::filesystem::create_directories(folder);
+  write_file_atomically(options.out / "sweep.toml", read_text(options.sweep));
+  signal(SIGCHLD, SIG_DFL);
+  setenv(kDieWithParentVariable, std::to_string(getpid()).c_str(), 1);
+  std::string error;
+  const pid_t child = start_run(plan.scene, folder, run.overrides, error);
+  if (child == 0) throw std::runtime_error(error);
+  int status = 0;
+  bool asked_to_stop = false;
+  while (waitpid(child, &status, WNOHANG) == 0) {
+    if (g_signals.load() > 0 && !asked_to_stop) {  // a scheduler's SIGTERM: the run stops too
+      kill(child, SIGTERM);
+      asked_to_stop = true;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  const std::optional<RunRecord> record = read_run_record(folder / "summary.json");
+  const bool finished = WIFEXITED(status) &&
+                        (WEXITSTATUS(status) == 0 || WEXITSTATUS(status) == kExitNotBlocked) &&
+                        is_reusable(record, state.scene_texts[task]);
+  if (!finished) {
+    std::fprintf(stderr, "%s: %s, see %s\n", name.c_str(), asked_to_stop ? "interrupted" : "FAILED",
+                 (folder / "log.txt").string().c_str());
+    return 1;
+  }
+  if (!options.quiet) {
+    std::fprintf(stderr, "%s: porosity=%.5f blocked=%s wall=%.1fs\n", name.c_str(),
+                 record->porosity, record->blocked ? "yes" : "no", record->wall_seconds);
+  }
+  return 0;
+}
+
+/// --collect: the tables of what has finished, starting nothing.
+int collect_tables(const SweepOptions& options, const SweepState& state) {
+  std::filesystem::create_directories(options.out);
+  write_tables(options, state.plan, state.records);
+  const auto finished = static_cast<std::size_t>(
+      std::count_if(state.records.begin(), state.records.end(),
+                    [](const std::optional<RunRecord>& r) { return r.has_value(); }));
+  std::printf("sweep: %zu of %zu runs finished; results in %s\n", finished, state.plan.runs.size(),
+              (options.out / "results.csv").string().c_str());
+  return 0;
+}
+
+}  // namespace
+
+int run_sweep(const SweepOptions& options) {
+  // --time-limit counts from here, the command's start, as a batch system's limit would
+  const auto start = std::chrono::steady_clock::now();
+  const StopSignals signals(count_signal, 0);  // no SA_RESETHAND: the second signal is counted
+  g_signals.store(0);
+  SweepState sweep_state = read_sweep_state(options);
+  const SweepPlan& plan = sweep_state.plan;
+  const std::vector<std::string>& scene_texts = sweep_state.scene_texts;
+  std::vector<std::optional<RunRecord>>& records = sweep_state.records;
+  std::vector<std::size_t>& pending = sweep_state.pending;
+  const std::map<std::size_t, std::filesystem::path>& reused = sweep_state.reused;
+  if (options.list) return list_pending_runs(options, sweep_state);
+  if (options.task) return run_task(options, sweep_state, *options.task);
+  if (options.collect) return collect_tables(options, sweep_state);
   const std::size_t total = plan.runs.size();
   if (options.dry_run) {
     std::printf("%zu runs (%zu points × %zu seeds), %zu finished, %zu reused, %zu to run\n", total,

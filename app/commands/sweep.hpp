@@ -5,6 +5,7 @@
 // exactly their scene.
 #pragma once
 
+#include <cstddef>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -19,6 +20,13 @@ struct SweepOptions {
   int jobs = 0;                        ///< runs at a time; 0 = the number of cores
   bool quiet = false;                  ///< no progress lines
   bool dry_run = false;                ///< list the runs and their state, run nothing
+  /// --list: print one shell command per run still to do (`… --task I`), run nothing
+  bool list = false;
+  /// --task I: run exactly run I of the plan (an index --list prints), without the sweep's
+  /// folder lock, so that many runners can share the folder
+  std::optional<std::size_t> task;
+  /// --collect: write results.csv and points.csv from the finished runs, run nothing
+  bool collect = false;
   /// --reuse: other sweep folders whose finished runs with exactly a run's scene are copied
   /// in instead of being run again
   std::vector<std::filesystem::path> reuse;

@@ -12,7 +12,9 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <sstream>
 #include <string>
+#include <vector>
 
 namespace {
 
@@ -241,6 +243,72 @@ TEST_F(SweepCli, ASweepKilledWithSigkillLeavesNoRunBehind) {
   EXPECT_THAT(again.out, HasSubstr("1 run still written by an earlier process"));
   EXPECT_THAT(again.out, HasSubstr("exit 1"));
   EXPECT_EQ(slurp(run / "log.txt"), log_before);  // not started again, its log untouched
+}
+
+/// A table's lines without comments and without the column named `drop` (wall times differ
+/// from run to run).
+std::vector<std::string> table_without(const fs::path& csv, const std::string& drop) {
+  std::ifstream in(csv);
+  std::vector<std::string> rows;
+  std::size_t dropped = std::string::npos;
+  for (std::string line; std::getline(in, line);) {
+    if (line.empty() || line[0] == '#') continue;
+    std::vector<std::string> fields(1);
+    bool quoted = false;  // point names are quoted and hold commas
+    for (const char c : line) {
+      if (c == '"') quoted = !quoted;
+      if (c == ',' && !quoted) {
+        fields.emplace_back();
+      } else {
+        fields.back() += c;
+      }
+    }
+    if (dropped == std::string::npos) {
+      dropped =
+          static_cast<std::size_t>(std::find(fields.begin(), fields.end(), drop) - fields.begin());
+    }
+    if (dropped < fields.size()) fields.erase(fields.begin() + static_cast<long>(dropped));
+    std::string kept;
+    for (const std::string& f : fields) kept += f + ",";
+    rows.push_back(kept);
+  }
+  return rows;
+}
+
+// --list prints a command per run; an outside runner (xargs -P 2 here, GNU parallel or a
+// Slurm array elsewhere) runs them in any order; --collect writes the tables: the same as
+// those of `cdpowder sweep` itself (wall times aside).
+TEST_F(SweepCli, RunsThroughListAndAnOutsideRunnerGiveTheSweepsOwnTables) {
+  const fs::path sweep = write_short_sweep(scratch_);
+  const fs::path outside = scratch_ / "outside";
+  const fs::path script = scratch_ / "runner.sh";
+  std::ofstream(script) << CDPOWDER_EXE << " sweep " << sweep.string() << " --out "
+                        << outside.string() << " --list > " << (scratch_ / "list.txt").string()
+                        << " && xargs -P 2 -I{} sh -c '{}' < " << (scratch_ / "list.txt").string()
+                        << " && " << CDPOWDER_EXE << " sweep " << sweep.string() << " --out "
+                        << outside.string() << " --collect\n";
+  const ProcessResult r = cdpowder::testing::run_process("sh", script.string(), scratch_);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("sweep: 8 of 8 runs finished"));
+  const std::string list = slurp(scratch_ / "list.txt");
+  EXPECT_THAT(list, HasSubstr("--task 0 --quiet  # run 0: runs/"));
+  EXPECT_THAT(list, HasSubstr("--task 7 --quiet  # run 7: runs/"));
+  const fs::path own = scratch_ / "own";
+  const ProcessResult direct =
+      run_cdpowder("sweep " + sweep.string() + " --out " + own.string() + " --quiet", scratch_);
+  ASSERT_EQ(direct.status, 0) << direct.err;
+  EXPECT_EQ(table_without(outside / "results.csv", "wall_seconds"),
+            table_without(own / "results.csv", "wall_seconds"));
+  EXPECT_EQ(table_without(outside / "points.csv", ""), table_without(own / "points.csv", ""));
+  // a finished run asked for again does nothing; an index outside the plan is refused
+  const ProcessResult again = run_cdpowder(
+      "sweep " + sweep.string() + " --out " + outside.string() + " --task 3", scratch_);
+  EXPECT_EQ(again.status, 0);
+  EXPECT_THAT(again.err, HasSubstr("already finished"));
+  const ProcessResult beyond = run_cdpowder(
+      "sweep " + sweep.string() + " --out " + outside.string() + " --task 8", scratch_);
+  EXPECT_EQ(beyond.status, 2);
+  EXPECT_THAT(beyond.err, HasSubstr("--task: got 8, expected a run index from 0 to 7"));
 }
 
 TEST_F(SweepCli, TimeLimitStartsOnlyRunsExpectedToFinishInTime) {
