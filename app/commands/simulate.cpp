@@ -4,6 +4,7 @@
 
 #include "folder_lock.hpp"
 #include "progress.hpp"
+#include "run_folder.hpp"
 #include "stop_signals.hpp"
 
 #include "cdpowder/analysis/porosity.hpp"
@@ -78,6 +79,7 @@ int run_scene(const RunOptions& options, const SceneReadOptions& read_options) {
   std::filesystem::create_directories(options.out);
   // one run per folder at a time: held until the process ends, whatever ends it
   const FolderLock lock(run_lock_file(options.out), "another cdpowder run");
+  clear_earlier_run(options.out);
   const std::string header = provenance_header(scene);
   write_file_atomically(options.out / "scene.toml", scene.effective_toml);
   write_file_atomically(options.out / "initial_particles.csv", particles_csv(world.bodies, header));

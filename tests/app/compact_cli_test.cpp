@@ -317,4 +317,23 @@ TEST_F(CompactCli, TheProgressLineIsNotRedrawnIntoALog) {
   EXPECT_EQ(r.err.find('\r'), std::string::npos) << r.err;
 }
 
+// A rerun into a folder replaces the earlier run whole: its snapshots and a killed run's
+// temporaries go, files that are not outputs stay
+TEST_F(CompactCli, ARerunIntoAFolderLeavesNothingOfTheEarlierRun) {
+  const fs::path out = scratch_ / "out";
+  const std::string command =
+      "compact " + kQuick.string() + " --out " + out.string() + " " + kShort;
+  ASSERT_EQ(run_cdpowder(command + " --set run.snapshot_every=100", scratch_).status, kNotBlocked);
+  ASSERT_TRUE(fs::exists(out / "snapshots"));
+  ASSERT_TRUE(fs::exists(out / "particles.pvd"));
+  std::ofstream(out / ".timeseries.csv.12345.tmp") << "left by a killed run\n";
+  std::ofstream(out / "notes.txt") << "mine\n";
+  ASSERT_EQ(run_cdpowder(command, scratch_).status, kNotBlocked);
+  EXPECT_FALSE(fs::exists(out / "snapshots"));
+  EXPECT_FALSE(fs::exists(out / "particles.pvd"));
+  EXPECT_FALSE(fs::exists(out / ".timeseries.csv.12345.tmp"));
+  EXPECT_EQ(slurp(out / "notes.txt"), "mine\n");
+  EXPECT_TRUE(fs::exists(out / "summary.json"));
+}
+
 }  // namespace

@@ -1,0 +1,33 @@
+// run_folder.hpp — a run's output folder holds one run: what an earlier run left there (its
+// outputs, snapshots, temporaries of a killed run) is removed before a new run writes, so
+// a folder never mixes two runs (measured before: a rerun that failed left its new
+// scene.toml beside the old summary.json, and old snapshots outlived later runs).
+#pragma once
+
+#include <array>
+#include <filesystem>
+#include <string_view>
+#include <system_error>
+
+namespace cdpowder::app {
+
+/// The files and folders a run writes into its folder (README, "Outputs"); log.txt (a
+/// sweep's, written before the run starts) and the lock are left alone.
+inline constexpr std::array<std::string_view, 12> kRunOutputs{
+    "summary.json",   "scene.toml",       "initial_particles.csv", "particles.csv", "contacts.csv",
+    "timeseries.csv", "particles.vtp",    "contacts.vtp",          "particles.pvd", "contacts.pvd",
+    "snapshots",      "failed_state.cdps"};
+
+/// Removes an earlier run's outputs and any temporary file (".NAME.PID.tmp") from `folder`.
+/// Throws std::filesystem::filesystem_error when one cannot be removed.
+inline void clear_earlier_run(const std::filesystem::path& folder) {
+  for (const std::string_view name : kRunOutputs) std::filesystem::remove_all(folder / name);
+  for (const auto& entry : std::filesystem::directory_iterator(folder)) {
+    const std::string file = entry.path().filename().string();
+    if (file.size() > 5 && file.front() == '.' && file.ends_with(".tmp")) {
+      std::filesystem::remove(entry.path());
+    }
+  }
+}
+
+}  // namespace cdpowder::app
