@@ -21,10 +21,10 @@ struct PeriodicBox {
 
   /// Maps a position into [0, L_x) × [0, L_y) × R.
   void wrap(Vec3& position) const {
-    // A position already in the cell is its own image (x/L < 1 − 2⁻⁵³ rounds below 1, so
-    // ⌊x/L⌋ = 0 and x − L·0 = x), so it is left alone without the two divisions: most
-    // positions, every step, in detection and integration. −0.0 is not in the cell here:
-    // the formula turns it into +0.0.
+    // A position already in the cell is its own image: for +0 ≤ x < L, x/L ≤ pred(L)/L
+    // rounds to at most 1 − 2⁻⁵³, so ⌊x/L⌋ = 0 and x − L·0 = x. It is left alone without the
+    // two divisions: most positions, every step, in detection and integration. −0.0 is not
+    // in the cell here: the formula turns it into +0.0.
     if (!std::signbit(position.x()) && position.x() < lx && !std::signbit(position.y()) &&
         position.y() < ly) {
       return;

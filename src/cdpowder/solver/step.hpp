@@ -61,7 +61,7 @@ void finish_step(World& world, StepWorkspace& work, const StepSettings& settings
 /// is undone by restoring the sweep-order stream (work.solver.rng) alone: that is how an
 /// adaptive Δt solves a step again with a shorter Δt (experiment/run_loop.cpp). begin_step's
 /// one change to the World, the periodic wrap of the positions, maps positions it has
-/// wrapped onto themselves (x − L⌊x/L⌋ with x/L < 1 − 2⁻⁵³ rounded, so ⌊·⌋ = 0).
+/// wrapped onto themselves (PeriodicBox::wrap).
 void solve_step(const World& world, StepWorkspace& work, const StepSettings& settings,
                 StepReport& report);
 
