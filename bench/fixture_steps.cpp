@@ -2,9 +2,13 @@
 // and prints what the speed work compares: sweeps per step, capped steps, ns per contact
 // update in the NLGS stage, the per-step overhead outside it, wall time, and the final
 // porosity and state hash. Same state, same steps: the variants differ only by the override.
-//   fixture_steps FILE.cdps --steps N [--set section.key=value ...]
+// With --run-loop the steps go through run_simulation (experiment/run_loop.hpp), so the
+// overhead includes what the loop adds to a step (the undo copy of an adaptive Δt, the
+// blocked-state test); step() alone does not see it.
+//   fixture_steps FILE.cdps --steps N [--run-loop] [--set section.key=value ...]
 #include "cdpowder/analysis/porosity.hpp"
 #include "cdpowder/config/scene_reader.hpp"
+#include "cdpowder/experiment/run_loop.hpp"
 #include "cdpowder/io/state_file.hpp"
 #include "cdpowder/io/state_hash.hpp"
 #include "cdpowder/solver/step.hpp"
@@ -16,17 +20,77 @@
 #include <chrono>
 #include <exception>
 #include <filesystem>
+#include <numeric>
 #include <string>
 #include <vector>
+
+namespace {
+
+/// What the printout sums over the steps.
+struct Totals {
+  std::int64_t steps = 0;
+  std::int64_t sweeps = 0;
+  std::int64_t capped = 0;
+  std::int64_t repeated = 0;  ///< adaptive steps undone and solved again (--run-loop)
+  double opening = 0.0;       ///< largest opening per step [d_coh]
+  double updates = 0.0;       ///< contact updates of the NLGS stage
+  double wall = 0.0;          ///< [s]
+  cdpowder::StageTimes stages{};
+};
+
+void add_step(const cdpowder::StepReport& report, Totals& totals) {
+  ++totals.steps;
+  totals.sweeps += report.solver.sweeps;
+  totals.capped += report.solver.converged ? 0 : 1;
+  totals.opening = std::max(totals.opening, report.diagnostics.max_cohesive_opening_per_range);
+  totals.updates +=
+      static_cast<double>(report.solver.sweeps) * static_cast<double>(report.diagnostics.contacts);
+}
+
+/// N calls of step().
+Totals run_steps(cdpowder::World& world, cdpowder::StepWorkspace& work,
+                 const cdpowder::Scene& scene, int steps) {
+  Totals totals;
+  const auto start = std::chrono::steady_clock::now();
+  for (int k = 0; k < steps; ++k) {
+    const cdpowder::StepReport report = step(world, work, scene.step);
+    add_step(report, totals);
+    for (std::size_t s = 0; s < report.times.size(); ++s) totals.stages[s] += report.times[s];
+  }
+  totals.wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return totals;
+}
+
+/// N steps of run_simulation with the scene's run settings (a fresh run from the saved state,
+/// stopped after N steps); undone adaptive steps count in the stage times, not in the steps.
+Totals run_loop_steps(cdpowder::World& world, cdpowder::StepWorkspace& work,
+                      const cdpowder::Scene& scene, int steps) {
+  Totals totals;
+  cdpowder::RunConfig run = scene.run;
+  run.duration = run.max_duration = 1e9;  // [t0]: the step count stops the run
+  const auto observer = [&](const cdpowder::World&, const cdpowder::StepReport& report, double) {
+    add_step(report, totals);
+  };
+  const auto enough = [&] { return totals.steps >= steps; };
+  const cdpowder::RunResult result = run_simulation(world, work, scene.step, run, observer, enough);
+  totals.repeated = result.repeated_steps;
+  totals.stages = result.stage_seconds;
+  totals.wall = result.wall_seconds;
+  return totals;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   using namespace cdpowder;
   CLI::App cli{"Continues a saved engine state for N steps and prints the step costs."};
   std::filesystem::path file;
   int steps = 100;
+  bool run_loop = false;
   std::vector<std::string> overrides;
   cli.add_option("state", file, "state file (.cdps)")->required()->check(CLI::ExistingFile);
   cli.add_option("--steps", steps, "steps to run")->check(CLI::PositiveNumber);
+  cli.add_flag("--run-loop", run_loop, "step through run_simulation (adaptive dt, undo copies)");
   cli.add_option("--set", overrides, "section.key=value override of the saved scene");
   CLI11_PARSE(cli, argc, argv);
   try {
@@ -36,41 +100,29 @@ int main(int argc, char** argv) {
     const Scene scene = read_scene_text(saved.scene_toml, file.string(), overrides, ".");
     World world;
     StepWorkspace work(scene.step.solver.seed);
-    RunState run;
-    restore_run(std::move(saved), saved_scene.run, saved_scene.step.solver.dt, world, work, run);
-    std::int64_t sweeps = 0;
-    int capped = 0;
-    double opening = 0.0;
-    double updates = 0.0;
-    double nlgs = 0.0;
-    double other = 0.0;
-    StageTimes stages{};
-    const auto start = std::chrono::steady_clock::now();
-    for (int k = 0; k < steps; ++k) {
-      const StepReport report = step(world, work, scene.step);
-      sweeps += report.solver.sweeps;
-      capped += report.solver.converged ? 0 : 1;
-      opening = std::max(opening, report.diagnostics.max_cohesive_opening_per_range);
-      updates += static_cast<double>(report.solver.sweeps) *
-                 static_cast<double>(report.diagnostics.contacts);
-      for (std::size_t s = 0; s < report.times.size(); ++s) {
-        (s == static_cast<std::size_t>(Stage::SolveNlgs) ? nlgs : other) += report.times[s];
-        stages[s] += report.times[s];
-      }
-    }
-    const double wall =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    RunState restored;
+    restore_run(std::move(saved), saved_scene.run, saved_scene.step.solver.dt, world, work,
+                restored);
+    const Totals t =
+        run_loop ? run_loop_steps(world, work, scene, steps) : run_steps(world, work, scene, steps);
+    const auto solve = static_cast<std::size_t>(Stage::SolveNlgs);
+    // the overhead is everything but the NLGS stage: in --run-loop mode the wall time of the
+    // loop (its undo copies included) minus the NLGS stage
+    const double stage_sum = std::accumulate(t.stages.begin(), t.stages.end(), 0.0);
+    const double other = (run_loop ? t.wall : stage_sum) - t.stages[solve];
+    const auto n = static_cast<double>(t.steps);
     fmt::print(
-        "steps={} sweeps/step={:.1f} capped={} ns/update={:.1f} overhead={:.0f}us/step "
-        "opening/step={:.3f}d_coh wall={:.2f}s porosity={:.6f} hash={}\n",
-        steps, static_cast<double>(sweeps) / steps, capped, 1e9 * nlgs / updates,
-        1e6 * other / steps, opening, wall, porosity(world),
+        "steps={} sweeps/step={:.1f} capped={} repeated={} ns/update={:.1f} "
+        "overhead={:.0f}us/step opening/step={:.3f}d_coh wall={:.2f}s porosity={:.6f} "
+        "hash={}\n",
+        t.steps, static_cast<double>(t.sweeps) / n, t.capped, t.repeated,
+        1e9 * t.stages[solve] / t.updates, 1e6 * other / n, t.opening, t.wall, porosity(world),
         hash_text(state_hash(world, work.action_cache)));
     fmt::print(
         "per step [us]: detect {:.0f}, build {:.0f}, solve {:.0f}, integrate {:.0f}, "
-        "analyse {:.0f}\n",
-        1e6 * stages[0] / steps, 1e6 * stages[1] / steps, 1e6 * stages[2] / steps,
-        1e6 * stages[3] / steps, 1e6 * stages[4] / steps);
+        "analyse {:.0f}, outside the stages {:.0f}\n",
+        1e6 * t.stages[0] / n, 1e6 * t.stages[1] / n, 1e6 * t.stages[2] / n, 1e6 * t.stages[3] / n,
+        1e6 * t.stages[4] / n, run_loop ? 1e6 * (t.wall - stage_sum) / n : 0.0);
     return 0;
   } catch (const std::exception& error) {
     fmt::print(stderr, "fixture_steps: {}\n", error.what());

@@ -1,12 +1,14 @@
 // The accuracy gauges of physics.md §17 and §6.4 on cases with known answers: the largest
 // net force on a sphere (zero in a static packing, the applied load in free flight) and the
 // opening speed of cohesive contacts (zero while a pair holds, the relative speed once a
-// pulled pair opens).
+// pulled pair opens), measured before integration exactly as on the World after it.
+#include "cdpowder/analysis/cohesive_opening.hpp"
 #include "cdpowder/analysis/step_diagnostics.hpp"
 #include "support/tiny_world.hpp"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <numbers>
 
 namespace cdpowder::testing {
@@ -53,6 +55,65 @@ TEST(AccuracyGauges, CohesiveOpeningSpeedIsZeroWhileHeldAndTheRelativeSpeedOnceO
               relative * pulled.settings.solver.dt / pulled.settings.laws.spheres.cohesion_range,
               1e-12);
   EXPECT_NEAR(relative, 2.0 * 3.0 * pulled.settings.solver.dt * 0.5 / mass, 1e-9);
+}
+
+/// The opening gauges as analyse_step measured them before they moved ahead of integrate():
+/// from the World's velocities after the step.
+CohesiveOpening opening_after_integration(const TinyScene& scene) {
+  const Bodies& bodies = scene.world.bodies;
+  const Contacts& contacts = scene.work.contacts;
+  const double dt = scene.settings.solver.dt;
+  CohesiveOpening out;
+  const auto track = [&](double speed, double range) {
+    out.speed = std::max(out.speed, speed);
+    out.per_range = std::max(out.per_range, speed * dt / range);
+  };
+  for (std::size_t k = 0; k < contacts.pairs.size(); ++k) {
+    const PairProblem& p = contacts.pairs[k];
+    if (contacts.pair_cohesive[k] == 0) continue;
+    track((bodies.velocity[p.b] - bodies.velocity[p.a]).dot(p.normal),
+          scene.settings.laws.spheres.cohesion_range);
+  }
+  for (std::size_t k = 0; k < contacts.walls.size(); ++k) {
+    const WallProblem& w = contacts.walls[k];
+    if (contacts.wall_cohesive[k] == 0) continue;
+    const double wall_speed = w.wall == WallKind::Piston ? scene.world.walls.piston.velocity : 0.0;
+    track((bodies.velocity[w.sphere].z() - wall_speed) * w.normal.z(),
+          scene.settings.laws.walls.cohesion_range);
+  }
+  return out;
+}
+
+/// Three steps of `scene`: the gauges of each equal those measured after integration.
+void expect_opening_as_after_integration(TinyScene& scene) {
+  for (int k = 0; k < 3; ++k) {
+    const StepReport report = scene.run(1);
+    const CohesiveOpening reference = opening_after_integration(scene);
+    EXPECT_GT(reference.speed, 0.0);
+    EXPECT_EQ(report.diagnostics.max_cohesive_opening_speed, reference.speed);
+    EXPECT_EQ(report.diagnostics.max_cohesive_opening_per_range, reference.per_range);
+  }
+}
+
+TEST(AccuracyGauges, OpeningMeasuredBeforeIntegrationIsTheOpeningAfterItToTheLastBit) {
+  // a free sphere pulled off a fixed one that has a velocity of its own (integrate leaves
+  // it, and v* of a fixed sphere is zero)
+  TinyScene pair(30.0, 30.0);
+  pair.add(Vec3(5.0, 5.0, 5.0), 1.0, true);
+  pair.add(Vec3(7.0, 5.0, 5.0));
+  pair.world.bodies.velocity[0] = Vec3(-0.3, 0.02, 0.0);
+  pair.world.bodies.external_force[1] = Vec3(1.5, 0.2, 0.0);
+  expect_opening_as_after_integration(pair);
+
+  // a sphere pulled off a moving piston
+  TinyScene piston(30.0, 30.0);
+  piston.world.walls.piston.enabled = true;
+  piston.world.walls.piston.height = 10.0;
+  piston.world.walls.piston.velocity = 0.05;
+  piston.world.walls.piston.force = 0.2;
+  piston.add(Vec3(15.0, 15.0, 9.0));
+  piston.world.bodies.external_force[0] = Vec3(0.0, 0.0, -1.7);
+  expect_opening_as_after_integration(piston);
 }
 
 }  // namespace

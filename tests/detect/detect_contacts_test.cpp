@@ -2,7 +2,8 @@
 // (CellGrid::for_each_near): on random packings of mixed radii, across the periodic x/y
 // boundaries and in boxes of one, two or three cells per axis, the candidates are exactly
 // those of a brute-force O(N²) minimum-image search with the same cutoff, each pair once,
-// in the key order the warm-start merge of ActionCache relies on (physics.md §4.3, §7.4).
+// in the key order the warm-start merge of ActionCache relies on (physics.md §4.3, §7.4);
+// and PeriodicBox::wrap, whose shortcut for positions in the cell keeps the formula's bits.
 #include "cdpowder/detect/detect_contacts.hpp"
 
 #include "cdpowder/contact/action_cache.hpp"
@@ -12,6 +13,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <map>
@@ -261,6 +263,39 @@ TEST(DetectContacts, FindsPairsAcrossEveryPeriodicBoundary) {
                                                 Vec3(-1.0, -1.0, 0.0).normalized()};
   for (std::size_t k = 0; k < 3; ++k) {
     EXPECT_NEAR((contacts.pairs[k].normal - expected_normals[k]).norm(), 0.0, kRoundOff);
+  }
+}
+
+/// PeriodicBox::wrap without its shortcut for positions already in the cell.
+double wrapped_by_formula(double x, double length) {
+  x -= length * std::floor(x / length);
+  return x >= length || x < 0.0 ? 0.0 : x;
+}
+
+TEST(PeriodicBox, WrapGivesTheFormulasBitsWithAndWithoutItsShortcut) {
+  // cell lengths just above, at and just below powers of two, and the paper's
+  for (const double length :
+       {25.0, 16.0, std::nextafter(16.0, 32.0), std::nextafter(16.0, 0.0), 1.0, 3.0, 0.1}) {
+    const double below = std::nextafter(length, 0.0);
+    for (const double x : {0.0, -0.0, 4.9e-324, below, length, -4.9e-324, -below, -length,
+                           0.5 * length, 2.5 * length, -1e-17, std::nextafter(2.0 * length, 0.0)}) {
+      PeriodicBox box;
+      box.lx = box.ly = length;
+      const double expected = wrapped_by_formula(x, length);
+      const double inside = 0.5 * length;
+      // x and y each with the other coordinate in the cell, so the shortcut sees them alone
+      for (const int axis : {0, 1}) {
+        Vec3 p(inside, inside, 1.0);
+        p[axis] = x;
+        box.wrap(p);
+        EXPECT_EQ(std::bit_cast<std::uint64_t>(p[axis]), std::bit_cast<std::uint64_t>(expected))
+            << "x = " << x << ", L = " << length << ", axis " << axis;
+        // and a wrapped position is its own image
+        const double once = p[axis];
+        box.wrap(p);
+        EXPECT_EQ(std::bit_cast<std::uint64_t>(p[axis]), std::bit_cast<std::uint64_t>(once));
+      }
+    }
   }
 }
 

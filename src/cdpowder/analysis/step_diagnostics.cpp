@@ -6,15 +6,7 @@
 
 namespace cdpowder {
 
-StepDiagnostics analyse_step(const World& world, const Contacts& contacts, const ContactLaws& laws,
-                             double dt) {
-  const auto track_opening = [&](double opening_speed, double range, StepDiagnostics& out) {
-    out.max_cohesive_opening_speed = std::max(out.max_cohesive_opening_speed, opening_speed);
-    if (range > 0.0) {
-      out.max_cohesive_opening_per_range =
-          std::max(out.max_cohesive_opening_per_range, opening_speed * dt / range);
-    }
-  };
+StepDiagnostics analyse_step(const World& world, const Contacts& contacts) {
   StepDiagnostics d;
   const Bodies& bodies = world.bodies;
   d.contacts = contacts.size();
@@ -30,10 +22,6 @@ StepDiagnostics analyse_step(const World& world, const Contacts& contacts, const
       ++d.closed_contacts;
       overlap_sum += overlap;
     }
-    if (contacts.pair_cohesive[k] != 0) {
-      const double opening = (bodies.velocity[p.b] - bodies.velocity[p.a]).dot(p.normal);
-      track_opening(opening, laws.spheres.cohesion_range, d);
-    }
   }
   const Piston& piston = world.walls.piston;
   for (std::size_t k = 0; k < contacts.walls.size(); ++k) {
@@ -47,11 +35,6 @@ StepDiagnostics analyse_step(const World& world, const Contacts& contacts, const
     if (action.normal_force + w.cohesion > 0.0) {
       ++d.closed_contacts;
       overlap_sum += overlap;
-    }
-    if (contacts.wall_cohesive[k] != 0) {
-      const double wall_speed = w.wall == WallKind::Piston ? piston.velocity : 0.0;
-      const double opening = (bodies.velocity[w.sphere].z() - wall_speed) * w.normal.z();
-      track_opening(opening, laws.walls.cohesion_range, d);
     }
     // n = −e_z at the piston: the force on the piston is −R, its z part +R_n
     if (w.wall == WallKind::Piston) d.piston_contact_force += action.normal_force;

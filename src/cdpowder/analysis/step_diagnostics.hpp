@@ -2,7 +2,6 @@
 // (overlaps, piston force balance) and the state measures every step reports.
 #pragma once
 
-#include "cdpowder/contact/contact_law.hpp"
 #include "cdpowder/contact/local_problem.hpp"
 #include "cdpowder/model/world.hpp"
 #include "cdpowder/solver/velocity_cache.hpp"
@@ -30,7 +29,8 @@ struct StepDiagnostics {
   /// the per-particle force balance of physics.md §17, ≈ 0 in a static packing [F_coh]
   double max_net_force = 0.0;
   /// max over cohesion-active contacts of the normal opening speed V_n > 0 after the step:
-  /// a contact opens by V_n Δt per step, which must stay well below d_coh (§6.4) [R/t0]
+  /// a contact opens by V_n Δt per step, which must stay well below d_coh (§6.4)
+  /// (CohesiveOpening::speed, analysis/cohesive_opening.hpp) [R/t0]
   double max_cohesive_opening_speed = 0.0;
   /// max over cohesion-active contacts of V_n Δt / d_coh, each with its own d_coh (sphere
   /// pairs and walls may differ); §6.4 asks for ≤ 0.1 [-]
@@ -38,10 +38,10 @@ struct StepDiagnostics {
 };
 
 /// Measures the state after integrate(); `contacts` still holds the step's forces.
-/// Leaves max_net_force to net_force_of_step (it needs the velocities before the step).
-/// `laws` and `dt` give each contact's cohesion range and the step for the opening gauge.
-StepDiagnostics analyse_step(const World& world, const Contacts& contacts, const ContactLaws& laws,
-                             double dt);
+/// Leaves max_net_force to net_force_of_step (it needs the velocities before the step) and
+/// the two opening gauges to cohesive_opening (measured before integrate(), where an adaptive
+/// Δt decides whether to keep the step).
+StepDiagnostics analyse_step(const World& world, const Contacts& contacts);
 
 /// max_i of m_i|v*_i − v_i|/Δt + I_i|ω*_i − ω_i|/(Δt r_i) over free spheres: the largest
 /// net force (and torque / radius) the step's contact forces and loads leave on a sphere.

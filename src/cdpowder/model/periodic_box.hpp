@@ -21,6 +21,14 @@ struct PeriodicBox {
 
   /// Maps a position into [0, L_x) × [0, L_y) × R.
   void wrap(Vec3& position) const {
+    // A position already in the cell is its own image: for +0 ≤ x < L, x/L ≤ pred(L)/L
+    // rounds to at most 1 − 2⁻⁵³, so ⌊x/L⌋ = 0 and x − L·0 = x. It is left alone without the
+    // two divisions: most positions, every step, in detection and integration. −0.0 is not
+    // in the cell here: the formula turns it into +0.0.
+    if (!std::signbit(position.x()) && position.x() < lx && !std::signbit(position.y()) &&
+        position.y() < ly) {
+      return;
+    }
     position.x() -= lx * std::floor(position.x() / lx);
     position.y() -= ly * std::floor(position.y() / ly);
     // x − L floor(x/L) can round to exactly L for x just below a multiple of L (and the

@@ -2,6 +2,7 @@
 // each reads what the one before it wrote. Contact geometry is frozen after stage 1 (§3).
 #include "cdpowder/solver/step.hpp"
 
+#include "cdpowder/analysis/cohesive_opening.hpp"
 #include "cdpowder/detect/detect_contacts.hpp"
 #include "cdpowder/solver/build.hpp"
 #include "cdpowder/solver/integrate.hpp"
@@ -47,10 +48,28 @@ StepReport begin_step(World& world, StepWorkspace& work, const StepSettings& set
 
 void finish_step(World& world, StepWorkspace& work, const StepSettings& settings,
                  StepReport& report) {
+  solve_step(world, work, settings, report);
+  commit_step(world, work, settings, report);
+}
+
+void solve_step(const World& world, StepWorkspace& work, const StepSettings& settings,
+                StepReport& report) {
   StageClock clock;
   const double reference_force = settings.laws.spheres.cohesion_force;
   report.solver =
       solve_nlgs(work.contacts, work.velocities, settings.solver, reference_force, work.solver);
+  clock.lap(Stage::SolveNlgs, report.times);
+
+  const CohesiveOpening opening =
+      cohesive_opening(world, work.contacts, work.velocities, settings.laws, settings.solver.dt);
+  report.diagnostics.max_cohesive_opening_speed = opening.speed;
+  report.diagnostics.max_cohesive_opening_per_range = opening.per_range;
+  clock.lap(Stage::Analyse, report.times);
+}
+
+void commit_step(World& world, StepWorkspace& work, const StepSettings& settings,
+                 StepReport& report) {
+  StageClock clock;
   work.action_cache.store(work.contacts);  // warm start of the next step (§7.4)
   clock.lap(Stage::SolveNlgs, report.times);
 
@@ -58,8 +77,11 @@ void finish_step(World& world, StepWorkspace& work, const StepSettings& settings
   integrate(work.velocities, settings.solver.dt, world);
   clock.lap(Stage::Integrate, report.times);
 
-  report.diagnostics = analyse_step(world, work.contacts, settings.laws, settings.solver.dt);
-  report.diagnostics.max_net_force = net_force;
+  StepDiagnostics diagnostics = analyse_step(world, work.contacts);
+  diagnostics.max_net_force = net_force;
+  diagnostics.max_cohesive_opening_speed = report.diagnostics.max_cohesive_opening_speed;
+  diagnostics.max_cohesive_opening_per_range = report.diagnostics.max_cohesive_opening_per_range;
+  report.diagnostics = diagnostics;
   clock.lap(Stage::Analyse, report.times);
 }
 

@@ -51,8 +51,23 @@ StepReport step(World& world, StepWorkspace& work, const StepSettings& settings)
 StepReport begin_step(World& world, StepWorkspace& work, const StepSettings& settings);
 
 /// Stages 3–5 (solve, integrate, analyse) on the problem begin_step left in `work`; adds
-/// their times and results to `report`.
+/// their times and results to `report`: solve_step, then commit_step.
 void finish_step(World& world, StepWorkspace& work, const StepSettings& settings,
+                 StepReport& report);
+
+/// Stage 3 and the opening gauge: solves the problem begin_step left in `work` and sets
+/// report.solver and the diagnostics' two cohesive-opening gauges (cohesive_opening.hpp).
+/// Leaves the World and the action cache as begin_step found them, so a step abandoned here
+/// is undone by restoring the sweep-order stream (work.solver.rng) alone: that is how an
+/// adaptive Δt solves a step again with a shorter Δt (experiment/run_loop.cpp). begin_step's
+/// one change to the World, the periodic wrap of the positions, maps positions it has
+/// wrapped onto themselves (PeriodicBox::wrap).
+void solve_step(const World& world, StepWorkspace& work, const StepSettings& settings,
+                StepReport& report);
+
+/// Keeps a solved step: stores its actions for the next warm start, integrates, and fills
+/// the rest of report.diagnostics.
+void commit_step(World& world, StepWorkspace& work, const StepSettings& settings,
                  StepReport& report);
 
 }  // namespace cdpowder
