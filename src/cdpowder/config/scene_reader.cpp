@@ -91,6 +91,8 @@ Scene read_values(TableReader& in, const std::filesystem::path& base_dir,
   solver.visit_order =
       in.choice("solver.visit_order", solver.visit_order, detail::kVisitOrderNames);
   solver.kernel = in.choice("solver.kernel", solver.kernel, detail::kSweepKernelNames);
+  solver.threads =
+      static_cast<int>(in.integer("solver.threads", solver.threads, 1, kMaxSweepThreads));
   solver.acceleration_depth = static_cast<int>(in.integer(
       "solver.acceleration_depth", solver.acceleration_depth, 0, AndersonAccelerator::kMaxDepth));
   solver.acceleration_interval = static_cast<int>(
@@ -279,6 +281,15 @@ void check_consistency(TableReader& in, const Scene& s, const SceneReadOptions& 
                  fmt::format("got {}, expected at most solver.max_opening_per_step = {}",
                              control.opening_per_step, control.max_opening_per_step),
                  in_file("solver.opening_per_step"));
+  }
+  // only the coloured kernel's sweeps are split among threads
+  if (solver.threads > 1 && solver.kernel != SweepKernel::Coloured &&
+      !in.failed("solver.threads") && !in.failed("solver.kernel")) {
+    in.add_issue("solver.threads", where("solver.threads"),
+                 fmt::format("got {}, but solver.kernel = \"scalar\" runs on one thread: "
+                             "expected 1, or solver.kernel = \"coloured\" for 1 to {} threads",
+                             solver.threads, kMaxSweepThreads),
+                 in_file("solver.threads"));
   }
   if (solver.min_sweeps > solver.max_sweeps && !in.failed("solver.min_sweeps") &&
       !in.failed("solver.max_sweeps")) {

@@ -120,6 +120,7 @@ std::string write_effective_toml(const Scene& s) {
                              {"stopping_rule", name_of(solver.stopping_rule, kStoppingRuleNames)},
                              {"visit_order", name_of(solver.visit_order, kVisitOrderNames)},
                              {"kernel", name_of(solver.kernel, kSweepKernelNames)},
+                             {"threads", solver.threads},
                              {"acceleration_depth", solver.acceleration_depth},
                              {"acceleration_interval", solver.acceleration_interval},
                              {"warm_start", solver.warm_start},

@@ -213,25 +213,43 @@ bool allow_avx2_kernel(bool allowed) {
 #endif
 }
 
+namespace {
+
+using SolveBatches = void (*)(const PairBatch*, std::uint32_t, std::uint32_t, SphereVelocity*,
+                              ContactAction*, SweepSums&, BatchVisits*);
+
+SolveBatches batch_kernel() {
+#if defined(CDP_HAVE_AVX2)
+  static const bool has_avx2 = __builtin_cpu_supports("avx2");
+  return has_avx2 && avx2_allowed ? avx2::solve_batches : sse2::solve_batches;
+#else
+  return sse2::solve_batches;
+#endif
+}
+
+}  // namespace
+
+void solve_batches_kept(const ColouredSweep& sweep, std::uint32_t first, std::uint32_t last,
+                        VelocityCache& velocities, Contacts& contacts, BatchVisits* record) {
+  SweepSums unused;
+  batch_kernel()(sweep.batches.data(), first, last, velocities.spheres.data(),
+                 contacts.pair_actions.data(), unused, record);
+}
+
 SweepSums run_coloured_sweep(Contacts& contacts, VelocityCache& velocities,
                              const ColouredSweep& sweep) {
   SweepSums sums;
   const std::size_t colours = sweep.colours();
   SphereVelocity* const spheres = velocities.spheres.data();
   ContactAction* const actions = contacts.pair_actions.data();
-#if defined(CDP_HAVE_AVX2)
-  static const bool has_avx2 = __builtin_cpu_supports("avx2");
-  const auto solve = has_avx2 && avx2_allowed ? avx2::solve_batches : sse2::solve_batches;
-#else
-  const auto solve = sse2::solve_batches;
-#endif
+  const SolveBatches solve = batch_kernel();
   for (const std::uint32_t group : sweep.group_order) {
     if (group == colours) {
       for (const ContactIndex k : sweep.sequential) visit_contact(k, contacts, velocities, sums);
       continue;
     }
     solve(sweep.batches.data(), sweep.colour_batches[group], sweep.colour_batches[group + 1],
-          spheres, actions, sums);
+          spheres, actions, sums, nullptr);
   }
   return sums;
 }

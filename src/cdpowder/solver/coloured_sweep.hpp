@@ -38,6 +38,13 @@ struct alignas(64) PairBatch {
   std::uint32_t lanes = 0;  ///< lanes in use, 1..kBatchLanes
 };
 
+/// What the kBatchLanes visits of a batch report to the sweep sums, kept to be added in
+/// visiting order after a sweep on several threads (closed_normal as in sweep_sums.hpp).
+struct alignas(64) BatchVisits {
+  std::array<double, kBatchLanes> change_sq{};
+  std::array<double, kBatchLanes> closed_normal{};
+};
+
 /// The step's colours, batches and group order; reused from step to step.
 struct ColouredSweep {
   PairColouring colouring;
@@ -78,6 +85,11 @@ void order_groups(ColouredSweep& sweep, VisitOrder policy, Rng& rng);
 /// says CDPOWDER_KERNEL_ISA=sse2), or keeps it on SSE2; both give the same bits. Returns
 /// whether AVX2 is used.
 bool allow_avx2_kernel(bool allowed);
+
+/// Solves the batches [first, last) of one colour and writes their visits to
+/// record[0, last − first) instead of adding them to sums (a thread's share of a colour).
+void solve_batches_kept(const ColouredSweep& sweep, std::uint32_t first, std::uint32_t last,
+                        VelocityCache& velocities, Contacts& contacts, BatchVisits* record);
 
 /// One sweep over the groups in sweep.group_order.
 SweepSums run_coloured_sweep(Contacts& contacts, VelocityCache& velocities,

@@ -217,7 +217,7 @@ void prepare_visit_order(Contacts& contacts, VisitOrder policy, NlgsWorkspace& w
 namespace {
 SolverStats sweep_until_done(Contacts& contacts, VelocityCache& velocities,
                              const SolverSettings& settings, double reference_force,
-                             NlgsWorkspace& work);
+                             SweepThreads* threads, NlgsWorkspace& work);
 }  // namespace
 
 SolverStats solve_nlgs(Contacts& contacts, VelocityCache& velocities,
@@ -225,12 +225,32 @@ SolverStats solve_nlgs(Contacts& contacts, VelocityCache& velocities,
                        NlgsWorkspace& work) {
   if (settings.kernel != SweepKernel::Coloured) {
     prepare_visit_order(contacts, settings.visit_order, work);
-    return sweep_until_done(contacts, velocities, settings, reference_force, work);
+    return sweep_until_done(contacts, velocities, settings, reference_force, nullptr, work);
   }
+  SweepThreads* const threads = work.threads.get(settings.threads);
+
+  // the workers spin from sweep to sweep within the step and sleep between steps, also when
+  // the step is left by an exception
+  struct ParkAtEnd {
+    explicit ParkAtEnd(SweepThreads* pool) : threads(pool) {}
+
+    ParkAtEnd(const ParkAtEnd&) = delete;
+    ParkAtEnd(ParkAtEnd&&) = delete;
+    ParkAtEnd& operator=(const ParkAtEnd&) = delete;
+    ParkAtEnd& operator=(ParkAtEnd&&) = delete;
+
+    ~ParkAtEnd() {
+      if (threads != nullptr) threads->park();
+    }
+
+    SweepThreads* threads;
+  } park_at_end(threads);
+
   // the pairs are stored in colour order during the sweeps (and the mixing)
   prepare_coloured_sweep(contacts, velocities, work.coloured);
   order_groups(work.coloured, settings.visit_order, work.rng);
-  const SolverStats stats = sweep_until_done(contacts, velocities, settings, reference_force, work);
+  const SolverStats stats =
+      sweep_until_done(contacts, velocities, settings, reference_force, threads, work);
   restore_storage_order(contacts, work.coloured);
   return stats;
 }
@@ -239,7 +259,7 @@ namespace {
 
 SolverStats sweep_until_done(Contacts& contacts, VelocityCache& velocities,
                              const SolverSettings& settings, double reference_force,
-                             NlgsWorkspace& work) {
+                             SweepThreads* threads, NlgsWorkspace& work) {
   std::vector<ContactIndex>& order = contacts.visit_order;
   const bool coloured = settings.kernel == SweepKernel::Coloured;
   const bool accelerate = settings.acceleration_depth > 0;
@@ -275,8 +295,11 @@ SolverStats sweep_until_done(Contacts& contacts, VelocityCache& velocities,
       }
     }
     if (kinematic_rule) work.kinematic.before_sweep(velocities, sweep == 1);
-    const SweepSums sums = coloured ? run_coloured_sweep(contacts, velocities, work.coloured)
-                                    : run_sweep(contacts, velocities);
+    const SweepSums sums = !coloured ? run_sweep(contacts, velocities)
+                           : threads != nullptr
+                               ? run_coloured_sweep_threaded(contacts, velocities, work.coloured,
+                                                             *threads, work.threaded)
+                               : run_coloured_sweep(contacts, velocities, work.coloured);
     const double mean_closed =
         sums.closed > 0 ? sums.sum_closed_normal / static_cast<double>(sums.closed) : 0.0;
     stats.force_scale = std::max({reference_force, mean_closed, 1e-300});

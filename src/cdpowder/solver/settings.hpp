@@ -68,6 +68,10 @@ struct TimeStepControl {
   double growth = 1.2;                 ///< largest ratio of two consecutive steps
 };
 
+/// Largest solver.threads: the workers spin during a step, so more threads than cores only
+/// slow a run down; 64 is a sanity bound, not a tested size.
+inline constexpr int kMaxSweepThreads = 64;
+
 struct SolverSettings {
   double dt = 0.01;  ///< Δt [t0] (physics.md §3); the first step's Δt when adaptive
   TimeStepControl time_step;
@@ -89,6 +93,10 @@ struct SolverSettings {
   StoppingRule stopping_rule = StoppingRule::Residual;
   VisitOrder visit_order = VisitOrder::RandomEachStep;
   SweepKernel kernel = SweepKernel::Scalar;
+  /// Threads of the coloured kernel's sweeps (docs/performance.md, "Two threads"): each
+  /// colour's batches shared among them, the same bits for any count. The scene reader
+  /// rejects more than one with the scalar kernel; solve_nlgs runs that on one thread.
+  int threads = 1;
   int acceleration_depth = 5;  ///< Anderson acceleration history m; 0 = plain NLGS (anderson.hpp)
   /// Sweeps between two mixing steps: the accelerated map is k sweeps in a row. The mixing
   /// moves ≈ 2m + 10 doubles per force component, about a sweep's cost on a paper-size
