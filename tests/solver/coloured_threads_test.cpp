@@ -53,11 +53,10 @@ TEST(ColouredThreads, ASweepGivesTheBitsOfOneThread) {
         ASSERT_GT(sweep.sequential.size(), max_colours == 3 ? one.walls.size() : 0U);
         Rng rng = make_rng(3, RngStream::SweepOrder);
         order_groups(sweep, VisitOrder::RandomEachStep, rng);
-        SweepThreads threads(n);
-        ThreadedSweepScratch scratch;
+        ColouredThreads threads(n);
         for (int s = 0; s < 5; ++s) {
           const SweepSums a = run_coloured_sweep(one, one_v, sweep);
-          const SweepSums b = run_coloured_sweep_threaded(many, many_v, sweep, threads, scratch);
+          const SweepSums b = threads.sweep(many, many_v, sweep);
           EXPECT_TRUE(same_bits(a.max_change_sq, b.max_change_sq));
           EXPECT_TRUE(same_bits(a.sum_change_sq, b.sum_change_sq));
           EXPECT_TRUE(same_bits(a.sum_closed_normal, b.sum_closed_normal));

@@ -1,51 +1,40 @@
-// The pool of solver.threads (sweep_threads.hpp): its barrier separates the phases of a task,
-// on 1–3 threads, across runs and parking.
+// The pool of solver.threads (sweep_threads.hpp): start() runs the task once on every worker
+// without waiting for them, across parking and waking, on 1–3 threads.
 #include "cdpowder/solver/sweep_threads.hpp"
 
 #include <gtest/gtest.h>
 
 #include <atomic>
-#include <vector>
 
 namespace cdpowder::testing {
 namespace {
 
-/// Phases of a task: every thread writes its slot, then all read all slots.
-struct PhaseCheck {
-  SweepThreads* threads = nullptr;
-  int phases = 0;
-  std::vector<int> seen;  // one slot per thread
-  std::atomic<int> wrong{0};
+struct Count {
   std::atomic<int> ran{0};
+  std::atomic<int> threads_seen{0};  // a bit per thread index
 };
 
-void check_phases(void* context, int t) {
-  auto& check = *static_cast<PhaseCheck*>(context);
-  check.ran.fetch_add(1);
-  for (int p = 1; p <= check.phases; ++p) {
-    check.seen[static_cast<std::size_t>(t)] = p;
-    check.threads->barrier(t);
-    for (const int s : check.seen) {
-      if (s != p) check.wrong.fetch_add(1);
-    }
-    check.threads->barrier(t);
-  }
+void count_run(void* context, int t) {
+  auto& count = *static_cast<Count*>(context);
+  count.threads_seen.fetch_or(1 << t);
+  count.ran.fetch_add(1);
 }
 
-TEST(SweepThreads, TheBarrierSeparatesPhasesAcrossRunsAndParking) {
+TEST(SweepThreads, StartRunsTheTaskOnceOnEveryWorkerAcrossParking) {
   for (const int n : {1, 2, 3}) {
-    SweepThreads threads(n);
-    ASSERT_EQ(threads.size(), n);
-    PhaseCheck check;
-    check.threads = &threads;
-    check.phases = 500;
-    check.seen.assign(static_cast<std::size_t>(n), 0);
-    for (int run = 0; run < 6; ++run) {
-      threads.run(check_phases, &check);
-      if (run % 2 == 1) threads.park();  // a worker woken from its sleep joins the next run
+    Count count;  // outlives the pool, as start() requires
+    {
+      SweepThreads threads(n);
+      ASSERT_EQ(threads.size(), n);
+      for (int run = 1; run <= 6; ++run) {
+        threads.start(count_run, &count);
+        // start() does not wait: the caller learns from the task's own state
+        spin_until([&] { return count.ran.load() == run * (n - 1); });
+        if (run % 2 == 0) threads.park();  // a worker woken from its sleep joins the next run
+      }
     }
-    EXPECT_EQ(check.wrong.load(), 0) << n << " threads";
-    EXPECT_EQ(check.ran.load(), 6 * n);
+    EXPECT_EQ(count.ran.load(), 6 * (n - 1));
+    EXPECT_EQ(count.threads_seen.load(), (1 << n) - 2) << "workers 1 .. n-1, not the caller";
   }
 }
 

@@ -1,74 +1,122 @@
-// coloured_threads.cpp — a coloured sweep split among threads colour by colour, and the sums
-// added afterwards in the order one thread would have added them.
+// coloured_threads.cpp — a coloured sweep cut into pieces claimed by the threads in visiting
+// order, and the sums added afterwards in the order one thread would have added them.
 #include "cdpowder/solver/coloured_threads.hpp"
 
+#include <algorithm>
 #include <cstddef>
-#include <cstdint>
 
 namespace cdpowder {
 
 namespace {
 
-struct SweepJob {
-  Contacts& contacts;
-  VelocityCache& velocities;
-  const ColouredSweep& sweep;
-  SweepThreads& threads;
-  ThreadedSweepScratch& scratch;
-};
+constexpr int kIndexBits = 20;
+constexpr std::uint64_t kIndexMask = (std::uint64_t{1} << kIndexBits) - 1;
+constexpr std::uint32_t kMaxPieces = kIndexMask;
+constexpr std::uint64_t kIdMask = (std::uint64_t{1} << (64 - 2 * kIndexBits)) - 1;
 
-/// Thread t's part of the sweep. Every thread passes the same barriers: one after each group
-/// but the last (run() itself waits for all threads at the end).
-void sweep_share(void* context, int t) {
-  const SweepJob& job = *static_cast<const SweepJob*>(context);
-  const ColouredSweep& sweep = job.sweep;
-  const std::size_t colours = sweep.colours();
-  const auto n = static_cast<std::uint64_t>(job.threads.size());
-  const auto thread = static_cast<std::uint64_t>(t);
-  const std::size_t groups = sweep.group_order.size();
-  for (std::size_t g = 0; g < groups; ++g) {
-    const std::uint32_t group = sweep.group_order[g];
-    if (group == colours) {
-      if (sweep.sequential.empty()) continue;  // all threads skip its barrier alike
-      if (t == 0) {
-        // the piston couples all its contacts through one velocity: one thread, in order
-        for (std::size_t i = 0; i < sweep.sequential.size(); ++i) {
-          double normal_force = 0.0;
-          double cohesion = 0.0;
-          const VisitChange change = solve_contact(sweep.sequential[i], job.contacts,
-                                                   job.velocities, normal_force, cohesion);
-          job.scratch.sequential[i] = {change.change_sq, closed_normal(normal_force, cohesion)};
-        }
-      }
-    } else {
-      // a contiguous share of the colour's batches: neighbouring batches touch neighbouring
-      // spheres (pairs are coloured in storage order), so the threads rarely share a line
-      const std::uint32_t first = sweep.colour_batches[group];
-      const std::uint64_t count = sweep.colour_batches[group + 1] - first;
-      const auto begin = static_cast<std::uint32_t>(first + count * thread / n);
-      const auto end = static_cast<std::uint32_t>(first + count * (thread + 1) / n);
-      if (begin < end) {
-        solve_batches_kept(sweep, begin, end, job.velocities, job.contacts,
-                           job.scratch.batches.data() + begin);
-      }
+/// The claim word of a fresh sweep. The id wraps after 2^24 sweeps: a worker would have to
+/// stall between reading the word and its compare-exchange for that many sweeps (and find the
+/// same piece count) to claim a stale piece.
+std::uint64_t claim_word(std::uint32_t id, std::uint32_t pieces) {
+  return ((std::uint64_t{id} & kIdMask) << (2 * kIndexBits)) |
+         (std::uint64_t{pieces} << kIndexBits);
+}
+
+}  // namespace
+
+bool ColouredThreads::claim(std::uint32_t& piece) {
+  std::uint64_t word = claim_.load(std::memory_order_acquire);
+  for (;;) {
+    const auto next = static_cast<std::uint32_t>(word & kIndexMask);
+    const auto pieces = static_cast<std::uint32_t>((word >> kIndexBits) & kIndexMask);
+    if (next >= pieces) return false;
+    if (claim_.compare_exchange_weak(word, word + 1, std::memory_order_acquire,
+                                     std::memory_order_acquire)) {
+      piece = next;
+      return true;
     }
-    if (g + 1 < groups) job.threads.barrier(t);
   }
 }
 
-/// The kept visits added in the visiting order: run_coloured_sweep's sums, bit for bit.
-SweepSums add_in_visiting_order(const ColouredSweep& sweep, const ThreadedSweepScratch& scratch) {
+void ColouredThreads::solve_claimed() {
+  std::uint32_t index = 0;
+  while (claim(index)) {
+    const Piece& piece = pieces_[index];
+    // the barrier between colours: pieces complete in group order (a piece waits for all
+    // pieces of the groups before it), so a count of done pieces says which groups are done
+    spin_until([&] { return done_.load(std::memory_order_acquire) >= piece.wait_for; });
+    if (piece.sequential) {
+      // the piston couples all its contacts through one velocity: one thread, in order
+      const ColouredSweep& sweep = *sweep_;
+      for (std::size_t i = 0; i < sweep.sequential.size(); ++i) {
+        double normal_force = 0.0;
+        double cohesion = 0.0;
+        const VisitChange change =
+            solve_contact(sweep.sequential[i], *contacts_, *velocities_, normal_force, cohesion);
+        sequential_visits_[i] = {change.change_sq, closed_normal(normal_force, cohesion)};
+      }
+    } else {
+      solve_batches_kept(*sweep_, piece.first, piece.last, *velocities_, *contacts_,
+                         batch_visits_.data() + piece.first);
+    }
+    done_.fetch_add(1, std::memory_order_release);
+  }
+}
+
+void ColouredThreads::work(void* self, int /*thread*/) {
+  static_cast<ColouredThreads*>(self)->solve_claimed();
+}
+
+SweepSums ColouredThreads::sweep(Contacts& contacts, VelocityCache& velocities,
+                                 const ColouredSweep& sweep) {
+  // each colour in one contiguous piece per thread: neighbouring batches touch neighbouring
+  // spheres (pairs are coloured in storage order), so two threads rarely share a line
+  const std::size_t colours = sweep.colours();
+  const auto threads = static_cast<std::uint64_t>(size());
+  pieces_.clear();
+  for (const std::uint32_t group : sweep.group_order) {
+    const auto wait_for = static_cast<std::uint32_t>(pieces_.size());
+    if (group == colours) {
+      if (!sweep.sequential.empty()) pieces_.push_back({0, 0, true, wait_for});
+      continue;
+    }
+    const std::uint32_t first = sweep.colour_batches[group];
+    const std::uint64_t count = sweep.colour_batches[group + 1] - first;
+    const std::uint64_t cuts = std::min(threads, count);
+    for (std::uint64_t p = 0; p < cuts; ++p) {
+      pieces_.push_back({static_cast<std::uint32_t>(first + count * p / cuts),
+                         static_cast<std::uint32_t>(first + count * (p + 1) / cuts), false,
+                         wait_for});
+    }
+  }
+  if (pieces_.size() > kMaxPieces) return run_coloured_sweep(contacts, velocities, sweep);
+  contacts_ = &contacts;
+  velocities_ = &velocities;
+  sweep_ = &sweep;
+  batch_visits_.resize(sweep.batches.size());
+  sequential_visits_.resize(sweep.sequential.size());
+  const auto pieces = static_cast<std::uint32_t>(pieces_.size());
+  done_.store(0, std::memory_order_relaxed);
+  claim_.store(claim_word(++sweep_id_, pieces), std::memory_order_release);
+  pool_.start(work, this);
+  solve_claimed();
+  spin_until([&] { return done_.load(std::memory_order_acquire) == pieces; });
+  return add_in_visiting_order();
+}
+
+SweepSums ColouredThreads::add_in_visiting_order() const {
   SweepSums sums;
+  const ColouredSweep& sweep = *sweep_;
   const std::size_t colours = sweep.colours();
   for (const std::uint32_t group : sweep.group_order) {
     if (group == colours) {
-      for (const KeptVisit& visit : scratch.sequential) {
+      for (const KeptVisit& visit : sequential_visits_) {
         add_kept_visit(sums, visit.change_sq, visit.closed_normal);
       }
       continue;
     }
     for (std::uint32_t i = sweep.colour_batches[group]; i < sweep.colour_batches[group + 1]; ++i) {
-      const BatchVisits& visits = scratch.batches[i];
+      const BatchVisits& visits = batch_visits_[i];
       for (std::uint32_t l = 0; l < sweep.batches[i].lanes; ++l) {
         add_kept_visit(sums, visits.change_sq[l], visits.closed_normal[l]);
       }
@@ -77,16 +125,14 @@ SweepSums add_in_visiting_order(const ColouredSweep& sweep, const ThreadedSweepS
   return sums;
 }
 
-}  // namespace
-
-SweepSums run_coloured_sweep_threaded(Contacts& contacts, VelocityCache& velocities,
-                                      const ColouredSweep& sweep, SweepThreads& threads,
-                                      ThreadedSweepScratch& scratch) {
-  scratch.batches.resize(sweep.batches.size());
-  scratch.sequential.resize(sweep.sequential.size());
-  SweepJob job{contacts, velocities, sweep, threads, scratch};
-  threads.run(sweep_share, &job);
-  return add_in_visiting_order(sweep, scratch);
+ColouredThreads* ColouredThreadsSlot::get(int threads) {
+  if (threads <= 1) {
+    threads_.reset();
+  } else if (!threads_ || threads_->size() != threads) {
+    threads_.reset();  // the old workers stop before the new ones start
+    threads_ = std::make_unique<ColouredThreads>(threads);
+  }
+  return threads_.get();
 }
 
 }  // namespace cdpowder

@@ -217,7 +217,7 @@ void prepare_visit_order(Contacts& contacts, VisitOrder policy, NlgsWorkspace& w
 namespace {
 SolverStats sweep_until_done(Contacts& contacts, VelocityCache& velocities,
                              const SolverSettings& settings, double reference_force,
-                             SweepThreads* threads, NlgsWorkspace& work);
+                             ColouredThreads* threads, NlgsWorkspace& work);
 }  // namespace
 
 SolverStats solve_nlgs(Contacts& contacts, VelocityCache& velocities,
@@ -227,12 +227,12 @@ SolverStats solve_nlgs(Contacts& contacts, VelocityCache& velocities,
     prepare_visit_order(contacts, settings.visit_order, work);
     return sweep_until_done(contacts, velocities, settings, reference_force, nullptr, work);
   }
-  SweepThreads* const threads = work.threads.get(settings.threads);
+  ColouredThreads* const threads = work.threads.get(settings.threads);
 
   // the workers spin from sweep to sweep within the step and sleep between steps, also when
   // the step is left by an exception
   struct ParkAtEnd {
-    explicit ParkAtEnd(SweepThreads* pool) : threads(pool) {}
+    explicit ParkAtEnd(ColouredThreads* pool) : threads(pool) {}
 
     ParkAtEnd(const ParkAtEnd&) = delete;
     ParkAtEnd(ParkAtEnd&&) = delete;
@@ -243,7 +243,7 @@ SolverStats solve_nlgs(Contacts& contacts, VelocityCache& velocities,
       if (threads != nullptr) threads->park();
     }
 
-    SweepThreads* threads;
+    ColouredThreads* threads;
   } park_at_end(threads);
 
   // the pairs are stored in colour order during the sweeps (and the mixing)
@@ -259,7 +259,7 @@ namespace {
 
 SolverStats sweep_until_done(Contacts& contacts, VelocityCache& velocities,
                              const SolverSettings& settings, double reference_force,
-                             SweepThreads* threads, NlgsWorkspace& work) {
+                             ColouredThreads* threads, NlgsWorkspace& work) {
   std::vector<ContactIndex>& order = contacts.visit_order;
   const bool coloured = settings.kernel == SweepKernel::Coloured;
   const bool accelerate = settings.acceleration_depth > 0;
@@ -297,8 +297,7 @@ SolverStats sweep_until_done(Contacts& contacts, VelocityCache& velocities,
     if (kinematic_rule) work.kinematic.before_sweep(velocities, sweep == 1);
     const SweepSums sums = !coloured ? run_sweep(contacts, velocities)
                            : threads != nullptr
-                               ? run_coloured_sweep_threaded(contacts, velocities, work.coloured,
-                                                             *threads, work.threaded)
+                               ? threads->sweep(contacts, velocities, work.coloured)
                                : run_coloured_sweep(contacts, velocities, work.coloured);
     const double mean_closed =
         sums.closed > 0 ? sums.sum_closed_normal / static_cast<double>(sums.closed) : 0.0;

@@ -10,7 +10,6 @@
 #include "cdpowder/solver/kinematic_change.hpp"
 #include "cdpowder/solver/settings.hpp"
 #include "cdpowder/solver/sweep_sums.hpp"
-#include "cdpowder/solver/sweep_threads.hpp"
 #include "cdpowder/solver/velocity_cache.hpp"
 
 namespace cdpowder {
@@ -44,8 +43,7 @@ struct NlgsWorkspace {
   std::vector<ContactIndex> blocks;  ///< block permutation of the per-step order
   KinematicChange kinematic;         ///< the kinematic rule's velocity snapshot
   ColouredSweep coloured;            ///< colours and batches of solver.kernel = "coloured"
-  SweepThreadsSlot threads;          ///< the workers of solver.threads > 1
-  ThreadedSweepScratch threaded;     ///< visits kept by a sweep on several threads
+  ColouredThreadsSlot threads;       ///< the workers of solver.threads > 1
 };
 
 /// Sweeps until the stopping rule holds or max_sweeps is reached. Each visit solves one

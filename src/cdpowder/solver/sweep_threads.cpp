@@ -1,14 +1,11 @@
-// sweep_threads.cpp — the pool's command word, its spin barrier and its parking.
+// sweep_threads.cpp — the pool's command word, its spinning and its parking.
 #include "cdpowder/solver/sweep_threads.hpp"
-
-#include <cstddef>
 
 namespace cdpowder {
 
 namespace {
 
 enum class Command : std::uint32_t { Run = 0, Park = 1, Stop = 2 };
-
 constexpr std::uint32_t kCommandBits = 2;
 
 /// The command word: a sequence number (so that a repeated command is a new value) and a kind.
@@ -16,9 +13,9 @@ std::uint32_t command_word(std::uint32_t sequence, Command kind) {
   return (sequence << kCommandBits) | static_cast<std::uint32_t>(kind);
 }
 
-/// Spins between two yields of the time slice. A worker that spins while the machine is
-/// oversubscribed (more runnable threads than cores) holds back the thread it waits for;
-/// yielding now and then bounds that, at the price of a system call after ≈ 10 µs of waiting.
+/// Spins between two yields of the time slice: ≈ 5–20 µs of spinning, so a waiting thread
+/// on an idle machine rarely makes a system call, and on an oversubscribed one lets the
+/// thread it waits for run.
 constexpr int kSpinsBeforeYield = 256;
 
 void pause() {
@@ -27,11 +24,11 @@ void pause() {
 #endif
 }
 
-/// Spins until done() is true.
-template <typename Done>
-void spin_until(Done done) {
+}  // namespace
+
+void spin_until_true(bool (*done)(const void*), const void* context) {
   int spins = 0;
-  while (!done()) {
+  while (!done(context)) {
     pause();
     if (++spins == kSpinsBeforeYield) {
       spins = 0;
@@ -40,12 +37,10 @@ void spin_until(Done done) {
   }
 }
 
-}  // namespace
-
-SweepThreads::SweepThreads(int threads)
-    : slots_(static_cast<std::size_t>(threads < 1 ? 1 : threads)) {
-  workers_.reserve(slots_.size() - 1);
-  for (int t = 1; t < size(); ++t) workers_.emplace_back([this, t] { work(t); });
+SweepThreads::SweepThreads(int threads) {
+  const int workers = threads > 1 ? threads - 1 : 0;
+  workers_.reserve(static_cast<std::size_t>(workers));
+  for (int t = 1; t <= workers; ++t) workers_.emplace_back([this, t] { work(t); });
 }
 
 SweepThreads::~SweepThreads() {
@@ -54,42 +49,20 @@ SweepThreads::~SweepThreads() {
   for (std::thread& worker : workers_) worker.join();
 }
 
-void SweepThreads::run(Task task, void* context) {
-  task_ = task;
-  context_ = context;
-  if (!workers_.empty()) {
-    command_.store(command_word(++sequence_, Command::Run), std::memory_order_release);
-    // only a parked worker sleeps; a spinning one sees the store without a system call
-    if (parked_) command_.notify_all();
-    parked_ = false;
-  }
-  task(context, 0);
-  // the workers arrive without waiting when done; the caller waits for them
-  barrier(0);
+void SweepThreads::start(Task task, void* context) {
+  if (workers_.empty()) return;
+  task_.store(task, std::memory_order_relaxed);
+  context_.store(context, std::memory_order_relaxed);
+  command_.store(command_word(++sequence_, Command::Run), std::memory_order_release);
+  // only a parked worker sleeps; a spinning one sees the store without a system call
+  if (parked_) command_.notify_all();
+  parked_ = false;
 }
 
 void SweepThreads::park() {
   if (parked_ || workers_.empty()) return;
   command_.store(command_word(++sequence_, Command::Park), std::memory_order_release);
   parked_ = true;
-}
-
-void SweepThreads::arrive(int thread) {
-  Slot& slot = slots_[static_cast<std::size_t>(thread)];
-  slot.arrived.store(slot.arrived.load(std::memory_order_relaxed) + 1, std::memory_order_release);
-}
-
-void SweepThreads::wait_for_all(int thread) {
-  const std::uint64_t phase =
-      slots_[static_cast<std::size_t>(thread)].arrived.load(std::memory_order_relaxed);
-  for (const Slot& other : slots_) {
-    spin_until([&] { return other.arrived.load(std::memory_order_acquire) >= phase; });
-  }
-}
-
-void SweepThreads::barrier(int thread) {
-  arrive(thread);
-  wait_for_all(thread);
 }
 
 void SweepThreads::work(int thread) {
@@ -109,8 +82,7 @@ void SweepThreads::work(int thread) {
     switch (static_cast<Command>(command & ((1U << kCommandBits) - 1))) {
       case Command::Run:
         parked = false;
-        task_(context_, thread);
-        arrive(thread);
+        task_.load(std::memory_order_relaxed)(context_.load(std::memory_order_relaxed), thread);
         break;
       case Command::Park:
         parked = true;
@@ -119,16 +91,6 @@ void SweepThreads::work(int thread) {
         return;
     }
   }
-}
-
-SweepThreads* SweepThreadsSlot::get(int threads) {
-  if (threads <= 1) {
-    pool_.reset();
-  } else if (!pool_ || pool_->size() != threads) {
-    pool_.reset();  // the old workers stop before the new ones start
-    pool_ = std::make_unique<SweepThreads>(threads);
-  }
-  return pool_.get();
 }
 
 }  // namespace cdpowder
