@@ -118,6 +118,13 @@ int main(int argc, char** argv) {
         t.steps, static_cast<double>(t.sweeps) / n, t.capped, t.repeated,
         1e9 * t.stages[solve] / t.updates, 1e6 * other / n, t.opening, t.wall, porosity(world),
         hash_text(state_hash(world, work.action_cache)));
+    // the last step's colouring: what the threads of solver.threads share, and what they do not
+    const ColouredSweep& coloured = work.solver.coloured;
+    if (scene.step.solver.kernel == SweepKernel::Coloured) {
+      fmt::print("last step: contacts={} colours={} batches={} sequential={} (walls {})\n",
+                 work.contacts.size(), coloured.colours(), coloured.batches.size(),
+                 coloured.sequential.size(), work.contacts.walls.size());
+    }
     fmt::print(
         "per step [us]: detect {:.0f}, build {:.0f}, solve {:.0f}, integrate {:.0f}, "
         "analyse {:.0f}, outside the stages {:.0f}\n",

@@ -77,6 +77,39 @@ BENCHMARK(BM_NlgsSweepColoured)
     ->Args({100000, 8192})
     ->Unit(benchmark::kMicrosecond);
 
+// The coloured sweep on range(1) threads (solver.threads; 1 = the one-thread sweep the
+// solver runs then), default chunks: the same bits for any count, so only the time differs.
+void BM_NlgsSweepColouredThreads(benchmark::State& state) {
+  Packing packing = fcc_packing_with_vacancies(static_cast<int>(state.range(0)));
+  StepWorkspace work(1);
+  prepare_contacts(packing, work);
+  Contacts& contacts = work.contacts;
+  ColouredSweep& sweep = work.solver.coloured;
+  prepare_coloured_sweep(contacts, work.velocities, sweep);
+  order_groups(sweep, VisitOrder::RandomEachStep, work.solver.rng);
+  const auto threads = static_cast<int>(state.range(1));
+  ColouredThreads pool(threads);
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(threads == 1 ? run_coloured_sweep(contacts, work.velocities, sweep)
+                                          : pool.sweep(contacts, work.velocities, sweep));
+  }
+  state.counters["contacts"] = static_cast<double>(contacts.size());
+  state.counters["colours"] = static_cast<double>(sweep.colours());
+  state.counters["ns_per_update"] = benchmark::Counter(
+      static_cast<double>(state.iterations()) * static_cast<double>(contacts.size()),
+      benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+
+BENCHMARK(BM_NlgsSweepColouredThreads)
+    ->Args({1000, 1})
+    ->Args({1000, 2})
+    ->Args({10000, 1})
+    ->Args({10000, 2})
+    ->Args({100000, 1})
+    ->Args({100000, 2})
+    ->Unit(benchmark::kMicrosecond)
+    ->UseRealTime();
+
 // A whole cold-started solve of the frozen packing under the piston, at the default
 // settings (Anderson acceleration) and as plain NLGS; reports the sweeps it took.
 void BM_NlgsSolveColdStart(benchmark::State& state) {
