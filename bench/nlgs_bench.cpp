@@ -79,6 +79,7 @@ BENCHMARK(BM_NlgsSweepColoured)
 
 // The coloured sweep on range(1) threads (solver.threads; 1 = the one-thread sweep the
 // solver runs then), default chunks: the same bits for any count, so only the time differs.
+// range(2) = 1: the solver's adaptive mode (the faster of threads and one thread, timed).
 void BM_NlgsSweepColouredThreads(benchmark::State& state) {
   Packing packing = fcc_packing_with_vacancies(static_cast<int>(state.range(0)));
   StepWorkspace work(1);
@@ -88,7 +89,7 @@ void BM_NlgsSweepColouredThreads(benchmark::State& state) {
   prepare_coloured_sweep(contacts, work.velocities, sweep);
   order_groups(sweep, VisitOrder::RandomEachStep, work.solver.rng);
   const auto threads = static_cast<int>(state.range(1));
-  ColouredThreads pool(threads);
+  ColouredThreads pool(threads, state.range(2) != 0);
   for (auto _ : state) {
     benchmark::DoNotOptimize(threads == 1 ? run_coloured_sweep(contacts, work.velocities, sweep)
                                           : pool.sweep(contacts, work.velocities, sweep));
@@ -101,12 +102,15 @@ void BM_NlgsSweepColouredThreads(benchmark::State& state) {
 }
 
 BENCHMARK(BM_NlgsSweepColouredThreads)
-    ->Args({1000, 1})
-    ->Args({1000, 2})
-    ->Args({10000, 1})
-    ->Args({10000, 2})
-    ->Args({100000, 1})
-    ->Args({100000, 2})
+    ->Args({1000, 1, 0})
+    ->Args({1000, 2, 0})
+    ->Args({1000, 2, 1})
+    ->Args({10000, 1, 0})
+    ->Args({10000, 2, 0})
+    ->Args({10000, 2, 1})
+    ->Args({100000, 1, 0})
+    ->Args({100000, 2, 0})
+    ->Args({100000, 2, 1})
     ->Unit(benchmark::kMicrosecond)
     ->UseRealTime();
 

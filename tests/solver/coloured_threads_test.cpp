@@ -53,7 +53,7 @@ TEST(ColouredThreads, ASweepGivesTheBitsOfOneThread) {
         ASSERT_GT(sweep.sequential.size(), max_colours == 3 ? one.walls.size() : 0U);
         Rng rng = make_rng(3, RngStream::SweepOrder);
         order_groups(sweep, VisitOrder::RandomEachStep, rng);
-        ColouredThreads threads(n);
+        ColouredThreads threads(n, /*adaptive=*/false);  // every sweep on the threads
         for (int s = 0; s < 5; ++s) {
           const SweepSums a = run_coloured_sweep(one, one_v, sweep);
           const SweepSums b = threads.sweep(many, many_v, sweep);

@@ -3,6 +3,7 @@
 #include "cdpowder/solver/coloured_threads.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cstddef>
 
 namespace cdpowder {
@@ -13,6 +14,12 @@ constexpr int kIndexBits = 20;
 constexpr std::uint64_t kIndexMask = (std::uint64_t{1} << kIndexBits) - 1;
 constexpr std::uint32_t kMaxPieces = kIndexMask;
 constexpr std::uint64_t kIdMask = (std::uint64_t{1} << (64 - 2 * kIndexBits)) - 1;
+
+/// Sweeps between two tries of the slower mode (adaptive mode): one sweep in 16 may be the
+/// slower, while a change of load is seen within a few steps.
+constexpr std::uint64_t kProbeInterval = 16;
+/// Weight of the newest sweep in the recent time per contact of its mode.
+constexpr double kRecentWeight = 0.25;
 
 /// The claim word of a fresh sweep. The id wraps after 2^24 sweeps: a worker would have to
 /// stall between reading the word and its compare-exchange for that many sweeps (and find the
@@ -69,6 +76,34 @@ void ColouredThreads::work(void* self, int /*thread*/) {
 
 SweepSums ColouredThreads::sweep(Contacts& contacts, VelocityCache& velocities,
                                  const ColouredSweep& sweep) {
+  if (!adaptive_) return sweep_on_threads(contacts, velocities, sweep);
+  // each mode once, then the faster of late, and the other one every kProbeInterval sweeps
+  bool threaded = true;
+  bool probe = false;
+  if (threaded_ns_ != 0.0) {
+    threaded = solo_ns_ != 0.0 && threaded_ns_ <= solo_ns_;
+    probe = solo_ns_ != 0.0 && ++sweeps_ % kProbeInterval == 0;
+    if (probe) threaded = !threaded;
+  }
+  // waking parked workers (a futex wake, tens of µs) is a cost of the step, not of the mode
+  const bool waking = threaded && pool_.parked();
+  const auto start = std::chrono::steady_clock::now();
+  const SweepSums sums = threaded ? sweep_on_threads(contacts, velocities, sweep)
+                                  : run_coloured_sweep(contacts, velocities, sweep);
+  const double ns =
+      std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - start).count() /
+      static_cast<double>(std::max<std::size_t>(contacts.size(), 1));
+  double& recent = threaded ? threaded_ns_ : solo_ns_;
+  if (!waking || recent == 0.0) {
+    recent = recent == 0.0 ? ns : (1.0 - kRecentWeight) * recent + kRecentWeight * ns;
+  }
+  // the workers sleep while the caller sweeps alone by choice (not for one probe)
+  if (!threaded && !probe) pool_.park();
+  return sums;
+}
+
+SweepSums ColouredThreads::sweep_on_threads(Contacts& contacts, VelocityCache& velocities,
+                                            const ColouredSweep& sweep) {
   // each colour in one contiguous piece per thread: neighbouring batches touch neighbouring
   // spheres (pairs are coloured in storage order), so two threads rarely share a line
   const std::size_t colours = sweep.colours();

@@ -31,12 +31,18 @@ struct KeptVisit {
 /// The workers and the shared state of coloured sweeps on several threads, kept for a run.
 class ColouredThreads {
  public:
-  explicit ColouredThreads(int threads) : pool_(threads) {}
+  /// With `adaptive`, each sweep runs on the threads or on the caller alone, whichever was
+  /// faster lately (see sweep()); else always on the threads (tests, benchmarks).
+  explicit ColouredThreads(int threads, bool adaptive = true)
+      : adaptive_(adaptive), pool_(threads) {}
 
   [[nodiscard]] int size() const { return pool_.size(); }
 
-  /// One sweep over the groups in sweep.group_order on all threads: the same bits (state and
-  /// sums) as run_coloured_sweep.
+  /// One sweep over the groups in sweep.group_order: the same bits (state and sums) as
+  /// run_coloured_sweep, on the threads or not. On a loaded machine a sweep on threads can be
+  /// slower than on one (a worker descheduled while it holds a piece stalls the next colour
+  /// for a time slice); since the bits do not depend on it, the adaptive mode times both and
+  /// runs the faster, trying the other one every kProbeInterval sweeps.
   SweepSums sweep(Contacts& contacts, VelocityCache& velocities, const ColouredSweep& sweep);
 
   /// Lets the workers sleep until the next sweep (between steps).
@@ -51,6 +57,8 @@ class ColouredThreads {
     std::uint32_t wait_for = 0;  ///< pieces of the earlier groups, done before this one starts
   };
 
+  SweepSums sweep_on_threads(Contacts& contacts, VelocityCache& velocities,
+                             const ColouredSweep& sweep);
   static void work(void* self, int thread);
   bool claim(std::uint32_t& piece);
   void solve_claimed();
@@ -61,6 +69,10 @@ class ColouredThreads {
   alignas(64) std::atomic<std::uint64_t> claim_{0};
   alignas(64) std::atomic<std::uint32_t> done_{0};  ///< pieces done in this sweep
   alignas(64) std::uint32_t sweep_id_ = 0;
+  bool adaptive_;
+  std::uint64_t sweeps_ = 0;
+  double threaded_ns_ = 0.0;  ///< recent ns per contact on the threads (0: not measured)
+  double solo_ns_ = 0.0;      ///< recent ns per contact on the caller alone (0: not measured)
   // the sweep, written before claim_ publishes it and read by a thread only after a claim
   Contacts* contacts_ = nullptr;
   VelocityCache* velocities_ = nullptr;

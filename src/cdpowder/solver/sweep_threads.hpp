@@ -51,6 +51,9 @@ class SweepThreads {
   /// Lets the workers sleep until the next start() (between steps).
   void park();
 
+  /// Whether the workers sleep (park() since the last start()).
+  [[nodiscard]] bool parked() const { return parked_; }
+
  private:
   void work(int thread);
 
