@@ -11,7 +11,6 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
-#include <iterator>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -198,8 +197,7 @@ std::size_t processes_mentioning(const std::string& text) {
   for (const fs::directory_entry& entry : fs::directory_iterator("/proc")) {
     const std::string name = entry.path().filename().string();
     if (name.find_first_not_of("0123456789") != std::string::npos) continue;
-    std::ifstream in(entry.path() / "cmdline", std::ios::binary);
-    const std::string command((std::istreambuf_iterator<char>(in)), {});
+    const std::string command = slurp(entry.path() / "cmdline");  // "" once the process is gone
     if (command.find(text) != std::string::npos && command.find("compact") != std::string::npos) {
       ++count;
     }
