@@ -34,22 +34,31 @@ TEST(KinematicChange, MeasuresTheSweepsLargestSurfaceChangeAndTheRmsSurfaceSpeed
   cache.spheres = {sphere_of_radius(1.0, dt), sphere_of_radius(2.0, dt)};
   cache.spheres[1].linear = Vec3(0.0, 3e-3, 0.0);
   KinematicChange change;
-  change.before_sweep(cache, true);
-  SweepMotion motion = change.after_sweep(cache);
+  change.begin_step(cache);
+  SweepMotion motion = change.after_sweep(cache, true);
   EXPECT_EQ(motion.largest_change, 0.0);
   EXPECT_NEAR(motion.rms_surface_speed, std::sqrt(9e-6 / 2), 1e-18);
 
   cache.spheres[0].linear = Vec3(3e-4, 0.0, 4e-4);  // u(Δv, Δω) = 5e-4
   cache.spheres[1].angular = Vec3(0.0, 0.0, 4e-4);  // R |Δω| = 8e-4
   cache.piston_velocity = -1e-3;
-  motion = change.after_sweep(cache);
+  motion = change.after_sweep(cache, true);
   EXPECT_NEAR(motion.largest_change, 8e-4, 1e-15);
   EXPECT_NEAR(motion.rms_surface_speed, std::sqrt((25e-8 + 9e-6 + 64e-8) / 2), 1e-15);
   EXPECT_EQ(motion.piston_change, 1e-3);
 
-  // the next sweep starts from the velocities the last one left
-  change.before_sweep(cache, false);
-  motion = change.after_sweep(cache);
+  // the next sweep starts from the velocities the last one left; without the speed asked
+  // for, the RMS speed is not summed
+  motion = change.after_sweep(cache, false);
+  EXPECT_EQ(motion.largest_change, 0.0);
+  EXPECT_EQ(motion.piston_change, 0.0);
+  EXPECT_EQ(motion.rms_surface_speed, 0.0);
+
+  // a change between sweeps (the mixing) is not the next sweep's once it is reported
+  cache.spheres[0].linear = Vec3(0.0, 0.0, 0.0);
+  cache.piston_velocity = -2e-3;
+  change.velocities_changed(cache);
+  motion = change.after_sweep(cache, true);
   EXPECT_EQ(motion.largest_change, 0.0);
   EXPECT_EQ(motion.piston_change, 0.0);
 }
@@ -58,9 +67,9 @@ TEST(KinematicChange, AFixedSphereCountsOnlyItsTranslation) {
   VelocityCache cache;
   cache.spheres.resize(1);  // Δt/m = Δt/I = 0
   KinematicChange change;
-  change.before_sweep(cache, true);
+  change.begin_step(cache);
   cache.spheres[0].angular = Vec3(1.0, 0.0, 0.0);
-  EXPECT_EQ(change.after_sweep(cache).largest_change, 0.0);
+  EXPECT_EQ(change.after_sweep(cache, true).largest_change, 0.0);
 }
 
 /// Solves the contact problem of the step after the saved (0,0) compaction front

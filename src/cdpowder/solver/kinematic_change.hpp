@@ -3,6 +3,7 @@
 // (SolverSettings::kinematic_tolerance, physics.md §7.3).
 #pragma once
 
+#include "cdpowder/core/vec3.hpp"
 #include "cdpowder/solver/velocity_cache.hpp"
 
 #include <cmath>
@@ -18,19 +19,28 @@ struct SweepMotion {
   double piston_change = 0.0;      ///< |ΔV_P| [R/t0]
 };
 
-/// Takes the velocities before a sweep and compares them with the ones after it. Buffers are
-/// kept from sweep to sweep and step to step (no allocation in steady state).
+/// Compares the velocities after a sweep with those it started from. The snapshot a sweep
+/// is measured against is taken in the same pass that measures the sweep before it, so a
+/// sweep costs one pass over the spheres; only a change of the velocities between sweeps
+/// (the mixing) needs a fresh copy. Buffers are kept from sweep to sweep and step to step
+/// (no allocation in steady state).
 class KinematicChange {
  public:
-  /// Remembers v*, ω*, V_P* before a sweep; on the first call of a step (`new_step`) also
-  /// R² of every sphere, from the cache's Δt/m and Δt/I (solid sphere: I = 0.4 m R²).
-  void before_sweep(const VelocityCache& velocities, bool new_step);
+  /// Remembers v*, ω*, V_P* before the first sweep of a step, and R² of every sphere from
+  /// the cache's Δt/m and Δt/I (solid sphere: I = 0.4 m R²).
+  void begin_step(const VelocityCache& velocities);
 
-  /// The change since before_sweep, and the speeds now.
-  [[nodiscard]] SweepMotion after_sweep(const VelocityCache& velocities) const;
+  /// Remembers the velocities again after something other than a sweep changed them (the
+  /// mixing), so the next sweep is measured from them.
+  void velocities_changed(const VelocityCache& velocities);
+
+  /// The change since the last snapshot, which then moves to the velocities now. The RMS
+  /// speed is summed only when `with_speed` (the rule reads it once its window is full);
+  /// otherwise it is 0.
+  [[nodiscard]] SweepMotion after_sweep(const VelocityCache& velocities, bool with_speed);
 
  private:
-  std::vector<SphereVelocity> start_;
+  std::vector<Vec3> start_;  ///< sphere i: v at 2i, ω at 2i + 1
   std::vector<double> radius_sq_;
   double piston_start_ = 0.0;
 };

@@ -294,7 +294,7 @@ SolverStats sweep_until_done(Contacts& contacts, VelocityCache& velocities,
         shuffle_indices(std::span<ContactIndex>(order), work.rng);
       }
     }
-    if (kinematic_rule) work.kinematic.before_sweep(velocities, sweep == 1);
+    if (kinematic_rule && sweep == 1) work.kinematic.begin_step(velocities);
     const SweepSums sums = !coloured ? run_sweep(contacts, velocities)
                            : threads != nullptr
                                ? threads->sweep(contacts, velocities, work.coloured)
@@ -318,20 +318,24 @@ SolverStats sweep_until_done(Contacts& contacts, VelocityCache& velocities,
         const double rho = window.add(sweep, change);
         return std::min(change / (1.0 - rho), change * settings.max_error_amplification);
       };
-      const SweepMotion motion = work.kinematic.after_sweep(velocities);
-      // relative to the motion: a packing at rest never stops on this rule (its noise would
-      // let it creep), a flowing front stops once its velocities are settled to κ
-      stats.kinematic_error = estimate(spheres_moved, motion.largest_change) /
-                              std::max(motion.rms_surface_speed, 1e-300);
-      stats.piston_speed_error = estimate(piston_moved, motion.piston_change) /
-                                 std::max(std::abs(velocities.piston_velocity), 1e-300);
+      // the estimates need a full window of sweeps (ρ over two sweeps at the start of a step
+      // is optimistic), so the test and the RMS speed wait for it; the windows fill from sweep 1
+      const bool window_full = sweep > kContractionWindow;
+      const SweepMotion motion = work.kinematic.after_sweep(velocities, window_full);
+      const double sphere_error = estimate(spheres_moved, motion.largest_change);
+      const double piston_error = estimate(piston_moved, motion.piston_change);
+      if (window_full) {
+        // relative to the motion: a packing at rest never stops on this rule (its noise would
+        // let it creep), a flowing front stops once its velocities are settled to κ
+        stats.kinematic_error = sphere_error / std::max(motion.rms_surface_speed, 1e-300);
+        stats.piston_speed_error =
+            piston_error / std::max(std::abs(velocities.piston_velocity), 1e-300);
+      }
     }
 
     const bool forces_done = settings.stopping_rule == StoppingRule::Residual
                                  ? stats.error_estimate <= settings.tolerance
                                  : stats.relative_change <= settings.tolerance;
-    // the kinematic estimates need a full window of sweeps: ρ over two sweeps at the start of
-    // a step is optimistic
     const bool kinematics_done = kinematic_rule && sweep > kContractionWindow &&
                                  stats.kinematic_error <= settings.kinematic_tolerance &&
                                  stats.piston_speed_error <= settings.kinematic_tolerance;
@@ -350,6 +354,7 @@ SolverStats sweep_until_done(Contacts& contacts, VelocityCache& velocities,
       flatten(contacts, modes, work.swept);
       if (work.accelerator.extrapolate(work.start, work.swept, work.mixed)) {
         adopt(work.mixed, modes, contacts, velocities);
+        if (kinematic_rule) work.kinematic.velocities_changed(velocities);
         work.start.swap(work.mixed);
       } else {
         work.start.swap(work.swept);

@@ -24,7 +24,8 @@ struct SolverStats {
   double relative_change =
       0.0;  ///< √(Σ|ΔX|²/Σ|X|²) of the last sweep ([S+12] criterion II, RMS form)
   /// the kinematic rule's estimate of the largest error of a sphere's surface velocity over
-  /// the RMS surface speed; 0 unless the rule is on (SolverSettings::kinematic_tolerance) [-]
+  /// the RMS surface speed; 0 unless the rule is on (SolverSettings::kinematic_tolerance) and
+  /// the step ran past the rule's window of sweeps [-]
   double kinematic_error = 0.0;
   double piston_speed_error = 0.0;  ///< the same for the piston, over its speed [-]
   double force_scale = 0.0;         ///< F_ref = max(F_coh, mean |R_n| of closed contacts) [F_coh]
