@@ -281,24 +281,24 @@ TEST_F(SceneReader, RejectsMinSweepsAboveMaxSweeps) {
 
 // solver.threads splits the coloured kernel's sweeps; the scalar kernel has one thread.
 TEST_F(SceneReader, ReadsThreadsWithTheColouredKernelAndWritesThemBack) {
-  const Scene s = read(std::string(kParticles) + "[solver]\nkernel = \"coloured\"\nthreads = 2\n");
+  const Scene s = read(std::string(kParticles) + "[solver]\nthreads = 2\n");  // coloured: default
   EXPECT_EQ(s.step.solver.threads, 2);
   EXPECT_THAT(s.effective_toml, HasSubstr("threads = 2\n"));
   EXPECT_EQ(read(kParticles).step.solver.threads, 1);
 }
 
 TEST_F(SceneReader, RejectsThreadsWithTheScalarKernel) {
-  const auto found = issues(std::string(kParticles) + "[solver]\nthreads = 2\n");
+  const auto found =
+      issues(std::string(kParticles) + "[solver]\nkernel = \"scalar\"\nthreads = 2\n");
   ASSERT_EQ(found.size(), 1U);
   EXPECT_THAT(found[0],
-              AllOf(HasSubstr("scene.toml:4:11: solver.threads: got 2"),
+              AllOf(HasSubstr("scene.toml:5:11: solver.threads: got 2"),
                     HasSubstr("solver.kernel = \"scalar\""),
                     HasSubstr("expected 1, or solver.kernel = \"coloured\" for 1 to 64")));
-  const auto from_set = issues(kParticles, {"solver.threads=3"});
+  const auto from_set = issues(kParticles, {"solver.kernel=\"scalar\"", "solver.threads=3"});
   ASSERT_EQ(from_set.size(), 1U);
   EXPECT_THAT(from_set[0], HasSubstr("solver.threads: got 3"));
-  const auto zero =
-      issues(std::string(kParticles) + "[solver]\nkernel = \"coloured\"\nthreads = 0\n");
+  const auto zero = issues(std::string(kParticles) + "[solver]\nthreads = 0\n");
   ASSERT_EQ(zero.size(), 1U);
   EXPECT_THAT(zero[0], HasSubstr("solver.threads: got 0"));
 }

@@ -128,6 +128,15 @@ TEST(StateHash, CompactionWithoutTorques) {
       hash_after(quick_scene({"run.max_duration=3", "contact.mu_roll=0", "contact.mu_twist=0"})));
 }
 
+// The scalar kernel (solver.kernel = "scalar") on the first 300 steps at (1, 1) and (0, 0).
+TEST(StateHash, CompactionWithTheScalarKernel) {
+  expect_golden("compact_quick_mu11_300steps_scalar",
+                hash_after(quick_scene({"run.max_duration=3", "solver.kernel=\"scalar\""})));
+  expect_golden("compact_quick_mu00_300steps_scalar",
+                hash_after(quick_scene({"run.max_duration=3", "contact.mu_roll=0",
+                                        "contact.mu_twist=0", "solver.kernel=\"scalar\""})));
+}
+
 // The first 60 t0 of the (0, 0) compaction with the adaptive time step.
 TEST(StateHash, AdaptiveCompaction) {
   expect_golden("compact_quick_mu00_adaptive_60t0",

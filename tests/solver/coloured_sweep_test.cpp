@@ -197,6 +197,88 @@ TEST(ColouredSweep, FullBatchesEqualTheScalarSweepInTheSameSequence) {
   allow_avx2_kernel(true);
 }
 
+// Without rolling and torsion friction (the (0,0) corner) the kernel leaves the torques
+// alone (ColouredSweep::torques = false): still the bits of the scalar sweep, whose torques
+// stay +0 too.
+TEST(ColouredSweep, TheKernelWithoutTorquesEqualsTheScalarSweep) {
+  for (const bool avx2 : {false, true}) {
+    if (avx2 && !allow_avx2_kernel(true)) continue;  // no AVX2 here
+    allow_avx2_kernel(avx2);
+    SmallPacking packing(0.0, 0.0);
+    Contacts scalar = packing.scene.work.contacts;
+    VelocityCache scalar_v = packing.scene.work.velocities;
+    Contacts coloured = scalar;
+    VelocityCache coloured_v = scalar_v;
+    ColouredSweep sweep;
+    colour_pairs(coloured.pairs, coloured_v.spheres.size(), kMaxColours, 256, sweep.colouring,
+                 sweep.masks);
+    build_batches(coloured, coloured_v, sweep);
+    sweep.torques = false;
+    Rng rng = make_rng(4, RngStream::SweepOrder);
+    order_groups(sweep, VisitOrder::RandomEachStep, rng);
+    scalar.visit_order.clear();
+    for (const std::uint32_t g : sweep.group_order) {
+      if (g == sweep.colours()) {
+        scalar.visit_order.insert(scalar.visit_order.end(), sweep.sequential.begin(),
+                                  sweep.sequential.end());
+        continue;
+      }
+      for (std::uint32_t m = sweep.colouring.colour_start[g];
+           m < sweep.colouring.colour_start[g + 1]; ++m) {
+        scalar.visit_order.push_back(sweep.colouring.members[m]);
+      }
+    }
+    for (int s = 0; s < 5; ++s) {
+      expect_same_sums(run_sweep(scalar, scalar_v),
+                       run_coloured_sweep(coloured, coloured_v, sweep));
+      expect_same_state(scalar, scalar_v, coloured, coloured_v);
+    }
+    const Branches taken = branches(coloured);
+    EXPECT_GT(taken.open, 0);
+    EXPECT_GT(taken.sliding, 0);
+    for (const ContactAction& x : coloured.pair_actions) {
+      EXPECT_FALSE(std::signbit(x.twisting_torque));
+      EXPECT_EQ(x.rolling_torque, Vec3::Zero());
+    }
+  }
+  allow_avx2_kernel(true);
+}
+
+// The mixing's velocity update batch by batch (apply_pair_deltas) gives the bits of
+// apply_pair_action over the pairs in storage order, with and without torques.
+TEST(ColouredSweep, BatchedActionChangesMoveTheVelocitiesAsOneByOne) {
+  for (const bool avx2 : {false, true}) {
+    if (avx2 && !allow_avx2_kernel(true)) continue;  // no AVX2 here
+    allow_avx2_kernel(avx2);
+    for (const bool torques : {true, false}) {
+      SmallPacking packing(0.1);
+      Contacts contacts = packing.scene.work.contacts;
+      VelocityCache one_by_one = packing.scene.work.velocities;
+      ColouredSweep sweep;
+      prepare_coloured_sweep(contacts, one_by_one, sweep, 256);
+      sweep.torques = torques;
+      VelocityCache batched = one_by_one;
+      Rng rng = make_rng(9, RngStream::Deposition);
+      std::vector<ContactAction> deltas(contacts.pairs.size());
+      for (ContactAction& d : deltas) {
+        d.normal_force = uniform01(rng) - 0.5;
+        d.tangential_force =
+            Vec3(uniform01(rng), uniform01(rng), uniform01(rng)) - Vec3::Constant(0.5);
+        if (torques) {
+          d.rolling_torque = Vec3(uniform01(rng), uniform01(rng), uniform01(rng));
+          d.twisting_torque = uniform01(rng);
+        }
+      }
+      for (std::size_t k = 0; k < contacts.pairs.size(); ++k) {
+        apply_pair_action(contacts.pairs[k], deltas[k], one_by_one);
+      }
+      apply_pair_deltas(sweep, deltas, contacts, batched);
+      EXPECT_TRUE(same_bits(one_by_one.spheres, batched.spheres));
+    }
+  }
+  allow_avx2_kernel(true);
+}
+
 // The solver stores the pairs in colour order during a step: the same sweeps as on the
 // pairs in storage order, and restore_storage_order gives the storage order back.
 TEST(ColouredSweep, StoringThePairsInColourOrderChangesNoBit) {

@@ -18,7 +18,7 @@ namespace cdpowder::testing {
 struct SmallPacking {
   TinyScene scene{4 * 2.0 * std::sqrt(2.0), 4 * 2.0 * std::sqrt(2.0)};
 
-  explicit SmallPacking(double mu_roll) {
+  explicit SmallPacking(double mu_roll, double mu_twist = 0.2) {
     Rng rng = make_rng(7, RngStream::Deposition);
     const double a = 2.0 * std::sqrt(2.0);
     const std::array<Vec3, 4> basis = {Vec3(0, 0, 0), Vec3(0.5, 0.5, 0), Vec3(0.5, 0, 0.5),
@@ -43,7 +43,7 @@ struct SmallPacking {
       }
     }
     scene.settings.laws.spheres.mu_roll = mu_roll;
-    scene.settings.laws.spheres.mu_twist = 0.2;
+    scene.settings.laws.spheres.mu_twist = mu_twist;
     scene.settings.laws.walls = scene.settings.laws.spheres;
     scene.world.walls.bottom.enabled = true;
     scene.world.walls.piston.enabled = true;

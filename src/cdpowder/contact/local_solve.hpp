@@ -112,19 +112,23 @@ struct ModeBlock {
   const Vec3 dR_t = R_t - action.tangential_force;
   action.tangential_force = R_t;
 
-  // 3 rolling and 4 torsion, from Ω after the sliding change (it moves Ω_t if c ≠ 0)
-  const Vec3 Omega_1 = Omega + m.coupling * n.cross(dR_t);
-  const double Omega_n = Omega_1.dot(n);
-  const Vec3 Omega_t = Omega_1 - Omega_n * n;
-  // Without rolling friction (μ_t = 0: the paper's (0, μn) axis and the (0,0) corner) the
-  // clamp would be a square root and a division to multiply by zero, a fifth of the
-  // kernel's time there: skip it. Same result up to the sign of zero components.
-  const Vec3 T_t =
-      has_threshold(m.roll_cap)
-          ? clamp_to_disc(action.rolling_torque - m.inv_dt_w_r * Omega_t, m.roll_cap * S)
-          : Vec3::Zero().eval();
-  const double T_n =
-      clamp_to_interval(action.twisting_torque - m.inv_dt_w_r * Omega_n, m.twist_cap * S);
+  // 3 rolling and 4 torsion, from Ω after the sliding change (it moves Ω_t if c ≠ 0).
+  // A mode without friction (μ_t = 0: the paper's (0, μn) axis and the (0,0) corner; μ_n = 0)
+  // carries no torque: +0, without the square root and division of its clamp (a fifth of the
+  // kernel's time at (0,0)); with neither, Ω after the sliding change is not needed at all.
+  Vec3 T_t = Vec3::Zero();
+  double T_n = 0.0;
+  if (has_threshold(m.roll_cap) || has_threshold(m.twist_cap)) {
+    const Vec3 Omega_1 = Omega + m.coupling * n.cross(dR_t);
+    const double Omega_n = Omega_1.dot(n);
+    const Vec3 Omega_t = Omega_1 - Omega_n * n;
+    if (has_threshold(m.roll_cap)) {
+      T_t = clamp_to_disc(action.rolling_torque - m.inv_dt_w_r * Omega_t, m.roll_cap * S);
+    }
+    if (has_threshold(m.twist_cap)) {
+      T_n = clamp_to_interval(action.twisting_torque - m.inv_dt_w_r * Omega_n, m.twist_cap * S);
+    }
+  }
   const Vec3 dT_t = T_t - action.rolling_torque;
   const double dT_n = T_n - action.twisting_torque;
   action.rolling_torque = T_t;

@@ -8,6 +8,8 @@
 // the results do not depend on the machine.
 #include "cdpowder/solver/coloured_sweep.hpp"
 
+#include "cdpowder/solver/build.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -218,22 +220,44 @@ namespace {
 using SolveBatches = void (*)(const PairBatch*, std::uint32_t, std::uint32_t, SphereVelocity*,
                               ContactAction*, SweepSums&, BatchVisits*);
 
-SolveBatches batch_kernel() {
+/// The kernel for this CPU, with torques or without (ColouredSweep::torques).
+SolveBatches batch_kernel(bool torques) {
 #if defined(CDP_HAVE_AVX2)
   static const bool has_avx2 = __builtin_cpu_supports("avx2");
-  return has_avx2 && avx2_allowed ? avx2::solve_batches : sse2::solve_batches;
-#else
-  return sse2::solve_batches;
+  if (has_avx2 && avx2_allowed) {
+    return torques ? avx2::solve_batches<true> : avx2::solve_batches<false>;
+  }
 #endif
+  return torques ? sse2::solve_batches<true> : sse2::solve_batches<false>;
 }
 
 }  // namespace
 
+void apply_pair_deltas(const ColouredSweep& sweep, const std::vector<ContactAction>& deltas,
+                       const Contacts& contacts, VelocityCache& velocities) {
+  using ApplyBatches = void (*)(const PairBatch*, std::uint32_t, std::uint32_t, SphereVelocity*,
+                                const ContactAction*);
+  ApplyBatches apply = sweep.torques ? sse2::apply_batches<true> : sse2::apply_batches<false>;
+#if defined(CDP_HAVE_AVX2)
+  static const bool has_avx2 = __builtin_cpu_supports("avx2");
+  if (has_avx2 && avx2_allowed) {
+    apply = sweep.torques ? avx2::apply_batches<true> : avx2::apply_batches<false>;
+  }
+#endif
+  // colour by colour in storage order: each sphere gets its changes in the order of the
+  // scalar loop over the pairs (no sphere twice in a colour), so the same bits
+  apply(sweep.batches.data(), 0, static_cast<std::uint32_t>(sweep.batches.size()),
+        velocities.spheres.data(), deltas.data());
+  for (const ContactIndex k : sweep.colouring.overflow) {
+    apply_pair_action(contacts.pairs[k], deltas[k], velocities);
+  }
+}
+
 void solve_batches_kept(const ColouredSweep& sweep, std::uint32_t first, std::uint32_t last,
                         VelocityCache& velocities, Contacts& contacts, BatchVisits* record) {
   SweepSums unused;
-  batch_kernel()(sweep.batches.data(), first, last, velocities.spheres.data(),
-                 contacts.pair_actions.data(), unused, record);
+  batch_kernel(sweep.torques)(sweep.batches.data(), first, last, velocities.spheres.data(),
+                              contacts.pair_actions.data(), unused, record);
 }
 
 SweepSums run_coloured_sweep(Contacts& contacts, VelocityCache& velocities,
@@ -242,7 +266,7 @@ SweepSums run_coloured_sweep(Contacts& contacts, VelocityCache& velocities,
   const std::size_t colours = sweep.colours();
   SphereVelocity* const spheres = velocities.spheres.data();
   ContactAction* const actions = contacts.pair_actions.data();
-  const SolveBatches solve = batch_kernel();
+  const SolveBatches solve = batch_kernel(sweep.torques);
   for (const std::uint32_t group : sweep.group_order) {
     if (group == colours) {
       for (const ContactIndex k : sweep.sequential) visit_contact(k, contacts, velocities, sums);

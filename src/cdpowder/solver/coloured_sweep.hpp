@@ -1,5 +1,5 @@
-// coloured_sweep.hpp — the coloured sweep kernel (solver.kernel = "coloured"; prototype,
-// docs/performance.md "Coloured kernel (prototype)"). The step's sphere–sphere contacts are
+// coloured_sweep.hpp — the coloured sweep kernel (solver.kernel = "coloured", the default;
+// docs/performance.md "Coloured kernel"). The step's sphere–sphere contacts are
 // coloured (colouring.hpp) and each colour is gathered into batches of kBatchLanes contacts
 // in structure-of-arrays form, solved side by side with the same arithmetic per contact as
 // solve_pair: a coloured sweep is an exact reordering of a scalar sweep. Overflow pairs and
@@ -58,6 +58,10 @@ struct ColouredSweep {
   std::vector<PairProblem> pair_scratch;
   std::vector<ContactAction> action_scratch;
   std::vector<std::uint8_t> flag_scratch;
+  /// false when no contact of the step has a rolling or torsion threshold and no torque is
+  /// non-zero: the kernels then leave the torques alone (they stay +0, the bits are the same)
+  bool torques = true;
+  std::vector<ContactAction> deltas;  ///< scratch of the mixing: pair action changes
 
   [[nodiscard]] std::size_t colours() const {
     return colour_batches.empty() ? 0 : colour_batches.size() - 1;
@@ -85,6 +89,12 @@ void order_groups(ColouredSweep& sweep, VisitOrder policy, Rng& rng);
 /// says CDPOWDER_KERNEL_ISA=sse2), or keeps it on SSE2; both give the same bits. Returns
 /// whether AVX2 is used.
 bool allow_avx2_kernel(bool allowed);
+
+/// Moves the velocity cache by the pair action changes deltas[k] (pairs stored in colour order,
+/// as during the solve), as apply_pair_action over the pairs in storage order would: the
+/// batches 4 lanes at a time, then the overflow pairs. The same bits.
+void apply_pair_deltas(const ColouredSweep& sweep, const std::vector<ContactAction>& deltas,
+                       const Contacts& contacts, VelocityCache& velocities);
 
 /// Solves the batches [first, last) of one colour and writes their visits to
 /// record[0, last − first) instead of adding them to sums (a thread's share of a colour).

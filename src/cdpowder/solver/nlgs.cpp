@@ -70,11 +70,11 @@ void shuffle_blocks(std::vector<ContactIndex>& order, std::vector<ContactIndex>&
 }
 
 /// Which parts of the actions the mixing carries. Modes without a threshold anywhere in the
-/// step (μ_t = 0: rolling torques; μ_n = 0: torsion torques) stay zero at every contact
-/// (the kernel sets them to ±0), so leaving them out changes no sum the mixing forms
-/// (adding ±0 to a sum that starts at +0 is exact) while
-/// it cuts the memory the mixing streams through: 4 instead of 8 doubles per contact at the
-/// paper's (0,0) corner, where the mixing costs a quarter of the run.
+/// step (μ_t = 0: rolling torques; μ_n = 0: torsion torques) stay +0 at every contact (the
+/// kernels write +0 for a mode without a threshold), so leaving them out changes no sum the
+/// mixing forms while it cuts the memory the mixing streams through: 4 instead of 8 doubles
+/// per contact at the paper's (0,0) corner, where the mixing costs a quarter of the run.
+/// Without either mode the coloured kernel also skips the torques (ColouredSweep::torques).
 struct MixedModes {
   bool rolling = true;
   bool twisting = true;
@@ -118,9 +118,10 @@ void flatten(const Contacts& contacts, MixedModes modes, std::vector<double>& ou
 
 /// Replaces the actions by `mixed` and moves the velocity cache by the difference, so
 /// v* stays v_free + Δt M⁻¹ Σ (contact actions) (§5.3). Modes left out of the mixing stay
-/// as they are (zero).
+/// as they are (zero). With the coloured kernel (`coloured` not null) the pairs' changes are
+/// applied batch by batch, in the same order per sphere: the same bits.
 void adopt(const std::vector<double>& mixed, MixedModes modes, Contacts& contacts,
-           VelocityCache& velocities) {
+           VelocityCache& velocities, ColouredSweep* coloured) {
   std::size_t o = 0;
   const auto take = [&](ContactAction& a) {
     ContactAction next = a;
@@ -138,8 +139,17 @@ void adopt(const std::vector<double>& mixed, MixedModes modes, Contacts& contact
     a = next;
     return delta;
   };
-  for (std::size_t k = 0; k < contacts.pairs.size(); ++k) {
-    apply_pair_action(contacts.pairs[k], take(contacts.pair_actions[k]), velocities);
+  if (coloured != nullptr) {
+    std::vector<ContactAction>& deltas = coloured->deltas;
+    deltas.resize(contacts.pairs.size());
+    for (std::size_t k = 0; k < contacts.pairs.size(); ++k) {
+      deltas[k] = take(contacts.pair_actions[k]);
+    }
+    apply_pair_deltas(*coloured, deltas, contacts, velocities);
+  } else {
+    for (std::size_t k = 0; k < contacts.pairs.size(); ++k) {
+      apply_pair_action(contacts.pairs[k], take(contacts.pair_actions[k]), velocities);
+    }
   }
   for (std::size_t k = 0; k < contacts.walls.size(); ++k) {
     apply_wall_action(contacts.walls[k], take(contacts.wall_actions[k]), velocities);
@@ -217,7 +227,7 @@ void prepare_visit_order(Contacts& contacts, VisitOrder policy, NlgsWorkspace& w
 namespace {
 SolverStats sweep_until_done(Contacts& contacts, VelocityCache& velocities,
                              const SolverSettings& settings, double reference_force,
-                             ColouredThreads* threads, NlgsWorkspace& work);
+                             ColouredThreads* threads, NlgsWorkspace& work, MixedModes modes);
 }  // namespace
 
 SolverStats solve_nlgs(Contacts& contacts, VelocityCache& velocities,
@@ -225,7 +235,8 @@ SolverStats solve_nlgs(Contacts& contacts, VelocityCache& velocities,
                        NlgsWorkspace& work) {
   if (settings.kernel != SweepKernel::Coloured) {
     prepare_visit_order(contacts, settings.visit_order, work);
-    return sweep_until_done(contacts, velocities, settings, reference_force, nullptr, work);
+    return sweep_until_done(contacts, velocities, settings, reference_force, nullptr, work,
+                            mixed_modes(contacts));
   }
   ColouredThreads* const threads = work.threads.get(settings.threads);
 
@@ -248,9 +259,11 @@ SolverStats solve_nlgs(Contacts& contacts, VelocityCache& velocities,
 
   // the pairs are stored in colour order during the sweeps (and the mixing)
   prepare_coloured_sweep(contacts, velocities, work.coloured);
+  const MixedModes modes = mixed_modes(contacts);
+  work.coloured.torques = modes.rolling || modes.twisting;
   order_groups(work.coloured, settings.visit_order, work.rng);
   const SolverStats stats =
-      sweep_until_done(contacts, velocities, settings, reference_force, threads, work);
+      sweep_until_done(contacts, velocities, settings, reference_force, threads, work, modes);
   restore_storage_order(contacts, work.coloured);
   return stats;
 }
@@ -259,11 +272,10 @@ namespace {
 
 SolverStats sweep_until_done(Contacts& contacts, VelocityCache& velocities,
                              const SolverSettings& settings, double reference_force,
-                             ColouredThreads* threads, NlgsWorkspace& work) {
+                             ColouredThreads* threads, NlgsWorkspace& work, MixedModes modes) {
   std::vector<ContactIndex>& order = contacts.visit_order;
   const bool coloured = settings.kernel == SweepKernel::Coloured;
   const bool accelerate = settings.acceleration_depth > 0;
-  const MixedModes modes = accelerate ? mixed_modes(contacts) : MixedModes{};
   if (accelerate) {
     // keep the buffers from step to step: re-allocating them every step cost a fifth of a
     // paper-size run (page faults on fresh 200 kB vectors)
@@ -353,7 +365,7 @@ SolverStats sweep_until_done(Contacts& contacts, VelocityCache& velocities,
       best_residual = std::min(best_residual, stats.residual);
       flatten(contacts, modes, work.swept);
       if (work.accelerator.extrapolate(work.start, work.swept, work.mixed)) {
-        adopt(work.mixed, modes, contacts, velocities);
+        adopt(work.mixed, modes, contacts, velocities, coloured ? &work.coloured : nullptr);
         if (kinematic_rule) work.kinematic.velocities_changed(velocities);
         work.start.swap(work.mixed);
       } else {
