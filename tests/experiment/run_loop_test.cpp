@@ -259,11 +259,9 @@ TEST(RunLoop, AStopInsideAStaticSolveIsSolvedAgainWhenTheRunContinues) {
   TinyScene first = noisy_column();
   RunState state;
   int polls = 0;  // the loop asks once after a step, the solver after every sweep
-  const RunResult stopped = run_simulation(first.world, first.work, first.settings, run, state,
-                                           {}, [&] {
-                                             return state.result.steps == probe_step &&
-                                                    ++polls == 100;
-                                           });
+  const RunResult stopped =
+      run_simulation(first.world, first.work, first.settings, run, state, {},
+                     [&] { return state.result.steps == probe_step && ++polls == 100; });
   EXPECT_TRUE(stopped.interrupted);
   EXPECT_FALSE(stopped.blocked);
   EXPECT_EQ(stopped.steps, probe_step);

@@ -53,11 +53,10 @@ const std::string kHeader = "# cdpowder test\n";
 /// A time series as TimeseriesWriter writes it, with a row at each of `steps` (time 0.1 per
 /// step), and `tail` after it.
 std::string series(const std::vector<int>& steps, const std::string& tail = "") {
-  std::string text =
-      kHeader +
-      "step,time,piston_height,piston_velocity,porosity,kinetic_energy,sweeps,"
-      "converged,residual,error_estimate,contacts,closed_contacts,mean_overlap,"
-      "max_overlap,piston_imbalance,max_net_force,max_cohesive_opening_speed,dt\n";
+  std::string text = kHeader +
+                     "step,time,piston_height,piston_velocity,porosity,kinetic_energy,sweeps,"
+                     "converged,residual,error_estimate,contacts,closed_contacts,mean_overlap,"
+                     "max_overlap,piston_imbalance,max_net_force,max_cohesive_opening_speed,dt\n";
   for (const int s : steps) text += std::to_string(s) + "," + std::to_string(0.1 * s) + ",1\n";
   return text + tail;
 }
@@ -118,7 +117,8 @@ TEST(ContinuedCadence, ATimeCadenceResumedAfterARecordIsDueWhereTheUnbrokenOneIs
   // times 0.2 0.4 0.6 0.9 1.6 1.65 1.7 1.8 2.2 2.5: due at 0.2, 0.6, 1.6, 2.2 and 2.5
   ASSERT_EQ(due.size(), 5U);
   // stopped after each step; resumed from the time of the last record before
-  for (std::int64_t stop_after = 1; stop_after < static_cast<std::int64_t>(steps.size()); ++stop_after) {
+  for (std::int64_t stop_after = 1; stop_after < static_cast<std::int64_t>(steps.size());
+       ++stop_after) {
     double last = -1.0;
     for (std::size_t k = 0; k < static_cast<std::size_t>(stop_after); ++k) {
       if (std::find(due.begin(), due.end(), static_cast<std::int64_t>(k + 1)) != due.end()) {
