@@ -129,7 +129,7 @@ TEST(ContinuedCadence, ATimeCadenceResumedAfterARecordIsDueWhereTheUnbrokenOneIs
     if (last >= 0.0) resumed.resume_after(last);
     std::vector<std::int64_t> due_after;
     World w;
-    for (std::size_t k = static_cast<std::size_t>(stop_after); k < steps.size(); ++k) {
+    for (auto k = static_cast<std::size_t>(stop_after); k < steps.size(); ++k) {
       w.time = times[k];
       w.step = static_cast<std::int64_t>(k + 1);
       if (resumed.due(w)) due_after.push_back(w.step);
