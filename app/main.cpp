@@ -9,6 +9,7 @@
 
 #include "cdpowder/config/config_error.hpp"
 #include "cdpowder/core/stop_request.hpp"
+#include "cdpowder/io/byte_stream.hpp"
 #include "cdpowder/sweep/time_limit.hpp"
 #include "cdpowder/version.hpp"
 
@@ -16,6 +17,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <exception>
 #include <filesystem>
@@ -48,7 +50,33 @@ std::string output_folder_problem(const std::string& text) {
 }
 
 /// The subcommands, for the message when the first word names none of them.
-constexpr std::array<std::string_view, 4> kCommands{"simulate", "compact", "deposit", "sweep"};
+constexpr std::array<std::string_view, 5> kCommands{"simulate", "compact", "resume", "deposit",
+                                                    "sweep"};
+
+/// Why `text` is not a --checkpoint-every interval, or nothing.
+std::string checkpoint_interval_problem(const std::string& text) {
+  std::size_t used = 0;
+  double value = 0.0;
+  try {
+    value = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != text.size() || text.empty() || !std::isfinite(value) || value <= 0.0) {
+    return "--checkpoint-every: got '" + cdpowder::shown(text) +
+           "', expected a simulated time in t0 > 0 (e.g. 50: a checkpoint every 50 t0)";
+  }
+  return {};
+}
+
+/// --checkpoint-every T, shared by simulate, compact, resume and sweep.
+void add_checkpoint_option(CLI::App& command, std::optional<double>& every) {
+  command
+      .add_option("--checkpoint-every", every,
+                  "Keep the full state in DIR/checkpoint.cdps, renewed every T of simulated "
+                  "time [t0]; `cdpowder resume DIR` continues from it (a signal writes one too)")
+      ->check(checkpoint_interval_problem, "T");
+}
 
 /// The options shared by simulate and compact.
 void add_run_options(CLI::App& command, cdpowder::app::RunOptions& options) {
@@ -62,6 +90,7 @@ void add_run_options(CLI::App& command, cdpowder::app::RunOptions& options) {
                      "Start from this particles CSV (e.g. a deposit's particles.csv) instead of "
                      "the scene's [particles] or [deposition]");
   command.add_flag("--quiet,-q", options.quiet, "No progress line on stderr");
+  add_checkpoint_option(command, options.checkpoint_every);
 }
 
 }  // namespace
@@ -73,8 +102,8 @@ int run_command_line(int argc, char** argv) {
   if (argc >= 2 && argv[1][0] != '-' &&
       std::find(kCommands.begin(), kCommands.end(), std::string_view(argv[1])) == kCommands.end()) {
     std::fprintf(stderr,
-                 "error: unknown command '%s'; the commands are simulate, compact, deposit and "
-                 "sweep (cdpowder --help)\n",
+                 "error: unknown command '%s'; the commands are simulate, compact, resume, "
+                 "deposit and sweep (cdpowder --help)\n",
                  cdpowder::shown(argv[1]).c_str());
     return kExitBadInput;
   }
@@ -94,6 +123,17 @@ int run_command_line(int argc, char** argv) {
       "Compact a deposit (or a particles CSV) with the piston until the blocked state; "
       "write porosity, stress and the packing");
   add_run_options(*compact_cmd, compact);
+
+  cdpowder::app::ResumeOptions resume;
+  CLI::App* resume_cmd = cli.add_subcommand(
+      "resume",
+      "Continue the unfinished run in DIR from its checkpoint.cdps; it ends bit-identical to "
+      "the run never stopped (docs/outputs.md)");
+  resume_cmd->add_option("folder", resume.folder, "The run's output folder")
+      ->required()
+      ->check(CLI::ExistingDirectory);
+  resume_cmd->add_flag("--quiet,-q", resume.quiet, "No progress line on stderr");
+  add_checkpoint_option(*resume_cmd, resume.checkpoint_every);
 
   cdpowder::app::DepositOptions deposit;
   CLI::App* deposit_cmd = cli.add_subcommand(
@@ -120,6 +160,7 @@ int run_command_line(int argc, char** argv) {
   sweep_cmd->add_option("--jobs,-j", sweep.jobs, "Runs at a time (default: the number of cores)")
       ->check(CLI::NonNegativeNumber);
   sweep_cmd->add_flag("--quiet,-q", sweep.quiet, "No progress lines on stderr");
+  add_checkpoint_option(*sweep_cmd, sweep.checkpoint_every);
   sweep_cmd->add_flag("--dry-run", sweep.dry_run,
                       "List the runs and whether each is finished; run nothing");
   CLI::Option* list = sweep_cmd->add_flag(
@@ -166,11 +207,16 @@ int run_command_line(int argc, char** argv) {
   try {
     if (simulate_cmd->parsed()) return cdpowder::app::run_simulate(simulate);
     if (compact_cmd->parsed()) return cdpowder::app::run_compact(compact);
+    if (resume_cmd->parsed()) return cdpowder::app::run_resume(resume);
     if (deposit_cmd->parsed()) return cdpowder::app::run_deposit(deposit);
     if (sweep_cmd->parsed()) return cdpowder::app::run_sweep(sweep);
   } catch (const cdpowder::Interrupted& e) {
     std::fprintf(stderr, "error: %s; nothing written\n", e.what());
     return kExitRunFailed;
+  } catch (const cdpowder::StateFileError& e) {
+    // a checkpoint this build cannot continue: nothing was written
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return kExitBadInput;
   } catch (const cdpowder::ConfigError& e) {
     for (const cdpowder::ConfigIssue& issue : e.issues()) {
       std::fprintf(stderr, "error: %s\n", cdpowder::format(issue).c_str());

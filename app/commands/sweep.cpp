@@ -11,6 +11,7 @@
 #include "cdpowder/config/config_error.hpp"
 #include "cdpowder/config/scene_reader.hpp"
 #include "cdpowder/io/atomic_file.hpp"
+#include "cdpowder/io/state_file.hpp"
 #include "cdpowder/sweep/sweep_plan.hpp"
 #include "cdpowder/sweep/sweep_results.hpp"
 #include "cdpowder/sweep/time_limit.hpp"
@@ -91,17 +92,58 @@ class RunningRuns {
   std::map<pid_t, std::size_t> runs;  ///< process → index of the run in the plan
 };
 
-/// Starts `exe compact scene --out folder --quiet --set …` in its own process group (so a
-/// Ctrl-C reaches only the sweep, which forwards one SIGTERM), stdout and stderr into
-/// folder/log.txt.
+/// Whether the unfinished run in `folder` can be continued from its checkpoint: there is
+/// one, of this build's format, for exactly the run's scene. Otherwise the run starts again
+/// (which clears the folder); `why_not` then says why a checkpoint there was not used.
+bool has_usable_checkpoint(const std::filesystem::path& folder, const std::string& scene_text,
+                           std::string& why_not) {
+  const std::filesystem::path file = folder / "checkpoint.cdps";
+  if (!std::filesystem::exists(file)) return false;
+  try {
+    const StateHeader header = read_state_header(file);
+    if (header.format_version != kStateFormatVersion) {
+      why_not = fmt::format("its checkpoint is of state format {}, this build reads format {}",
+                            header.format_version, kStateFormatVersion);
+      return false;
+    }
+    if (header.scene_toml != scene_text) {
+      why_not = "its checkpoint is of another scene";
+      return false;
+    }
+    return true;
+  } catch (const StateFileError& error) {
+    why_not = error.what();
+    return false;
+  }
+}
+
+/// How a sweep starts a run: `cdpowder compact scene --out folder --quiet --set …`, or, for
+/// an unfinished run with a usable checkpoint, `cdpowder resume folder --quiet`.
+struct RunStart {
+  const std::filesystem::path& scene;
+  const std::filesystem::path& folder;
+  const std::vector<std::string>& overrides;
+  std::optional<double> checkpoint_every;
+  bool resume = false;
+};
+
+/// Starts the run in its own process group (so a Ctrl-C reaches only the sweep, which
+/// forwards one SIGTERM), stdout and stderr into folder/log.txt (appended to when the run is
+/// continued, so the log keeps its history).
 /// Returns the process id, or 0 (with `error` set) when it could not be started.
-pid_t start_run(const std::filesystem::path& scene, const std::filesystem::path& folder,
-                const std::vector<std::string>& overrides, std::string& error) {
-  std::vector<std::string> args{"cdpowder", "compact",       scene.string(),
-                                "--out",    folder.string(), "--quiet"};
-  for (const std::string& o : overrides) {
-    args.emplace_back("--set");
-    args.push_back(o);
+pid_t start_run(const RunStart& run, std::string& error) {
+  const std::filesystem::path& folder = run.folder;
+  std::vector<std::string> args{"cdpowder", "resume", folder.string(), "--quiet"};
+  if (!run.resume) {
+    args = {"cdpowder", "compact", run.scene.string(), "--out", folder.string(), "--quiet"};
+    for (const std::string& o : run.overrides) {
+      args.emplace_back("--set");
+      args.push_back(o);
+    }
+  }
+  if (run.checkpoint_every) {
+    args.emplace_back("--checkpoint-every");
+    args.push_back(fmt::format("{}", *run.checkpoint_every));
   }
   std::vector<char*> argv;
   argv.reserve(args.size() + 1);
@@ -111,8 +153,8 @@ pid_t start_run(const std::filesystem::path& scene, const std::filesystem::path&
   const std::string log = (folder / "log.txt").string();
   posix_spawn_file_actions_t files;
   posix_spawn_file_actions_init(&files);
-  posix_spawn_file_actions_addopen(&files, STDOUT_FILENO, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC,
-                                   0644);
+  posix_spawn_file_actions_addopen(&files, STDOUT_FILENO, log.c_str(),
+                                   O_WRONLY | O_CREAT | (run.resume ? O_APPEND : O_TRUNC), 0644);
   posix_spawn_file_actions_adddup2(&files, STDOUT_FILENO, STDERR_FILENO);
   posix_spawnattr_t attributes;
   posix_spawnattr_init(&attributes);
@@ -249,6 +291,9 @@ int list_pending_runs(const SweepOptions& options, const SweepState& state) {
                        shell_quoted(std::filesystem::absolute(options.sweep).string()) + " --out " +
                        shell_quoted(std::filesystem::absolute(options.out).string());
   for (const std::string& o : options.overrides) common += " --set " + shell_quoted(o);
+  if (options.checkpoint_every) {
+    common += fmt::format(" --checkpoint-every {}", *options.checkpoint_every);
+  }
   std::vector<std::size_t> listed = state.pending;
   for (const auto& entry : state.reused) listed.push_back(entry.first);
   std::sort(listed.begin(), listed.end());
@@ -286,8 +331,17 @@ int run_task(const SweepOptions& options, const SweepState& state, std::size_t t
   write_file_atomically(options.out / "sweep.toml", read_text(options.sweep));
   signal(SIGCHLD, SIG_DFL);
   setenv(kDieWithParentVariable, std::to_string(getpid()).c_str(), 1);
+  std::string why_not;
+  const bool resume = has_usable_checkpoint(folder, state.scene_texts[task], why_not);
+  if (!why_not.empty() && !options.quiet) {
+    std::fprintf(stderr, "%s: starts again: %s\n", name.c_str(), why_not.c_str());
+  }
+  if (resume && !options.quiet) {
+    std::fprintf(stderr, "%s: continues from its checkpoint\n", name.c_str());
+  }
   std::string error;
-  const pid_t child = start_run(plan.scene, folder, run.overrides, error);
+  const pid_t child =
+      start_run({plan.scene, folder, run.overrides, options.checkpoint_every, resume}, error);
   if (child == 0) throw std::runtime_error(error);
   int status = 0;
   bool asked_to_stop = false;
@@ -348,7 +402,13 @@ int run_sweep(const SweepOptions& options) {
                 plan.points.size(), plan.seeds.size(), total - pending.size() - reused.size(),
                 reused.size(), pending.size());
     for (std::size_t i = 0; i < total; ++i) {
-      const char* state = records[i] ? "done   " : reused.count(i) > 0 ? "reuse  " : "pending";
+      std::string why_not;
+      const char* state =
+          records[i]            ? "done   "
+          : reused.count(i) > 0 ? "reuse  "
+          : has_usable_checkpoint(options.out / plan.runs[i].folder, scene_texts[i], why_not)
+              ? "resume "
+              : "pending";
       std::printf("%s  %s\n", state, plan.runs[i].folder.generic_string().c_str());
     }
     return 0;
@@ -450,8 +510,17 @@ int run_sweep(const SweepOptions& options) {
         continue;
       }
       std::filesystem::create_directories(folder);
+      // an interrupted run goes on from its checkpoint instead of starting again
+      std::string why_not;
+      const bool resume = has_usable_checkpoint(folder, scene_texts[i], why_not);
+      if (!why_not.empty() && !options.quiet) {
+        std::fprintf(stderr, "%s seed %lld: starts again: %s\n",
+                     plan.points[plan.runs[i].point].name.c_str(),
+                     static_cast<long long>(plan.runs[i].seed), why_not.c_str());
+      }
       std::string error;
-      const pid_t child = start_run(plan.scene, folder, plan.runs[i].overrides, error);
+      const pid_t child = start_run(
+          {plan.scene, folder, plan.runs[i].overrides, options.checkpoint_every, resume}, error);
       if (child == 0) {
         ++failed;
         std::fprintf(stderr, "%s seed %lld: %s\n", plan.points[plan.runs[i].point].name.c_str(),

@@ -33,6 +33,9 @@ struct SweepOptions {
   /// --time-limit [s]: start a run only when it is expected to finish by then
   /// (time_limit.hpp), and stop the runs still going when it has passed
   std::optional<double> time_limit;
+  /// --checkpoint-every T [t0]: passed to every run (`cdpowder compact --checkpoint-every`);
+  /// an interrupted run with a checkpoint is continued from it (`cdpowder resume`)
+  std::optional<double> checkpoint_every;
 };
 
 /// Checks every run's scene first (ConfigError, nothing written), then runs what is missing.

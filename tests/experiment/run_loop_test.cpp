@@ -245,5 +245,45 @@ TEST(RunLoop, ARunResumedFromItsStateFileTakesTheSameDecisions) {
   }
 }
 
+// A stop asked inside a static solve (a probe of up to 200 000 sweeps here) ends that solve
+// on a sweep's output and the run at once, the solve not counted; continued from its state
+// file, the run solves it again and ends as the run never stopped.
+TEST(RunLoop, AStopInsideAStaticSolveIsSolvedAgainWhenTheRunContinues) {
+  const RunConfig run = until_blocked();
+  TinyScene whole = noisy_column();
+  const RunResult uninterrupted = run_simulation(whole.world, whole.work, whole.settings, run, {});
+  ASSERT_TRUE(uninterrupted.blocked_by_probe);
+  ASSERT_GT(uninterrupted.last.solver.sweeps, 100);
+  const std::int64_t probe_step = uninterrupted.steps;
+
+  TinyScene first = noisy_column();
+  RunState state;
+  int polls = 0;  // the loop asks once after a step, the solver after every sweep
+  const RunResult stopped =
+      run_simulation(first.world, first.work, first.settings, run, state, {},
+                     [&] { return state.result.steps == probe_step && ++polls == 100; });
+  EXPECT_TRUE(stopped.interrupted);
+  EXPECT_FALSE(stopped.blocked);
+  EXPECT_EQ(stopped.steps, probe_step);
+  EXPECT_EQ(polls, 100);  // inside the probe: it has more than 100 sweeps
+  EXPECT_EQ(stopped.probes, 0);
+  EXPECT_EQ(stopped.probe_sweeps, 0);
+
+  TinyScene resumed = noisy_column();
+  RunState resumed_state;
+  restore_run(decode_state(encode_state("", first.world, first.work, state), "memory"), run,
+              resumed.settings.solver.dt, resumed.world, resumed.work, resumed_state);
+  const RunResult result =
+      run_simulation(resumed.world, resumed.work, resumed.settings, run, resumed_state, {});
+  EXPECT_TRUE(result.blocked_by_probe);
+  EXPECT_EQ(result.steps, uninterrupted.steps);
+  EXPECT_EQ(result.probes, uninterrupted.probes);
+  EXPECT_EQ(result.probe_sweeps, uninterrupted.probe_sweeps);
+  ASSERT_TRUE(result.final_solve.has_value());
+  EXPECT_EQ(result.final_solve->sweeps, uninterrupted.final_solve->sweeps);
+  EXPECT_EQ(state_hash(resumed.world, resumed.work.action_cache),
+            state_hash(whole.world, whole.work.action_cache));
+}
+
 }  // namespace
 }  // namespace cdpowder::testing

@@ -209,5 +209,67 @@ TEST(StateFile, ASavedRunThatDoesNotFitTheSceneIsRefused) {
                StateFileError);
 }
 
+// A stop asked inside a step's solve abandons the step: the state is the one after the step
+// before (the same bits as a run stopped between the two steps), and continued it ends
+// bit-identical to the run never stopped.
+TEST(StateFile, AStopInsideAStepLeavesTheStateOfTheStepBefore) {
+  const Scene scene = quick_scene();
+  Engine whole(scene);
+  const RunResult uninterrupted = run(scene, whole);
+  Engine between(scene);
+  run(scene, between, 377);
+
+  Engine inside(scene);
+  int polls = 0;  // once after step 377, then after every sweep of step 378
+  const RunResult stopped =
+      run_simulation(inside.world, inside.work, scene.step, scene.run, inside.state, {},
+                     [&] { return inside.state.result.steps == 377 && ++polls == 3; });
+  EXPECT_TRUE(stopped.interrupted);
+  EXPECT_EQ(stopped.steps, 377);
+  EXPECT_EQ(polls, 3);
+  // the World, the warm-start cache and the sweep-order stream (the wall times differ)
+  EXPECT_EQ(state_hash(inside.world, inside.work.action_cache),
+            state_hash(between.world, between.work.action_cache));
+  EXPECT_TRUE(inside.work.solver.rng == between.work.solver.rng);
+  expect_same_run(inside.state.result, between.state.result);
+  EXPECT_EQ(inside.state.dt, between.state.dt);
+
+  Engine resumed(scene);
+  restore_run(decode_state(encode_state("", inside.world, inside.work, inside.state), "memory"),
+              scene.run, scene.step.solver.dt, resumed.world, resumed.work, resumed.state);
+  expect_same_run(run(scene, resumed), uninterrupted);
+  EXPECT_EQ(state_hash(resumed.world, resumed.work.action_cache),
+            state_hash(whole.world, whole.work.action_cache));
+}
+
+// A stop asked after the last step comes too late to cut anything: the run is complete.
+TEST(StateFile, AStopAskedAfterTheLastStepLeavesTheRunComplete) {
+  const Scene scene = quick_scene();
+  Engine engine(scene);
+  const RunResult result = run(scene, engine, 1000);
+  EXPECT_EQ(result.steps, 1000);
+  EXPECT_FALSE(result.interrupted);
+}
+
+// The header names the format and the build that wrote the file, read without the rest;
+// another build of the same format is told apart from this one.
+TEST(StateFile, TheHeaderNamesTheFormatTheBuildAndTheScene) {
+  const Scene scene = quick_scene();
+  Engine engine(scene);
+  run(scene, engine, 5);
+  const std::filesystem::path file =
+      std::filesystem::temp_directory_path() / "cdpowder_state_header_test.cdps";
+  save_state(file, scene.effective_toml, engine.world, engine.work, engine.state);
+  const StateHeader header = read_state_header(file);
+  EXPECT_EQ(header.format_version, kStateFormatVersion);
+  EXPECT_EQ(header.scene_toml, scene.effective_toml);
+  EXPECT_FALSE(written_by_another_build(header.program_version, header.git_commit));
+  EXPECT_TRUE(written_by_another_build(header.program_version, "0000000"));
+  EXPECT_TRUE(written_by_another_build("0.0.0", header.git_commit));
+  std::filesystem::resize_file(file, 20);  // cut inside the program version
+  EXPECT_THROW(read_state_header(file), StateFileError);
+  std::filesystem::remove(file);
+}
+
 }  // namespace
 }  // namespace cdpowder::testing

@@ -60,7 +60,7 @@ bool BlockedStateDetector::update(const World& world, const StepDiagnostics& d, 
   push({clock_, piston.height, d.piston_imbalance});
   time_held_ += dt;
   ++steps_held_;
-  return at_rest_for_window() && mean_force_imbalance() < criteria_.force_balance;
+  return blocked();
 }
 
 BlockedStateDetector::Memory BlockedStateDetector::memory() const {

@@ -39,6 +39,13 @@ class BlockedStateDetector {
     return update(world, diagnostics, dt_);
   }
 
+  /// What the last update returned: a whole window met the per-step criteria and the
+  /// window mean of the force imbalance is below its threshold. A pure function of the
+  /// memory, so a run continued from a state file can ask it again.
+  [[nodiscard]] bool blocked() const {
+    return at_rest_for_window() && mean_force_imbalance() < criteria_.force_balance;
+  }
+
   /// A whole window has met the per-step criteria (speeds and height drift); only the
   /// force balance may be missing.
   [[nodiscard]] bool at_rest_for_window() const { return window_complete(time_held_); }

@@ -53,29 +53,54 @@ bool spheres_balanced(const StepReport& at_rest, const BlockedCriteria& criteria
 /// has changed nothing but the sweep-order stream (solve_step, step.hpp), so undoing it
 /// copies 16 bytes instead of the World and the action cache. Leaves the Δt used in
 /// settings.solver.dt; the abandoned steps' time is added to result.stage_seconds and
-/// counted in result.repeated_steps.
-StepReport step_within_opening_bound(World& world, StepWorkspace& work, StepSettings& settings,
-                                     RunResult& result) {
+/// counted in result.repeated_steps once the step is committed.
+///
+/// A solve cut short by the stop request (SolverStats::stopped) abandons the whole step the
+/// same way and returns nothing: the World, the warm-start cache and the stream are those
+/// after the step before, the state a run never stopped also passes through, so a run
+/// continued from it ends bit-identical. With a fixed Δt (`adaptive` false) there is one
+/// solve.
+std::optional<StepReport> step_unless_stopped(World& world, StepWorkspace& work,
+                                              StepSettings& settings, bool adaptive,
+                                              RunResult& result) {
   const TimeStepControl& control = settings.solver.time_step;
   const Rng sweep_order = work.solver.rng;
+  StageTimes repeated_times{};
+  std::int64_t repeated_steps = 0;
+  std::int64_t repeated_sweeps = 0;
   StepReport report = begin_step(world, work, settings);
   solve_step(world, work, settings, report);
-  while (report.diagnostics.max_cohesive_opening_per_range > control.max_opening_per_step &&
+  while (!report.solver.stopped && adaptive &&
+         report.diagnostics.max_cohesive_opening_per_range > control.max_opening_per_step &&
          settings.solver.dt > control.dt_min) {
-    for (std::size_t s = 0; s < result.stage_seconds.size(); ++s) {
-      result.stage_seconds[s] += report.times[s];
-    }
-    ++result.repeated_steps;
-    result.repeated_sweeps += report.solver.sweeps;
+    for (std::size_t s = 0; s < repeated_times.size(); ++s) repeated_times[s] += report.times[s];
+    ++repeated_steps;
+    repeated_sweeps += report.solver.sweeps;
     work.solver.rng = sweep_order;
     settings.solver.dt = retry_time_step(control, settings.solver.dt,
                                          report.diagnostics.max_cohesive_opening_per_range);
     report = begin_step(world, work, settings);
     solve_step(world, work, settings, report);
   }
+  if (report.solver.stopped) {
+    work.solver.rng = sweep_order;
+    return std::nullopt;
+  }
+  for (std::size_t s = 0; s < repeated_times.size(); ++s) {
+    result.stage_seconds[s] += repeated_times[s];
+  }
+  result.repeated_steps += repeated_steps;
+  result.repeated_sweeps += repeated_sweeps;
   commit_step(world, work, settings, report);
   return report;
 }
+
+/// How the static solves after a step ended (run_simulation).
+enum class StaticChecks {
+  GoOn,     ///< none adopted: the run goes on
+  Blocked,  ///< one was adopted: the run ends blocked
+  Stopped,  ///< one was cut short by the stop request: asked again when the run continues
+};
 
 }  // namespace
 
@@ -107,7 +132,13 @@ RunResult run_simulation(World& world, StepWorkspace& work, const StepSettings& 
                : static_cast<std::int64_t>(std::llround(budget / settings.solver.dt));
   const auto elapsed = [&] { return world.time - state.start_time; };
   const auto budget_spent = [&] { return adaptive && elapsed() >= budget * (1.0 - 1e-12); };
+  const auto fraction_done = [&] {
+    return adaptive ? std::min(1.0, elapsed() / budget)
+                    : static_cast<double>(result.steps) / static_cast<double>(max_steps);
+  };
   StepSettings current = settings;  // with the Δt of the step about to run
+  // long solves (a static solve of 20 000 sweeps) ask the stop request after every sweep
+  current.solver.stop_request = stop_requested ? &stop_requested : nullptr;
   std::optional<BlockedStateDetector>& detector = state.detector;
   if (run.until_blocked && !detector) detector.emplace(run.blocked, settings.solver.dt);
   int& deferred_windows = state.deferred_windows;
@@ -115,6 +146,11 @@ RunResult run_simulation(World& world, StepWorkspace& work, const StepSettings& 
   const double load = piston_load(world);
   // the grain volume is constant: computed once for the porosity check of every step
   const FaultLimits fault_limits{run.max_overlap, grain_volume(world.bodies)};
+  const auto finish = [&] {
+    result.wall_seconds +=
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return result;
+  };
 
   const auto account = [&](const StepReport& report) {
     result.last = report;
@@ -142,38 +178,30 @@ RunResult run_simulation(World& world, StepWorkspace& work, const StepSettings& 
     if (observer) observer(world, result.last, fraction);
   };
 
-  // result.steps counts the steps of every call, so k continues where a saved run stopped
-  for (std::int64_t k = result.steps; k < max_steps && !budget_spent(); ++k) {
-    current.solver.dt = state.dt;
-    if (adaptive) {
-      account(step_within_opening_bound(world, work, current, result));
-      state.dt = current.solver.dt;  // a repeated step continues from its shorter Δt
-    } else {
-      account(step(world, work, current));
-    }
-    const double fraction = adaptive ? std::min(1.0, elapsed() / budget)
-                                     : static_cast<double>(k + 1) / static_cast<double>(max_steps);
-    const bool blocked =
-        detector && detector->update(world, result.last.diagnostics, current.solver.dt);
-    if (observer) observer(world, result.last, fraction);
-    // a state no physical run reaches ends the run here, before any test reads it
-    result.fault = find_fault(world, work.contacts, result.last.diagnostics, fault_limits);
-    if (result.fault) break;
+  // The static solves after a step, on copies. Their conditions are read from the state
+  // (the detector's memory, the times of the last solves), and a solve counts only once it
+  // has ended: a run stopped inside one asks the same question again first thing when it
+  // is continued, as a run never stopped asked it after that step.
+  const auto static_checks = [&]() {
+    if (!detector) return StaticChecks::GoOn;
+    const double fraction = fraction_done();
+    const bool blocked = detector->blocked();
     // Blocked by the window's tests: the packing is measured on a static solve of a copy,
     // and adopted unless that solve shows a sphere out of balance; then the run goes on
     // unchanged and the test is repeated a window later, at most kMaxDeferredWindows times
     // (a packing whose static solve never balances is then measured as it is, and its
     // gauges say so; without the bound such a run could go on to max_duration).
     if (blocked && detector->window_complete(world.time - state.last_rest_check)) {
-      state.last_rest_check = world.time;
       World rest_world = world;
       StepWorkspace rest_work = work;
       const StepReport at_rest = solve_at_rest(rest_world, rest_work, current, run.blocked);
+      if (at_rest.solver.stopped) return StaticChecks::Stopped;
+      state.last_rest_check = world.time;
       if (spheres_balanced(at_rest, run.blocked, load) || deferred_windows >= kMaxDeferredWindows) {
         world = std::move(rest_world);
         work = std::move(rest_work);
         finish_at_rest(at_rest, fraction);
-        break;
+        return StaticChecks::Blocked;
       }
       ++deferred_windows;
       ++result.unbalanced_rest_solves;
@@ -185,13 +213,14 @@ RunResult run_simulation(World& world, StepWorkspace& work, const StepSettings& 
     // So test the balance on a static solve of a copy instead, once per window: if the
     // packing at rest carries the load with every sphere in balance, it is blocked;
     // otherwise the run goes on unchanged.
-    if (!blocked && probing && detector && detector->at_rest_for_window() &&
+    if (!blocked && probing && detector->at_rest_for_window() &&
         detector->window_complete(world.time - state.last_probe)) {
-      state.last_probe = world.time;
       const auto probe_start = std::chrono::steady_clock::now();
       World probe_world = world;
       StepWorkspace probe_work = work;
       const StepReport probe = solve_at_rest(probe_world, probe_work, current, run.blocked);
+      if (probe.solver.stopped) return StaticChecks::Stopped;
+      state.last_probe = world.time;
       ++result.probes;
       result.probe_sweeps += probe.solver.sweeps;
       result.probe_seconds +=
@@ -206,24 +235,54 @@ RunResult run_simulation(World& world, StepWorkspace& work, const StepSettings& 
           work = std::move(probe_work);
           result.blocked_by_probe = true;
           finish_at_rest(probe, fraction);
-          break;
+          return StaticChecks::Blocked;
         }
         ++result.unbalanced_rest_solves;
       }
     }
+    return StaticChecks::GoOn;
+  };
+
+  // a run stopped inside a static solve of its last step: that solve first
+  if (result.steps > 0) {
+    const StaticChecks pending = static_checks();
+    if (pending == StaticChecks::Stopped) result.interrupted = true;
+    if (pending != StaticChecks::GoOn) return finish();
+  }
+  // result.steps counts the steps of every call, so k continues where a saved run stopped
+  for (std::int64_t k = result.steps; k < max_steps && !budget_spent(); ++k) {
+    current.solver.dt = state.dt;
+    const std::optional<StepReport> report =
+        step_unless_stopped(world, work, current, adaptive, result);
+    if (!report) {  // stopped inside the solve: the state is the one after the step before
+      result.interrupted = true;
+      break;
+    }
+    account(*report);
+    if (adaptive) state.dt = current.solver.dt;  // a repeated step continues from its shorter Δt
+    if (detector) detector->update(world, result.last.diagnostics, current.solver.dt);
+    if (observer) observer(world, result.last, fraction_done());
+    // a state no physical run reaches ends the run here, before any test reads it
+    result.fault = find_fault(world, work.contacts, result.last.diagnostics, fault_limits);
+    if (result.fault) break;
+    // the next Δt before the static solves: they leave the World as it is unless they end
+    // the run, so it is the same either way, and a run stopped inside one has it already
     if (adaptive) {
       state.dt = next_time_step(settings.solver.time_step, current.solver.dt, world,
                                 result.last.diagnostics.max_cohesive_opening_speed, settings.laws,
                                 settings.solver.skin);
     }
-    if (stop_requested && stop_requested()) {
+    const StaticChecks checks = static_checks();
+    if (checks == StaticChecks::Stopped) result.interrupted = true;
+    if (checks != StaticChecks::GoOn) break;
+    // not after the last step: a run whose steps are all done is complete, not interrupted
+    const bool last_step = k + 1 >= max_steps || budget_spent();
+    if (!last_step && stop_requested && stop_requested()) {
       result.interrupted = true;
       break;
     }
   }
-  result.wall_seconds +=
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  return result;
+  return finish();
 }
 
 }  // namespace cdpowder

@@ -78,6 +78,24 @@ AtomicFileStream::AtomicFileStream(std::filesystem::path path)
   fd_ = open_for_writing(temporary_, path_);
 }
 
+AtomicFileStream::AtomicFileStream(std::filesystem::path path,
+                                   const std::filesystem::path& existing, std::uintmax_t keep_bytes)
+    : path_(std::move(path)), temporary_(temporary_name(path_)) {
+  std::error_code error;
+  if (existing != temporary_) std::filesystem::rename(existing, temporary_, error);
+  if (error) {
+    throw std::runtime_error(fmt::format("cannot continue {} from {}: {}", path_.string(),
+                                         existing.string(), error.message()));
+  }
+  fd_ = ::open(temporary_.c_str(), O_WRONLY | O_APPEND | O_CLOEXEC);
+  if (fd_ < 0 || ::ftruncate(fd_, static_cast<off_t>(keep_bytes)) != 0) {
+    const int error_number = errno;
+    if (fd_ >= 0) ::close(fd_);
+    fd_ = -1;
+    throw std::runtime_error(failure(path_, error_number));
+  }
+}
+
 AtomicFileStream::~AtomicFileStream() {
   if (fd_ >= 0) ::close(fd_);
   if (!committed_) remove_quietly(temporary_);

@@ -24,6 +24,12 @@ class AtomicFileStream {
  public:
   /// Opens the temporary file; throws std::runtime_error naming the path and the reason.
   explicit AtomicFileStream(std::filesystem::path path);
+
+  /// Continues the file `existing` (an earlier stream's temporary file, or its final file):
+  /// renamed to this stream's temporary name, cut to its first `keep_bytes` bytes and
+  /// appended to. Throws std::runtime_error naming the path and the reason.
+  AtomicFileStream(std::filesystem::path path, const std::filesystem::path& existing,
+                   std::uintmax_t keep_bytes);
   ~AtomicFileStream();
   AtomicFileStream(const AtomicFileStream&) = delete;
   AtomicFileStream& operator=(const AtomicFileStream&) = delete;
@@ -44,11 +50,17 @@ class AtomicFileStream {
   /// failed.
   void commit();
 
+  /// Writes what is buffered to the file now (before a checkpoint: a process killed later
+  /// leaves every row written so far in the temporary file).
+  void flush();
+
+  /// The temporary name the file has until commit().
+  [[nodiscard]] const std::filesystem::path& temporary() const { return temporary_; }
+
  private:
   static constexpr std::size_t kBufferBytes = std::size_t{64} * 1024;
 
   void fail(int error_number);
-  void flush();
 
   std::filesystem::path path_;
   std::filesystem::path temporary_;

@@ -27,6 +27,13 @@ class Cadence {
     return every_steps_ > 0 && world.step % every_steps_ == 0;
   }
 
+  /// Continues a cadence whose last record was due at `time` [t0] (a run continued from a
+  /// checkpoint, io/run_outputs.hpp): the next record is due where it would have been had
+  /// this object seen that one. A step cadence has no memory.
+  void resume_after(double time) {
+    if (interval_ > 0.0) next_time_ = (std::floor(time / interval_ + 1e-9) + 1.0) * interval_;
+  }
+
   [[nodiscard]] bool enabled() const { return interval_ > 0.0 || every_steps_ > 0; }
 
  private:

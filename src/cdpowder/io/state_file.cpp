@@ -398,6 +398,58 @@ SavedRun load_state(const std::filesystem::path& path) {
   return decode_state(bytes, path.string());
 }
 
+StateHeader read_state_header(const std::filesystem::path& path) {
+  std::error_code error;
+  const std::uintmax_t size = std::filesystem::file_size(path, error);
+  std::ifstream file(path, std::ios::binary);
+  if (error || !file) {
+    throw StateFileError(fmt::format("{}: cannot open the state file{}", path.string(),
+                                     error ? ": " + error.message() : std::string()));
+  }
+  // the fields one by one from the stream: the rest of the file is never read
+  std::string bytes;
+  const auto take = [&](std::uintmax_t n) {
+    if (n > size - std::min<std::uintmax_t>(size, bytes.size())) {
+      ByteReader(bytes, path.string()).fail("the file ends early: truncated");
+    }
+    const std::size_t had = bytes.size();
+    bytes.resize(had + static_cast<std::size_t>(n));
+    file.read(bytes.data() + had, static_cast<std::streamsize>(n));
+  };
+  const auto length_and_text = [&] {
+    take(8);
+    ByteReader length(std::string_view(bytes).substr(bytes.size() - 8), path.string());
+    take(length.u64());
+  };
+  take(kStateFileMagic.size() + 4);
+  ByteReader start(bytes, path.string());
+  if (bytes.substr(0, kStateFileMagic.size()) != kStateFileMagic) {
+    start.fail("not a cdpowder state file (it does not start with CDPSTATE)");
+  }
+  StateHeader header;
+  start.tag(kStateFileMagic.substr(0, 4));
+  start.tag(kStateFileMagic.substr(4, 4));
+  header.format_version = start.u32();
+  if (header.format_version != kStateFormatVersion) return header;
+  length_and_text();
+  length_and_text();
+  take(4);
+  length_and_text();
+  ByteReader in(bytes, path.string());
+  in.tag(kStateFileMagic.substr(0, 4));
+  in.tag(kStateFileMagic.substr(4, 4));
+  in.u32();
+  header.program_version = in.string();
+  header.git_commit = in.string();
+  in.tag("SCEN");
+  header.scene_toml = in.string();
+  return header;
+}
+
+bool written_by_another_build(std::string_view program_version, std::string_view git_commit) {
+  return program_version != kVersion || git_commit != kGitCommit;
+}
+
 void restore_run(SavedRun saved, const RunConfig& run, double dt, World& world, StepWorkspace& work,
                  RunState& state) {
   state = RunState{};

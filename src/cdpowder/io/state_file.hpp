@@ -79,6 +79,27 @@ void save_state(const std::filesystem::path& path, std::string_view scene_toml, 
 /// Reads and decodes a state file. Throws StateFileError.
 SavedRun load_state(const std::filesystem::path& path);
 
+/// The start of a state file: who wrote it and for which scene, read without decoding (or
+/// checking) the rest, so that a caller can decide what to do with a file of another format
+/// or another build before reading it whole (a sweep choosing between continuing a run from
+/// its checkpoint and starting it again).
+struct StateHeader {
+  std::uint32_t format_version = 0;
+  std::string program_version;
+  std::string git_commit;
+  std::string scene_toml;
+};
+
+/// Reads the header of the state file `path`. Throws StateFileError for a file that cannot
+/// be read or does not start as a state file; another format version is returned, not
+/// refused (its scene is then left empty: its layout is unknown).
+StateHeader read_state_header(const std::filesystem::path& path);
+
+/// Whether a file written by the build `program_version` (commit `git_commit`) comes from
+/// another build than this one: a run continued from it then goes on with other code, and
+/// does not end bit-identical to the run never stopped.
+bool written_by_another_build(std::string_view program_version, std::string_view git_commit);
+
 /// Puts a saved run back: the World, the workspace's warm-start cache and sweep-order
 /// stream, and the loop's state with its blocked-state window for `run` and `dt` (the
 /// scene's; Throws StateFileError if the window's length does not match them).

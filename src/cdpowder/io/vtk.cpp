@@ -6,7 +6,11 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <charconv>
+#include <fstream>
 #include <iterator>
+#include <stdexcept>
 
 namespace cdpowder {
 
@@ -105,7 +109,7 @@ std::string pvd(const std::vector<std::pair<double, std::string>>& entries,
                  "<Collection>\n");
   for (const auto& [time, suffix] : entries) {
     fmt::format_to(std::back_inserter(out),
-                   "<DataSet timestep=\"{:.9g}\" group=\"\" part=\"0\" "
+                   "<DataSet timestep=\"{}\" group=\"\" part=\"0\" "
                    "file=\"snapshots/{}_{}.vtp\"/>\n",
                    time, prefix, suffix);
   }
@@ -177,6 +181,51 @@ std::string contacts_vtp(const World& world, const Contacts& contacts) {
   fmt::format_to(std::back_inserter(out), "</CellData>\n");
   end_polydata(out);
   return fmt::to_string(out);
+}
+
+std::vector<double> VtkSnapshotSeries::read_earlier() {
+  entries_.clear();
+  const std::filesystem::path file = out_dir_ / "particles.pvd";
+  std::ifstream in(file);
+  std::vector<double> times;
+  if (!in) return times;
+  const std::string time_key = "timestep=\"";
+  const std::string file_key = "file=\"snapshots/particles_";
+  std::string line;
+  while (std::getline(in, line)) {
+    const std::size_t t = line.find(time_key);
+    const std::size_t f = line.find(file_key);
+    if (t == std::string::npos || f == std::string::npos) continue;
+    const char* begin = line.data() + t + time_key.size();
+    double time = 0.0;
+    const auto [end, error] = std::from_chars(begin, line.data() + line.size(), time);
+    const std::size_t suffix_begin = f + file_key.size();
+    const std::size_t suffix_end = line.find(".vtp", suffix_begin);
+    if (error != std::errc() || *end != '"' || suffix_end == std::string::npos) {
+      throw std::runtime_error(
+          fmt::format("{}: cannot read the snapshot entry '{}'", file.string(), line));
+    }
+    entries_.emplace_back(time, line.substr(suffix_begin, suffix_end - suffix_begin));
+    times.push_back(time);
+  }
+  return times;
+}
+
+void VtkSnapshotSeries::keep_earlier(std::size_t count) {
+  entries_.resize(std::min(count, entries_.size()));
+  const std::filesystem::path folder = out_dir_ / "snapshots";
+  if (std::filesystem::is_directory(folder)) {
+    for (const auto& entry : std::filesystem::directory_iterator(folder)) {
+      const std::string name = entry.path().filename().string();
+      const bool kept = std::any_of(entries_.begin(), entries_.end(), [&](const auto& e) {
+        return name == fmt::format("particles_{}.vtp", e.second) ||
+               name == fmt::format("contacts_{}.vtp", e.second);
+      });
+      if (!kept) std::filesystem::remove(entry.path());
+    }
+  }
+  write_file_atomically(out_dir_ / "particles.pvd", pvd(entries_, "particles"));
+  write_file_atomically(out_dir_ / "contacts.pvd", pvd(entries_, "contacts"));
 }
 
 VtkSnapshotSeries::VtkSnapshotSeries(std::filesystem::path out_dir)

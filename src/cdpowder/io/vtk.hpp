@@ -43,6 +43,16 @@ class VtkSnapshotSeries {
 
   [[nodiscard]] std::size_t count() const { return entries_.size(); }
 
+  /// Continues the series an earlier process wrote into the folder (a run continued from a
+  /// checkpoint): reads its particles.pvd and returns the times of its snapshots, in order.
+  /// No file: none. Throws std::runtime_error for a collection it cannot read.
+  std::vector<double> read_earlier();
+
+  /// Keeps the first `count` snapshots read by read_earlier(): the files of later ones (and
+  /// any file a killed process wrote beyond its collection) are removed and the collections
+  /// rewritten.
+  void keep_earlier(std::size_t count);
+
  private:
   std::filesystem::path out_dir_;
   std::vector<std::pair<double, std::string>> entries_;  ///< (time, file stem suffix)

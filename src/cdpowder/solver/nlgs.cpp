@@ -356,6 +356,10 @@ SolverStats sweep_until_done(Contacts& contacts, VelocityCache& velocities,
       stats.converged = true;
       break;
     }
+    if (settings.stop_request != nullptr && *settings.stop_request && (*settings.stop_request)()) {
+      stats.stopped = true;  // on this sweep's output, before any mixing
+      break;
+    }
 
     // Mixing comes after the test and never after the last sweep: a mixed iterate is an
     // affine combination that need not obey the contact laws (R_n < −F_c, forces outside

@@ -29,6 +29,7 @@ struct SolverStats {
   double kinematic_error = 0.0;
   double piston_speed_error = 0.0;  ///< the same for the piston, over its speed [-]
   double force_scale = 0.0;         ///< F_ref = max(F_coh, mean |R_n| of closed contacts) [F_coh]
+  bool stopped = false;             ///< cut short by SolverSettings::stop_request (not converged)
 };
 
 /// Scratch state of the solver reused across steps: the sweep-order stream and the

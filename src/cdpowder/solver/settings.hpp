@@ -3,6 +3,7 @@
 #pragma once
 
 #include "cdpowder/contact/contact_law.hpp"
+#include "cdpowder/core/stop_request.hpp"
 
 #include <cstdint>
 
@@ -110,6 +111,9 @@ struct SolverSettings {
   /// step. Speed only: the contacts of every step are the same for any value [R]
   double verlet_margin = 0.2;
   std::uint64_t seed = 1;  ///< seed of the sweep-order stream
+  /// Asked after every sweep (not a scene key; the run loop sets it): true ends the solve
+  /// there, on that sweep's output, with SolverStats::stopped. Null: never asked.
+  const StopRequest* stop_request = nullptr;
 };
 
 struct StepSettings {
