@@ -2,6 +2,7 @@
 #include "cdpowder/solver/kinematic_change.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cstddef>
 
 namespace cdpowder {
@@ -18,41 +19,74 @@ void KinematicChange::begin_step(const VelocityCache& velocities) {
   velocities_changed(velocities);
 }
 
+namespace {
+
+using Lanes = KinematicChange::Lanes;
+
+/// Lane l of each field from sphere 2b + l; a missing second sphere (odd count) reads zeros.
+struct SpherePair {
+  const SphereVelocity& first;
+  const SphereVelocity& second;
+
+  [[nodiscard]] Lanes linear(int k) const { return Lanes{first.linear[k], second.linear[k]}; }
+
+  [[nodiscard]] Lanes angular(int k) const { return Lanes{first.angular[k], second.angular[k]}; }
+};
+
+const SphereVelocity kNoSphere{};
+
+SpherePair pair_at(const std::vector<SphereVelocity>& spheres, std::size_t b) {
+  const std::size_t i = 2 * b;
+  return {spheres[i], i + 1 < spheres.size() ? spheres[i + 1] : kNoSphere};
+}
+
+/// |a|² lane by lane as Eigen's squaredNorm sums it: (x² + y²) + z²
+inline Lanes norm_sq(Lanes x, Lanes y, Lanes z) {
+  return (x * x + y * y) + z * z;
+}
+
+}  // namespace
+
 void KinematicChange::velocities_changed(const VelocityCache& velocities) {
   const std::vector<SphereVelocity>& spheres = velocities.spheres;
-  start_.resize(2 * spheres.size());
-  for (std::size_t i = 0; i < spheres.size(); ++i) {
-    start_[2 * i] = spheres[i].linear;
-    start_[2 * i + 1] = spheres[i].angular;
+  start_.resize((spheres.size() + 1) / 2);
+  for (std::size_t b = 0; b < start_.size(); ++b) {
+    const SpherePair now = pair_at(spheres, b);
+    for (int k = 0; k < 3; ++k) {
+      start_[b].linear[k] = now.linear(k);
+      start_[b].angular[k] = now.angular(k);
+    }
   }
   piston_start_ = velocities.piston_velocity;
 }
 
 namespace {
 
-/// |a|² as Eigen's squaredNorm sums it: (x² + y²) + z²
-inline double norm_sq(double x, double y, double z) {
-  return (x * x + y * y) + z * z;
-}
-
-/// One pass: the largest u(Δv, Δω)², the snapshot moved to now, and (kWithSpeed) Σ u(v, ω)².
+/// One pass, two spheres side by side: the largest u(Δv, Δω)², the snapshot moved to now,
+/// and (kWithSpeed) Σ u(v, ω)². Each sphere's value is formed with the operations of one
+/// sphere at a time, the maximum does not depend on the order, and the sum adds the spheres
+/// one by one in index order: the same bits as a loop over the spheres.
 template <bool kWithSpeed>
-void measure(const SphereVelocity* now, Vec3* start, const double* radius_sq, std::size_t n,
-             double& largest_sq, double& sum_sq) {
-  for (std::size_t i = 0; i < n; ++i) {
-    const double* v = now[i].linear.data();
-    const double* w = now[i].angular.data();
-    double* s = start[2 * i].data();      // linear
-    double* t = start[2 * i + 1].data();  // angular
-    const double change = norm_sq(v[0] - s[0], v[1] - s[1], v[2] - s[2]) +
-                          radius_sq[i] * norm_sq(w[0] - t[0], w[1] - t[1], w[2] - t[2]);
-    largest_sq = std::max(largest_sq, change);
-    for (int k = 0; k < 3; ++k) {
-      s[k] = v[k];
-      t[k] = w[k];
-    }
+void measure(const std::vector<SphereVelocity>& spheres, std::vector<KinematicChange::Block>& start,
+             const std::vector<double>& radius_sq, double& largest_sq, double& sum_sq) {
+  const std::size_t n = spheres.size();
+  for (std::size_t b = 0; b < start.size(); ++b) {
+    const SpherePair now = pair_at(spheres, b);
+    KinematicChange::Block& was = start[b];
+    const Lanes r_sq{radius_sq[2 * b], 2 * b + 1 < n ? radius_sq[2 * b + 1] : 0.0};
+    const std::array<Lanes, 3> v = {now.linear(0), now.linear(1), now.linear(2)};
+    const std::array<Lanes, 3> w = {now.angular(0), now.angular(1), now.angular(2)};
+    const Lanes change =
+        norm_sq(v[0] - was.linear[0], v[1] - was.linear[1], v[2] - was.linear[2]) +
+        r_sq * norm_sq(w[0] - was.angular[0], w[1] - was.angular[1], w[2] - was.angular[2]);
+    largest_sq = std::max(largest_sq, change[0]);
+    largest_sq = std::max(largest_sq, change[1]);  // 0 for a missing second sphere
+    was.linear = v;
+    was.angular = w;
     if constexpr (kWithSpeed) {
-      sum_sq += norm_sq(v[0], v[1], v[2]) + radius_sq[i] * norm_sq(w[0], w[1], w[2]);
+      const Lanes speed_sq = norm_sq(v[0], v[1], v[2]) + r_sq * norm_sq(w[0], w[1], w[2]);
+      sum_sq += speed_sq[0];
+      if (2 * b + 1 < n) sum_sq += speed_sq[1];
     }
   }
 }
@@ -62,13 +96,11 @@ void measure(const SphereVelocity* now, Vec3* start, const double* radius_sq, st
 SweepMotion KinematicChange::after_sweep(const VelocityCache& velocities, bool with_speed) {
   double largest_sq = 0.0;
   double sum_sq = 0.0;
-  const std::size_t n = radius_sq_.size();
+  const std::size_t n = velocities.spheres.size();
   if (with_speed) {
-    measure<true>(velocities.spheres.data(), start_.data(), radius_sq_.data(), n, largest_sq,
-                  sum_sq);
+    measure<true>(velocities.spheres, start_, radius_sq_, largest_sq, sum_sq);
   } else {
-    measure<false>(velocities.spheres.data(), start_.data(), radius_sq_.data(), n, largest_sq,
-                   sum_sq);
+    measure<false>(velocities.spheres, start_, radius_sq_, largest_sq, sum_sq);
   }
   SweepMotion motion;
   motion.largest_change = std::sqrt(largest_sq);

@@ -6,6 +6,7 @@
 #include "cdpowder/core/vec3.hpp"
 #include "cdpowder/solver/velocity_cache.hpp"
 
+#include <array>
 #include <cmath>
 #include <vector>
 
@@ -39,8 +40,17 @@ class KinematicChange {
   /// otherwise it is 0.
   [[nodiscard]] SweepMotion after_sweep(const VelocityCache& velocities, bool with_speed);
 
+  /// Two spheres side by side (SSE2 registers on x86-64; GCC lowers it elsewhere).
+  using Lanes = double __attribute__((vector_size(2 * sizeof(double))));
+
+  /// The snapshot of spheres 2b and 2b + 1, field by field.
+  struct Block {
+    std::array<Lanes, 3> linear;
+    std::array<Lanes, 3> angular;
+  };
+
  private:
-  std::vector<Vec3> start_;  ///< sphere i: v at 2i, ω at 2i + 1
+  std::vector<Block> start_;
   std::vector<double> radius_sq_;
   double piston_start_ = 0.0;
 };
