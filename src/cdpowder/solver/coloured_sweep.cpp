@@ -119,6 +119,10 @@ void build_batches(const Contacts& contacts, const VelocityCache& velocities,
         const detail::ModeBlock block = pair_mode_block(p, a, b);
         batch.coupling[l] = block.coupling;
         batch.inv_r_sq[l] = block.inv_r_sq;
+        batch.mass_a[l] = a.dt_inverse_mass;
+        batch.inertia_a[l] = a.dt_inverse_inertia;
+        batch.mass_b[l] = b.dt_inverse_mass;
+        batch.inertia_b[l] = b.dt_inverse_inertia;
       }
     }
     sweep.colour_batches[c + 1] = static_cast<std::uint32_t>(sweep.batches.size());

@@ -31,8 +31,9 @@ struct alignas(64) PairBatch {
   Lanes gap_rate{}, lever_a{}, lever_b{};
   Lanes inv_dt_w_n{}, inv_dt_w_t{}, inv_dt_w_r{};
   Lanes cohesion{}, mu{}, roll_cap{}, twist_cap{};
-  Lanes coupling{};  ///< Δt c of pair_mode_block
-  Lanes inv_r_sq{};  ///< 1/r_eff²
+  Lanes coupling{};                                    ///< Δt c of pair_mode_block
+  Lanes inv_r_sq{};                                    ///< 1/r_eff²
+  Lanes mass_a{}, inertia_a{}, mass_b{}, inertia_b{};  ///< Δt/m and Δt/I of both spheres
   std::array<ContactIndex, kBatchLanes> pair{};
   std::array<BodyIndex, kBatchLanes> a{}, b{};
   std::uint32_t lanes = 0;  ///< lanes in use, 1..kBatchLanes
