@@ -44,6 +44,11 @@ CDP_INLINE P vsqrt(P x) {
 #endif
 }
 
+/// every lane of a comparison true
+CDP_INLINE bool all_lanes(M mask) {
+  return mask[0] != 0 && mask[1] != 0;
+}
+
 #include "cdpowder/solver/coloured_kernel.inc"
 }  // namespace
 }  // namespace sse2
@@ -64,6 +69,11 @@ constexpr int kLanes = 4;
 
 CDP_INLINE P vsqrt(P x) {
   return reinterpret_cast<P>(_mm256_sqrt_pd(reinterpret_cast<__m256d>(x)));
+}
+
+/// every lane of a comparison true
+CDP_INLINE bool all_lanes(M mask) {
+  return _mm256_movemask_pd(reinterpret_cast<__m256d>(mask)) == 0xF;
 }
 
 #include "cdpowder/solver/coloured_kernel.inc"
