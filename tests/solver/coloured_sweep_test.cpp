@@ -147,13 +147,19 @@ Branches branches(const Contacts& c) {
 
 // The greedy colouring (chunks of 256 contacts) in a random order: batches of 4 independent
 // contacts give the bits of the scalar sweep visiting the same contacts one by one in the same
-// sequence.
+// sequence. Also without rolling and torsion friction (the (0,0) corner), where the kernel
+// leaves the torques alone (ColouredSweep::torques = false) and the scalar one keeps them +0.
 TEST(ColouredSweep, FullBatchesEqualTheScalarSweepInTheSameSequence) {
+  struct Case {
+    double mu_roll, mu_twist;
+  };
+
   for (const bool avx2 : {false, true}) {
     if (avx2 && !allow_avx2_kernel(true)) continue;  // no AVX2 here
     allow_avx2_kernel(avx2);
-    for (const double mu_roll : {0.0, 0.1}) {
-      SmallPacking packing(mu_roll);
+    for (const Case friction : {Case{0.0, 0.2}, Case{0.1, 0.2}, Case{0.0, 0.0}}) {
+      const double mu_roll = friction.mu_roll;
+      SmallPacking packing(mu_roll, friction.mu_twist);
       Contacts scalar = packing.scene.work.contacts;
       VelocityCache scalar_v = packing.scene.work.velocities;
       Contacts coloured = scalar;
@@ -162,6 +168,7 @@ TEST(ColouredSweep, FullBatchesEqualTheScalarSweepInTheSameSequence) {
       colour_pairs(coloured.pairs, coloured_v.spheres.size(), kMaxColours, 256, sweep.colouring,
                    sweep.masks);
       build_batches(coloured, coloured_v, sweep);
+      sweep.torques = friction.mu_roll > 0.0 || friction.mu_twist > 0.0;
       ASSERT_GT(sweep.colouring.chunk_colours.size(), 3U);
       ASSERT_GT(sweep.colours(), 6U);
       Rng rng = make_rng(3, RngStream::SweepOrder);
@@ -188,57 +195,18 @@ TEST(ColouredSweep, FullBatchesEqualTheScalarSweepInTheSameSequence) {
       const Branches taken = branches(coloured);
       EXPECT_GT(taken.open, 0);
       EXPECT_GT(taken.sliding, 0);
-      EXPECT_GT(taken.twisting, 0);
+      if (friction.mu_twist > 0.0) {
+        EXPECT_GT(taken.twisting, 0);
+      }
       if (mu_roll > 0.0) {
         EXPECT_GT(taken.rolling, 0);
       }
-    }
-  }
-  allow_avx2_kernel(true);
-}
-
-// Without rolling and torsion friction (the (0,0) corner) the kernel leaves the torques
-// alone (ColouredSweep::torques = false): still the bits of the scalar sweep, whose torques
-// stay +0 too.
-TEST(ColouredSweep, TheKernelWithoutTorquesEqualsTheScalarSweep) {
-  for (const bool avx2 : {false, true}) {
-    if (avx2 && !allow_avx2_kernel(true)) continue;  // no AVX2 here
-    allow_avx2_kernel(avx2);
-    SmallPacking packing(0.0, 0.0);
-    Contacts scalar = packing.scene.work.contacts;
-    VelocityCache scalar_v = packing.scene.work.velocities;
-    Contacts coloured = scalar;
-    VelocityCache coloured_v = scalar_v;
-    ColouredSweep sweep;
-    colour_pairs(coloured.pairs, coloured_v.spheres.size(), kMaxColours, 256, sweep.colouring,
-                 sweep.masks);
-    build_batches(coloured, coloured_v, sweep);
-    sweep.torques = false;
-    Rng rng = make_rng(4, RngStream::SweepOrder);
-    order_groups(sweep, VisitOrder::RandomEachStep, rng);
-    scalar.visit_order.clear();
-    for (const std::uint32_t g : sweep.group_order) {
-      if (g == sweep.colours()) {
-        scalar.visit_order.insert(scalar.visit_order.end(), sweep.sequential.begin(),
-                                  sweep.sequential.end());
-        continue;
+      if (!sweep.torques) {
+        for (const ContactAction& x : coloured.pair_actions) {
+          EXPECT_FALSE(std::signbit(x.twisting_torque));
+          EXPECT_EQ(x.rolling_torque, Vec3::Zero());
+        }
       }
-      for (std::uint32_t m = sweep.colouring.colour_start[g];
-           m < sweep.colouring.colour_start[g + 1]; ++m) {
-        scalar.visit_order.push_back(sweep.colouring.members[m]);
-      }
-    }
-    for (int s = 0; s < 5; ++s) {
-      expect_same_sums(run_sweep(scalar, scalar_v),
-                       run_coloured_sweep(coloured, coloured_v, sweep));
-      expect_same_state(scalar, scalar_v, coloured, coloured_v);
-    }
-    const Branches taken = branches(coloured);
-    EXPECT_GT(taken.open, 0);
-    EXPECT_GT(taken.sliding, 0);
-    for (const ContactAction& x : coloured.pair_actions) {
-      EXPECT_FALSE(std::signbit(x.twisting_torque));
-      EXPECT_EQ(x.rolling_torque, Vec3::Zero());
     }
   }
   allow_avx2_kernel(true);

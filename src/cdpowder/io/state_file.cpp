@@ -382,14 +382,25 @@ void save_state(const std::filesystem::path& path, std::string_view scene_toml, 
   write_file_atomically(path, encode_state(scene_toml, world, work, run));
 }
 
-SavedRun load_state(const std::filesystem::path& path) {
+namespace {
+
+/// Opens a state file for reading and returns its size in bytes. Throws StateFileError.
+std::uintmax_t open_state_file(const std::filesystem::path& path, std::ifstream& file) {
   std::error_code error;
   const std::uintmax_t size = std::filesystem::file_size(path, error);
-  std::ifstream file(path, std::ios::binary);
+  file.open(path, std::ios::binary);
   if (error || !file) {
     throw StateFileError(fmt::format("{}: cannot open the state file{}", path.string(),
                                      error ? ": " + error.message() : std::string()));
   }
+  return size;
+}
+
+}  // namespace
+
+SavedRun load_state(const std::filesystem::path& path) {
+  std::ifstream file;
+  const std::uintmax_t size = open_state_file(path, file);
   std::string bytes(static_cast<std::size_t>(size), '\0');
   file.read(bytes.data(), static_cast<std::streamsize>(bytes.size()));
   if (static_cast<std::size_t>(file.gcount()) != bytes.size()) {
@@ -399,13 +410,8 @@ SavedRun load_state(const std::filesystem::path& path) {
 }
 
 StateHeader read_state_header(const std::filesystem::path& path) {
-  std::error_code error;
-  const std::uintmax_t size = std::filesystem::file_size(path, error);
-  std::ifstream file(path, std::ios::binary);
-  if (error || !file) {
-    throw StateFileError(fmt::format("{}: cannot open the state file{}", path.string(),
-                                     error ? ": " + error.message() : std::string()));
-  }
+  std::ifstream file;
+  const std::uintmax_t size = open_state_file(path, file);
   // the fields one by one from the stream: the rest of the file is never read
   std::string bytes;
   const auto take = [&](std::uintmax_t n) {
