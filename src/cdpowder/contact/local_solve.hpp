@@ -27,7 +27,6 @@ namespace cdpowder {
 /// the kernel takes no square root unless a threshold clamps.
 struct VisitChange {
   double change_sq = 0.0;  ///< max(ΔR_n², |ΔR_t|², |ΔT_t|²/r_eff², ΔT_n²/r_eff²) [F_coh²]
-  double magnitude_sq = 0.0;  ///< the same of the action after the visit
 };
 
 /// Velocity change of both spheres from a change (ΔR, ΔT) of the action on b (§5.5):

@@ -11,9 +11,4 @@ namespace cdpowder {
 using Vec3 = Eigen::Vector3d;
 using Mat3 = Eigen::Matrix3d;
 
-/// Unit vector along z: the normal of the bottom wall (physics.md §4.2).
-inline Vec3 unit_z() {
-  return Vec3::UnitZ();
-}
-
 }  // namespace cdpowder

@@ -41,8 +41,6 @@ class VtkSnapshotSeries {
   /// Writes the snapshot of the current state, labelled with world.time.
   void write(const World& world, const Contacts& contacts);
 
-  [[nodiscard]] std::size_t count() const { return entries_.size(); }
-
   /// Continues the series an earlier process wrote into the folder (a run continued from a
   /// checkpoint): reads its particles.pvd and returns the times of its snapshots, in order.
   /// No file: none. Throws std::runtime_error for a collection it cannot read.
