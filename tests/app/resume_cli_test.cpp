@@ -244,14 +244,25 @@ TEST_F(ResumeCli, CheckpointsChangeNothingAndAFinishedRunKeepsNone) {
   expect_same_outputs(scratch_ / "plain", scratch_ / "cp");
 }
 
-/// Seconds from a SIGINT sent `after` seconds into `command` to the program's end, and its
-/// exit status, as "SECONDS STATUS".
-std::string time_to_stop(const std::string& command, double after, const fs::path& scratch) {
+/// How a program ended after a SIGINT: seconds from the signal to its end, its exit status,
+/// and the script's line they were read from.
+struct Stopped {
+  double seconds = 99.0;
+  int status = -1;
+  std::string line;
+};
+
+/// Sends SIGINT `after` seconds into `command` and measures how the program ends.
+Stopped time_to_stop(const std::string& command, double after, const fs::path& scratch) {
   const fs::path script = scratch / "stop.sh";
   std::ofstream(script) << CDPOWDER_EXE << " " << command << " >/dev/null 2>&1 &\npid=$!\nsleep "
                         << after << "\nstart=$(date +%s.%N)\nkill -INT $pid\nwait $pid\nstatus=$?\n"
                         << "echo \"$(echo \"$(date +%s.%N) - $start\" | bc) $status\"\n";
-  return run_process("sh", script.string(), scratch).out;
+  Stopped stopped;
+  stopped.line = run_process("sh", script.string(), scratch).out;
+  std::istringstream in(stopped.line);
+  in >> stopped.seconds >> stopped.status;
+  return stopped;
 }
 
 // Ctrl-C inside a final static solve of 10⁸ sweeps (minutes) ends it within a second, on a
@@ -260,18 +271,14 @@ std::string time_to_stop(const std::string& command, double after, const fs::pat
 // after ≈ 57 000 sweeps and so meets even a tolerance of 1e-300 in under a second.
 TEST_F(ResumeCli, CtrlCInsideALongStaticSolveIsHonouredWithinASecond) {
   const fs::path out = scratch_ / "out";
-  const std::string stop = time_to_stop(
+  const Stopped stop = time_to_stop(
       "compact " + kQuick.string() +
           " --set run.blocked.final_tolerance=1e-300 --set run.blocked.final_max_sweeps=100000000"
           " --set solver.kernel='\"scalar\"' --quiet --out " +
           out.string(),
       1.5, scratch_);
-  std::istringstream in(stop);
-  double seconds = 99.0;
-  int status = -1;
-  in >> seconds >> status;
-  EXPECT_LT(seconds, 1.0) << stop;
-  EXPECT_EQ(status, 1) << stop;
+  EXPECT_LT(stop.seconds, 1.0) << stop.line;
+  EXPECT_EQ(stop.status, 1) << stop.line;
   EXPECT_TRUE(fs::exists(out / "checkpoint.cdps"));
   EXPECT_TRUE(physics_of(out / "summary.json")["run"]["interrupted"].get<bool>());
 }
@@ -280,18 +287,14 @@ TEST_F(ResumeCli, CtrlCInsideALongStaticSolveIsHonouredWithinASecond) {
 // the checkpoint holds the state before it.
 TEST_F(ResumeCli, CtrlCInsideALongStepIsHonouredWithinASecond) {
   const fs::path out = scratch_ / "out";
-  const std::string stop =
+  const Stopped stop =
       time_to_stop("compact " + kQuick.string() +
                        " --set solver.tolerance=1e-300 --set solver.max_sweeps=100000000"
                        " --quiet --out " +
                        out.string(),
                    0.5, scratch_);
-  std::istringstream in(stop);
-  double seconds = 99.0;
-  int status = -1;
-  in >> seconds >> status;
-  EXPECT_LT(seconds, 1.0) << stop;
-  EXPECT_EQ(status, 1) << stop;
+  EXPECT_LT(stop.seconds, 1.0) << stop.line;
+  EXPECT_EQ(stop.status, 1) << stop.line;
   ASSERT_TRUE(fs::exists(out / "checkpoint.cdps"));
   EXPECT_EQ(cdpowder::load_state(out / "checkpoint.cdps").world.step, 0);
 }
