@@ -6,6 +6,7 @@
 
 #include <array>
 #include <filesystem>
+#include <string>
 #include <string_view>
 #include <system_error>
 
@@ -25,6 +26,19 @@ inline void clear_earlier_run(const std::filesystem::path& folder) {
   for (const auto& entry : std::filesystem::directory_iterator(folder)) {
     const std::string file = entry.path().filename().string();
     if (file.size() > 5 && file.front() == '.' && file.ends_with(".tmp")) {
+      std::filesystem::remove(entry.path());
+    }
+  }
+}
+
+/// Removes the temporary files (".NAME.PID.tmp") a killed process left in `folder`, all but
+/// those of the time series (`resume` continues the longest of them). Only the process that
+/// holds the folder's run lock calls this, so no live writer owns them.
+inline void remove_stale_temporaries(const std::filesystem::path& folder) {
+  for (const auto& entry : std::filesystem::directory_iterator(folder)) {
+    const std::string file = entry.path().filename().string();
+    if (file.size() > 5 && file.front() == '.' && file.ends_with(".tmp") &&
+        !file.starts_with(".timeseries.csv.")) {
       std::filesystem::remove(entry.path());
     }
   }

@@ -367,6 +367,8 @@ int run_resume(const ResumeOptions& options) {
   restore_run(std::move(saved), s.scene.run, s.scene.step.solver.dt, s.world, s.work, s.state);
   announce(fmt::format("resume from step {} (t = {} t0)", s.world.step, s.world.time), s.scene, out,
            s.world.bodies.size());
+  remove_stale_temporaries(out);  // e.g. a .pvd a killed run was writing
+  if (std::filesystem::is_directory(out / "snapshots")) remove_stale_temporaries(out / "snapshots");
   s.timeseries = continue_timeseries(s);
   continue_snapshots(s);
   return run_and_write(s);
