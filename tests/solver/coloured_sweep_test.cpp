@@ -11,6 +11,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <numeric>
@@ -62,6 +63,29 @@ void expect_valid_colouring(const PairColouring& colouring, const std::vector<Pa
   }
   for (const ContactIndex k : colouring.overflow) ++seen[k];
   for (std::size_t k = 0; k < pairs.size(); ++k) EXPECT_EQ(seen[k], 1) << "contact " << k;
+}
+
+// The lane kernel reads and writes a sphere's and a contact's record as one row of 8
+// doubles (coloured_kernel.inc): v*, ω*, Δt/m, Δt/I and R_n, R_t, T_t, T_n, in this order.
+TEST(ColouredSweep, RecordsAreRowsOfEightDoublesInTheKernelsOrder) {
+  SphereVelocity s;
+  s.linear = Vec3(0, 1, 2);
+  s.angular = Vec3(3, 4, 5);
+  s.dt_inverse_mass = 6;
+  s.dt_inverse_inertia = 7;
+  ContactAction x;
+  x.normal_force = 0;
+  x.tangential_force = Vec3(1, 2, 3);
+  x.rolling_torque = Vec3(4, 5, 6);
+  x.twisting_torque = 7;
+  std::array<double, 8> s_row{};
+  std::array<double, 8> x_row{};
+  std::memcpy(s_row.data(), &s, sizeof s_row);
+  std::memcpy(x_row.data(), &x, sizeof x_row);
+  for (int f = 0; f < 8; ++f) {
+    EXPECT_EQ(s_row[f], f);
+    EXPECT_EQ(x_row[f], f);
+  }
 }
 
 TEST(Colouring, EveryContactOnceAndNoSharedSphereWithinAColour) {
