@@ -8,6 +8,7 @@
 #include "cdpowder/io/state_file.hpp"
 #include "cdpowder/solver/build.hpp"
 #include "cdpowder/solver/kinematic_change.hpp"
+#include "cdpowder/solver/lanes.hpp"
 #include "cdpowder/solver/nlgs.hpp"
 #include "cdpowder/solver/step.hpp"
 
@@ -15,6 +16,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <filesystem>
 
@@ -71,6 +73,50 @@ TEST(KinematicChange, AFixedSphereCountsOnlyItsTranslation) {
   change.begin_step(cache);
   cache.spheres[0].angular = Vec3(1.0, 0.0, 0.0);
   EXPECT_EQ(change.after_sweep(cache, true).largest_change, 0.0);
+}
+
+// The pass runs in lanes (2 or 4 spheres side by side, blocks of 4): for every count of
+// spheres around the block size, on either instruction set, it gives the bits of the plain
+// loop over the spheres (Eigen's squaredNorm, std::max, the sum in index order).
+TEST(KinematicChange, TheLanesGiveTheBitsOfOneSphereAtATime) {
+  const double dt = 0.013;
+  for (const bool avx2 : {false, true}) {
+    if (avx2 && !lanes::allow_avx2(true)) continue;  // no AVX2 here
+    lanes::allow_avx2(avx2);
+    for (std::size_t n = 1; n <= 9; ++n) {
+      VelocityCache cache;
+      for (std::size_t i = 0; i < n; ++i) {
+        cache.spheres.push_back(sphere_of_radius(0.7 + 0.11 * static_cast<double>(i), dt));
+      }
+      const auto fill = [&](double phase) {
+        for (std::size_t i = 0; i < n; ++i) {
+          const double x = phase + 1.7 * static_cast<double>(i);
+          cache.spheres[i].linear = Vec3(std::sin(x), std::cos(3 * x), 1e-3 * x);
+          cache.spheres[i].angular = Vec3(std::cos(x) / 7, -x, std::sin(5 * x));
+        }
+      };
+      fill(0.3);
+      const VelocityCache before = cache;
+      KinematicChange change;
+      change.begin_step(cache);
+      fill(1.1);
+      const SweepMotion motion = change.after_sweep(cache, true);
+      double largest_sq = 0.0;
+      double sum_sq = 0.0;
+      for (std::size_t i = 0; i < n; ++i) {
+        const SphereVelocity& s = cache.spheres[i];
+        const SphereVelocity& was = before.spheres[i];
+        const double r_sq = 2.5 * s.dt_inverse_mass / s.dt_inverse_inertia;
+        largest_sq = std::max(largest_sq, (s.linear - was.linear).squaredNorm() +
+                                              r_sq * (s.angular - was.angular).squaredNorm());
+        sum_sq += s.linear.squaredNorm() + r_sq * s.angular.squaredNorm();
+      }
+      EXPECT_EQ(motion.largest_change, std::sqrt(largest_sq)) << n << " spheres, avx2 " << avx2;
+      EXPECT_EQ(motion.rms_surface_speed, std::sqrt(sum_sq / static_cast<double>(n)))
+          << n << " spheres, avx2 " << avx2;
+    }
+  }
+  lanes::allow_avx2(true);
 }
 
 /// Solves the contact problem of the step after the saved (0,0) compaction front

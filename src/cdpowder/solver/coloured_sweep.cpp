@@ -9,166 +9,42 @@
 #include "cdpowder/solver/coloured_sweep.hpp"
 
 #include "cdpowder/solver/build.hpp"
+#include "cdpowder/solver/lanes.hpp"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
-#include <cstdlib>
-#include <cstring>
 #include <numeric>
 #include <span>
-#include <string_view>
-
-#if defined(__x86_64__)
-#include <immintrin.h>
-#elif defined(__SSE2__)
-#include <emmintrin.h>
-#endif
 
 namespace cdpowder {
-
-#define CDP_INLINE [[gnu::always_inline]] inline
 
 // SSE2, the x86-64 baseline: lanes in pairs (2 doubles per register).
 namespace sse2 {
 namespace {
-using P = double __attribute__((vector_size(16)));
-using M = std::int64_t __attribute__((vector_size(16)));
-constexpr int kLanes = 2;
-
-CDP_INLINE P vsqrt(P x) {
-#if defined(__SSE2__)
-  return reinterpret_cast<P>(_mm_sqrt_pd(reinterpret_cast<__m128d>(x)));
-#else
-  return P{std::sqrt(x[0]), std::sqrt(x[1])};
-#endif
-}
-
-/// every lane of a comparison true
-CDP_INLINE bool all_lanes(M mask) {
-  return mask[0] != 0 && mask[1] != 0;
-}
-
-/// lane l of field f = rows[l][kFirst + f] for f < kCount: fields of two 64-byte records side by
-/// side, read two at a time (kFirst, kCount even; the records 16-byte aligned).
-template <int kFirst, int kCount>
-CDP_INLINE std::array<P, kCount> load_rows(const double* const* rows) {
-  std::array<P, kCount> out{};
-  static_assert(kFirst % 2 == 0 && kCount % 2 == 0);
-  for (int f = 0; f < kCount; f += 2) {
-#if defined(__SSE2__)
-    const __m128d r0 = _mm_load_pd(rows[0] + kFirst + f);
-    const __m128d r1 = _mm_load_pd(rows[1] + kFirst + f);
-    out[f] = reinterpret_cast<P>(_mm_unpacklo_pd(r0, r1));
-    out[f + 1] = reinterpret_cast<P>(_mm_unpackhi_pd(r0, r1));
-#else
-    out[f] = P{rows[0][kFirst + f], rows[1][kFirst + f]};
-    out[f + 1] = P{rows[0][kFirst + f + 1], rows[1][kFirst + f + 1]};
-#endif
-  }
-  return out;
-}
-
-/// rows[l][kFirst + f] = in[f] lane l for f < kCount (load_rows reversed)
-template <int kFirst, int kCount>
-CDP_INLINE void store_rows(double* const* rows, const std::array<P, kCount>& in) {
-  static_assert(kFirst % 2 == 0 && kCount % 2 == 0);
-  for (int f = 0; f < kCount; f += 2) {
-#if defined(__SSE2__)
-    const auto f0 = reinterpret_cast<__m128d>(in[f]);
-    const auto f1 = reinterpret_cast<__m128d>(in[f + 1]);
-    _mm_store_pd(rows[0] + kFirst + f, _mm_unpacklo_pd(f0, f1));
-    _mm_store_pd(rows[1] + kFirst + f, _mm_unpackhi_pd(f0, f1));
-#else
-    for (int l = 0; l < kLanes; ++l) {
-      rows[l][kFirst + f] = in[f][l];
-      rows[l][kFirst + f + 1] = in[f + 1][l];
-    }
-#endif
-  }
-}
-
+using namespace lanes::sse2;  // NOLINT(google-build-using-namespace)
+using lanes::sse2::select;    // overloaded for V3 in the kernel
 #include "cdpowder/solver/coloured_kernel.inc"
 }  // namespace
 }  // namespace sse2
 
-#if defined(__x86_64__) && defined(__GNUC__)
+#if defined(CDP_HAVE_AVX2)
 // AVX2 where the CPU has it (chosen at run time): 4 lanes per register. The same IEEE
-// operations on the same operands as SSE2 (no FMA: target "avx2" does not enable it, and
-// -ffp-contract=off), so the same bits.
-#define CDP_HAVE_AVX2 1
+// operations on the same operands as SSE2, so the same bits.
 #pragma GCC push_options
 #pragma GCC target("avx2")
 
 namespace avx2 {
 namespace {
-using P = double __attribute__((vector_size(32)));
-using M = std::int64_t __attribute__((vector_size(32)));
-constexpr int kLanes = 4;
-
-CDP_INLINE P vsqrt(P x) {
-  return reinterpret_cast<P>(_mm256_sqrt_pd(reinterpret_cast<__m256d>(x)));
-}
-
-/// every lane of a comparison true
-CDP_INLINE bool all_lanes(M mask) {
-  return _mm256_movemask_pd(reinterpret_cast<__m256d>(mask)) == 0xF;
-}
-
-/// lane l of field f = rows[l][kFirst + f] for f < kCount: fields of four 64-byte records side
-/// by side, two at a time: records 0 and 2 in one register, 1 and 3 in another, interleaved
-/// (kFirst, kCount even; the records 16-byte aligned).
-template <int kFirst, int kCount>
-CDP_INLINE std::array<P, kCount> load_rows(const double* const* rows) {
-  std::array<P, kCount> out{};
-  static_assert(kFirst % 2 == 0 && kCount % 2 == 0);
-  for (int f = 0; f < kCount; f += 2) {
-    const __m256d r02 =
-        _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_load_pd(rows[0] + kFirst + f)),
-                             _mm_load_pd(rows[2] + kFirst + f), 1);
-    const __m256d r13 =
-        _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_load_pd(rows[1] + kFirst + f)),
-                             _mm_load_pd(rows[3] + kFirst + f), 1);
-    out[f] = reinterpret_cast<P>(_mm256_unpacklo_pd(r02, r13));
-    out[f + 1] = reinterpret_cast<P>(_mm256_unpackhi_pd(r02, r13));
-  }
-  return out;
-}
-
-/// rows[l][kFirst + f] = in[f] lane l for f < kCount (load_rows reversed)
-template <int kFirst, int kCount>
-CDP_INLINE void store_rows(double* const* rows, const std::array<P, kCount>& in) {
-  static_assert(kFirst % 2 == 0 && kCount % 2 == 0);
-  for (int f = 0; f < kCount; f += 2) {
-    const auto f0 = reinterpret_cast<__m256d>(in[f]);
-    const auto f1 = reinterpret_cast<__m256d>(in[f + 1]);
-    const __m256d r02 = _mm256_unpacklo_pd(f0, f1);
-    const __m256d r13 = _mm256_unpackhi_pd(f0, f1);
-    _mm_store_pd(rows[0] + kFirst + f, _mm256_castpd256_pd128(r02));
-    _mm_store_pd(rows[2] + kFirst + f, _mm256_extractf128_pd(r02, 1));
-    _mm_store_pd(rows[1] + kFirst + f, _mm256_castpd256_pd128(r13));
-    _mm_store_pd(rows[3] + kFirst + f, _mm256_extractf128_pd(r13, 1));
-  }
-}
-
+using namespace lanes::avx2;  // NOLINT(google-build-using-namespace)
+using lanes::avx2::select;    // overloaded for V3 in the kernel
 #include "cdpowder/solver/coloured_kernel.inc"
 }  // namespace
 }  // namespace avx2
 
 #pragma GCC pop_options
 #endif
-
-namespace {
-
-/// CDPOWDER_KERNEL_ISA=sse2 in the environment keeps the SSE2 kernel on an AVX2 machine
-/// (to compare the two); so does allow_avx2_kernel(false).
-bool avx2_allowed = [] {
-  const char* isa = std::getenv("CDPOWDER_KERNEL_ISA");
-  return isa == nullptr || std::string_view(isa) != "sse2";
-}();
-
-}  // namespace
 
 void build_batches(const Contacts& contacts, const VelocityCache& velocities,
                    ColouredSweep& sweep) {
@@ -297,12 +173,7 @@ void order_groups(ColouredSweep& sweep, VisitOrder policy, Rng& rng) {
 }
 
 bool allow_avx2_kernel(bool allowed) {
-  avx2_allowed = allowed;
-#if defined(CDP_HAVE_AVX2)
-  return allowed && __builtin_cpu_supports("avx2");
-#else
-  return false;
-#endif
+  return lanes::allow_avx2(allowed);
 }
 
 namespace {
@@ -313,8 +184,7 @@ using SolveBatches = void (*)(const PairBatch*, std::uint32_t, std::uint32_t, Sp
 /// The kernel for this CPU, with torques or without (ColouredSweep::torques).
 SolveBatches batch_kernel(bool torques) {
 #if defined(CDP_HAVE_AVX2)
-  static const bool has_avx2 = __builtin_cpu_supports("avx2");
-  if (has_avx2 && avx2_allowed) {
+  if (lanes::use_avx2()) {
     return torques ? avx2::solve_batches<true> : avx2::solve_batches<false>;
   }
 #endif
@@ -329,8 +199,7 @@ void apply_pair_deltas(const ColouredSweep& sweep, const std::vector<ContactActi
                                 const ContactAction*);
   ApplyBatches apply = sweep.torques ? sse2::apply_batches<true> : sse2::apply_batches<false>;
 #if defined(CDP_HAVE_AVX2)
-  static const bool has_avx2 = __builtin_cpu_supports("avx2");
-  if (has_avx2 && avx2_allowed) {
+  if (lanes::use_avx2()) {
     apply = sweep.torques ? avx2::apply_batches<true> : avx2::apply_batches<false>;
   }
 #endif

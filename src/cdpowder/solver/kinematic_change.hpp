@@ -8,6 +8,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstddef>
 #include <vector>
 
 namespace cdpowder {
@@ -40,18 +41,19 @@ class KinematicChange {
   /// otherwise it is 0.
   [[nodiscard]] SweepMotion after_sweep(const VelocityCache& velocities, bool with_speed);
 
-  /// Two spheres side by side (SSE2 registers on x86-64; GCC lowers it elsewhere).
-  using Lanes = double __attribute__((vector_size(2 * sizeof(double))));
+  /// Spheres side by side: a block holds four, field by field (lane l = sphere 4b + l), so
+  /// the pass runs 2 (SSE2) or 4 (AVX2) lanes at a time (lanes.hpp).
+  static constexpr std::size_t kBlock = 4;
 
-  /// The snapshot of spheres 2b and 2b + 1, field by field.
-  struct Block {
-    std::array<Lanes, 3> linear;
-    std::array<Lanes, 3> angular;
+  /// The snapshot of spheres 4b .. 4b + 3 (zeros past the last sphere).
+  struct alignas(32) Block {
+    std::array<std::array<double, kBlock>, 3> linear;
+    std::array<std::array<double, kBlock>, 3> angular;
   };
 
  private:
   std::vector<Block> start_;
-  std::vector<double> radius_sq_;
+  std::vector<double> radius_sq_;  ///< R² per sphere, zeros to a whole block
   double piston_start_ = 0.0;
 };
 
