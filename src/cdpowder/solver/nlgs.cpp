@@ -10,6 +10,7 @@
 #include <limits>
 #include <numeric>
 #include <span>
+#include <type_traits>
 
 namespace cdpowder {
 
@@ -101,19 +102,78 @@ MixedModes mixed_modes(const Contacts& contacts) {
   return modes;
 }
 
+/// A ContactAction as its 8 doubles R_n, R_t, T_t, T_n (one 64-byte line), and which of them
+/// the mixing carries: R_n and R_t always, T_t with kRolling, T_n with kTwisting.
+using ActionFields = std::array<double, 8>;
+
+ActionFields fields_of(const ContactAction& a) {
+  const Vec3& t = a.tangential_force;
+  const Vec3& r = a.rolling_torque;
+  return {a.normal_force, t.x(), t.y(), t.z(), r.x(), r.y(), r.z(), a.twisting_torque};
+}
+
+ContactAction action_of(const ActionFields& f) {
+  ContactAction a;
+  a.normal_force = f[0];
+  a.tangential_force = Vec3(f[1], f[2], f[3]);
+  a.rolling_torque = Vec3(f[4], f[5], f[6]);
+  a.twisting_torque = f[7];
+  return a;
+}
+
+template <bool kRolling, bool kTwisting>
+constexpr ActionFields::size_type kCarried = 4 + (kRolling ? 3 : 0) + (kTwisting ? 1 : 0);
+
+template <bool kRolling, bool kTwisting>
+constexpr bool carried(std::size_t field) {
+  if (field < 4) return true;  // R_n, R_t
+  if (field < 7) return kRolling;
+  return kTwisting;
+}
+
+/// Calls f(std::bool_constant<rolling>, std::bool_constant<twisting>) for `modes`, so the
+/// loops over the contacts know their fields at compile time.
+template <class F>
+void with_modes(MixedModes modes, F&& f) {
+  if (modes.rolling) {
+    if (modes.twisting) return f(std::true_type{}, std::true_type{});
+    return f(std::true_type{}, std::false_type{});
+  }
+  if (modes.twisting) return f(std::false_type{}, std::true_type{});
+  return f(std::false_type{}, std::false_type{});
+}
+
 void flatten(const Contacts& contacts, MixedModes modes, std::vector<double>& out) {
   out.resize(modes.doubles_per_action() * contacts.size());
+  with_modes(modes, [&](auto rolling, auto twisting) {
+    constexpr bool kRolling = decltype(rolling)::value;
+    constexpr bool kTwisting = decltype(twisting)::value;
+    double* o = out.data();
+    const auto put = [&](const ContactAction& action) {
+      const ActionFields a = fields_of(action);
+      for (std::size_t f = 0; f < a.size(); ++f) {
+        if (carried<kRolling, kTwisting>(f)) *o++ = a[f];
+      }
+    };
+    for (const ContactAction& a : contacts.pair_actions) put(a);
+    for (const ContactAction& a : contacts.wall_actions) put(a);
+  });
+}
+
+/// The next action from the mixed values at `mixed` (the fields carried; the others stay),
+/// and its change from `action`, which it replaces: next − action field by field.
+template <bool kRolling, bool kTwisting>
+[[gnu::always_inline]] inline ContactAction take_mixed(const double* mixed, ContactAction& action) {
+  const ActionFields a = fields_of(action);
+  ActionFields next;
+  ActionFields delta;
   std::size_t o = 0;
-  const auto put = [&](const ContactAction& a) {
-    out[o++] = a.normal_force;
-    for (int i = 0; i < 3; ++i) out[o++] = a.tangential_force[i];
-    if (modes.rolling) {
-      for (int i = 0; i < 3; ++i) out[o++] = a.rolling_torque[i];
-    }
-    if (modes.twisting) out[o++] = a.twisting_torque;
-  };
-  for (const ContactAction& a : contacts.pair_actions) put(a);
-  for (const ContactAction& a : contacts.wall_actions) put(a);
+  for (std::size_t f = 0; f < a.size(); ++f) {
+    next[f] = carried<kRolling, kTwisting>(f) ? mixed[o++] : a[f];
+    delta[f] = next[f] - a[f];
+  }
+  action = action_of(next);
+  return action_of(delta);
 }
 
 /// Replaces the actions by `mixed` and moves the velocity cache by the difference, so
@@ -122,38 +182,32 @@ void flatten(const Contacts& contacts, MixedModes modes, std::vector<double>& ou
 /// applied batch by batch, in the same order per sphere: the same bits.
 void adopt(const std::vector<double>& mixed, MixedModes modes, Contacts& contacts,
            VelocityCache& velocities, ColouredSweep* coloured) {
-  std::size_t o = 0;
-  const auto take = [&](ContactAction& a) {
-    ContactAction next = a;
-    next.normal_force = mixed[o++];
-    for (int i = 0; i < 3; ++i) next.tangential_force[i] = mixed[o++];
-    if (modes.rolling) {
-      for (int i = 0; i < 3; ++i) next.rolling_torque[i] = mixed[o++];
+  with_modes(modes, [&](auto rolling, auto twisting) {
+    constexpr bool kRolling = decltype(rolling)::value;
+    constexpr bool kTwisting = decltype(twisting)::value;
+    constexpr std::size_t kStride = kCarried<kRolling, kTwisting>;
+    const double* m = mixed.data();
+    const auto take = [&](ContactAction& a) {
+      ContactAction delta = take_mixed<kRolling, kTwisting>(m, a);
+      m += kStride;
+      return delta;
+    };
+    if (coloured != nullptr) {
+      std::vector<ContactAction>& deltas = coloured->deltas;
+      deltas.resize(contacts.pairs.size());
+      for (std::size_t k = 0; k < contacts.pairs.size(); ++k) {
+        deltas[k] = take(contacts.pair_actions[k]);
+      }
+      apply_pair_deltas(*coloured, deltas, contacts, velocities);
+    } else {
+      for (std::size_t k = 0; k < contacts.pairs.size(); ++k) {
+        apply_pair_action(contacts.pairs[k], take(contacts.pair_actions[k]), velocities);
+      }
     }
-    if (modes.twisting) next.twisting_torque = mixed[o++];
-    ContactAction delta;
-    delta.normal_force = next.normal_force - a.normal_force;
-    delta.tangential_force = next.tangential_force - a.tangential_force;
-    delta.rolling_torque = next.rolling_torque - a.rolling_torque;
-    delta.twisting_torque = next.twisting_torque - a.twisting_torque;
-    a = next;
-    return delta;
-  };
-  if (coloured != nullptr) {
-    std::vector<ContactAction>& deltas = coloured->deltas;
-    deltas.resize(contacts.pairs.size());
-    for (std::size_t k = 0; k < contacts.pairs.size(); ++k) {
-      deltas[k] = take(contacts.pair_actions[k]);
+    for (std::size_t k = 0; k < contacts.walls.size(); ++k) {
+      apply_wall_action(contacts.walls[k], take(contacts.wall_actions[k]), velocities);
     }
-    apply_pair_deltas(*coloured, deltas, contacts, velocities);
-  } else {
-    for (std::size_t k = 0; k < contacts.pairs.size(); ++k) {
-      apply_pair_action(contacts.pairs[k], take(contacts.pair_actions[k]), velocities);
-    }
-  }
-  for (std::size_t k = 0; k < contacts.walls.size(); ++k) {
-    apply_wall_action(contacts.walls[k], take(contacts.wall_actions[k]), velocities);
-  }
+  });
 }
 
 /// Σ |X|² over all contacts (torques scaled by 1/r_eff), for the relative-change rule only:
