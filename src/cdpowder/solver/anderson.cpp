@@ -1,6 +1,8 @@
 // anderson.cpp — the least-squares mixing of Anderson acceleration (type II).
 #include "cdpowder/solver/anderson.hpp"
 
+#include "cdpowder/solver/lanes.hpp"
+
 #include <Eigen/Dense>
 
 #include <algorithm>
@@ -30,118 +32,28 @@ void dispatch_by_count(int count, F&& f) {
   dispatch_impl(count, f, std::make_integer_sequence<int, kUnrolled>{});
 }
 
-/// The sums of pass 1 are kept in kSumLanes partial sums, element i adding to partial
-/// i mod kSumLanes, and the partials are added at the end as (s0 + s1) + (s2 + s3). The order
-/// is fixed by this code, not by the vector width the compiler picks (GCC lowers a 4-double
-/// vector to two SSE2 registers or one AVX register: the same operations on the same
-/// operands), so the mixing gives the same bits on every x86-64 machine, and the loops run
-/// 4 elements a step instead of one long chain of dependent additions.
-constexpr int kSumLanes = 2;
-using Lanes = double __attribute__((vector_size(kSumLanes * sizeof(double))));
+// The passes over the long vectors, compiled for SSE2 (the x86-64 baseline) and for AVX2
+// (chosen at run time, lanes.hpp): a 4-double vector is two SSE2 registers or one AVX
+// register, the same operations on the same operands, so the same bits.
+// (-Wpsabi: a 32-byte vector passed by value would use another calling convention without
+// AVX; every function here is inlined in this file, so no call crosses that boundary.)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wpsabi"
+namespace sse2 {
+#include "cdpowder/solver/anderson_lanes.inc"
+}  // namespace sse2
+#pragma GCC diagnostic pop
 
-[[gnu::always_inline]] inline Lanes load_lanes(const double* p) {
-  Lanes v;
-  std::memcpy(&v, p, sizeof v);
-  return v;
-}
+#if defined(CDP_HAVE_AVX2)
+#pragma GCC push_options
+#pragma GCC target("avx2")
 
-[[gnu::always_inline]] inline void store_lanes(double* p, Lanes v) {
-  std::memcpy(p, &v, sizeof v);
-}
+namespace avx2 {
+#include "cdpowder/solver/anderson_lanes.inc"
+}  // namespace avx2
 
-/// s0 + s1
-[[gnu::always_inline]] inline double total(Lanes s) {
-  return s[0] + s[1];
-}
-
-/// Pass 1 of a mixing step: the new differences and their inner products with the stored
-/// ones, in one stream over memory.
-struct PassOne {
-  const double* x;
-  const double* g;
-  double* last_f;
-  double* last_g;
-  double* new_f;
-  double* new_g;
-  std::size_t n;
-
-  /// kCount = number of other slots, or −1 for a count known only at run time.
-  template <int kCount>
-  void run(const std::array<const double*, AndersonAccelerator::kMaxDepth>& other_f,
-           std::array<double, AndersonAccelerator::kMaxDepth>& cross_out,
-           std::array<double, AndersonAccelerator::kMaxDepth>& rhs_out, double& new_new_out,
-           double& new_rhs_out, int runtime_count) const {
-    const int count = kCount >= 0 ? kCount : runtime_count;
-    std::array<Lanes, AndersonAccelerator::kMaxDepth> cross{};
-    std::array<Lanes, AndersonAccelerator::kMaxDepth> rhs{};
-    Lanes new_new{};
-    Lanes new_rhs{};
-    const std::size_t whole = n - n % kSumLanes;
-    for (std::size_t i = 0; i < whole; i += kSumLanes) {
-      const Lanes gi = load_lanes(g + i);
-      const Lanes f = gi - load_lanes(x + i);
-      const Lanes df = f - load_lanes(last_f + i);
-      store_lanes(new_f + i, df);
-      store_lanes(new_g + i, gi - load_lanes(last_g + i));
-      store_lanes(last_f + i, f);
-      store_lanes(last_g + i, gi);
-      new_new += df * df;
-      new_rhs += df * f;
-      for (int j = 0; j < count; ++j) {
-        const Lanes d = load_lanes(other_f[static_cast<std::size_t>(j)] + i);
-        cross[static_cast<std::size_t>(j)] += df * d;
-        rhs[static_cast<std::size_t>(j)] += d * f;
-      }
-    }
-    for (std::size_t i = whole; i < n; ++i) {  // the last n mod 4 elements, lane i mod 4
-      const std::size_t lane = i % kSumLanes;
-      const double f = g[i] - x[i];
-      const double df = f - last_f[i];
-      new_f[i] = df;
-      new_g[i] = g[i] - last_g[i];
-      last_f[i] = f;
-      last_g[i] = g[i];
-      new_new[lane] += df * df;
-      new_rhs[lane] += df * f;
-      for (int j = 0; j < count; ++j) {
-        const double d = other_f[static_cast<std::size_t>(j)][i];
-        cross[static_cast<std::size_t>(j)][lane] += df * d;
-        rhs[static_cast<std::size_t>(j)][lane] += d * f;
-      }
-    }
-    for (int j = 0; j < count; ++j) {
-      cross_out[static_cast<std::size_t>(j)] = total(cross[static_cast<std::size_t>(j)]);
-      rhs_out[static_cast<std::size_t>(j)] = total(rhs[static_cast<std::size_t>(j)]);
-    }
-    new_new_out = total(new_new);
-    new_rhs_out = total(new_rhs);
-  }
-};
-
-/// Pass 2: next = g − Σ_a w_a ΔG_a, the terms subtracted in slot order (element by element,
-/// so 4 at a time gives the bits of one at a time).
-template <int kCount>
-void mix(const double* g, const std::array<const double*, AndersonAccelerator::kMaxDepth>& slot_g,
-         const std::array<double, AndersonAccelerator::kMaxDepth>& weights, int runtime_count,
-         double* next, std::size_t n) {
-  const int count = kCount >= 0 ? kCount : runtime_count;
-  const std::size_t whole = n - n % kSumLanes;
-  for (std::size_t i = 0; i < whole; i += kSumLanes) {
-    Lanes v = load_lanes(g + i);
-    for (int a = 0; a < count; ++a) {
-      v -= weights[static_cast<std::size_t>(a)] *
-           load_lanes(slot_g[static_cast<std::size_t>(a)] + i);
-    }
-    store_lanes(next + i, v);
-  }
-  for (std::size_t i = whole; i < n; ++i) {
-    double v = g[i];
-    for (int a = 0; a < count; ++a) {
-      v -= weights[static_cast<std::size_t>(a)] * slot_g[static_cast<std::size_t>(a)][i];
-    }
-    next[i] = v;
-  }
-}
+#pragma GCC pop_options
+#endif
 
 }  // namespace
 
@@ -201,9 +113,22 @@ bool AndersonAccelerator::extrapolate(const std::vector<double>& x, const std::v
   std::array<double, kMaxDepth> rhs{};    // ΔF_other[j]ᵀ f
   double new_new = 0.0;
   double new_rhs = 0.0;
-  const PassOne pass{x.data(), g.data(), last_f_.data(), last_g_.data(), new_f, new_g, n};
+#if defined(CDP_HAVE_AVX2)
+  [[maybe_unused]] const bool avx2 = lanes::use_avx2();
+#else
+  [[maybe_unused]] const bool avx2 = false;
+#endif
   dispatch_by_count(n_others, [&](auto count) {
-    pass.run<decltype(count)::value>(other_f, cross, rhs, new_new, new_rhs, n_others);
+    constexpr int kCount = decltype(count)::value;
+#if defined(CDP_HAVE_AVX2)
+    if (avx2) {
+      const avx2::PassOne pass{x.data(), g.data(), last_f_.data(), last_g_.data(), new_f, new_g, n};
+      pass.run<kCount>(other_f, cross, rhs, new_new, new_rhs, n_others);
+      return;
+    }
+#endif
+    const sse2::PassOne pass{x.data(), g.data(), last_f_.data(), last_g_.data(), new_f, new_g, n};
+    pass.run<kCount>(other_f, cross, rhs, new_new, new_rhs, n_others);
   });
   const auto at = [](int s, int t) {
     return static_cast<std::size_t>(s) * kMaxDepth + static_cast<std::size_t>(t);
@@ -247,7 +172,14 @@ bool AndersonAccelerator::extrapolate(const std::vector<double>& x, const std::v
     weights[static_cast<std::size_t>(a)] = gamma(a);
   }
   dispatch_by_count(k, [&](auto count) {
-    mix<decltype(count)::value>(g.data(), slot_g, weights, k, next.data(), n);
+    constexpr int kCount = decltype(count)::value;
+#if defined(CDP_HAVE_AVX2)
+    if (avx2) {
+      avx2::mix<kCount>(g.data(), slot_g, weights, k, next.data(), n);
+      return;
+    }
+#endif
+    sse2::mix<kCount>(g.data(), slot_g, weights, k, next.data(), n);
   });
   return true;
 }
