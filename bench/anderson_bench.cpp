@@ -18,9 +18,9 @@ void BM_AndersonMix(benchmark::State& state) {
   const auto n = static_cast<std::size_t>(state.range(0));
   AndersonAccelerator accelerator(static_cast<int>(state.range(1)));
   // a contracting linear map x → 0.9 x + b with a smooth b: the fit stays well posed
-  std::vector<double> x(n);
-  std::vector<double> g(n);
-  std::vector<double> next(n);
+  AlignedVector<double> x(n);
+  AlignedVector<double> g(n);
+  AlignedVector<double> next(n);
   const auto map = [&] {
     for (std::size_t i = 0; i < n; ++i)
       g[i] = 0.9 * x[i] + std::sin(0.001 * static_cast<double>(i));

@@ -44,7 +44,7 @@ int iterations_to(const AffineMap& map, AndersonAccelerator* accelerator, double
                   int max_iterations) {
   const auto n = static_cast<std::size_t>(map.b.size());
   const Eigen::VectorXd exact = map.solution();
-  std::vector<double> x(n, 0.0), g(n), next(n);
+  AlignedVector<double> x(n, 0.0), g(n), next(n);
   for (int it = 1; it <= max_iterations; ++it) {
     const Eigen::Map<const Eigen::VectorXd> xv(x.data(), map.b.size());
     Eigen::Map<Eigen::VectorXd>(g.data(), map.b.size()) = map.a * xv + map.b;
@@ -102,9 +102,9 @@ TEST(Anderson, ResetForgetsHistoryAndAFreshStartMatchesANewAccelerator) {
 
 TEST(Anderson, FirstCallHasNoHistoryAndReturnsTheSweptIterate) {
   AndersonAccelerator accelerator(5);
-  const std::vector<double> x{1.0, 2.0};
-  const std::vector<double> g{0.5, 1.5};
-  std::vector<double> next;
+  const AlignedVector<double> x{1.0, 2.0};
+  const AlignedVector<double> g{0.5, 1.5};
+  AlignedVector<double> next;
   EXPECT_FALSE(accelerator.extrapolate(x, g, next));
   EXPECT_EQ(next, g);
   EXPECT_EQ(accelerator.history(), 0);
@@ -114,7 +114,7 @@ TEST(Anderson, DepthIsClampedAndAChangedSizeStartsOver) {
   EXPECT_EQ(AndersonAccelerator(0).depth(), 1);
   EXPECT_EQ(AndersonAccelerator(100).depth(), AndersonAccelerator::kMaxDepth);
   AndersonAccelerator accelerator(3);
-  std::vector<double> next;
+  AlignedVector<double> next;
   accelerator.extrapolate({1.0, 2.0}, {0.5, 1.0}, next);
   accelerator.extrapolate({0.5, 1.0}, {0.3, 0.6}, next);
   EXPECT_EQ(accelerator.history(), 1);

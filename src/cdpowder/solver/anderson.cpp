@@ -39,9 +39,11 @@ void dispatch_by_count(int count, F&& f) {
 // AVX; every function here is inlined in this file, so no call crosses that boundary.)
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wpsabi"
+
 namespace sse2 {
 #include "cdpowder/solver/anderson_lanes.inc"
 }  // namespace sse2
+
 #pragma GCC diagnostic pop
 
 #if defined(CDP_HAVE_AVX2)
@@ -69,15 +71,17 @@ void AndersonAccelerator::reset() {
   newest_ = 0;
 }
 
-bool AndersonAccelerator::extrapolate(const std::vector<double>& x, const std::vector<double>& g,
-                                      std::vector<double>& next) {
+bool AndersonAccelerator::extrapolate(const AlignedVector<double>& x,
+                                      const AlignedVector<double>& g, AlignedVector<double>& next) {
   const std::size_t n = x.size();
   if (n != size_) {
     size_ = n;
+    constexpr std::size_t kLine = kCacheLine / sizeof(double);
+    stride_ = (n + kLine - 1) / kLine * kLine;
     last_f_.resize(n);
     last_g_.resize(n);
-    delta_f_.resize(n * static_cast<std::size_t>(depth_));
-    delta_g_.resize(n * static_cast<std::size_t>(depth_));
+    delta_f_.resize(stride_ * static_cast<std::size_t>(depth_));
+    delta_g_.resize(stride_ * static_cast<std::size_t>(depth_));
     reset();
   }
   next.resize(n);
@@ -103,10 +107,10 @@ bool AndersonAccelerator::extrapolate(const std::vector<double>& x, const std::v
   std::array<const double*, kMaxDepth> other_f{};
   for (int j = 0; j < n_others; ++j) {
     other_f[static_cast<std::size_t>(j)] =
-        delta_f_.data() + static_cast<std::size_t>(others[static_cast<std::size_t>(j)]) * n;
+        delta_f_.data() + static_cast<std::size_t>(others[static_cast<std::size_t>(j)]) * stride_;
   }
-  double* new_f = delta_f_.data() + static_cast<std::size_t>(slot) * n;
-  double* new_g = delta_g_.data() + static_cast<std::size_t>(slot) * n;
+  double* new_f = delta_f_.data() + static_cast<std::size_t>(slot) * stride_;
+  double* new_g = delta_g_.data() + static_cast<std::size_t>(slot) * stride_;
 
   // pass 1: f = g − x, the new differences, ΔF_newᵀΔF_s and ΔF_sᵀ f for every slot
   std::array<double, kMaxDepth> cross{};  // ΔF_newᵀ ΔF_other[j]
@@ -168,7 +172,7 @@ bool AndersonAccelerator::extrapolate(const std::vector<double>& x, const std::v
   std::array<double, kMaxDepth> weights{};
   for (int a = 0; a < k; ++a) {
     slot_g[static_cast<std::size_t>(a)] =
-        delta_g_.data() + static_cast<std::size_t>(others[static_cast<std::size_t>(a)]) * n;
+        delta_g_.data() + static_cast<std::size_t>(others[static_cast<std::size_t>(a)]) * stride_;
     weights[static_cast<std::size_t>(a)] = gamma(a);
   }
   dispatch_by_count(k, [&](auto count) {

@@ -17,6 +17,8 @@
 // forms the mixed iterate: ≈ 2m + 10 doubles moved per entry instead of ≈ 7m + 12.
 #pragma once
 
+#include "cdpowder/core/aligned_vector.hpp"
+
 #include <array>
 #include <cstddef>
 #include <vector>
@@ -43,22 +45,23 @@ class AndersonAccelerator {
   /// in `next` the accelerated iterate g − ΔG γ, γ = argmin |f − ΔF γ|, f = g − x.
   /// Returns false (and next = g) while there is no history yet or the fit failed.
   /// `next` must not alias x or g.
-  bool extrapolate(const std::vector<double>& x, const std::vector<double>& g,
-                   std::vector<double>& next);
+  bool extrapolate(const AlignedVector<double>& x, const AlignedVector<double>& g,
+                   AlignedVector<double>& next);
 
   /// Differences currently in the fit (≤ depth).
   int history() const { return count_; }
 
  private:
   int depth_ = 5;
-  std::size_t size_ = 0;  ///< length n of the iterates the buffers are laid out for
+  std::size_t size_ = 0;    ///< length n of the iterates the buffers are laid out for
+  std::size_t stride_ = 0;  ///< n rounded up to whole cache lines: slot s starts at s × stride_
   bool has_last_ = false;
   int count_ = 0;   ///< stored differences
   int newest_ = 0;  ///< ring slot of the newest difference
-  std::vector<double> last_f_;
-  std::vector<double> last_g_;
-  std::vector<double> delta_f_;  ///< slot s holds f_{j+1} − f_j in [s n, (s+1) n)
-  std::vector<double> delta_g_;  ///< slot s holds g_{j+1} − g_j
+  AlignedVector<double> last_f_;
+  AlignedVector<double> last_g_;
+  AlignedVector<double> delta_f_;  ///< slot s holds f_{j+1} − f_j in [s stride_, s stride_ + n)
+  AlignedVector<double> delta_g_;  ///< slot s holds g_{j+1} − g_j
   /// ΔF_sᵀΔF_t between ring slots s and t (row-major, kMaxDepth × kMaxDepth): a sweep
   /// computes only the products of its new difference.
   std::array<double, static_cast<std::size_t>(kMaxDepth) * kMaxDepth> gram_{};

@@ -143,7 +143,7 @@ void with_modes(MixedModes modes, F&& f) {
   return f(std::false_type{}, std::false_type{});
 }
 
-void flatten(const Contacts& contacts, MixedModes modes, std::vector<double>& out) {
+void flatten(const Contacts& contacts, MixedModes modes, AlignedVector<double>& out) {
   out.resize(modes.doubles_per_action() * contacts.size());
   with_modes(modes, [&](auto rolling, auto twisting) {
     constexpr bool kRolling = decltype(rolling)::value;
@@ -180,7 +180,7 @@ template <bool kRolling, bool kTwisting>
 /// v* stays v_free + Δt M⁻¹ Σ (contact actions) (§5.3). Modes left out of the mixing stay
 /// as they are (zero). With the coloured kernel (`coloured` not null) the pairs' changes are
 /// applied batch by batch, in the same order per sphere: the same bits.
-void adopt(const std::vector<double>& mixed, MixedModes modes, Contacts& contacts,
+void adopt(const AlignedVector<double>& mixed, MixedModes modes, Contacts& contacts,
            VelocityCache& velocities, ColouredSweep* coloured) {
   with_modes(modes, [&](auto rolling, auto twisting) {
     constexpr bool kRolling = decltype(rolling)::value;

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "cdpowder/contact/local_problem.hpp"
+#include "cdpowder/core/aligned_vector.hpp"
 #include "cdpowder/core/rng.hpp"
 #include "cdpowder/solver/anderson.hpp"
 #include "cdpowder/solver/coloured_sweep.hpp"
@@ -39,9 +40,9 @@ struct NlgsWorkspace {
 
   Rng rng;
   AndersonAccelerator accelerator;
-  std::vector<double> start;  ///< actions the sweep started from, flattened (4–8 per contact)
-  std::vector<double> swept;  ///< actions after the sweep
-  std::vector<double> mixed;  ///< accelerated actions
+  AlignedVector<double> start;  ///< actions the sweep started from, flattened (4–8 per contact)
+  AlignedVector<double> swept;  ///< actions after the sweep
+  AlignedVector<double> mixed;  ///< accelerated actions
   std::vector<ContactIndex> blocks;  ///< block permutation of the per-step order
   KinematicChange kinematic;         ///< the kinematic rule's velocity snapshot
   ColouredSweep coloured;            ///< colours and batches of solver.kernel = "coloured"
