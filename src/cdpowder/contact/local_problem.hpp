@@ -15,7 +15,7 @@ namespace cdpowder {
 
 /// Unknowns of one contact: the action on body b (the reaction acts on a).
 /// Force R = R_n n + R_t at the contact point, couple T = T_n n + T_t.
-struct ContactAction {
+struct alignas(64) ContactAction {
   double normal_force = 0.0;             ///< R_n, positive = repulsive [F_coh]
   Vec3 tangential_force = Vec3::Zero();  ///< R_t ⊥ n, sliding friction [F_coh]
   Vec3 rolling_torque = Vec3::Zero();    ///< T_t ⊥ n [F_coh R]

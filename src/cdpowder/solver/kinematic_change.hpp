@@ -3,6 +3,7 @@
 // (SolverSettings::kinematic_tolerance, physics.md §7.3).
 #pragma once
 
+#include "cdpowder/core/aligned_vector.hpp"
 #include "cdpowder/core/vec3.hpp"
 #include "cdpowder/solver/velocity_cache.hpp"
 
@@ -53,7 +54,7 @@ class KinematicChange {
 
  private:
   std::vector<Block> start_;
-  std::vector<double> radius_sq_;  ///< R² per sphere, zeros to a whole block
+  AlignedVector<double> radius_sq_;  ///< R² per sphere, zeros to a whole block
   double piston_start_ = 0.0;
 };
 
