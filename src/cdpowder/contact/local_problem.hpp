@@ -15,14 +15,14 @@ namespace cdpowder {
 
 /// Unknowns of one contact: the action on body b (the reaction acts on a).
 /// Force R = R_n n + R_t at the contact point, couple T = T_n n + T_t.
-struct alignas(64) ContactAction {
+struct ContactAction {
   double normal_force = 0.0;             ///< R_n, positive = repulsive [F_coh]
   Vec3 tangential_force = Vec3::Zero();  ///< R_t ⊥ n, sliding friction [F_coh]
   Vec3 rolling_torque = Vec3::Zero();    ///< T_t ⊥ n [F_coh R]
   double twisting_torque = 0.0;          ///< T_n, torsion torque about n [F_coh R]
 };
 
-static_assert(sizeof(ContactAction) == 64, "one cache line per contact action");
+static_assert(sizeof(ContactAction) == 64, "8 doubles per contact action (a cache line's worth)");
 
 /// Sphere a – sphere b. Levers l_a = |l_a| n, l_b = −|l_b| n from each centre to one common
 /// contact point, the middle of the gap: |l_a| = R_a + g/2, |l_b| = R_b + g/2 (physics.md

@@ -35,27 +35,8 @@ void dispatch_by_count(int count, F&& f) {
 // The passes over the long vectors, compiled for SSE2 (the x86-64 baseline) and for AVX2
 // (chosen at run time, lanes.hpp): a 4-double vector is two SSE2 registers or one AVX
 // register, the same operations on the same operands, so the same bits.
-// (-Wpsabi: a 32-byte vector passed by value would use another calling convention without
-// AVX; every function here is inlined in this file, so no call crosses that boundary.)
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wpsabi"
-
-namespace sse2 {
-#include "cdpowder/solver/anderson_lanes.inc"
-}  // namespace sse2
-
-#pragma GCC diagnostic pop
-
-#if defined(CDP_HAVE_AVX2)
-#pragma GCC push_options
-#pragma GCC target("avx2")
-
-namespace avx2 {
-#include "cdpowder/solver/anderson_lanes.inc"
-}  // namespace avx2
-
-#pragma GCC pop_options
-#endif
+#define CDP_LANE_CODE "cdpowder/solver/anderson_lanes.inc"
+#include "cdpowder/solver/lanes_instantiate.inc"
 
 }  // namespace
 

@@ -20,31 +20,10 @@
 
 namespace cdpowder {
 
-// SSE2, the x86-64 baseline: lanes in pairs (2 doubles per register).
-namespace sse2 {
-namespace {
-using namespace lanes::sse2;  // NOLINT(google-build-using-namespace)
-using lanes::sse2::select;    // overloaded for V3 in the kernel
-#include "cdpowder/solver/coloured_kernel.inc"
-}  // namespace
-}  // namespace sse2
-
-#if defined(CDP_HAVE_AVX2)
-// AVX2 where the CPU has it (chosen at run time): 4 lanes per register. The same IEEE
-// operations on the same operands as SSE2, so the same bits.
-#pragma GCC push_options
-#pragma GCC target("avx2")
-
-namespace avx2 {
-namespace {
-using namespace lanes::avx2;  // NOLINT(google-build-using-namespace)
-using lanes::avx2::select;    // overloaded for V3 in the kernel
-#include "cdpowder/solver/coloured_kernel.inc"
-}  // namespace
-}  // namespace avx2
-
-#pragma GCC pop_options
-#endif
+// The kernel for SSE2 (the x86-64 baseline, 2 lanes per register) and AVX2 (4 lanes, chosen
+// at run time): the same IEEE operations on the same operands, so the same bits.
+#define CDP_LANE_CODE "cdpowder/solver/coloured_kernel.inc"
+#include "cdpowder/solver/lanes_instantiate.inc"
 
 void build_batches(const Contacts& contacts, const VelocityCache& velocities,
                    ColouredSweep& sweep) {

@@ -10,26 +10,8 @@
 
 namespace cdpowder {
 
-namespace sse2 {
-namespace {
-using namespace lanes::sse2;  // NOLINT(google-build-using-namespace)
-#include "cdpowder/solver/kinematic_lanes.inc"
-}  // namespace
-}  // namespace sse2
-
-#if defined(CDP_HAVE_AVX2)
-#pragma GCC push_options
-#pragma GCC target("avx2")
-
-namespace avx2 {
-namespace {
-using namespace lanes::avx2;  // NOLINT(google-build-using-namespace)
-#include "cdpowder/solver/kinematic_lanes.inc"
-}  // namespace
-}  // namespace avx2
-
-#pragma GCC pop_options
-#endif
+#define CDP_LANE_CODE "cdpowder/solver/kinematic_lanes.inc"
+#include "cdpowder/solver/lanes_instantiate.inc"
 
 void KinematicChange::begin_step(const VelocityCache& velocities) {
   const std::vector<SphereVelocity>& spheres = velocities.spheres;
