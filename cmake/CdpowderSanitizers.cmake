@@ -5,3 +5,13 @@ if(CDPOWDER_SANITIZE)
   add_link_options(-fsanitize=address,undefined)
   add_compile_definitions(_GLIBCXX_ASSERTIONS)  # bounds-checked operator[]: index bugs fail loudly
 endif()
+
+# The `fuzz` preset: clang's libFuzzer over the readers of user input (fuzz/), everything
+# built with coverage for the fuzzer and the sanitizers above.
+if(CDPOWDER_FUZZ)
+  if(NOT CMAKE_CXX_COMPILER_ID STREQUAL "Clang")
+    message(FATAL_ERROR "CDPOWDER_FUZZ needs clang (libFuzzer): configure with the `fuzz` preset "
+                        "or -DCMAKE_CXX_COMPILER=clang++ (Debian: apt-get install clang)")
+  endif()
+  add_compile_options(-fsanitize=fuzzer-no-link)
+endif()

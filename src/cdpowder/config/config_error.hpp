@@ -23,7 +23,41 @@ struct ConfigIssue {
   std::string message;  ///< what was found and what is allowed
 };
 
+/// `text` on one line: line breaks, tabs and other control characters written as escapes
+/// (\n, \r, \t, \xNN). Input echoed in a message (a TOML parser's excerpt, an override)
+/// may hold them.
+inline std::string one_line(std::string_view text) {
+  std::string out;
+  out.reserve(text.size());
+  for (const char c : text) {
+    const auto byte = static_cast<unsigned char>(c);
+    if (byte >= 0x20 && byte != 0x7F) {
+      out += c;
+    } else if (c == '\n') {
+      out += "\\n";
+    } else if (c == '\r') {
+      out += "\\r";
+    } else if (c == '\t') {
+      out += "\\t";
+    } else {
+      constexpr std::string_view kHex = "0123456789abcdef";
+      out += "\\x";
+      out += kHex[byte >> 4U];
+      out += kHex[byte & 0xFU];
+    }
+  }
+  return out;
+}
+
+/// Longest key an issue shows: the longest of the scene's keys is 28 characters, an unknown
+/// key from the input is cut (as `shown` cuts).
+inline constexpr std::size_t kMaxShownKey = 60;
+
+inline std::string shown(std::string_view text, std::size_t max_length);
+
 /// `file:line:column: key: message`; line and column are left out when 0, key when empty.
+/// Always one line: the key is cut to kMaxShownKey characters and control characters in key
+/// and message are escaped.
 inline std::string format(const ConfigIssue& issue) {
   std::string text = issue.file;
   if (issue.line > 0) {
@@ -34,9 +68,9 @@ inline std::string format(const ConfigIssue& issue) {
   }
   text += ": ";
   if (!issue.key.empty()) {
-    text += issue.key + ": ";
+    text += one_line(shown(issue.key, kMaxShownKey)) + ": ";
   }
-  return text + issue.message;
+  return text + one_line(issue.message);
 }
 
 /// Every issue of one read; what() is all of them, one per line.
@@ -62,15 +96,19 @@ class ConfigError : public std::runtime_error {
   std::vector<ConfigIssue> issues_;
 };
 
-/// Text from the input as a message shows it: at most 40 characters (cut at a UTF-8
-/// character boundary), longer text followed by its length. Measured before: a 20 MB field
-/// was echoed whole.
-inline std::string shown(std::string_view text) {
-  constexpr std::size_t kMax = 40;
-  if (text.size() <= kMax) return std::string(text);
-  std::size_t cut = kMax;
+/// Text from the input as a message shows it: at most `max_length` characters (40 unless
+/// said; cut at a UTF-8 character boundary), longer text followed by its length. Measured
+/// before: a 20 MB field was echoed whole.
+inline std::string shown(std::string_view text, std::size_t max_length) {
+  if (text.size() <= max_length) return std::string(text);
+  std::size_t cut = max_length;
   while (cut > 0 && (static_cast<unsigned char>(text[cut]) & 0xC0U) == 0x80U) --cut;
   return std::string(text.substr(0, cut)) + "… (" + std::to_string(text.size()) + " characters)";
+}
+
+inline std::string shown(std::string_view text) {
+  constexpr std::size_t kMax = 40;
+  return shown(text, kMax);
 }
 
 /// Levenshtein distance between two names (used only on short key names).

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <fstream>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -159,13 +160,12 @@ class CsvParser {
 
 }  // namespace
 
-void read_particles_csv(const std::filesystem::path& file, double density, Bodies& bodies) {
-  std::ifstream stream(file);
-  if (!stream) {
-    throw ConfigError({{file.string(), 0, 0, "", "cannot open the particles file"}});
-  }
+namespace {
+
+/// The reader proper, on a stream; `name` names it in messages.
+void read_particles(std::istream& stream, const std::string& name, double density, Bodies& bodies) {
   std::vector<ConfigIssue> issues;
-  CsvParser parser(file.string(), issues);
+  CsvParser parser(name, issues);
   bool have_header = false;
   bool header_ok = false;
   int line_number = 0;
@@ -189,9 +189,9 @@ void read_particles_csv(const std::filesystem::path& file, double density, Bodie
     }
   }
   if (!have_header) {
-    issues.push_back({file.string(), 0, 0, "", "no header line; expected columns x, y, z, r"});
+    issues.push_back({name, 0, 0, "", "no header line; expected columns x, y, z, r"});
   } else if (header_ok && issues.empty() && parser.rows().empty()) {
-    issues.push_back({file.string(), 0, 0, "", "no particles: the file has a header only"});
+    issues.push_back({name, 0, 0, "", "no particles: the file has a header only"});
   }
   if (!issues.empty()) {
     throw ConfigError(std::move(issues));
@@ -204,6 +204,22 @@ void read_particles_csv(const std::filesystem::path& file, double density, Bodie
     bodies.external_force[i] = Vec3(row[Fx], row[Fy], row[Fz]);
     bodies.external_torque[i] = Vec3(row[Tx], row[Ty], row[Tz]);
   }
+}
+
+}  // namespace
+
+void read_particles_csv(const std::filesystem::path& file, double density, Bodies& bodies) {
+  std::ifstream stream(file);
+  if (!stream) {
+    throw ConfigError({{file.string(), 0, 0, "", "cannot open the particles file"}});
+  }
+  read_particles(stream, file.string(), density, bodies);
+}
+
+void read_particles_csv_text(std::string_view text, std::string_view source_name, double density,
+                             Bodies& bodies) {
+  std::istringstream stream{std::string(text)};
+  read_particles(stream, std::string(source_name), density, bodies);
 }
 
 void check_box_fits(const Scene& scene, const Bodies& bodies) {

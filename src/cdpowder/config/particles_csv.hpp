@@ -9,6 +9,7 @@
 #include "cdpowder/model/bodies.hpp"
 
 #include <filesystem>
+#include <string_view>
 
 namespace cdpowder {
 
@@ -18,6 +19,10 @@ namespace cdpowder {
 /// true/false). Blank lines and lines starting with '#' are skipped. On any issue, throws
 /// ConfigError and leaves `bodies` unchanged.
 void read_particles_csv(const std::filesystem::path& file, double density, Bodies& bodies);
+
+/// As read_particles_csv, from text already in memory; `source_name` names it in messages.
+void read_particles_csv_text(std::string_view text, std::string_view source_name, double density,
+                             Bodies& bodies);
 
 /// Throws ConfigError naming system.lx / system.ly when L < 2 (2 R_max + d + skin), with
 /// d = max(contact.cohesion_range, contact.wall.cohesion_range): below that, a sphere could

@@ -53,7 +53,8 @@ std::optional<Override> parse_override(const std::string& text, std::vector<Conf
       key.find("..") == std::string_view::npos &&
       key.find_first_not_of(std::string(kBareKeyCharacters) + ".") == std::string_view::npos;
   if (equals == std::string::npos || !key_ok) {
-    return fail(text, "malformed override, expected section.key=value (e.g. contact.mu_roll=0.5)");
+    return fail(shown(text),
+                "malformed override, expected section.key=value (e.g. contact.mu_roll=0.5)");
   }
   const std::string_view value = trim(std::string_view(text).substr(equals + 1));
   Override result{std::string(key), {}};
@@ -62,13 +63,14 @@ std::optional<Override> parse_override(const std::string& text, std::vector<Conf
   } catch (const toml::parse_error& error) {
     const bool bare_word =
         !value.empty() && value.find_first_not_of(kBareKeyCharacters) == std::string_view::npos;
-    return fail(key,
-                fmt::format("malformed override '{}': the value is not TOML ({}){}", text,
-                            error.description(),
-                            bare_word ? fmt::format("; strings need quotes: \"{}\"", value) : ""));
+    return fail(
+        key,
+        fmt::format("malformed override '{}': the value is not TOML ({}){}", shown(text),
+                    error.description(),
+                    bare_word ? fmt::format("; strings need quotes: \"{}\"", shown(value)) : ""));
   }
   if (value.empty() || result.parsed.size() != 1) {
-    return fail(key, fmt::format("malformed override '{}': expected one value", text));
+    return fail(key, fmt::format("malformed override '{}': expected one value", shown(text)));
   }
   return result;
 }
