@@ -19,9 +19,10 @@ enum class Reader { Scene, SetOverride, ParticlesCsv, SweepFile };
 inline constexpr std::array<Reader, 4> kReaders = {Reader::Scene, Reader::SetOverride,
                                                    Reader::ParticlesCsv, Reader::SweepFile};
 
-/// An issue longer than this is not a one-line message (inputs are echoed cut to 40
-/// characters, config_error.hpp `shown`).
-inline constexpr std::size_t kMaxIssueLength = 300;
+/// An issue longer than this has echoed input without bound (inputs are echoed escaped and
+/// cut to 40 characters, keys to 60, a parser's excerpt to 100: config_error.hpp `shown`;
+/// the longest bounded message, a malformed override's, reaches ≈ 340).
+inline constexpr std::size_t kMaxIssueLength = 400;
 
 [[nodiscard]] std::string_view reader_name(Reader reader);
 

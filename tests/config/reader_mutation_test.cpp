@@ -5,6 +5,8 @@
 // `fuzz` preset run the same checks on inputs of their own choosing (docs/testing.md).
 #include "reader_checks.hpp"
 
+#include "cdpowder/config/config_error.hpp"
+
 #include <gtest/gtest.h>
 
 #include <array>
@@ -124,6 +126,17 @@ TEST(ReaderMutation, TheValidExamplesAreAccepted) {
   for (const Reader reader : kReaders) {
     EXPECT_EQ(check_reader(reader, valid_example(reader)), "") << reader_name(reader);
   }
+}
+
+// What libFuzzer found after the mutation test passed (the `fuzz` preset, 2026-11-25): an
+// override whose value holds 40 NUL bytes, echoed cut to 40 characters and then escaped to 160.
+TEST(ReaderMutation, TheFuzzersFindingsStayFixed) {
+  const std::string nul_run = "l=\"s=al" + std::string(40, '\0') + "lrunar\"";
+  EXPECT_EQ(check_reader(Reader::SetOverride, nul_run), "");
+  // the echo is escaped before it is cut: 100 NUL bytes show as 40 characters and a length
+  std::string ten_escapes;
+  for (int i = 0; i < 10; ++i) ten_escapes += "\\x00";
+  EXPECT_EQ(shown(std::string(100, '\0')), ten_escapes + "… (100 characters)");
 }
 
 TEST(ReaderMutation, EveryMutatedInputIsAcceptedOrRejectedWithOneLineIssues) {

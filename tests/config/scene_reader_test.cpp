@@ -413,6 +413,18 @@ TEST_F(SceneReader, ReportsAMissingSceneFile) {
   }
 }
 
+// A folder opens as an empty stream on Linux: before, it read as a scene without keys
+// ("particles.file: missing").
+TEST_F(SceneReader, SaysAFolderIsNotASceneFile) {
+  try {
+    read_scene(dir_, {});
+    FAIL() << "no ConfigError";
+  } catch (const ConfigError& error) {
+    ASSERT_EQ(error.issues().size(), 1U);
+    EXPECT_THAT(error.what(), HasSubstr("is a folder; expected a scene file"));
+  }
+}
+
 TEST_F(SceneReader, EffectiveTomlRereadsToTheSameScene) {
   const Scene a = read(std::string(kParticles) +
                            "[system]\nlx = 12.5\ngravity = [0.1, 0, -9.81]\nbottom_wall = false\n"

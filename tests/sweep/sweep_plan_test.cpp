@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <filesystem>
 #include <string>
 #include <utility>
 #include <vector>
@@ -32,6 +33,16 @@ std::string errors_of(const std::string& text) {
   }
   ADD_FAILURE() << "accepted: " << text;
   return "";
+}
+
+TEST(SweepPlan, SaysAFolderIsNotASweepFile) {
+  try {
+    (void)read_sweep_plan(std::filesystem::temp_directory_path());
+    FAIL() << "no ConfigError";
+  } catch (const ConfigError& error) {
+    ASSERT_EQ(error.issues().size(), 1U);
+    EXPECT_THAT(error.what(), HasSubstr("is a folder; expected a sweep file"));
+  }
 }
 
 TEST(SweepPlan, GridIsTheCartesianProductWithTheLastKeyFastest) {

@@ -96,14 +96,16 @@ class ConfigError : public std::runtime_error {
   std::vector<ConfigIssue> issues_;
 };
 
-/// Text from the input as a message shows it: at most `max_length` characters (40 unless
-/// said; cut at a UTF-8 character boundary), longer text followed by its length. Measured
-/// before: a 20 MB field was echoed whole.
+/// Text from the input as a message shows it: on one line (one_line), at most `max_length`
+/// characters (40 unless said; cut at a UTF-8 character boundary), longer text followed by
+/// its length. Measured before: a 20 MB field was echoed whole.
 inline std::string shown(std::string_view text, std::size_t max_length) {
-  if (text.size() <= max_length) return std::string(text);
+  // escaped first (one_line), so a run of control characters cannot make it long again
+  std::string escaped = one_line(text);
+  if (escaped.size() <= max_length) return escaped;
   std::size_t cut = max_length;
-  while (cut > 0 && (static_cast<unsigned char>(text[cut]) & 0xC0U) == 0x80U) --cut;
-  return std::string(text.substr(0, cut)) + "… (" + std::to_string(text.size()) + " characters)";
+  while (cut > 0 && (static_cast<unsigned char>(escaped[cut]) & 0xC0U) == 0x80U) --cut;
+  return escaped.substr(0, cut) + "… (" + std::to_string(text.size()) + " characters)";
 }
 
 inline std::string shown(std::string_view text) {

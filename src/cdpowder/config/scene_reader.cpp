@@ -321,6 +321,10 @@ void apply_read_options(toml::table& root, const SceneReadOptions& options) {
 
 }  // namespace
 
+/// The TOML parser's description of a syntax error as the message shows it (it quotes the
+/// input it saw).
+constexpr std::size_t kMaxSyntaxExcerpt = 160;
+
 Scene read_scene_text(std::string_view toml_text, std::string_view source_name,
                       const std::vector<std::string>& overrides,
                       const std::filesystem::path& base_dir, const SceneReadOptions& options) {
@@ -329,9 +333,10 @@ Scene read_scene_text(std::string_view toml_text, std::string_view source_name,
   try {
     root = toml::parse(toml_text, std::string(source_name));
   } catch (const toml::parse_error& error) {
-    issues.push_back({std::string(source_name), static_cast<int>(error.source().begin.line),
-                      static_cast<int>(error.source().begin.column), "",
-                      fmt::format("TOML syntax error: {}", error.description())});
+    issues.push_back(
+        {std::string(source_name), static_cast<int>(error.source().begin.line),
+         static_cast<int>(error.source().begin.column), "",
+         fmt::format("TOML syntax error: {}", shown(error.description(), kMaxSyntaxExcerpt))});
     toml::table ignored;
     detail::apply_overrides(ignored, overrides, issues);  // still report malformed overrides
     throw ConfigError(std::move(issues));
@@ -357,6 +362,13 @@ Scene read_scene_text(std::string_view toml_text, std::string_view source_name,
 
 Scene read_scene(const std::filesystem::path& file, const std::vector<std::string>& overrides,
                  const SceneReadOptions& options) {
+  // a folder opens as an empty stream on Linux (measured: "particles.file: missing")
+  std::error_code kind_error;
+  if (std::filesystem::is_directory(file, kind_error)) {
+    throw ConfigError(
+        {{file.string(), 0, 0, "",
+          "is a folder; expected a scene file (TOML), e.g. examples/quick/scene.toml"}});
+  }
   std::ifstream stream(file, std::ios::binary);
   if (!stream) {
     throw ConfigError({{file.string(), 0, 0, "", "cannot open the scene file"}});

@@ -37,6 +37,9 @@ struct Override {
   toml::table parsed;
 };
 
+/// The TOML parser's description of a malformed value as an override's message shows it.
+constexpr std::size_t kMaxParserExcerpt = 100;
+
 /// Parses one "section.key=value"; nullopt, and an issue naming it, when it is malformed.
 std::optional<Override> parse_override(const std::string& text, std::vector<ConfigIssue>& issues) {
   const auto fail = [&issues](std::string_view key, std::string message) {
@@ -66,7 +69,7 @@ std::optional<Override> parse_override(const std::string& text, std::vector<Conf
     return fail(
         key,
         fmt::format("malformed override '{}': the value is not TOML ({}){}", shown(text),
-                    error.description(),
+                    shown(error.description(), kMaxParserExcerpt),
                     bare_word ? fmt::format("; strings need quotes: \"{}\"", shown(value)) : ""));
   }
   if (value.empty() || result.parsed.size() != 1) {

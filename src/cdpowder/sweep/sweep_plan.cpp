@@ -324,6 +324,12 @@ SweepPlan read_sweep_plan_text(std::string_view text, std::string_view source_na
 
 SweepPlan read_sweep_plan(const std::filesystem::path& file,
                           const std::vector<std::string>& extra_fixed) {
+  std::error_code kind_error;
+  if (std::filesystem::is_directory(file, kind_error)) {
+    throw ConfigError(
+        {{file.string(), 0, 0, "",
+          "is a folder; expected a sweep file (TOML), e.g. examples/quick/fig5_sweep.toml"}});
+  }
   std::ifstream stream(file, std::ios::binary);
   if (!stream) throw ConfigError({{file.string(), 0, 0, "", "cannot open the sweep file"}});
   std::ostringstream text;
