@@ -105,19 +105,8 @@ std::string mutate(std::string text, std::mt19937_64& random) {
 
 /// The input as a failure message shows it: escaped, at most 300 characters.
 std::string printable(std::string_view input) {
-  std::string out;
-  for (const char c : input.substr(0, 300)) {
-    const auto byte = static_cast<unsigned char>(c);
-    if (byte >= 0x20 && byte < 0x7F && c != '\\') {
-      out += c;
-    } else {
-      constexpr std::string_view kHex = "0123456789abcdef";
-      out += "\\x";
-      out += kHex[byte >> 4U];
-      out += kHex[byte & 0xFU];
-    }
-  }
-  return out;
+  constexpr std::size_t kShown = 300;
+  return one_line(input.substr(0, kShown));
 }
 
 constexpr int kInputsPerReader = 3000;
