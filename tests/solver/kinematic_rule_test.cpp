@@ -98,9 +98,12 @@ TEST(KinematicChange, TheLanesGiveTheBitsOfOneSphereAtATime) {
       fill(0.3);
       const VelocityCache before = cache;
       KinematicChange change;
+      KinematicChange change_alone;  // the pass without the RMS speed
       change.begin_step(cache);
+      change_alone.begin_step(cache);
       fill(1.1);
       const SweepMotion motion = change.after_sweep(cache, true);
+      const SweepMotion motion_alone = change_alone.after_sweep(cache, false);
       double largest_sq = 0.0;
       double sum_sq = 0.0;
       for (std::size_t i = 0; i < n; ++i) {
@@ -112,6 +115,8 @@ TEST(KinematicChange, TheLanesGiveTheBitsOfOneSphereAtATime) {
         sum_sq += s.linear.squaredNorm() + r_sq * s.angular.squaredNorm();
       }
       EXPECT_EQ(motion.largest_change, std::sqrt(largest_sq)) << n << " spheres, avx2 " << avx2;
+      EXPECT_EQ(motion_alone.largest_change, std::sqrt(largest_sq))
+          << n << " spheres, avx2 " << avx2;
       EXPECT_EQ(motion.rms_surface_speed, std::sqrt(sum_sq / static_cast<double>(n)))
           << n << " spheres, avx2 " << avx2;
     }

@@ -32,6 +32,29 @@ void dispatch_by_count(int count, F&& f) {
   dispatch_impl(count, f, std::make_integer_sequence<int, kUnrolled>{});
 }
 
+using SlotPointers = std::array<const double*, AndersonAccelerator::kMaxDepth>;
+using SlotWeights = std::array<double, AndersonAccelerator::kMaxDepth>;
+
+/// The vectors pass 1 streams through: the iterates x and g, the last f and g (updated), the
+/// new slot's differences (written); n doubles each.
+struct PassOneVectors {
+  const double* x;
+  const double* g;
+  double* last_f;
+  double* last_g;
+  double* new_f;
+  double* new_g;
+  std::size_t n;
+};
+
+/// What pass 1 finds: ΔF_newᵀ ΔF_other[j], ΔF_other[j]ᵀ f, ΔF_newᵀ ΔF_new, ΔF_newᵀ f.
+struct PassOneSums {
+  SlotWeights cross{};
+  SlotWeights rhs{};
+  double new_new = 0.0;
+  double new_rhs = 0.0;
+};
+
 // The passes over the long vectors, compiled for SSE2 (the x86-64 baseline) and for AVX2
 // (chosen at run time, lanes.hpp): a 4-double vector is two SSE2 registers or one AVX
 // register, the same operations on the same operands, so the same bits.
@@ -85,7 +108,7 @@ bool AndersonAccelerator::extrapolate(const AlignedVector<double>& x,
   for (int s = 0; s < count_; ++s) {
     if (s != slot) others[static_cast<std::size_t>(n_others++)] = s;
   }
-  std::array<const double*, kMaxDepth> other_f{};
+  SlotPointers other_f{};
   for (int j = 0; j < n_others; ++j) {
     other_f[static_cast<std::size_t>(j)] =
         delta_f_.data() + static_cast<std::size_t>(others[static_cast<std::size_t>(j)]) * stride_;
@@ -94,31 +117,15 @@ bool AndersonAccelerator::extrapolate(const AlignedVector<double>& x,
   double* new_g = delta_g_.data() + static_cast<std::size_t>(slot) * stride_;
 
   // pass 1: f = g − x, the new differences, ΔF_newᵀΔF_s and ΔF_sᵀ f for every slot
-  std::array<double, kMaxDepth> cross{};  // ΔF_newᵀ ΔF_other[j]
-  std::array<double, kMaxDepth> rhs{};    // ΔF_other[j]ᵀ f
-  double new_new = 0.0;
-  double new_rhs = 0.0;
-#if defined(CDP_HAVE_AVX2)
-  [[maybe_unused]] const bool avx2 = lanes::use_avx2();
-#else
-  [[maybe_unused]] const bool avx2 = false;
-#endif
-  dispatch_by_count(n_others, [&](auto count) {
-    constexpr int kCount = decltype(count)::value;
-#if defined(CDP_HAVE_AVX2)
-    if (avx2) {
-      const avx2::PassOne pass{x.data(), g.data(), last_f_.data(), last_g_.data(), new_f, new_g, n};
-      pass.run<kCount>(other_f, cross, rhs, new_new, new_rhs, n_others);
-      return;
-    }
-#endif
-    const sse2::PassOne pass{x.data(), g.data(), last_f_.data(), last_g_.data(), new_f, new_g, n};
-    pass.run<kCount>(other_f, cross, rhs, new_new, new_rhs, n_others);
-  });
+  const PassOneVectors vectors{x.data(), g.data(), last_f_.data(), last_g_.data(), new_f, new_g, n};
+  PassOneSums sums;
+  CDP_LANES_FOR_CPU(pass_one)(vectors, other_f, n_others, sums);
+  SlotWeights& cross = sums.cross;  // ΔF_newᵀ ΔF_other[j]
+  SlotWeights& rhs = sums.rhs;      // ΔF_other[j]ᵀ f, then ΔF_newᵀ f of the new slot
   const auto at = [](int s, int t) {
     return static_cast<std::size_t>(s) * kMaxDepth + static_cast<std::size_t>(t);
   };
-  gram_[at(slot, slot)] = new_new;
+  gram_[at(slot, slot)] = sums.new_new;
   for (int j = 0; j < n_others; ++j) {
     const int s = others[static_cast<std::size_t>(j)];
     gram_[at(slot, s)] = gram_[at(s, slot)] = cross[static_cast<std::size_t>(j)];
@@ -130,7 +137,7 @@ bool AndersonAccelerator::extrapolate(const AlignedVector<double>& x,
   using SmallVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxDepth, 1>;
   const int k = n_others + 1;
   others[static_cast<std::size_t>(n_others)] = slot;
-  rhs[static_cast<std::size_t>(n_others)] = new_rhs;
+  rhs[static_cast<std::size_t>(n_others)] = sums.new_rhs;
   Small normal(k, k);
   SmallVector right(k);
   for (int a = 0; a < k; ++a) {
@@ -149,23 +156,14 @@ bool AndersonAccelerator::extrapolate(const AlignedVector<double>& x,
   }
 
   // pass 2: next = g − Σ γ_s ΔG_s
-  std::array<const double*, kMaxDepth> slot_g{};
-  std::array<double, kMaxDepth> weights{};
+  SlotPointers slot_g{};
+  SlotWeights weights{};
   for (int a = 0; a < k; ++a) {
     slot_g[static_cast<std::size_t>(a)] =
         delta_g_.data() + static_cast<std::size_t>(others[static_cast<std::size_t>(a)]) * stride_;
     weights[static_cast<std::size_t>(a)] = gamma(a);
   }
-  dispatch_by_count(k, [&](auto count) {
-    constexpr int kCount = decltype(count)::value;
-#if defined(CDP_HAVE_AVX2)
-    if (avx2) {
-      avx2::mix<kCount>(g.data(), slot_g, weights, k, next.data(), n);
-      return;
-    }
-#endif
-    sse2::mix<kCount>(g.data(), slot_g, weights, k, next.data(), n);
-  });
+  CDP_LANES_FOR_CPU(mix)(g.data(), slot_g, weights, k, next.data(), n);
   return true;
 }
 

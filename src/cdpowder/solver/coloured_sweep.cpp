@@ -17,6 +17,7 @@
 #include <cstdint>
 #include <numeric>
 #include <span>
+#include <type_traits>
 
 namespace cdpowder {
 
@@ -162,12 +163,7 @@ using SolveBatches = void (*)(const PairBatch*, std::uint32_t, std::uint32_t, Sp
 
 /// The kernel for this CPU, with torques or without (ColouredSweep::torques).
 SolveBatches batch_kernel(bool torques) {
-#if defined(CDP_HAVE_AVX2)
-  if (lanes::use_avx2()) {
-    return torques ? avx2::solve_batches<true> : avx2::solve_batches<false>;
-  }
-#endif
-  return torques ? sse2::solve_batches<true> : sse2::solve_batches<false>;
+  return torques ? CDP_LANES_FOR_CPU(solve_batches<true>) : CDP_LANES_FOR_CPU(solve_batches<false>);
 }
 
 }  // namespace
@@ -176,12 +172,8 @@ void apply_pair_deltas(const ColouredSweep& sweep, const std::vector<ContactActi
                        const Contacts& contacts, VelocityCache& velocities) {
   using ApplyBatches = void (*)(const PairBatch*, std::uint32_t, std::uint32_t, SphereVelocity*,
                                 const ContactAction*);
-  ApplyBatches apply = sweep.torques ? sse2::apply_batches<true> : sse2::apply_batches<false>;
-#if defined(CDP_HAVE_AVX2)
-  if (lanes::use_avx2()) {
-    apply = sweep.torques ? avx2::apply_batches<true> : avx2::apply_batches<false>;
-  }
-#endif
+  const ApplyBatches apply = sweep.torques ? CDP_LANES_FOR_CPU(apply_batches<true>)
+                                           : CDP_LANES_FOR_CPU(apply_batches<false>);
   // colour by colour in storage order: each sphere gets its changes in the order of the
   // scalar loop over the pairs (no sphere twice in a colour), so the same bits
   apply(sweep.batches.data(), 0, static_cast<std::uint32_t>(sweep.batches.size()),

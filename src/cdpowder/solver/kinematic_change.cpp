@@ -15,7 +15,7 @@ namespace cdpowder {
 
 void KinematicChange::begin_step(const VelocityCache& velocities) {
   const std::vector<SphereVelocity>& spheres = velocities.spheres;
-  radius_sq_.assign((spheres.size() + kBlock - 1) / kBlock * kBlock, 0.0);
+  radius_sq_.assign(blocks_of(spheres.size()) * kBlock, 0.0);
   for (std::size_t i = 0; i < spheres.size(); ++i) {
     // I/m = (Δt/m)/(Δt/I) = 0.4 R²; a fixed sphere (Δt/I = 0) does not turn
     const SphereVelocity& s = spheres[i];
@@ -27,16 +27,8 @@ void KinematicChange::begin_step(const VelocityCache& velocities) {
 
 void KinematicChange::velocities_changed(const VelocityCache& velocities) {
   const std::size_t n = velocities.spheres.size();
-  start_.resize((n + kBlock - 1) / kBlock);
-#if defined(CDP_HAVE_AVX2)
-  if (lanes::use_avx2()) {
-    avx2::copy_into(velocities.spheres.data(), n, start_.data());
-  } else {
-    sse2::copy_into(velocities.spheres.data(), n, start_.data());
-  }
-#else
-  sse2::copy_into(velocities.spheres.data(), n, start_.data());
-#endif
+  start_.resize(blocks_of(n));
+  CDP_LANES_FOR_CPU(copy_into)(velocities.spheres.data(), n, start_.data());
   piston_start_ = velocities.piston_velocity;
 }
 
@@ -44,12 +36,8 @@ SweepMotion KinematicChange::after_sweep(const VelocityCache& velocities, bool w
   double largest_sq = 0.0;
   double sum_sq = 0.0;
   const std::size_t n = velocities.spheres.size();
-  using Measure =
-      void (*)(const SphereVelocity*, std::size_t, Block*, const double*, double&, double&);
-  Measure measure = with_speed ? sse2::measure<true> : sse2::measure<false>;
-#if defined(CDP_HAVE_AVX2)
-  if (lanes::use_avx2()) measure = with_speed ? avx2::measure<true> : avx2::measure<false>;
-#endif
+  const auto measure =
+      with_speed ? CDP_LANES_FOR_CPU(measure<true>) : CDP_LANES_FOR_CPU(measure<false>);
   measure(velocities.spheres.data(), n, start_.data(), radius_sq_.data(), largest_sq, sum_sq);
   SweepMotion motion;
   motion.largest_change = std::sqrt(largest_sq);

@@ -46,6 +46,11 @@ class KinematicChange {
   /// the pass runs 2 (SSE2) or 4 (AVX2) lanes at a time (lanes.hpp).
   static constexpr std::size_t kBlock = 4;
 
+  /// Blocks that hold `spheres` spheres.
+  static constexpr std::size_t blocks_of(std::size_t spheres) {
+    return (spheres + kBlock - 1) / kBlock;
+  }
+
   /// The snapshot of spheres 4b .. 4b + 3 (zeros past the last sphere).
   struct alignas(32) Block {
     std::array<std::array<double, kBlock>, 3> linear;

@@ -158,3 +158,12 @@ CDP_INLINE void store_rows(double* const* rows, const std::array<P, kCount>& in)
 #endif
 
 }  // namespace cdpowder::lanes
+
+/// The lane code `name` (a function, or an instance of a function template, compiled once per
+/// set by lanes_instantiate.inc) for this CPU: avx2::name where lanes::use_avx2(), else
+/// sse2::name. Both have one type, so the choice is a function pointer.
+#if defined(CDP_HAVE_AVX2)
+#define CDP_LANES_FOR_CPU(name) (::cdpowder::lanes::use_avx2() ? avx2::name : sse2::name)
+#else
+#define CDP_LANES_FOR_CPU(name) (sse2::name)
+#endif

@@ -80,7 +80,7 @@ struct MixedModes {
   bool rolling = true;
   bool twisting = true;
 
-  [[nodiscard]] std::size_t doubles_per_action() const {
+  [[nodiscard]] constexpr std::size_t doubles_per_action() const {
     return 4 + (rolling ? 3 : 0) + (twisting ? 1 : 0);
   }
 };
@@ -120,9 +120,6 @@ ContactAction action_of(const ActionFields& f) {
   a.twisting_torque = f[7];
   return a;
 }
-
-template <bool kRolling, bool kTwisting>
-constexpr ActionFields::size_type kCarried = 4 + (kRolling ? 3 : 0) + (kTwisting ? 1 : 0);
 
 template <bool kRolling, bool kTwisting>
 constexpr bool carried(std::size_t field) {
@@ -185,7 +182,7 @@ void adopt(const AlignedVector<double>& mixed, MixedModes modes, Contacts& conta
   with_modes(modes, [&](auto rolling, auto twisting) {
     constexpr bool kRolling = decltype(rolling)::value;
     constexpr bool kTwisting = decltype(twisting)::value;
-    constexpr std::size_t kStride = kCarried<kRolling, kTwisting>;
+    constexpr std::size_t kStride = MixedModes{kRolling, kTwisting}.doubles_per_action();
     const double* m = mixed.data();
     const auto take = [&](ContactAction& a) {
       ContactAction delta = take_mixed<kRolling, kTwisting>(m, a);
