@@ -90,7 +90,8 @@ int run_export(const std::filesystem::path& fixture, int skip, int count,
                const std::filesystem::path& out_dir, const std::vector<std::string>& overrides) {
   SavedRun saved = load_state(fixture);
   const Scene saved_scene = read_scene_text(saved.scene_toml, fixture.string(), {}, ".");
-  const Scene scene = read_scene_text(saved.scene_toml, fixture.string(), overrides, ".");
+  const Scene scene =
+      read_scene_text(saved.scene_toml, fixture.string(), command_line_overrides(overrides), ".");
   World world;
   StepWorkspace work(scene.step.solver.seed);
   RunState run;
@@ -151,7 +152,8 @@ int run_solve(const std::string& problem_file, bool cold, int repeat,
               const std::string& solution_file, const std::vector<std::string>& overrides,
               bool as_json) {
   const ContactProblem problem = contact_problem_from_json(read_json_file(problem_file));
-  const Scene scene = read_scene_text(problem.scene_toml, problem_file, overrides, ".");
+  const Scene scene =
+      read_scene_text(problem.scene_toml, problem_file, command_line_overrides(overrides), ".");
   const SolverSettings& settings = scene.step.solver;
   NlgsWorkspace work(settings.seed);
   Contacts contacts;

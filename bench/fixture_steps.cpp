@@ -97,7 +97,8 @@ int main(int argc, char** argv) {
     SavedRun saved = load_state(file);
     // the state is restored with the scene it was saved with; the steps use the overrides
     const Scene saved_scene = read_scene_text(saved.scene_toml, file.string(), {}, ".");
-    const Scene scene = read_scene_text(saved.scene_toml, file.string(), overrides, ".");
+    const Scene scene =
+        read_scene_text(saved.scene_toml, file.string(), command_line_overrides(overrides), ".");
     World world;
     StepWorkspace work(scene.step.solver.seed);
     RunState restored;

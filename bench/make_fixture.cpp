@@ -31,7 +31,8 @@ int main(int argc, char** argv) {
   try {
     cdpowder::SceneReadOptions options;
     options.compaction = true;
-    const cdpowder::Scene scene = cdpowder::read_scene(scene_file, overrides, options);
+    const cdpowder::Scene scene =
+        cdpowder::read_scene(scene_file, cdpowder::command_line_overrides(overrides), options);
     cdpowder::World world = cdpowder::make_world(scene);
     cdpowder::StepWorkspace work(scene.step.solver.seed);
     cdpowder::RunState state;

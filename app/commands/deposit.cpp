@@ -37,7 +37,7 @@ int run_deposit(const DepositOptions& options) {
   const StopSignals stop_on_signal(request_deposit_stop, SA_RESETHAND);
   SceneReadOptions how;
   how.deposition_required = true;
-  const Scene scene = read_scene(options.scene, options.overrides, how);
+  const Scene scene = read_scene(options.scene, command_line_overrides(options.overrides), how);
   const auto start = std::chrono::steady_clock::now();
   const World world = make_world(scene, [] { return g_stop_requested.load(); });  // deposits
   const double seconds =

@@ -205,7 +205,7 @@ int run_scene(const RunOptions& options, const SceneReadOptions& read_options,
   // all input is checked before DIR is touched
   SceneReadOptions how = read_options;
   how.particles_file = options.particles;
-  Session s{read_scene(options.scene, options.overrides, how),
+  Session s{read_scene(options.scene, command_line_overrides(options.overrides), how),
             options.out,
             {},
             0.0,

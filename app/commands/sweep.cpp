@@ -122,7 +122,7 @@ bool has_usable_checkpoint(const std::filesystem::path& folder, const std::strin
 struct RunStart {
   const std::filesystem::path& scene;
   const std::filesystem::path& folder;
-  const std::vector<std::string>& overrides;
+  const std::vector<SceneOverride>& overrides;
   std::optional<double> checkpoint_every;
   bool resume = false;
 };
@@ -136,9 +136,9 @@ pid_t start_run(const RunStart& run, std::string& error) {
   std::vector<std::string> args{"cdpowder", "resume", folder.string(), "--quiet"};
   if (!run.resume) {
     args = {"cdpowder", "compact", run.scene.string(), "--out", folder.string(), "--quiet"};
-    for (const std::string& o : run.overrides) {
+    for (const SceneOverride& o : run.overrides) {
       args.emplace_back("--set");
-      args.push_back(o);
+      args.push_back(o.text);
     }
   }
   if (run.checkpoint_every) {

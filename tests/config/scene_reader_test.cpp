@@ -34,13 +34,13 @@ class SceneReader : public ::testing::Test {
 
   void TearDown() override { fs::remove_all(dir_); }
 
-  Scene read(const std::string& text, const std::vector<std::string>& overrides = {}) {
+  Scene read(const std::string& text, const std::vector<SceneOverride>& overrides = {}) {
     return read_scene_text(text, "scene.toml", overrides, dir_);
   }
 
   /// The formatted issues of a text that must fail to read.
   std::vector<std::string> issues(const std::string& text,
-                                  const std::vector<std::string>& overrides = {}) {
+                                  const std::vector<SceneOverride>& overrides = {}) {
     std::vector<std::string> result;
     try {
       read(text, overrides);
@@ -392,6 +392,37 @@ TEST_F(SceneReader, ReportsBadOverrideValueAsSet) {
   ASSERT_EQ(found.size(), 2U);
   EXPECT_THAT(found[0], AllOf(HasSubstr("--set: particles.file.x"), HasSubstr("not a table")));
   EXPECT_EQ(found[1], "--set: contact.mu_roll: got -0.5, expected a number ≥ 0");
+}
+
+TEST_F(SceneReader, ReportsAnOverrideWhereItWasWritten) {
+  // a sweep file's `set` and grid values carry their place in the sweep file; a created
+  // table is reported where its first value came from
+  const auto found = issues(kParticles, {{"contact.mu=-1", "sweep.toml:3:8"},
+                                         {"compaction.pressure=1", "sweep.toml:7:20"},
+                                         {"contact.mu_roll", "sweep.toml:9:2"}});
+  ASSERT_EQ(found.size(), 3U);
+  EXPECT_EQ(found[0],
+            "sweep.toml:9:2: contact.mu_roll: malformed override, expected section.key=value "
+            "(e.g. contact.mu_roll=0.5)");
+  EXPECT_EQ(found[1], "sweep.toml:3:8: contact.mu: got -1, expected a number ≥ 0");
+  EXPECT_EQ(found[2], "sweep.toml:7:20: compaction: unknown key");
+}
+
+TEST_F(SceneReader, ReportsAParticlesFileOfTheCommandAsParticles) {
+  SceneReadOptions options;
+  options.particles_file = dir_ / "missing.csv";
+  try {
+    (void)read_scene_text(kParticles, "scene.toml", {}, dir_, options);
+    FAIL() << "no ConfigError";
+  } catch (const ConfigError& error) {
+    ASSERT_EQ(error.issues().size(), 1U);
+    EXPECT_EQ(format(error.issues()[0]),
+              fmt::format("--particles: particles.file: no such file: '{}'",
+                          (dir_ / "missing.csv").string()));
+  }
+  options.particles_file = dir_ / "p.csv";  // and a good one is read
+  EXPECT_EQ(read_scene_text(kParticles, "scene.toml", {}, dir_, options).particles_file,
+            dir_ / "p.csv");
 }
 
 TEST_F(SceneReader, ReadsAFileAndResolvesParticlesAgainstItsFolder) {

@@ -21,8 +21,8 @@ namespace {
 Scene quick_scene(std::vector<std::string> extra = {}) {
   SceneReadOptions options;
   options.compaction = true;
-  std::vector<std::string> overrides = {"contact.mu_roll=0", "contact.mu_twist=0",
-                                        "run.max_duration=10"};
+  std::vector<SceneOverride> overrides = {"contact.mu_roll=0", "contact.mu_twist=0",
+                                          "run.max_duration=10"};
   overrides.insert(overrides.end(), extra.begin(), extra.end());
   return read_scene(std::filesystem::path(CDPOWDER_SOURCE_DIR) / "examples/quick/scene.toml",
                     overrides, options);

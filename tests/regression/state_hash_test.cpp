@@ -96,7 +96,7 @@ void expect_golden(const std::string& scene, std::uint64_t hash) {
       scene, kBuildKind, golden.empty() ? "(none)" : golden, now, kGoldenFile.string());
 }
 
-Scene quick_scene(std::vector<std::string> overrides) {
+Scene quick_scene(const std::vector<SceneOverride>& overrides) {
   SceneReadOptions options;
   options.compaction = true;
   return read_scene(std::filesystem::path(CDPOWDER_SOURCE_DIR) / "examples/quick/scene.toml",

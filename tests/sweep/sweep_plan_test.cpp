@@ -24,6 +24,22 @@ SweepPlan plan_of(const std::string& text, const std::vector<std::string>& extra
   return read_sweep_plan_text(text, "sweep.toml", "/base", extra);
 }
 
+/// The overrides' texts, as the run's command line passes them.
+std::vector<std::string> texts(const std::vector<SceneOverride>& overrides) {
+  std::vector<std::string> result;
+  result.reserve(overrides.size());
+  for (const SceneOverride& o : overrides) result.push_back(o.text);
+  return result;
+}
+
+/// Where each override comes from, for the messages of the scene reader.
+std::vector<std::string> origins(const std::vector<SceneOverride>& overrides) {
+  std::vector<std::string> result;
+  result.reserve(overrides.size());
+  for (const SceneOverride& o : overrides) result.push_back(o.origin);
+  return result;
+}
+
 /// The formatted issues of a plan that must be refused.
 std::string errors_of(const std::string& text) {
   try {
@@ -64,8 +80,9 @@ mu_twist = [0.0, 0.5, 1.0]
   EXPECT_EQ(plan.runs[3].seed, 2);
   EXPECT_EQ(plan.runs[3].folder.generic_string(),
             "runs/contact.mu_roll=0.0,contact.mu_twist=0.5/seed_2");
-  EXPECT_THAT(plan.runs[3].overrides, ElementsAre("contact.mu_roll=0.0", "contact.mu_twist=0.5",
-                                                  "deposition.seed=2", "solver.seed=2"));
+  EXPECT_THAT(texts(plan.runs[3].overrides),
+              ElementsAre("contact.mu_roll=0.0", "contact.mu_twist=0.5", "deposition.seed=2",
+                          "solver.seed=2"));
 }
 
 TEST(SweepPlan, RunsGoSeedBySeedSoAnEarlyStopCoversEveryPoint) {
@@ -112,9 +129,15 @@ contact.cohesion_rule = "history"
   EXPECT_EQ(plan.points[0].name, "contact.mu_roll=0.3,contact.mu_twist=0");
   EXPECT_EQ(plan.points[1].name, "contact.cohesion_rule=history");
   ASSERT_EQ(plan.runs.size(), 4U);
-  EXPECT_THAT(plan.runs[2].overrides,
+  EXPECT_THAT(texts(plan.runs[2].overrides),
               ElementsAre("solver.tolerance=1e-4", "run.max_duration=5",
                           "contact.cohesion_rule=\"history\"", "solver.seed=7"));
+  // a mistake in one of them is reported where it was written (the scene reader's messages)
+  EXPECT_THAT(origins(plan.runs[2].overrides),
+              ElementsAre("sweep.toml:5:8", "--set", "sweep.toml:10:25", "sweep.toml:3:9"));
+  EXPECT_THAT(origins(plan.runs[0].overrides),
+              ElementsAre("sweep.toml:5:8", "--set", "sweep.toml:7:21", "sweep.toml:8:22",
+                          "sweep.toml:3:9"));
 }
 
 TEST(SweepPlan, NoParametersMeansTheBaseSceneOverTheSeeds) {

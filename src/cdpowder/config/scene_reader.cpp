@@ -307,8 +307,10 @@ void apply_read_options(toml::table& root, const SceneReadOptions& options) {
     const std::filesystem::path absolute =
         std::filesystem::absolute(*options.particles_file, error);
     root.erase("deposition");
-    root.insert_or_assign(
-        "particles", toml::table{{"file", (error ? *options.particles_file : absolute).string()}});
+    // parsed back with "--particles" as its source, so a mistake is reported under the option
+    std::ostringstream value;
+    value << toml::table{{"file", (error ? *options.particles_file : absolute).string()}};
+    root.insert_or_assign("particles", toml::parse(value.str(), std::string(kParticlesOption)));
   }
   if (options.compaction) {
     if (!root.contains("run")) root.insert("run", toml::table{});
@@ -326,7 +328,7 @@ void apply_read_options(toml::table& root, const SceneReadOptions& options) {
 constexpr std::size_t kMaxSyntaxExcerpt = 160;
 
 Scene read_scene_text(std::string_view toml_text, std::string_view source_name,
-                      const std::vector<std::string>& overrides,
+                      const std::vector<SceneOverride>& overrides,
                       const std::filesystem::path& base_dir, const SceneReadOptions& options) {
   std::vector<ConfigIssue> issues;
   toml::table root;
@@ -352,7 +354,7 @@ Scene read_scene_text(std::string_view toml_text, std::string_view source_name,
   in.check_unknown_keys();
   check_consistency(in, scene, options);
   if (!issues.empty()) {
-    detail::sort_issues(issues);
+    detail::sort_issues(issues, source_name);
     throw ConfigError(std::move(issues));
   }
   scene.source = std::filesystem::path(source_name);
@@ -360,7 +362,7 @@ Scene read_scene_text(std::string_view toml_text, std::string_view source_name,
   return scene;
 }
 
-Scene read_scene(const std::filesystem::path& file, const std::vector<std::string>& overrides,
+Scene read_scene(const std::filesystem::path& file, const std::vector<SceneOverride>& overrides,
                  const SceneReadOptions& options) {
   // a folder opens as an empty stream on Linux (measured: "particles.file: missing")
   std::error_code kind_error;

@@ -6,6 +6,7 @@
 
 #include "cdpowder/config/config_error.hpp"
 #include "cdpowder/config/scene.hpp"
+#include "cdpowder/config/scene_override.hpp"
 
 #include <filesystem>
 #include <optional>
@@ -26,17 +27,21 @@ struct SceneReadOptions {
   bool deposition_required = false;
 };
 
+/// ConfigIssue::file of a mistake in SceneReadOptions::particles_file.
+inline constexpr std::string_view kParticlesOption = "--particles";
+
 /// Reads and validates `file` with `overrides` ("section.key=value", applied in order, after
-/// the file and before validation). [particles] file is resolved against the folder of
-/// `file`. Throws ConfigError listing every issue found (unreadable file, TOML syntax,
-/// malformed override, unknown key, wrong type, value out of range, inconsistent keys).
-Scene read_scene(const std::filesystem::path& file, const std::vector<std::string>& overrides,
+/// the file and before validation; a mistake in one is reported at its origin). [particles] file is
+/// resolved against the folder of `file`. Throws ConfigError listing every issue found (unreadable
+/// file, TOML syntax, malformed override, unknown key, wrong type, value out of range, inconsistent
+/// keys).
+Scene read_scene(const std::filesystem::path& file, const std::vector<SceneOverride>& overrides,
                  const SceneReadOptions& options = {});
 
 /// As read_scene, from text already in memory. `source_name` names the text in messages and
 /// becomes Scene::source; a relative [particles] file is resolved against `base_dir`.
 Scene read_scene_text(std::string_view toml_text, std::string_view source_name,
-                      const std::vector<std::string>& overrides,
+                      const std::vector<SceneOverride>& overrides,
                       const std::filesystem::path& base_dir, const SceneReadOptions& options = {});
 
 }  // namespace cdpowder

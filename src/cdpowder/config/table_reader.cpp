@@ -22,6 +22,16 @@ std::optional<double> number_value(const toml::node& node) {
   return std::nullopt;
 }
 
+/// Where a node came from. A table an override created has no position of its own: it is
+/// reported where its first value came from.
+const toml::source_region& origin_of(const toml::node& node) {
+  if (const auto* table = node.as_table();
+      table != nullptr && node.source().begin.line == 0 && !table->empty()) {
+    return origin_of(table->cbegin()->second);
+  }
+  return node.source();
+}
+
 std::string_view trim(std::string_view s) {
   const std::size_t first = s.find_first_not_of(" \t");
   if (first == std::string_view::npos) {
@@ -31,7 +41,7 @@ std::string_view trim(std::string_view s) {
 }
 
 /// An override split into its dotted key and its value, parsed as the TOML `v = value` with
-/// source "--set" so that its nodes are reported as such.
+/// the override's origin as source, so that its nodes are reported there.
 struct Override {
   std::string key;
   toml::table parsed;
@@ -41,9 +51,11 @@ struct Override {
 constexpr std::size_t kMaxParserExcerpt = 100;
 
 /// Parses one "section.key=value"; nullopt, and an issue naming it, when it is malformed.
-std::optional<Override> parse_override(const std::string& text, std::vector<ConfigIssue>& issues) {
-  const auto fail = [&issues](std::string_view key, std::string message) {
-    issues.push_back({std::string(kOverrideSource), 0, 0, std::string(key), std::move(message)});
+std::optional<Override> parse_override(const SceneOverride& change,
+                                       std::vector<ConfigIssue>& issues) {
+  const std::string& text = change.text;
+  const auto fail = [&issues, &change](std::string_view key, std::string message) {
+    issues.push_back({change.origin, 0, 0, std::string(key), std::move(message)});
     return std::nullopt;
   };
   constexpr std::string_view kBareKeyCharacters =
@@ -62,7 +74,7 @@ std::optional<Override> parse_override(const std::string& text, std::vector<Conf
   const std::string_view value = trim(std::string_view(text).substr(equals + 1));
   Override result{std::string(key), {}};
   try {
-    result.parsed = toml::parse("v = " + std::string(value), std::string(kOverrideSource));
+    result.parsed = toml::parse("v = " + std::string(value), change.origin);
   } catch (const toml::parse_error& error) {
     const bool bare_word =
         !value.empty() && value.find_first_not_of(kBareKeyCharacters) == std::string_view::npos;
@@ -254,11 +266,13 @@ void TableReader::add_issue(std::string_view key, const toml::source_region& whe
                             std::string message, bool in_file) {
   failed_.emplace(key);
   ConfigIssue issue{source_name_, 0, 0, std::string(key), std::move(message)};
-  const bool from_override =
-      !in_file && (where.begin.line == 0 || (where.path && *where.path == kOverrideSource));
-  if (from_override) {
-    issue.file = kOverrideSource;
-  } else if (!in_file) {
+  if (in_file) {
+    // the file, without a position
+  } else if (where.path && *where.path != source_name_) {
+    issue.file = *where.path;  // an override's origin: "--set", "--particles", "sweep.toml:4:8"
+  } else if (where.begin.line == 0) {
+    issue.file = kOverrideSource;  // a table an override created
+  } else {
     issue.line = static_cast<int>(where.begin.line);
     issue.column = static_cast<int>(where.begin.column);
   }
@@ -300,7 +314,8 @@ void TableReader::check_table(const toml::table& table, const std::string& prefi
     if (known_.count(key) > 0) {
       continue;  // a value key; its type was checked when it was read
     }
-    const toml::source_region& where = name.source().begin.line > 0 ? name.source() : node.source();
+    const toml::source_region& where =
+        name.source().begin.line > 0 ? name.source() : origin_of(node);
     if (!is_known_table(key)) {
       add_issue(key, where, "unknown key" + suggest(key));
     } else if (const toml::table* sub = node.as_table()) {
@@ -311,10 +326,11 @@ void TableReader::check_table(const toml::table& table, const std::string& prefi
   }
 }
 
-void apply_overrides(toml::table& root, const std::vector<std::string>& overrides,
+void apply_overrides(toml::table& root, const std::vector<SceneOverride>& overrides,
                      std::vector<ConfigIssue>& issues) {
-  for (const std::string& text : overrides) {
-    std::optional<Override> change = parse_override(text, issues);
+  for (const SceneOverride& edit : overrides) {
+    const std::string& text = edit.text;
+    std::optional<Override> change = parse_override(edit, issues);
     if (!change) {
       continue;
     }
@@ -330,7 +346,7 @@ void apply_overrides(toml::table& root, const std::vector<std::string>& override
       }
       table = node->as_table();
       if (table == nullptr) {
-        issues.push_back({std::string(kOverrideSource), 0, 0, change->key,
+        issues.push_back({edit.origin, 0, 0, change->key,
                           fmt::format("cannot set '{}': {} is {}, not a table", text,
                                       key.substr(0, dot), describe(*node))});
         break;
@@ -342,9 +358,9 @@ void apply_overrides(toml::table& root, const std::vector<std::string>& override
   }
 }
 
-void sort_issues(std::vector<ConfigIssue>& issues) {
-  const auto rank = [](const ConfigIssue& issue) {
-    const int group = issue.file == kOverrideSource ? 2 : (issue.line > 0 ? 0 : 1);
+void sort_issues(std::vector<ConfigIssue>& issues, std::string_view source_name) {
+  const auto rank = [source_name](const ConfigIssue& issue) {
+    const int group = issue.line > 0 ? 0 : (issue.file == source_name ? 1 : 2);
     return std::tuple(group, issue.line, issue.column);
   };
   std::stable_sort(

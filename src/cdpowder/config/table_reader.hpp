@@ -6,6 +6,7 @@
 #pragma once
 
 #include "cdpowder/config/config_error.hpp"
+#include "cdpowder/config/scene_override.hpp"
 #include "cdpowder/core/vec3.hpp"
 
 #include <fmt/format.h>
@@ -25,9 +26,9 @@
 
 namespace cdpowder::detail {
 
-/// ConfigIssue::file of an issue in a command-line override, and the source name of the
-/// nodes parsed from one.
-inline constexpr std::string_view kOverrideSource = "--set";
+/// ConfigIssue::file of an issue in a table an override created (its values are reported
+/// at their own origin).
+inline constexpr std::string_view kOverrideSource = kCommandLineOverride;
 
 /// No upper bound for TableReader::integer.
 inline constexpr std::int64_t kNoMaximum = std::numeric_limits<std::int64_t>::max();
@@ -123,8 +124,9 @@ class TableReader {
   /// A non-empty string that must be present; "" (and an issue) otherwise.
   std::string required_string(std::string_view key);
 
-  /// Adds an issue at `where`. Nodes that came from an override (or tables the overrides
-  /// created) are reported as "--set"; `in_file` forces the file name without a position.
+  /// Adds an issue at `where`. Nodes that came from an override are reported at its origin
+  /// ("--set", "--particles", "sweep.toml:4:8"), tables the overrides created as "--set";
+  /// `in_file` forces the file name without a position.
   void add_issue(std::string_view key, const toml::source_region& where, std::string message,
                  bool in_file = false);
 
@@ -145,13 +147,14 @@ class TableReader {
 };
 
 /// Applies the overrides ("section.key=value", in order) to `root`, creating the tables on
-/// their keys' paths. Each value is parsed as TOML with source "--set"; a malformed override
-/// becomes an issue in `issues` and is skipped.
-void apply_overrides(toml::table& root, const std::vector<std::string>& overrides,
+/// their keys' paths. Each value is parsed as TOML with the override's origin as source; a
+/// malformed override becomes an issue in `issues` and is skipped.
+void apply_overrides(toml::table& root, const std::vector<SceneOverride>& overrides,
                      std::vector<ConfigIssue>& issues);
 
 /// File order for a reader fixing the file top to bottom: positioned issues by line and
-/// column, then those of the whole file, then those of the overrides (malformed ones first).
-void sort_issues(std::vector<ConfigIssue>& issues);
+/// column, then those of the whole file (`source_name`), then those of the overrides
+/// (malformed ones first).
+void sort_issues(std::vector<ConfigIssue>& issues, std::string_view source_name);
 
 }  // namespace cdpowder::detail

@@ -27,6 +27,11 @@ class PlanReader {
   PlanReader(std::string source, std::vector<ConfigIssue>& issues)
       : source_(std::move(source)), issues_(issues) {}
 
+  /// "sweep.toml:6:12": where the file gives a value, as the origin of the override it makes.
+  [[nodiscard]] std::string origin(const toml::node& where) const {
+    return fmt::format("{}:{}:{}", source_, where.source().begin.line, where.source().begin.column);
+  }
+
   void issue(const std::string& key, const toml::node* where, std::string message) {
     int line = 0;
     int column = 0;
@@ -138,9 +143,11 @@ SweepPlan read_sweep_plan_text(std::string_view text, std::string_view source_na
   }
 
   // seeds: n (1..n) or a list of distinct integers
+  std::string seeds_origin = source;
   if (const auto* seeds = root.get("seeds"); seeds == nullptr) {
     plan.seeds = {1};
   } else if (const auto* n = seeds->as_integer()) {
+    seeds_origin = in.origin(*seeds);
     if (n->get() < 1 || n->get() > kMaxSeedCount) {
       in.issue("seeds", seeds,
                fmt::format("got {}, expected a count in [1, {}] or a list of seeds", n->get(),
@@ -149,6 +156,7 @@ SweepPlan read_sweep_plan_text(std::string_view text, std::string_view source_na
       for (std::int64_t s = 1; s <= n->get(); ++s) plan.seeds.push_back(s);
     }
   } else if (const auto* list = seeds->as_array(); list != nullptr && !list->empty()) {
+    seeds_origin = in.origin(*seeds);
     std::set<std::int64_t> seen;
     for (const auto& item : *list) {
       const auto* s = item.as_integer();
@@ -188,7 +196,7 @@ SweepPlan read_sweep_plan_text(std::string_view text, std::string_view source_na
     if (list != nullptr) {
       for (const auto& item : *list) {
         if (const auto* s = item.as_string()) {
-          plan.fixed.push_back(s->get());
+          plan.fixed.emplace_back(s->get(), in.origin(item));
         } else {
           in.issue("set", &item, "expected strings \"section.key=value\"");
         }
@@ -198,7 +206,7 @@ SweepPlan read_sweep_plan_text(std::string_view text, std::string_view source_na
   plan.fixed.insert(plan.fixed.end(), extra_fixed.begin(), extra_fixed.end());
 
   // the parameters: grid keys first, then keys that only explicit points name
-  std::vector<std::pair<std::string, std::vector<std::string>>> grid;
+  std::vector<std::pair<std::string, std::vector<SweepSetting>>> grid;
   if (const auto* node = root.get("grid")) {
     const auto* table = node->as_table();
     if (table == nullptr) in.issue("grid", node, "expected a table of key = [values]");
@@ -215,7 +223,7 @@ SweepPlan read_sweep_plan_text(std::string_view text, std::string_view source_na
         in.issue("grid." + key, value, "expected a non-empty list of values");
         continue;
       }
-      std::vector<std::string> values;
+      std::vector<SweepSetting> values;
       std::set<std::string> seen;
       for (const auto& item : *list) {
         std::string value_text = in.value_text("grid." + key, item);
@@ -224,13 +232,13 @@ SweepPlan read_sweep_plan_text(std::string_view text, std::string_view source_na
           in.issue("grid." + key, &item, fmt::format("value {} is listed twice", value_text));
           continue;
         }
-        values.push_back(std::move(value_text));
+        values.push_back({key, std::move(value_text), in.origin(item)});
       }
       grid.emplace_back(key, std::move(values));
       plan.parameter_keys.push_back(key);
     }
   }
-  std::vector<std::map<std::string, std::string>> explicit_points;
+  std::vector<std::map<std::string, SweepSetting>> explicit_points;
   if (const auto* node = root.get("points")) {
     const auto* list = node->as_array();
     if (list == nullptr) in.issue("points", node, "expected [[points]] tables of key = value");
@@ -243,7 +251,7 @@ SweepPlan read_sweep_plan_text(std::string_view text, std::string_view source_na
         }
         std::vector<std::pair<std::string, const toml::node*>> entries;
         in.flatten(*table, "", entries);
-        std::map<std::string, std::string> point;
+        std::map<std::string, SweepSetting> point;
         for (const auto& [key, value] : entries) {
           if (point.count(key) > 0) {
             in.issue("points." + key, value, "is given twice in one point");
@@ -251,7 +259,7 @@ SweepPlan read_sweep_plan_text(std::string_view text, std::string_view source_na
           }
           const std::string value_text = in.value_text("points." + key, *value);
           if (value_text.empty()) continue;
-          point[key] = value_text;
+          point[key] = {key, value_text, in.origin(*value)};
           if (std::find(plan.parameter_keys.begin(), plan.parameter_keys.end(), key) ==
               plan.parameter_keys.end()) {
             plan.parameter_keys.push_back(key);
@@ -275,7 +283,7 @@ SweepPlan read_sweep_plan_text(std::string_view text, std::string_view source_na
   while (has_grid) {
     SweepPoint point;
     for (std::size_t k = 0; k < grid.size(); ++k) {
-      point.settings.push_back({grid[k].first, grid[k].second[index[k]]});
+      point.settings.push_back(grid[k].second[index[k]]);
     }
     plan.points.push_back(std::move(point));
     std::size_t k = grid.size();
@@ -286,7 +294,7 @@ SweepPlan read_sweep_plan_text(std::string_view text, std::string_view source_na
     SweepPoint point;
     for (const std::string& key : plan.parameter_keys) {
       if (const auto it = values.find(key); it != values.end()) {
-        point.settings.push_back({key, it->second});
+        point.settings.push_back(it->second);
       }
     }
     plan.points.push_back(std::move(point));
@@ -311,10 +319,10 @@ SweepPlan read_sweep_plan_text(std::string_view text, std::string_view source_na
           std::filesystem::path("runs") / plan.points[p].name / fmt::format("seed_{}", seed);
       run.overrides = plan.fixed;
       for (const SweepSetting& s : plan.points[p].settings) {
-        run.overrides.push_back(s.key + "=" + s.value);
+        run.overrides.emplace_back(s.key + "=" + s.value, s.origin);
       }
       for (const std::string& key : plan.seed_keys) {
-        run.overrides.push_back(fmt::format("{}={}", key, seed));
+        run.overrides.emplace_back(fmt::format("{}={}", key, seed), seeds_origin);
       }
       plan.runs.push_back(std::move(run));
     }

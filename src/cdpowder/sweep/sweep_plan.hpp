@@ -7,6 +7,8 @@
 // the runs it already has.
 #pragma once
 
+#include "cdpowder/config/scene_override.hpp"
+
 #include <cstdint>
 #include <filesystem>
 #include <string>
@@ -19,6 +21,7 @@ namespace cdpowder {
 struct SweepSetting {
   std::string key;
   std::string value;
+  std::string origin;  ///< where the sweep file gives the value ("sweep.toml:6:12"), for messages
 };
 
 /// One parameter point; its settings are in the order of the sweep's parameter keys.
@@ -33,13 +36,13 @@ struct SweepRun {
   std::size_t point = 0;         ///< index into SweepPlan::points
   std::int64_t seed = 1;         ///< written to every key of SweepPlan::seed_keys
   std::filesystem::path folder;  ///< relative to the sweep's output folder: runs/<point>/seed_<s>
-  std::vector<std::string> overrides;  ///< fixed ones, then the point's, then the seed's
+  std::vector<SceneOverride> overrides;  ///< fixed ones, then the point's, then the seed's
 };
 
 struct SweepPlan {
   std::filesystem::path source;             ///< the sweep file
   std::filesystem::path scene;              ///< the base scene, resolved against the sweep file
-  std::vector<std::string> fixed;           ///< `set`: overrides of every run
+  std::vector<SceneOverride> fixed;         ///< `set`, then the command's --set: every run's
   std::vector<std::int64_t> seeds;          ///< `seeds`
   std::vector<std::string> seed_keys;       ///< `seed_keys`: scene keys that take the seed
   std::vector<std::string> parameter_keys;  ///< keys of the grid and the points, first-seen order
