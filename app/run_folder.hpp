@@ -14,10 +14,12 @@ namespace cdpowder::app {
 
 /// The files and folders a run writes into its folder (README, "Outputs"); log.txt (a
 /// sweep's, written before the run starts) and the lock are left alone.
-inline constexpr std::array<std::string_view, 13> kRunOutputs{
-    "summary.json",   "scene.toml",        "initial_particles.csv", "particles.csv", "contacts.csv",
-    "timeseries.csv", "particles.vtp",     "contacts.vtp",          "particles.pvd", "contacts.pvd",
-    "snapshots",      "failed_state.cdps", "checkpoint.cdps"};
+inline constexpr std::array<std::string_view, 14> kRunOutputs{
+    "summary.json",    "scene.toml",     "initial_particles.csv",
+    "particles.csv",   "contacts.csv",   "timeseries.csv",
+    "particles.vtp",   "contacts.vtp",   "particles.pvd",
+    "contacts.pvd",    "snapshots",      "failed_state.cdps",
+    "checkpoint.cdps", "checkpoint.toml"};
 
 /// Removes an earlier run's outputs and any temporary file (".NAME.PID.tmp") from `folder`.
 /// Throws std::filesystem::filesystem_error when one cannot be removed.

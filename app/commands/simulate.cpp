@@ -2,6 +2,7 @@
 // then run, then write every output atomically. Prints one result line on stdout.
 #include "commands/simulate.hpp"
 
+#include "checkpoint_interval.hpp"
 #include "folder_lock.hpp"
 #include "progress.hpp"
 #include "run_folder.hpp"
@@ -169,7 +170,10 @@ int run_and_write(Session& s) {
   s.timeseries->commit();
   // a finished run (done, not blocked, failed) keeps no checkpoint: only an unfinished one
   // can be continued, and the folder ends as a run never stopped leaves it
-  if (!result.interrupted) std::filesystem::remove(checkpoint_file(s.out));
+  if (!result.interrupted) {
+    std::filesystem::remove(checkpoint_file(s.out));
+    std::filesystem::remove(checkpoint_interval_file(s.out));
+  }
 
   if (result.fault) {
     // the state at the fault, to look at or to rerun the step from (io/state_file.hpp)
@@ -231,6 +235,8 @@ int run_scene(const RunOptions& options, const SceneReadOptions& read_options,
            s.world.bodies.size());
   s.header = provenance_header(scene);
   write_file_atomically(options.out / "scene.toml", scene.effective_toml);
+  if (options.checkpoint_every)
+    remember_checkpoint_interval(options.out, *options.checkpoint_every);
   write_file_atomically(options.out / "initial_particles.csv",
                         particles_csv(s.world.bodies, s.header));
   s.timeseries = std::make_unique<TimeseriesWriter>(
@@ -335,6 +341,9 @@ int run_resume(const ResumeOptions& options) {
   }
   const FolderLock lock(run_lock_file(out), "another cdpowder run");
   SavedRun saved = load_state(checkpoint);
+  // the run's interval, unless this resume gives another (kept for the next resume)
+  const std::optional<double> checkpoint_every =
+      options.checkpoint_every ? options.checkpoint_every : remembered_checkpoint_interval(out);
   if (written_by_another_build(saved.program_version, saved.git_commit)) {
     std::fprintf(stderr,
                  "warning: %s was written by cdpowder %s (commit %s), this is cdpowder %s "
@@ -359,7 +368,7 @@ int run_resume(const ResumeOptions& options) {
             VtkSnapshotSeries(out),
             Cadence(0, 0.0),
             -1,
-            options.checkpoint_every,
+            checkpoint_every,
             options.quiet};
   s.scene.effective_toml = saved.scene_toml;  // the summary's scene, as the run began it
   s.initial_porosity = porosity(make_world(s.scene));
@@ -368,6 +377,7 @@ int run_resume(const ResumeOptions& options) {
   announce(fmt::format("resume from step {} (t = {} t0)", s.world.step, s.world.time), s.scene, out,
            s.world.bodies.size());
   remove_stale_temporaries(out);  // e.g. a .pvd a killed run was writing
+  if (options.checkpoint_every) remember_checkpoint_interval(out, *options.checkpoint_every);
   if (std::filesystem::is_directory(out / "snapshots")) remove_stale_temporaries(out / "snapshots");
   s.timeseries = continue_timeseries(s);
   continue_snapshots(s);

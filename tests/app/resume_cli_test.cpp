@@ -126,6 +126,46 @@ TEST_F(ResumeCli, ARunKilledAfterACheckpointResumesBitIdentically) {
   expect_same_outputs(whole, killed);
 }
 
+// `resume` goes on writing checkpoints at the interval the run was started with
+// (checkpoint.toml), so a run killed twice loses at most one interval each time; a finished
+// run keeps neither file, and a damaged interval file is refused naming it.
+TEST_F(ResumeCli, AResumedRunKeepsItsCheckpointInterval) {
+  const fs::path run = scratch_ / "twice";
+  // started by SIGKILL once the snapshot `number` is listed (t = 7 number t0)
+  const auto run_until_killed = [&](const std::string& command, int number) {
+    const fs::path script = scratch_ / "kill.sh";
+    std::ofstream(script) << CDPOWDER_EXE << " " << command << " 2>> "
+                          << (scratch_ / "twice.log").string() << " &\npid=$!\n"
+                          << "for i in $(seq 1 4000); do grep -q particles_00000" << number << " "
+                          << (run / "particles.pvd").string()
+                          << " 2>/dev/null && break; sleep 0.005; done\n"
+                          << "kill -KILL $pid\nwait $pid\n";
+    run_process("sh", script.string(), scratch_);
+  };
+  run_until_killed(
+      "compact " + kScene + " --quiet --out " + run.string() + " --checkpoint-every 20", 4);
+  ASSERT_TRUE(fs::exists(run / "checkpoint.toml"));
+  const double first = cdpowder::load_state(run / "checkpoint.cdps").world.time;
+  EXPECT_LT(first, 28.0);
+  run_until_killed("resume " + run.string() + " --quiet", 8);  // no --checkpoint-every
+  ASSERT_FALSE(fs::exists(run / "summary.json"));
+  const double second = cdpowder::load_state(run / "checkpoint.cdps").world.time;
+  EXPECT_GE(second, first + 20.0) << "the resumed run wrote no checkpoint of its own";
+  EXPECT_LT(second, 56.0);
+
+  std::ofstream(run / "checkpoint.toml") << "every = -1\n";
+  const ProcessResult refused = run_cdpowder("resume " + run.string() + " --quiet", scratch_);
+  EXPECT_EQ(refused.status, 2);
+  EXPECT_THAT(refused.err, HasSubstr("checkpoint.toml: every: expected the one key `every`, a "
+                                     "number > 0"));
+  // --checkpoint-every given again replaces it; the run ends and keeps neither file
+  const ProcessResult resumed =
+      run_cdpowder("resume " + run.string() + " --quiet --checkpoint-every 30", scratch_);
+  ASSERT_EQ(resumed.status, 0) << resumed.err;
+  EXPECT_FALSE(fs::exists(run / "checkpoint.cdps"));
+  EXPECT_FALSE(fs::exists(run / "checkpoint.toml"));
+}
+
 // Ctrl-C writes a checkpoint beside the interrupted run's outputs; resumed, with an adaptive
 // Δt and time cadences (the forced last row and snapshot of the interrupted run go), the run
 // ends as the run never stopped.

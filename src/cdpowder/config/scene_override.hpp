@@ -17,10 +17,13 @@ struct SceneOverride {
   std::string origin = kCommandLineOverride;  ///< "--set", or e.g. "sweep.toml:4:8"
 
   SceneOverride() = default;
+
   // NOLINTNEXTLINE(google-explicit-constructor): a plain string is a command-line --set
   SceneOverride(std::string override_text) : text(std::move(override_text)) {}
+
   // NOLINTNEXTLINE(google-explicit-constructor)
   SceneOverride(const char* override_text) : text(override_text) {}
+
   SceneOverride(std::string override_text, std::string where)
       : text(std::move(override_text)), origin(std::move(where)) {}
 
