@@ -9,6 +9,7 @@
 
 #include "cdpowder/config/config_error.hpp"
 #include "cdpowder/core/stop_request.hpp"
+#include "cdpowder/io/atomic_file.hpp"
 #include "cdpowder/io/byte_stream.hpp"
 #include "cdpowder/sweep/time_limit.hpp"
 #include "cdpowder/version.hpp"
@@ -18,6 +19,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <exception>
 #include <filesystem>
@@ -222,6 +224,14 @@ int run_command_line(int argc, char** argv) {
       std::fprintf(stderr, "error: %s\n", cdpowder::format(issue).c_str());
     }
     return kExitBadInput;
+  } catch (const cdpowder::OutputError& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return cdpowder::app::kExitOutputFailed;
+  } catch (const std::filesystem::filesystem_error& e) {
+    // a folder that cannot be made on a full disk is the same failure as a file
+    std::fprintf(stderr, "error: %s\n", e.what());
+    const bool full = e.code() == std::errc::no_space_on_device;
+    return full ? cdpowder::app::kExitOutputFailed : kExitRunFailed;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
     return kExitRunFailed;
@@ -233,6 +243,9 @@ int run_command_line(int argc, char** argv) {
 
 int main(int argc, char** argv) {
   cdpowder::app::die_with_parent_if_asked();
+  // a file-size limit (ulimit -f) then fails the write with EFBIG, reported as any failed
+  // write, instead of killing the process without a word
+  std::signal(SIGXFSZ, SIG_IGN);
   // run_command_line turns the expected exceptions into messages; building the command line
   // itself may still throw (CLI::ConstructionError, std::bad_alloc): a message, not terminate
   try {

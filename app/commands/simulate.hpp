@@ -12,10 +12,13 @@
 namespace cdpowder::app {
 
 /// Exit codes of a run besides 0 (done) and 2 (bad input, main.cpp); the outputs are
-/// written in every case.
+/// written in every case but the last.
 inline constexpr int kExitInterrupted = 1;  ///< stopped by a signal: incomplete
 inline constexpr int kExitFault = 3;        ///< a fault (run_fault.hpp) ended the run
 inline constexpr int kExitNotBlocked = 4;   ///< an until_blocked run reached max_duration
+/// An output could not be written (a full disk, a file-size limit, no permission): not
+/// written in full; a sweep starts no further run (main.cpp, sweep.cpp).
+inline constexpr int kExitOutputFailed = 5;
 
 struct RunOptions {
   std::filesystem::path scene;

@@ -183,6 +183,30 @@ void write_tables(const SweepOptions& options, const SweepPlan& plan,
   write_file_atomically(options.out / "points.csv", points_csv(plan, records, header));
 }
 
+/// As write_tables, while runs go on: the failure's message ("cannot write …: No space left
+/// on device"), or "" when both tables were written.
+std::string try_write_tables(const SweepOptions& options, const SweepPlan& plan,
+                             const std::vector<std::optional<RunRecord>>& records) {
+  try {
+    write_tables(options, plan, records);
+  } catch (const OutputError& error) {
+    return error.what();
+  }
+  return {};
+}
+
+/// The last "error: …" line of a run's log (what made it fail), without the prefix; `log`
+/// itself when there is none.
+std::string last_error_of(const std::filesystem::path& log) {
+  std::ifstream in(log);
+  std::string line;
+  std::string last;
+  while (std::getline(in, line)) {
+    if (line.starts_with("error: ")) last = line.substr(7);
+  }
+  return last.empty() ? "see " + log.string() : last;
+}
+
 /// What a sweep folder holds against its plan: every run's resolved scene, the finished
 /// runs' records, and the runs still to do (those another sweep has done, with --reuse,
 /// apart).
@@ -357,9 +381,14 @@ int run_task(const SweepOptions& options, const SweepState& state, std::size_t t
                         (WEXITSTATUS(status) == 0 || WEXITSTATUS(status) == kExitNotBlocked) &&
                         is_reusable(record, state.scene_texts[task]);
   if (!finished) {
-    std::fprintf(stderr, "%s: %s, see %s\n", name.c_str(), asked_to_stop ? "interrupted" : "FAILED",
+    const bool unwritten = WIFEXITED(status) && WEXITSTATUS(status) == kExitOutputFailed;
+    std::fprintf(stderr, "%s: %s, see %s\n", name.c_str(),
+                 asked_to_stop ? "interrupted"
+                 : unwritten   ? "FAILED (could not write its outputs)"
+                               : "FAILED",
                  (folder / "log.txt").string().c_str());
-    return 1;
+    // a scheduler's array then sees the machine's failure apart from the run's
+    return unwritten ? kExitOutputFailed : 1;
   }
   if (!options.quiet) {
     std::fprintf(stderr, "%s: porosity=%.5f blocked=%s wall=%.1fs\n", name.c_str(),
@@ -464,6 +493,10 @@ int run_sweep(const SweepOptions& options) {
   std::size_t left_for_later = 0;  // not started: not expected to finish within --time-limit
   std::size_t held_elsewhere = 0;  // not started: an earlier process still writes its folder
   bool time_up = false;
+  // a write error (a run's exit kExitOutputFailed, or the sweep's own tables) would fail
+  // every later run the same way (a full disk): nothing more starts, the running runs end,
+  // and what finished is kept for the same command to go on from
+  std::string write_error;
   // how hard the running runs have been asked to stop: 0 not, 1 SIGTERM (a run finishes its
   // step, writes its outputs flagged interrupted, and is rerun next time), 2 SIGKILL. A run
   // handles one SIGTERM and dies at a second, so each level is sent once, whether a signal
@@ -489,7 +522,8 @@ int run_sweep(const SweepOptions& options) {
       for (const auto& [pid, index] : running) kill(pid, stop_level >= 2 ? SIGKILL : SIGTERM);
       stop_level_sent = stop_level;
     }
-    while (received == 0 && next < pending.size() && static_cast<int>(running.size()) < jobs) {
+    while (received == 0 && write_error.empty() && next < pending.size() &&
+           static_cast<int>(running.size()) < jobs) {
       const std::size_t i = pending[next++];
       if (options.time_limit &&
           !may_start_within(seconds_since_start(), expected_run_seconds(plan, records, i),
@@ -529,7 +563,7 @@ int run_sweep(const SweepOptions& options) {
       }
       running[child] = i;
     }
-    if ((received > 0 || time_up) && running.empty()) break;
+    if ((received > 0 || time_up || !write_error.empty()) && running.empty()) break;
     int status = 0;
     const pid_t pid = waitpid(-1, &status, WNOHANG);
     if (pid < 0 && errno == ECHILD) {  // nothing left to wait for: the bookkeeping is stale
@@ -551,12 +585,18 @@ int run_sweep(const SweepOptions& options) {
     // fault (exit kExitFault) or any other status fails it
     const bool finished_run =
         WIFEXITED(status) && (WEXITSTATUS(status) == 0 || WEXITSTATUS(status) == kExitNotBlocked);
-    const bool ok = finished_run && is_reusable(record, scene_texts[i]);
     const bool fault = WIFEXITED(status) && WEXITSTATUS(status) == kExitFault;
+    const bool unwritten = WIFEXITED(status) && WEXITSTATUS(status) == kExitOutputFailed;
+    if (unwritten && write_error.empty()) write_error = last_error_of(folder / "log.txt");
+    // a run whose summary was written before a later output failed (its time series, at the
+    // end) has its results: it counts, as a restarted sweep would reuse it
+    const bool ok = (finished_run || unwritten) && is_reusable(record, scene_texts[i]);
     if (ok) {
       records[i] = std::move(record);
       ++done_now;
-      write_tables(options, plan, records);
+      if (std::string error = try_write_tables(options, plan, records); !error.empty()) {
+        if (write_error.empty()) write_error = std::move(error);
+      }
     } else if (g_signals.load() == 0 && !time_up) {
       ++failed;
     }
@@ -573,21 +613,24 @@ int run_sweep(const SweepOptions& options) {
             : "";
     if (ok) {
       const RunRecord& r = *records[i];
-      std::fprintf(stderr,
-                   "[%zu/%zu] %s seed %lld: porosity=%.5f blocked=%s wall=%.1fs (elapsed %s%s)\n",
-                   finished, total, plan.points[run.point].name.c_str(),
-                   static_cast<long long>(run.seed), r.porosity, r.blocked ? "yes" : "no",
-                   r.wall_seconds, clock_text(elapsed).c_str(), eta.c_str());
+      std::fprintf(
+          stderr, "[%zu/%zu] %s seed %lld: porosity=%.5f blocked=%s wall=%.1fs (elapsed %s%s)%s\n",
+          finished, total, plan.points[run.point].name.c_str(), static_cast<long long>(run.seed),
+          r.porosity, r.blocked ? "yes" : "no", r.wall_seconds, clock_text(elapsed).c_str(),
+          eta.c_str(), unwritten ? "; not all its outputs were written, see its log.txt" : "");
     } else {
       std::fprintf(stderr, "[%zu/%zu] %s seed %lld: %s, see %s\n", finished, total,
                    plan.points[run.point].name.c_str(), static_cast<long long>(run.seed),
-                   stopped ? "interrupted"
-                   : fault ? "FAILED (a fault stopped it: unphysical state)"
-                           : "FAILED",
+                   stopped     ? "interrupted"
+                   : fault     ? "FAILED (a fault stopped it: unphysical state)"
+                   : unwritten ? "FAILED (could not write its outputs)"
+                               : "FAILED",
                    (folder / "log.txt").string().c_str());
     }
   }
-  write_tables(options, plan, records);
+  if (std::string error = try_write_tables(options, plan, records); !error.empty()) {
+    if (write_error.empty()) write_error = std::move(error);
+  }
   const std::size_t finished = total - pending.size() + done_now;
   std::string state;
   if (g_signals.load() > 0) {
@@ -607,8 +650,16 @@ int run_sweep(const SweepOptions& options) {
         fmt::format("; time limit {}: {} run{} left for later (run the same command to resume)",
                     clock_text(*options.time_limit), left, left == 1 ? "" : "s");
   }
+  if (!write_error.empty()) {
+    state += fmt::format(
+        "; stopped starting runs after a write error ({}): free space and run the same command "
+        "to go on; the finished runs are kept{}",
+        write_error,
+        pending.size() > next ? fmt::format(", {} not started", pending.size() - next) : "");
+  }
   std::printf("sweep: %zu of %zu runs finished%s; results in %s\n", finished, total, state.c_str(),
               (options.out / "results.csv").string().c_str());
+  if (!write_error.empty()) return kExitOutputFailed;
   return finished == total ? 0 : 1;
 }
 

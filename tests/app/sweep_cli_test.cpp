@@ -108,6 +108,37 @@ TEST_F(SweepCli, RestartRunsOnlyWhatIsMissing) {
   EXPECT_THAT(changed.out, HasSubstr("0 finished, 0 reused, 8 to run"));
 }
 
+// A run that cannot write its outputs (here a file-size limit: a full disk fails the same
+// way, measured on a 3 MB tmpfs, docs/sweeps.md) exits with its own status, and the sweep
+// starts no further run, which would fail alike; the same command goes on once it can write.
+TEST_F(SweepCli, AWriteErrorStopsStartingRunsAndTheSameCommandGoesOn) {
+  const fs::path sweep = write_short_sweep(scratch_);
+  const fs::path out = scratch_ / "out";
+  // a row per step: the time series (≈ 0.1 MB) outgrows a 64-block limit (32 or 64 kB)
+  const std::string command =
+      "sweep " + sweep.string() + " --out " + out.string() + " -j 1 --set run.timeseries_every=1";
+  const fs::path script = scratch_ / "limited.sh";
+  std::ofstream(script) << "ulimit -f 64\nexec " << CDPOWDER_EXE << " " << command << "\n";
+  const ProcessResult limited = cdpowder::testing::run_process("sh", script.string(), scratch_);
+  EXPECT_EQ(limited.status, 5) << limited.err;
+  // its summary came before the time series failed at its end: its results count
+  EXPECT_THAT(limited.err, HasSubstr("not all its outputs were written, see its log.txt"));
+  EXPECT_THAT(limited.out, HasSubstr("sweep: 1 of 8 runs finished"));
+  EXPECT_THAT(limited.out, HasSubstr("stopped starting runs after a write error (cannot write "));
+  EXPECT_THAT(limited.out, HasSubstr("timeseries.csv: File too large)"));
+  EXPECT_THAT(limited.out, HasSubstr("7 not started"));
+  std::size_t started = 0;
+  for (const auto& point : fs::directory_iterator(out / "runs")) {
+    for ([[maybe_unused]] const auto& run : fs::directory_iterator(point.path())) ++started;
+  }
+  EXPECT_EQ(started, 1U);
+
+  const ProcessResult again = run_cdpowder(command, scratch_);
+  ASSERT_EQ(again.status, 0) << again.err;
+  EXPECT_THAT(again.err, HasSubstr("1 already finished"));
+  EXPECT_EQ(data_rows(out / "results.csv"), 8U);
+}
+
 TEST_F(SweepCli, ReuseCopiesInRunsOfAnotherSweepWithExactlyTheSameScene) {
   const fs::path first = scratch_ / "first";
   ASSERT_EQ(run_cdpowder("sweep " + write_short_sweep(scratch_).string() + " --out " +

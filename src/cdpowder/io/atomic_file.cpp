@@ -28,7 +28,7 @@ std::string failure(const std::filesystem::path& path, int error_number) {
 
 int open_for_writing(const std::filesystem::path& temporary, const std::filesystem::path& path) {
   const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0) throw std::runtime_error(failure(path, errno));
+  if (fd < 0) throw OutputError(failure(path, errno));
   return fd;
 }
 
@@ -55,7 +55,7 @@ void rename_into_place(const std::filesystem::path& from, const std::filesystem:
   std::filesystem::rename(from, to, error);
   if (error) {
     remove_quietly(from);  // its own error code: the message keeps the rename's reason
-    throw std::runtime_error(fmt::format("cannot write {}: {}", to.string(), error.message()));
+    throw OutputError(fmt::format("cannot write {}: {}", to.string(), error.message()));
   }
 }
 
@@ -68,7 +68,7 @@ void write_file_atomically(const std::filesystem::path& path, std::string_view c
   if (::close(fd) != 0 && error_number == 0) error_number = errno;
   if (error_number != 0) {
     remove_quietly(temporary);
-    throw std::runtime_error(failure(path, error_number));
+    throw OutputError(failure(path, error_number));
   }
   rename_into_place(temporary, path);
 }
@@ -84,15 +84,15 @@ AtomicFileStream::AtomicFileStream(std::filesystem::path path,
   std::error_code error;
   if (existing != temporary_) std::filesystem::rename(existing, temporary_, error);
   if (error) {
-    throw std::runtime_error(fmt::format("cannot continue {} from {}: {}", path_.string(),
-                                         existing.string(), error.message()));
+    throw OutputError(fmt::format("cannot continue {} from {}: {}", path_.string(),
+                                  existing.string(), error.message()));
   }
   fd_ = ::open(temporary_.c_str(), O_WRONLY | O_APPEND | O_CLOEXEC);
   if (fd_ < 0 || ::ftruncate(fd_, static_cast<off_t>(keep_bytes)) != 0) {
     const int error_number = errno;
     if (fd_ >= 0) ::close(fd_);
     fd_ = -1;
-    throw std::runtime_error(failure(path_, error_number));
+    throw OutputError(failure(path_, error_number));
   }
 }
 
@@ -126,7 +126,7 @@ void AtomicFileStream::commit() {
   if (::close(fd) != 0) fail(errno);
   if (failed()) {
     remove_quietly(temporary_);
-    throw std::runtime_error(error_);
+    throw OutputError(error_);
   }
   rename_into_place(temporary_, path_);
   committed_ = true;

@@ -7,12 +7,21 @@
 
 #include <cstddef>
 #include <filesystem>
+#include <stdexcept>
 #include <string>
 #include <string_view>
 
 namespace cdpowder {
 
-/// Writes `content` to `path` atomically. Throws std::runtime_error naming the path and the
+/// An output could not be written ("cannot write PATH: No space left on device"): the
+/// machine's fault, not the run's, so a sweep stops starting runs that would fail the same
+/// way (app/main.cpp gives it its own exit status).
+class OutputError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// Writes `content` to `path` atomically. Throws OutputError naming the path and the
 /// reason.
 void write_file_atomically(const std::filesystem::path& path, std::string_view content);
 
@@ -22,12 +31,12 @@ void write_file_atomically(const std::filesystem::path& path, std::string_view c
 /// keeps running and writes its other outputs) and asks failed()/error().
 class AtomicFileStream {
  public:
-  /// Opens the temporary file; throws std::runtime_error naming the path and the reason.
+  /// Opens the temporary file; throws OutputError naming the path and the reason.
   explicit AtomicFileStream(std::filesystem::path path);
 
   /// Continues the file `existing` (an earlier stream's temporary file, or its final file):
   /// renamed to this stream's temporary name, cut to its first `keep_bytes` bytes and
-  /// appended to. Throws std::runtime_error naming the path and the reason.
+  /// appended to. Throws OutputError naming the path and the reason.
   AtomicFileStream(std::filesystem::path path, const std::filesystem::path& existing,
                    std::uintmax_t keep_bytes);
   ~AtomicFileStream();
@@ -45,7 +54,7 @@ class AtomicFileStream {
 
   [[nodiscard]] const std::string& error() const { return error_; }
 
-  /// Closes and renames to the final name. Throws std::runtime_error with the first
+  /// Closes and renames to the final name. Throws OutputError with the first
   /// failure's reason (the temporary file is removed) if any write, the close or the rename
   /// failed.
   void commit();
