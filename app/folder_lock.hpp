@@ -5,8 +5,12 @@
 // the process ends, however it ends.
 #pragma once
 
+#include "cdpowder/io/atomic_file.hpp"
+
 #include <fmt/format.h>
 
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
 #include <stdexcept>
 #include <string>
@@ -21,11 +25,16 @@ namespace cdpowder::app {
 class FolderLock {
  public:
   /// Locks `lock_file`; throws std::runtime_error naming `folder`, the lock file and what
-  /// holds it (`holder`, e.g. "another sweep") when it is taken.
+  /// holds it (`holder`, e.g. "another sweep") when it is taken, and OutputError with the
+  /// system's reason when the lock file cannot be made (a read-only folder).
   FolderLock(const std::filesystem::path& lock_file, const std::string& holder) {
     fd_ = open(lock_file.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-    if (fd_ < 0 || flock(fd_, LOCK_EX | LOCK_NB) != 0) {
-      if (fd_ >= 0) close(fd_);
+    if (fd_ < 0) {  // not a lock held elsewhere: the folder cannot be written
+      throw OutputError(
+          fmt::format("cannot write {}: {}", lock_file.string(), std::strerror(errno)));
+    }
+    if (flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+      close(fd_);
       throw std::runtime_error(
           fmt::format("{} is in use by {} (lock {}); wait for it or choose another --out",
                       lock_file.parent_path().string(), holder, lock_file.string()));

@@ -37,8 +37,15 @@ constexpr int kExitBadInput = 2;
 /// Checked while the command line is read, so nothing is run or written (once the run's
 /// end brought the file system's own words and exit status 1).
 std::string output_folder_problem(const std::string& text) {
+  if (text.empty()) return "empty; name a folder (created if missing)";
   std::error_code error;
   for (std::filesystem::path p = text; !p.empty(); p = p.parent_path()) {
+    if (std::filesystem::is_symlink(std::filesystem::symlink_status(p, error)) &&
+        !std::filesystem::exists(p, error)) {
+      return "'" + p.string() + "' is a link to '" +
+             std::filesystem::read_symlink(p, error).string() +
+             "', which does not exist; name a folder (created if missing)";
+    }
     const std::filesystem::file_status status = std::filesystem::status(p, error);
     if (std::filesystem::is_directory(status)) return {};
     if (std::filesystem::exists(status)) {

@@ -4,6 +4,11 @@
 // scene.toml beside the old summary.json, and old snapshots outlived later runs).
 #pragma once
 
+#include "cdpowder/config/config_error.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
 #include <array>
 #include <filesystem>
 #include <string>
@@ -20,6 +25,24 @@ inline constexpr std::array<std::string_view, 14> kRunOutputs{
     "particles.vtp",   "contacts.vtp",   "particles.pvd",
     "contacts.pvd",    "snapshots",      "failed_state.cdps",
     "checkpoint.cdps", "checkpoint.toml"};
+
+/// Throws ConfigError when `input`, a file the command reads (`what`: "the scene file"), is
+/// one of the files a run writes in `folder`: the run would remove or overwrite it (found:
+/// a scene kept as DIR/scene.toml and run with --out DIR was replaced by the resolved one).
+inline void refuse_input_among_outputs(const std::filesystem::path& folder,
+                                       const std::filesystem::path& input, std::string_view what) {
+  const std::string name = input.filename().string();
+  if (std::find(kRunOutputs.begin(), kRunOutputs.end(), name) == kRunOutputs.end()) return;
+  std::error_code error;
+  const std::filesystem::path in = std::filesystem::weakly_canonical(input, error);
+  const std::filesystem::path out = std::filesystem::weakly_canonical(folder / name, error);
+  if (error || in != out) return;
+  throw ConfigError({{input.string(), 0, 0, "",
+                      fmt::format("{} is the output folder's own {}, which the run writes (an "
+                                  "earlier run's is removed first): copy it elsewhere or "
+                                  "choose another --out",
+                                  what, name)}});
+}
 
 /// Removes an earlier run's outputs and any temporary file (".NAME.PID.tmp") from `folder`.
 /// Throws std::filesystem::filesystem_error when one cannot be removed.

@@ -1,6 +1,7 @@
 // deposit.cpp — the deposit command.
 #include "commands/deposit.hpp"
 
+#include "run_folder.hpp"
 #include "stop_signals.hpp"
 
 #include "cdpowder/analysis/porosity.hpp"
@@ -35,6 +36,7 @@ extern "C" void request_deposit_stop(int /*signal*/) {
 int run_deposit(const DepositOptions& options) {
   // one-shot: a second Ctrl-C ends the program at once
   const StopSignals stop_on_signal(request_deposit_stop, SA_RESETHAND);
+  refuse_input_among_outputs(options.out, options.scene, "the scene file");
   SceneReadOptions how;
   how.deposition_required = true;
   const Scene scene = read_scene(options.scene, command_line_overrides(options.overrides), how);

@@ -207,6 +207,8 @@ int run_scene(const RunOptions& options, const SceneReadOptions& read_options,
   // one-shot: a second Ctrl-C during a long step ends the program at once
   const StopSignals stop_on_signal(request_stop, SA_RESETHAND);
   // all input is checked before DIR is touched
+  refuse_input_among_outputs(options.out, options.scene, "the scene file");
+  if (options.particles) refuse_input_among_outputs(options.out, *options.particles, "--particles");
   SceneReadOptions how = read_options;
   how.particles_file = options.particles;
   Session s{read_scene(options.scene, command_line_overrides(options.overrides), how),

@@ -307,6 +307,45 @@ TEST_F(CompactCli, AnOutputFolderThatIsAFileIsRefusedBeforeTheRun) {
   EXPECT_EQ(slurp(file), "keep me\n");
 }
 
+// --out empty, or a link to nowhere: refused with what it is (once the file system's words,
+// "cannot create directories: Invalid argument", exit status 1)
+TEST_F(CompactCli, AnEmptyOrDanglingOutputFolderIsRefusedBeforeTheRun) {
+  const ProcessResult empty =
+      run_cdpowder("compact " + kQuick.string() + " --out '' --quiet", scratch_);
+  EXPECT_EQ(empty.status, 2);
+  EXPECT_THAT(empty.err, HasSubstr("--out: empty; name a folder"));
+  const fs::path link = scratch_ / "link";
+  fs::create_symlink(scratch_ / "nowhere", link);
+  const ProcessResult dangling =
+      run_cdpowder("compact " + kQuick.string() + " --out " + link.string() + " --quiet", scratch_);
+  EXPECT_EQ(dangling.status, 2);
+  EXPECT_THAT(dangling.err, HasSubstr("is a link to '" + (scratch_ / "nowhere").string() +
+                                      "', which does not exist"));
+}
+
+// A scene kept in the output folder as scene.toml was once replaced by the run's resolved
+// scene (its comments lost), and --particles DIR/particles.csv by the run's packing: both
+// are refused, and the files stay as they were.
+TEST_F(CompactCli, AnInputTheRunWouldOverwriteIsRefused) {
+  const fs::path out = scratch_ / "out";
+  fs::create_directories(out);
+  fs::copy_file(kQuick, out / "scene.toml");
+  const std::string scene = slurp(out / "scene.toml");
+  const ProcessResult r = run_cdpowder(
+      "compact " + (out / "scene.toml").string() + " --out " + out.string() + " --quiet", scratch_);
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.err, HasSubstr("the scene file is the output folder's own scene.toml"));
+  EXPECT_EQ(slurp(out / "scene.toml"), scene);
+  std::ofstream(out / "particles.csv") << "x,y,z,r\n5,5,1,1\n";
+  const ProcessResult p =
+      run_cdpowder("compact " + kQuick.string() + " --particles " +
+                       (out / "particles.csv").string() + " --out " + out.string() + " --quiet",
+                   scratch_);
+  EXPECT_EQ(p.status, 2);
+  EXPECT_THAT(p.err, HasSubstr("--particles is the output folder's own particles.csv"));
+  EXPECT_EQ(slurp(out / "particles.csv"), "x,y,z,r\n5,5,1,1\n");
+}
+
 // stderr here is a pipe, as in a log file: no line redrawn with carriage returns
 TEST_F(CompactCli, TheProgressLineIsNotRedrawnIntoALog) {
   const ProcessResult r =

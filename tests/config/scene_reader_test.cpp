@@ -11,6 +11,7 @@
 #include <fstream>
 #include <random>
 #include <string>
+#include <sys/stat.h>  // mkfifo
 #include <vector>
 
 namespace cdpowder {
@@ -325,9 +326,23 @@ TEST_F(SceneReader, ReportsEveryIssueOfAFileAtOnce) {
 }
 
 TEST_F(SceneReader, RequiresTheParticlesFile) {
-  const auto found = issues("[system]\nlx = 30\n");
+  // no spheres at all (an empty scene file once said only "particles.file: missing")
+  const auto none = issues("[system]\nlx = 30\n");
+  ASSERT_EQ(none.size(), 1U);
+  EXPECT_EQ(none[0],
+            "scene.toml: particles: missing: the spheres come from a [deposition] section (a "
+            "ballistic deposit) or a [particles] file = \"….csv\" (docs/config.md)");
+  const auto found = issues("[system]\nlx = 30\n[particles]\n");
   ASSERT_EQ(found.size(), 1U);
   EXPECT_EQ(found[0], "scene.toml: particles.file: missing; this key is required");
+}
+
+TEST_F(SceneReader, SaysWhatAParticlesFileThatIsNotAFileIs) {
+  fs::create_directories(dir_ / "folder.csv");
+  const auto found = issues("[particles]\nfile = \"folder.csv\"\n");
+  ASSERT_EQ(found.size(), 1U);
+  EXPECT_THAT(found[0], AllOf(HasSubstr("scene.toml:2:8: particles.file: '"),
+                              HasSubstr("folder.csv' is a folder; expected a particles CSV")));
 }
 
 TEST_F(SceneReader, ReportsAParticlesFileThatDoesNotExist) {
@@ -440,8 +455,27 @@ TEST_F(SceneReader, ReportsAMissingSceneFile) {
   } catch (const ConfigError& error) {
     ASSERT_EQ(error.issues().size(), 1U);
     EXPECT_EQ(error.issues()[0].file, (dir_ / "nope.toml").string());
-    EXPECT_THAT(error.what(), HasSubstr("nope.toml: cannot open"));
+    EXPECT_THAT(error.what(), HasSubstr("nope.toml: no such file; expected a scene file"));
   }
+}
+
+// An empty name, and a FIFO (whose open blocks until a writer comes: the command hung)
+TEST_F(SceneReader, SaysWhyASceneFileCannotBeRead) {
+  const auto message = [](const fs::path& file) {
+    try {
+      (void)read_scene(file, {});
+    } catch (const ConfigError& error) {
+      return std::string(error.what());
+    }
+    return std::string("no ConfigError");
+  };
+  EXPECT_EQ(message(""),
+            "the file name is empty; expected a scene file (TOML), e.g. examples/quick/scene.toml");
+  const fs::path fifo = dir_ / "fifo.toml";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  EXPECT_EQ(message(fifo), fifo.string() +
+                               ": is not a regular file (a FIFO, socket or device); expected a "
+                               "scene file (TOML), e.g. examples/quick/scene.toml");
 }
 
 // A folder opens as an empty stream on Linux: before, it read as a scene without keys

@@ -64,6 +64,20 @@ void check_against_brute_force(double lx, double ly, double height, int n, doubl
   }
 }
 
+// Memory O(N): 200 spheres in a cell 10^9 R wide once asked for ~10^10 cells and threw
+// std::bad_alloc. The cells grow instead, and still find every pair.
+TEST(CellGrid, AVastBoxGetsLargerCellsNotMoreMemory) {
+  const PeriodicBox box{1e9, 30.0};
+  Rng rng = make_rng(5, RngStream::Deposition);
+  std::vector<Vec3> x;
+  for (int i = 0; i < 200; ++i) x.emplace_back(1e9 * uniform01(rng), 30.0 * uniform01(rng), 0.0);
+  CellGrid grid;
+  grid.rebuild(x, box, 2.5);
+  const double cells = static_cast<double>(grid.cells_x()) * grid.cells_y() * grid.cells_z();
+  EXPECT_LE(cells, 64.0 * 200);
+  check_against_brute_force(3e4, 10.0, 4.0, 1000, 2.5);  // grown cells find every pair
+}
+
 TEST(CellGrid, FindsAllPairsOfARandomGas) {
   check_against_brute_force(25.0, 20.0, 30.0, 600, 2.1);
 }

@@ -72,6 +72,19 @@ TEST(Deposition, PlainBallisticDepositionGivesItsKnownPorosity) {
   EXPECT_NEAR(mean_porosity_over_seeds(config), 0.859, kMeanTolerance);
 }
 
+// Memory O(N): a cell 10^9 R wide once asked for 10^9 columns (std::bad_alloc); the columns
+// grow instead, and the deposit is as valid as in a small cell.
+TEST(Deposition, AVastCellDepositsWithoutAskingForMemoryPerArea) {
+  DepositionConfig config = paper_config(1);
+  config.spheres = 300;
+  config.lx = 1e9;
+  const PeriodicBox box{config.lx, config.ly};
+  Bodies bodies;
+  deposit_ballistically(config, kDensity, bodies);
+  ASSERT_EQ(bodies.size(), 300U);
+  expect_touching_without_overlap(bodies, box);
+}
+
 TEST(Deposition, SurfaceGapRuleReadsTheCaptureRadiusAsAGap) {
   // r_capt = 1R as a surface gap is the same capture as r_capt = 3R centre-to-centre
   DepositionConfig centre = paper_config(7);

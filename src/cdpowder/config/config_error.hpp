@@ -55,7 +55,8 @@ inline constexpr std::size_t kMaxShownKey = 60;
 
 inline std::string shown(std::string_view text, std::size_t max_length);
 
-/// `file:line:column: key: message`; line and column are left out when 0, key when empty.
+/// `file:line:column: key: message`; line and column are left out when 0, file and key when
+/// empty.
 /// Always one line: the key is cut to kMaxShownKey characters and control characters in key
 /// and message are escaped.
 inline std::string format(const ConfigIssue& issue) {
@@ -66,7 +67,7 @@ inline std::string format(const ConfigIssue& issue) {
       text += ':' + std::to_string(issue.column);
     }
   }
-  text += ": ";
+  if (!text.empty()) text += ": ";  // an empty file name is said by the message
   if (!issue.key.empty()) {
     text += one_line(shown(issue.key, kMaxShownKey)) + ": ";
   }

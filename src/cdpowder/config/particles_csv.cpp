@@ -7,8 +7,10 @@
 
 #include <algorithm>
 #include <array>
+#include <cerrno>
 #include <charconv>
 #include <cmath>
+#include <cstring>
 #include <fstream>
 #include <optional>
 #include <sstream>
@@ -211,7 +213,8 @@ void read_particles(std::istream& stream, const std::string& name, double densit
 void read_particles_csv(const std::filesystem::path& file, double density, Bodies& bodies) {
   std::ifstream stream(file);
   if (!stream) {
-    throw ConfigError({{file.string(), 0, 0, "", "cannot open the particles file"}});
+    throw ConfigError({{file.string(), 0, 0, "",
+                        std::string("cannot open the particles file: ") + std::strerror(errno)}});
   }
   read_particles(stream, file.string(), density, bodies);
 }

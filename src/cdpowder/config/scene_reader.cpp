@@ -5,6 +5,7 @@
 // The typed reads are in table_reader.cpp, the effective TOML in scene_writer.cpp.
 #include "cdpowder/config/scene_reader.hpp"
 
+#include "cdpowder/config/input_file.hpp"
 #include "cdpowder/config/scene_writer.hpp"
 #include "cdpowder/config/table_reader.hpp"
 #include "cdpowder/solver/anderson.hpp"
@@ -137,14 +138,23 @@ Scene read_values(TableReader& in, const std::filesystem::path& base_dir,
   if (spheres_elsewhere && in.has("particles.file")) {
     in.find("particles.file");  // known: a [particles] beside [deposition] is reported once, below
   }
-  const std::string particles =
-      spheres_elsewhere ? std::string() : in.required_string("particles.file");
+  if (!spheres_elsewhere && !in.has("particles")) {
+    in.add_issue("particles", toml::source_region{},
+                 "missing: the spheres come from a [deposition] section (a ballistic deposit) "
+                 "or a [particles] file = \"….csv\" (docs/config.md)",
+                 /*in_file=*/true);
+  }
+  const std::string particles = spheres_elsewhere || !in.has("particles")
+                                    ? std::string()
+                                    : in.required_string("particles.file");
   if (!particles.empty()) {
     s.particles_file = (base_dir / std::filesystem::path(particles)).lexically_normal();
-    std::error_code error;
-    if (!std::filesystem::is_regular_file(s.particles_file, error)) {
+    if (const std::string problem = input_file_problem(s.particles_file, "a particles CSV");
+        !problem.empty()) {
       in.add_issue("particles.file", in.find("particles.file")->source(),
-                   fmt::format("no such file: '{}'", s.particles_file.string()));
+                   problem.starts_with("no such")
+                       ? fmt::format("no such file: '{}'", s.particles_file.string())
+                       : fmt::format("'{}' {}", s.particles_file.string(), problem));
     }
   }
 
@@ -364,22 +374,12 @@ Scene read_scene_text(std::string_view toml_text, std::string_view source_name,
 
 Scene read_scene(const std::filesystem::path& file, const std::vector<SceneOverride>& overrides,
                  const SceneReadOptions& options) {
-  // a folder opens as an empty stream on Linux (measured: "particles.file: missing")
-  std::error_code kind_error;
-  if (std::filesystem::is_directory(file, kind_error)) {
-    throw ConfigError(
-        {{file.string(), 0, 0, "",
-          "is a folder; expected a scene file (TOML), e.g. examples/quick/scene.toml"}});
-  }
-  std::ifstream stream(file, std::ios::binary);
-  if (!stream) {
-    throw ConfigError({{file.string(), 0, 0, "", "cannot open the scene file"}});
-  }
-  std::ostringstream text;
-  text << stream.rdbuf();
+  // (a folder opens as an empty stream on Linux: measured "particles.file: missing")
+  const std::string text =
+      read_input_file(file, "a scene file (TOML), e.g. examples/quick/scene.toml");
   std::error_code error;
   const std::filesystem::path absolute = std::filesystem::absolute(file, error);
-  Scene scene = read_scene_text(text.str(), file.string(), overrides,
+  Scene scene = read_scene_text(text, file.string(), overrides,
                                 error ? file.parent_path() : absolute.parent_path(), options);
   scene.source = file;
   return scene;

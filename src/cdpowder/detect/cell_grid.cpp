@@ -9,8 +9,6 @@ namespace cdpowder {
 void CellGrid::rebuild(const std::vector<Vec3>& positions, const PeriodicBox& box,
                        double min_cell_edge) {
   const std::size_t n = positions.size();
-  nx_ = std::max(1, static_cast<int>(std::floor(box.lx / min_cell_edge)));
-  ny_ = std::max(1, static_cast<int>(std::floor(box.ly / min_cell_edge)));
   double z_min = 0.0;
   double z_max = 0.0;
   if (n > 0) {
@@ -20,7 +18,25 @@ void CellGrid::rebuild(const std::vector<Vec3>& positions, const PeriodicBox& bo
       z_max = std::max(z_max, p.z());
     }
   }
-  nz_ = std::max(1, static_cast<int>(std::floor((z_max - z_min) / min_cell_edge)) + 1);
+  // Memory O(N): in a box far wider or taller than its spheres fill (a cell of 10^9 R for
+  // 10^3 spheres once asked for 10^10 cells and ended in std::bad_alloc) the edge grows until
+  // there are at most kMaxCellsPerSphere cells per sphere; larger cells find the same pairs.
+  // A packing has a few cells per sphere, so its grid is the one of edge min_cell_edge.
+  constexpr double kMaxCellsPerSphere = 64.0;
+  constexpr double kMinCellLimit = 4096.0;
+  const double cell_limit = std::max(kMinCellLimit, kMaxCellsPerSphere * static_cast<double>(n));
+  const auto cells_along = [](double length, double edge) {
+    return std::max(1.0, std::floor(length / edge));
+  };
+  double edge = min_cell_edge;
+  while (cells_along(box.lx, edge) * cells_along(box.ly, edge) *
+             (cells_along(z_max - z_min, edge) + 1.0) >
+         cell_limit) {
+    edge *= 2.0;
+  }
+  nx_ = static_cast<int>(cells_along(box.lx, edge));
+  ny_ = static_cast<int>(cells_along(box.ly, edge));
+  nz_ = static_cast<int>(cells_along(z_max - z_min, edge)) + 1;
   const double edge_x = box.lx / nx_;
   const double edge_y = box.ly / ny_;
 
@@ -31,7 +47,7 @@ void CellGrid::rebuild(const std::vector<Vec3>& positions, const PeriodicBox& bo
     const Vec3& p = positions[i];
     const int cx = std::clamp(static_cast<int>(p.x() / edge_x), 0, nx_ - 1);
     const int cy = std::clamp(static_cast<int>(p.y() / edge_y), 0, ny_ - 1);
-    const int cz = std::clamp(static_cast<int>((p.z() - z_min) / min_cell_edge), 0, nz_ - 1);
+    const int cz = std::clamp(static_cast<int>((p.z() - z_min) / edge), 0, nz_ - 1);
     cell_of_[i] = cell_index(cx, cy, cz);
     ++cell_start_[cell_of_[i] + 1];
   }

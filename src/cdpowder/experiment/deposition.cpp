@@ -21,13 +21,33 @@ namespace {
 /// Columns of deposited spheres over the periodic (x, y) cell.
 class ColumnGrid {
  public:
-  ColumnGrid(const PeriodicBox& box, double min_edge)
-      : nx_(std::max(1, static_cast<int>(std::floor(box.lx / min_edge)))),
-        ny_(std::max(1, static_cast<int>(std::floor(box.ly / min_edge)))),
+  /// Columns of edge ≥ min_edge, at most max(4096, 16 × spheres) of them: in a cell far wider
+  /// than its spheres cover (lx = 10^9 R once asked for 10^9 columns, std::bad_alloc) the edge
+  /// grows instead, so memory stays O(N); wider columns find the same spheres.
+  ColumnGrid(const PeriodicBox& box, double min_edge, int spheres)
+      : ColumnGrid(box, edge_for(box, min_edge, spheres)) {}
+
+ private:
+  ColumnGrid(const PeriodicBox& box, double edge)
+      : nx_(static_cast<int>(columns_along(box.lx, edge))),
+        ny_(static_cast<int>(columns_along(box.ly, edge))),
         edge_x_(box.lx / nx_),
         edge_y_(box.ly / ny_),
         columns_(static_cast<std::size_t>(nx_) * static_cast<std::size_t>(ny_)) {}
 
+  static double columns_along(double length, double edge) {
+    return std::max(1.0, std::floor(length / edge));
+  }
+
+  static double edge_for(const PeriodicBox& box, double min_edge, int spheres) {
+    constexpr double kMaxColumnsPerSphere = 16.0;
+    const double limit = std::max(4096.0, kMaxColumnsPerSphere * spheres);
+    double edge = min_edge;
+    while (columns_along(box.lx, edge) * columns_along(box.ly, edge) > limit) edge *= 2.0;
+    return edge;
+  }
+
+ public:
   void add(BodyIndex i, const Vec3& p) { columns_[column_of(p)].push_back(i); }
 
   /// Calls visit(j) for every sphere in the column of p and its neighbours (each once).
@@ -82,7 +102,7 @@ void deposit_ballistically(const DepositionConfig& config, double density, Bodie
   const double gap = config.capture_gap();
   const double r_max = config.radius_max;
   // horizontal reach of a capture: two largest spheres plus the capture gap
-  ColumnGrid columns(box, 2.0 * r_max + std::max(gap, 0.0));
+  ColumnGrid columns(box, 2.0 * r_max + std::max(gap, 0.0), config.spheres);
 
   constexpr int kSpheresBetweenStopChecks = 256;
   for (int n = 0; n < config.spheres; ++n) {

@@ -2,6 +2,7 @@
 #include "cdpowder/sweep/sweep_plan.hpp"
 
 #include "cdpowder/config/config_error.hpp"
+#include "cdpowder/config/input_file.hpp"
 
 #include <fmt/format.h>
 #include <toml++/toml.h>
@@ -332,20 +333,12 @@ SweepPlan read_sweep_plan_text(std::string_view text, std::string_view source_na
 
 SweepPlan read_sweep_plan(const std::filesystem::path& file,
                           const std::vector<std::string>& extra_fixed) {
-  std::error_code kind_error;
-  if (std::filesystem::is_directory(file, kind_error)) {
-    throw ConfigError(
-        {{file.string(), 0, 0, "",
-          "is a folder; expected a sweep file (TOML), e.g. examples/quick/fig5_sweep.toml"}});
-  }
-  std::ifstream stream(file, std::ios::binary);
-  if (!stream) throw ConfigError({{file.string(), 0, 0, "", "cannot open the sweep file"}});
-  std::ostringstream text;
-  text << stream.rdbuf();
+  const std::string text =
+      read_input_file(file, "a sweep file (TOML), e.g. examples/quick/fig5_sweep.toml");
   std::error_code error;
   const std::filesystem::path absolute = std::filesystem::absolute(file, error);
   SweepPlan plan = read_sweep_plan_text(
-      text.str(), file.string(), error ? file.parent_path() : absolute.parent_path(), extra_fixed);
+      text, file.string(), error ? file.parent_path() : absolute.parent_path(), extra_fixed);
   plan.source = file;
   return plan;
 }
