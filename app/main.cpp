@@ -23,6 +23,7 @@
 #include <cstdio>
 #include <exception>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -38,6 +39,13 @@ constexpr int kExitBadInput = 2;
 /// end brought the file system's own words and exit status 1).
 std::string output_folder_problem(const std::string& text) {
   if (text.empty()) return "empty; name a folder (created if missing)";
+  constexpr std::size_t kMaxName = 255;  // NAME_MAX of Linux file systems
+  for (const std::filesystem::path& part : std::filesystem::path(text)) {
+    if (part.string().size() > kMaxName) {
+      return "a folder name of " + std::to_string(part.string().size()) +
+             " characters; the file system allows at most 255";
+    }
+  }
   std::error_code error;
   for (std::filesystem::path p = text; !p.empty(); p = p.parent_path()) {
     if (std::filesystem::is_symlink(std::filesystem::symlink_status(p, error)) &&
@@ -58,6 +66,17 @@ std::string output_folder_problem(const std::string& text) {
   return {};
 }
 
+/// A check that the text is a whole number ≥ 0 (`allowed`: what it is), before CLI11
+/// converts it (an unsigned -1 became 18446744073709551615, and CLI11's own range check
+/// printed a bound of 310 digits). CLI11 puts the option's name in front.
+std::function<std::string(const std::string&)> count_problem(std::string allowed) {
+  return [allowed = std::move(allowed)](const std::string& text) {
+    const bool digits = !text.empty() && text.size() <= 9 &&
+                        text.find_first_not_of("0123456789") == std::string::npos;
+    return digits ? std::string() : "got '" + cdpowder::shown(text) + "', expected " + allowed;
+  };
+}
+
 /// The subcommands, for the message when the first word names none of them.
 constexpr std::array<std::string_view, 5> kCommands{"simulate", "compact", "resume", "deposit",
                                                     "sweep"};
@@ -72,7 +91,7 @@ std::string checkpoint_interval_problem(const std::string& text) {
     used = 0;
   }
   if (used != text.size() || text.empty() || !std::isfinite(value) || value <= 0.0) {
-    return "--checkpoint-every: got '" + cdpowder::shown(text) +
+    return "got '" + cdpowder::shown(text) +
            "', expected a simulated time in t0 > 0 (e.g. 50: a checkpoint every 50 t0)";
   }
   return {};
@@ -167,7 +186,7 @@ int run_command_line(int argc, char** argv) {
   sweep_cmd->add_option("--set", sweep.overrides,
                         "Override a scene key in every run: --set section.key=value (repeatable)");
   sweep_cmd->add_option("--jobs,-j", sweep.jobs, "Runs at a time (default: the number of cores)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(count_problem("runs at a time, e.g. 2 (0: one per core)"), "N");
   sweep_cmd->add_flag("--quiet,-q", sweep.quiet, "No progress lines on stderr");
   add_checkpoint_option(*sweep_cmd, sweep.checkpoint_every);
   sweep_cmd->add_flag("--dry-run", sweep.dry_run,
@@ -176,9 +195,12 @@ int run_command_line(int argc, char** argv) {
       "--list", sweep.list,
       "Print one shell command per run still to do (for GNU parallel, xargs -P or a Slurm "
       "array; docs/sweeps.md); run nothing");
-  CLI::Option* task = sweep_cmd->add_option(
-      "--task", sweep.task,
-      "Run exactly run I of the plan (the index --list prints), as one of many runners");
+  CLI::Option* task =
+      sweep_cmd
+          ->add_option(
+              "--task", sweep.task,
+              "Run exactly run I of the plan (the index --list prints), as one of many runners")
+          ->check(count_problem("a run index ≥ 0 (--list prints them)"), "I");
   CLI::Option* collect = sweep_cmd->add_flag(
       "--collect", sweep.collect, "Write results.csv and points.csv from the finished runs");
   list->excludes(task)->excludes(collect);

@@ -80,9 +80,10 @@ std::string result_line(const Scene& scene, const World& world, const Contacts& 
 /// step (stderr is unbuffered), so a killed run's log says what ran.
 void announce(std::string_view what, const Scene& scene, const std::filesystem::path& out,
               std::size_t spheres) {
+  // one line, whatever the folder's name holds (a newline once split it)
   std::string line =
       fmt::format("cdpowder {} (commit {}): {} --out {}; {} spheres, seed {}", kVersion, kGitCommit,
-                  what, out.string(), spheres, scene.step.solver.seed);
+                  one_line(what), one_line(out.string()), spheres, scene.step.solver.seed);
   if (scene.deposition) line += fmt::format(", deposition seed {}", scene.deposition->seed);
   std::fprintf(stderr, "%s\n", line.c_str());
   std::fflush(stderr);
@@ -140,10 +141,14 @@ int run_and_write(Session& s) {
   // every `checkpoint_every` of simulated time the loop is stopped after a step, the state
   // saved, and the loop continued: a loop stopped and continued is the loop never stopped
   // (run_loop.hpp), so checkpoints change no result
+  // (at least one step between two checkpoints: with T below Δt, or rounded at t = k T, the
+  // next multiple could fall on t itself, and the loop stopped again without a step)
   const auto next_checkpoint = [&] {
-    return s.checkpoint_every
-               ? (std::floor(world.time / *s.checkpoint_every) + 1.0) * *s.checkpoint_every
-               : std::numeric_limits<double>::infinity();
+    if (!s.checkpoint_every) return std::numeric_limits<double>::infinity();
+    const double every = *s.checkpoint_every;
+    const double next = (std::floor(world.time / every) + 1.0) * every;
+    return next > world.time ? next
+                             : std::nextafter(world.time, std::numeric_limits<double>::infinity());
   };
   double checkpoint_at = next_checkpoint();
   RunResult result;

@@ -274,6 +274,19 @@ TEST_F(ResumeCli, ACheckpointIntervalMustBeAPositiveTime) {
   }
 }
 
+// An interval far below Δt (or one rounding onto the step's own time) checkpoints after
+// every step; it once stopped the loop again and again without a step (the run hung).
+TEST_F(ResumeCli, AnIntervalBelowTheTimeStepCheckpointsEveryStep) {
+  for (const char* tiny : {"1e-300", "1e-5"}) {
+    const ProcessResult r = run_cdpowder(
+        "simulate " + kQuick.string() + " --set run.until_blocked=false --set run.duration=0.5 " +
+            "-q --out " + (scratch_ / "out").string() + " --checkpoint-every " + tiny,
+        scratch_);
+    EXPECT_EQ(r.status, 0) << tiny << ": " << r.err;
+    EXPECT_THAT(r.out, HasSubstr("steps=50 ")) << tiny;
+  }
+}
+
 // Checkpoints change no result, and a finished run keeps none.
 TEST_F(ResumeCli, CheckpointsChangeNothingAndAFinishedRunKeepsNone) {
   const std::string scene =

@@ -139,6 +139,22 @@ TEST_F(SweepCli, AWriteErrorStopsStartingRunsAndTheSameCommandGoesOn) {
   EXPECT_EQ(data_rows(out / "results.csv"), 8U);
 }
 
+// A negative or non-numeric count is named as such (once: a 310-digit bound, and an
+// unsigned -1 shown as 18446744073709551615)
+TEST_F(SweepCli, ABadJobsOrTaskIsNamedWithWhatIsAllowed) {
+  const std::string command =
+      "sweep " + write_short_sweep(scratch_).string() + " --out " + (scratch_ / "out").string();
+  const ProcessResult jobs = run_cdpowder(command + " -j -1", scratch_);
+  EXPECT_EQ(jobs.status, 2);
+  EXPECT_THAT(jobs.err, HasSubstr("--jobs: got '-1', expected runs at a time, e.g. 2"));
+  const ProcessResult letters = run_cdpowder(command + " -j abc", scratch_);
+  EXPECT_THAT(letters.err, HasSubstr("--jobs: got 'abc', expected runs at a time"));
+  const ProcessResult task = run_cdpowder(command + " --task -1", scratch_);
+  EXPECT_EQ(task.status, 2);
+  EXPECT_THAT(task.err, HasSubstr("--task: got '-1', expected a run index ≥ 0"));
+  EXPECT_FALSE(fs::exists(scratch_ / "out"));
+}
+
 TEST_F(SweepCli, ReuseCopiesInRunsOfAnotherSweepWithExactlyTheSameScene) {
   const fs::path first = scratch_ / "first";
   ASSERT_EQ(run_cdpowder("sweep " + write_short_sweep(scratch_).string() + " --out " +

@@ -208,6 +208,11 @@ TEST_F(SceneReader, RejectsACaptureRadiusBeyondHalfTheCellAndAStepLongerThanTheR
   found = issues(std::string(kParticles) + "[solver]\ndt = 0.6\n[run]\nduration = 0.5\n");
   ASSERT_EQ(found.size(), 1U);
   EXPECT_THAT(found[0], HasSubstr("solver.dt: got 0.6, expected at most run.duration = 0.5"));
+  // nor so short that the run could never end (1e-300 once "ran" zero steps, exit 0)
+  found = issues(std::string(kParticles) + "[solver]\ndt = 1e-300\n[run]\nduration = 1\n");
+  ASSERT_EQ(found.size(), 1U);
+  EXPECT_THAT(found[0], HasSubstr("solver.dt: got 1e-300, expected at least run.duration / "
+                                  "1e12 = 1e-12 (a run of more than 10^12 steps could not end)"));
 }
 
 TEST_F(SceneReader, EchoesAtMostFortyCharactersOfAValue) {

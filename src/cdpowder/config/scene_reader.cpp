@@ -265,6 +265,16 @@ void check_consistency(TableReader& in, const Scene& s, const SceneReadOptions& 
                              solver.dt, budget_key, budget),
                  in_file("solver.dt"));
   }
+  // a step so short that the run could never end (and t + Δt = t below 2^-52 t: measured,
+  // solver.dt = 1e-300 "ran" zero steps and exited 0)
+  constexpr double kMaxRunSteps = 1e12;
+  if (budget / solver.dt > kMaxRunSteps && !in.failed("solver.dt") && !in.failed(budget_key)) {
+    in.add_issue("solver.dt", where("solver.dt"),
+                 fmt::format("got {}, expected at least {} / 1e12 = {} (a run of more than "
+                             "10^12 steps could not end)",
+                             solver.dt, budget_key, budget / kMaxRunSteps),
+                 in_file("solver.dt"));
+  }
   // the detector keeps the last window of piston heights and imbalances (16 bytes a step)
   constexpr double kMaxWindowSteps = 1e6;
   if (s.run.until_blocked && s.run.blocked.window / solver.dt > kMaxWindowSteps &&
