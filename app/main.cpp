@@ -135,6 +135,12 @@ int run_command_line(int argc, char** argv) {
                  cdpowder::shown(argv[1]).c_str());
     return kExitBadInput;
   }
+  if (argc == 1) {
+    std::fprintf(stderr,
+                 "error: a command is required: simulate, compact, resume, deposit or sweep "
+                 "(cdpowder --help; the quick start is in README.md)\n");
+    return kExitBadInput;
+  }
   CLI::App cli{"cdpowder — contact dynamics of cohesive powders of rigid spheres"};
   cli.set_version_flag("--version",
                        std::string(cdpowder::kVersion) + " (commit " + cdpowder::kGitCommit + ")");

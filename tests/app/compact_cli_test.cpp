@@ -291,6 +291,9 @@ TEST_F(CompactCli, AMisspeltCommandIsNamedWithTheCommandsThatExist) {
   const ProcessResult r = run_cdpowder("compcat " + kQuick.string() + " --out x", scratch_);
   EXPECT_EQ(r.status, 2);
   EXPECT_THAT(r.err, HasSubstr("unknown command 'compcat'; the commands are simulate, compact"));
+  const ProcessResult none = run_cdpowder("", scratch_);  // CLI11: "A subcommand is required"
+  EXPECT_EQ(none.status, 2);
+  EXPECT_THAT(none.err, HasSubstr("a command is required: simulate, compact, resume, deposit"));
 }
 
 // --out naming a file (or a path through one) is refused before anything runs
