@@ -39,6 +39,11 @@ constexpr int kExitBadInput = 2;
 /// end brought the file system's own words and exit status 1).
 std::string output_folder_problem(const std::string& text) {
   if (text.empty()) return "empty; name a folder (created if missing)";
+  constexpr std::size_t kMaxPath = 4095;  // PATH_MAX of Linux, less the terminating zero
+  if (text.size() > kMaxPath) {
+    return "a path of " + std::to_string(text.size()) +
+           " characters; the system allows at most 4095";
+  }
   constexpr std::size_t kMaxName = 255;  // NAME_MAX of Linux file systems
   for (const std::filesystem::path& part : std::filesystem::path(text)) {
     if (part.string().size() > kMaxName) {

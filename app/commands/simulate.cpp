@@ -347,6 +347,11 @@ int run_resume(const ResumeOptions& options) {
                                                                     : "")}});
   }
   const FolderLock lock(run_lock_file(out), "another cdpowder run");
+  if (!std::filesystem::is_regular_file(out / "initial_particles.csv")) {
+    throw ConfigError({{out.string(), 0, 0, "",
+                        "initial_particles.csv is missing: the run's starting packing, which "
+                        "resume needs (for the initial porosity); the run cannot be continued"}});
+  }
   SavedRun saved = load_state(checkpoint);
   // the run's interval, unless this resume gives another (kept for the next resume)
   const std::optional<double> checkpoint_every =

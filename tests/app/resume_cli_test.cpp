@@ -254,6 +254,18 @@ TEST_F(ResumeCli, ACheckpointOfAnotherBuildResumesWithAWarning) {
   EXPECT_FALSE(fs::exists(run / "checkpoint.cdps"));
 }
 
+// Without its starting packing a run cannot go on; this once blamed `--particles`, an
+// option resume does not have
+TEST_F(ResumeCli, AFolderWithoutItsStartingPackingIsRefused) {
+  const fs::path run = stopped_run(scratch_ / "run", [](std::string&) {});
+  fs::remove(run / "initial_particles.csv");
+  const ProcessResult r = run_cdpowder("resume " + run.string() + " --quiet", scratch_);
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.err, HasSubstr("initial_particles.csv is missing: the run's starting packing"));
+  EXPECT_THAT(r.err, ::testing::Not(HasSubstr("--particles")));
+  EXPECT_TRUE(fs::exists(run / "checkpoint.cdps"));
+}
+
 TEST_F(ResumeCli, AFolderWithoutACheckpointIsRefused) {
   fs::create_directories(scratch_ / "empty");
   const ProcessResult r = run_cdpowder("resume " + (scratch_ / "empty").string(), scratch_);

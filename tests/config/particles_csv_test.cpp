@@ -101,6 +101,14 @@ TEST_F(ParticlesCsv, ReportsUnknownAndDuplicateColumns) {
 }
 
 // spreadsheets begin a UTF-8 CSV with a byte order mark; it is not part of the first name
+// "x,y,z,r," once gave "unknown column; did you mean 'x'?" for the empty fifth name
+TEST_F(ParticlesCsv, ReportsAColumnWithoutAName) {
+  const auto found = issues("x,y,z,r,\n1,1,1,1,\n");
+  ASSERT_FALSE(found.empty());
+  EXPECT_THAT(found[0], HasSubstr("column 5 of the header has no name (a trailing or doubled "
+                                  "comma?)"));
+}
+
 TEST_F(ParticlesCsv, ReadsAFileThatBeginsWithAByteOrderMark) {
   Bodies bodies;
   read_particles_csv(write("\xEF\xBB\xBFid,x,y,z,r\n0,1,2,3,1\n"), 1.0, bodies);

@@ -400,6 +400,16 @@ TEST_F(SceneReader, ReportsMalformedOverrides) {
   EXPECT_THAT(found[5], HasSubstr("strings need quotes: \"fixed\""));
 }
 
+// A key with a character TOML's bare keys do not allow once read "malformed override,
+// expected section.key=value" though it had that form
+TEST_F(SceneReader, SaysWhichCharactersAnOverrideKeyMayHold) {
+  const auto found = issues(kParticles, {"contact.µ=1"});
+  ASSERT_EQ(found.size(), 1U);
+  EXPECT_EQ(found[0],
+            "--set: contact.µ: malformed override: a key holds only the letters a-z "
+            "and A-Z, digits, '_', '-' and '.' (e.g. contact.mu_roll=0.5)");
+}
+
 TEST_F(SceneReader, ReportsOverrideOfUnknownKeyAsSet) {
   const auto found = issues(kParticles, {"contact.mu_rol=0.5", "compaction.pressure=1"});
   ASSERT_EQ(found.size(), 2U);

@@ -88,10 +88,16 @@ class CsvParser {
   /// Maps header fields to columns; false if the header is unusable.
   bool read_header(std::string_view line, int line_number) {
     std::vector<std::string> known(kColumnNames.begin(), kColumnNames.end());
+    std::size_t position = 0;
     for (const std::string_view field : split_fields(line)) {
+      ++position;
       const auto column = static_cast<std::size_t>(
           std::find(kColumnNames.begin(), kColumnNames.end(), field) - kColumnNames.begin());
-      if (column == kColumnNames.size()) {
+      if (field.empty()) {  // "x,y,z,r," once read as an unknown column "did you mean 'x'?"
+        add(line_number, "",
+            fmt::format("column {} of the header has no name (a trailing or doubled comma?)",
+                        position));
+      } else if (column == kColumnNames.size()) {
         add(line_number, shown(field),
             "unknown column" + did_you_mean(field, known) +
                 "; known: x, y, z, r, vx..vz, wx..wz, fx..fz, "

@@ -67,6 +67,12 @@ std::optional<Override> parse_override(const SceneOverride& change,
       !key.empty() && key.front() != '.' && key.back() != '.' &&
       key.find("..") == std::string_view::npos &&
       key.find_first_not_of(std::string(kBareKeyCharacters) + ".") == std::string_view::npos;
+  if (equals != std::string::npos && !key.empty() &&
+      key.find_first_not_of(std::string(kBareKeyCharacters) + ".") != std::string_view::npos) {
+    return fail(shown(key),
+                "malformed override: a key holds only the letters a-z and A-Z, "
+                "digits, '_', '-' and '.' (e.g. contact.mu_roll=0.5)");
+  }
   if (equals == std::string::npos || !key_ok) {
     return fail(shown(text),
                 "malformed override, expected section.key=value (e.g. contact.mu_roll=0.5)");
