@@ -187,6 +187,8 @@ TEST(CheckBoxFits, NamesTheSideThatIsTooShort) {
     const std::string text = format(error.issues()[0]);
     EXPECT_THAT(text, AllOf(HasSubstr("scene.toml: system.ly: got 4.1"), HasSubstr("= 4.14"),
                             HasSubstr("solver.skin"), HasSubstr("contact.cohesion_range")));
+    // a deposit has no particles file: it once read "with R_max = 1 from ''"
+    EXPECT_THAT(text, HasSubstr("with R_max = 1 of the deposit"));
   }
 }
 

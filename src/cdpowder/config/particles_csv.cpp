@@ -239,14 +239,18 @@ void check_box_fits(const Scene& scene, const Bodies& bodies) {
   std::vector<ConfigIssue> issues;
   const std::array<std::pair<const char*, double>, 2> sides = {
       {{"system.lx", scene.system.lx}, {"system.ly", scene.system.ly}}};
+  // R_max comes from the particles file, or from the deposit ([deposition] radii)
+  const std::string origin = scene.particles_file.empty()
+                                 ? std::string("the deposit")
+                                 : "'" + scene.particles_file.string() + "'";
   for (const auto& [key, length] : sides) {
     if (length < minimum) {
       issues.push_back(
           {scene.source.string(), 0, 0, key,
            fmt::format("got {}, expected ≥ 2 (2 R_max + max(contact.cohesion_range, "
-                       "contact.wall.cohesion_range) + solver.skin) = {} with R_max = {} from "
-                       "'{}', so that the periodic minimum image is unique",
-                       length, minimum, r_max, scene.particles_file.string())});
+                       "contact.wall.cohesion_range) + solver.skin) = {} with R_max = {} of "
+                       "{}, so that the periodic minimum image is unique",
+                       length, minimum, r_max, origin)});
     }
   }
   if (!issues.empty()) {
