@@ -242,7 +242,7 @@ void check_box_fits(const Scene& scene, const Bodies& bodies) {
   // R_max comes from the particles file, or from the deposit ([deposition] radii)
   const std::string origin = scene.particles_file.empty()
                                  ? std::string("the deposit")
-                                 : "'" + scene.particles_file.string() + "'";
+                                 : fmt::format("'{}'", scene.particles_file.string());
   for (const auto& [key, length] : sides) {
     if (length < minimum) {
       issues.push_back(
