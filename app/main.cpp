@@ -18,6 +18,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cerrno>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
@@ -270,8 +271,12 @@ int run_command_line(int argc, char** argv) {
   } catch (const std::filesystem::filesystem_error& e) {
     // a folder that cannot be made on a full disk is the same failure as a file
     std::fprintf(stderr, "error: %s\n", e.what());
-    const bool full = e.code() == std::errc::no_space_on_device;
-    return full ? cdpowder::app::kExitOutputFailed : kExitRunFailed;
+    const std::error_code code = e.code();
+    const bool unwritable = code == std::errc::no_space_on_device ||
+                            code == std::errc::file_too_large ||
+                            code == std::errc::read_only_file_system ||
+                            code.value() == EDQUOT;  // a quota: a cluster's full disk
+    return unwritable ? cdpowder::app::kExitOutputFailed : kExitRunFailed;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
     return kExitRunFailed;

@@ -31,12 +31,14 @@ inline constexpr std::array<std::string_view, 14> kRunOutputs{
 /// a scene kept as DIR/scene.toml and run with --out DIR was replaced by the resolved one).
 inline void refuse_input_among_outputs(const std::filesystem::path& folder,
                                        const std::filesystem::path& input, std::string_view what) {
-  const std::string name = input.filename().string();
-  if (std::find(kRunOutputs.begin(), kRunOutputs.end(), name) == kRunOutputs.end()) return;
+  // where the input is, links followed (a link elsewhere to DIR/scene.toml is DIR/scene.toml)
   std::error_code error;
   const std::filesystem::path in = std::filesystem::weakly_canonical(input, error);
-  const std::filesystem::path out = std::filesystem::weakly_canonical(folder / name, error);
-  if (error || in != out) return;
+  if (error) return;
+  const std::string name = in.filename().string();
+  if (std::find(kRunOutputs.begin(), kRunOutputs.end(), name) == kRunOutputs.end()) return;
+  const std::filesystem::path out = std::filesystem::weakly_canonical(folder, error);
+  if (error || in.parent_path() != out) return;
   throw ConfigError({{input.string(), 0, 0, "",
                       fmt::format("{} is the output folder's own {}, which the run writes (an "
                                   "earlier run's is removed first): copy it elsewhere or "

@@ -347,12 +347,12 @@ int run_resume(const ResumeOptions& options) {
                                                                     : "")}});
   }
   const FolderLock lock(run_lock_file(out), "another cdpowder run");
+  SavedRun saved = load_state(checkpoint);  // the checkpoint's own faults first
   if (!std::filesystem::is_regular_file(out / "initial_particles.csv")) {
     throw ConfigError({{out.string(), 0, 0, "",
                         "initial_particles.csv is missing: the run's starting packing, which "
                         "resume needs (for the initial porosity); the run cannot be continued"}});
   }
-  SavedRun saved = load_state(checkpoint);
   // the run's interval, unless this resume gives another (kept for the next resume)
   const std::optional<double> checkpoint_every =
       options.checkpoint_every ? options.checkpoint_every : remembered_checkpoint_interval(out);

@@ -204,7 +204,7 @@ std::string last_error_of(const std::filesystem::path& log) {
   while (std::getline(in, line)) {
     if (line.starts_with("error: ")) last = line.substr(7);
   }
-  return last.empty() ? "see " + log.string() : last;
+  return last.empty() ? "a run could not write its outputs, see " + log.string() : last;
 }
 
 /// What a sweep folder holds against its plan: every run's resolved scene, the finished
@@ -377,11 +377,13 @@ int run_task(const SweepOptions& options, const SweepState& state, std::size_t t
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }
   const std::optional<RunRecord> record = read_run_record(folder / "summary.json");
-  const bool finished = WIFEXITED(status) &&
-                        (WEXITSTATUS(status) == 0 || WEXITSTATUS(status) == kExitNotBlocked) &&
-                        is_reusable(record, state.scene_texts[task]);
+  const bool unwritten = WIFEXITED(status) && WEXITSTATUS(status) == kExitOutputFailed;
+  // as in the sweep's own loop: a run whose summary came before a failed output has its results
+  const bool finished =
+      WIFEXITED(status) &&
+      (WEXITSTATUS(status) == 0 || WEXITSTATUS(status) == kExitNotBlocked || unwritten) &&
+      is_reusable(record, state.scene_texts[task]);
   if (!finished) {
-    const bool unwritten = WIFEXITED(status) && WEXITSTATUS(status) == kExitOutputFailed;
     std::fprintf(stderr, "%s: %s, see %s\n", name.c_str(),
                  asked_to_stop ? "interrupted"
                  : unwritten   ? "FAILED (could not write its outputs)"
@@ -391,10 +393,11 @@ int run_task(const SweepOptions& options, const SweepState& state, std::size_t t
     return unwritten ? kExitOutputFailed : 1;
   }
   if (!options.quiet) {
-    std::fprintf(stderr, "%s: porosity=%.5f blocked=%s wall=%.1fs\n", name.c_str(),
-                 record->porosity, record->blocked ? "yes" : "no", record->wall_seconds);
+    std::fprintf(stderr, "%s: porosity=%.5f blocked=%s wall=%.1fs%s\n", name.c_str(),
+                 record->porosity, record->blocked ? "yes" : "no", record->wall_seconds,
+                 unwritten ? "; not all its outputs were written, see its log.txt" : "");
   }
-  return 0;
+  return unwritten ? kExitOutputFailed : 0;
 }
 
 /// --collect: the tables of what has finished, starting nothing.
@@ -543,7 +546,13 @@ int run_sweep(const SweepOptions& options) {
                      static_cast<long long>(plan.runs[i].seed), folder.string().c_str());
         continue;
       }
-      std::filesystem::create_directories(folder);
+      std::error_code made;
+      std::filesystem::create_directories(folder, made);
+      if (made) {  // a full disk: no run can start; the running ones end as they can
+        write_error = fmt::format("cannot create {}: {}", folder.string(), made.message());
+        --next;
+        break;
+      }
       // an interrupted run goes on from its checkpoint instead of starting again
       std::string why_not;
       const bool resume = has_usable_checkpoint(folder, scene_texts[i], why_not);

@@ -339,6 +339,13 @@ TEST_F(CompactCli, AnInputTheRunWouldOverwriteIsRefused) {
   EXPECT_EQ(r.status, 2);
   EXPECT_THAT(r.err, HasSubstr("the scene file is the output folder's own scene.toml"));
   EXPECT_EQ(slurp(out / "scene.toml"), scene);
+  // also through a link kept elsewhere
+  fs::create_symlink(out / "scene.toml", scratch_ / "mine.toml");
+  const ProcessResult linked = run_cdpowder(
+      "compact " + (scratch_ / "mine.toml").string() + " --out " + out.string() + " --quiet",
+      scratch_);
+  EXPECT_EQ(linked.status, 2);
+  EXPECT_EQ(slurp(out / "scene.toml"), scene);
   std::ofstream(out / "particles.csv") << "x,y,z,r\n5,5,1,1\n";
   const ProcessResult p =
       run_cdpowder("compact " + kQuick.string() + " --particles " +

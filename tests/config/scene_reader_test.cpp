@@ -213,6 +213,11 @@ TEST_F(SceneReader, RejectsACaptureRadiusBeyondHalfTheCellAndAStepLongerThanTheR
   ASSERT_EQ(found.size(), 1U);
   EXPECT_THAT(found[0], HasSubstr("solver.dt: got 1e-300, expected at least run.duration / "
                                   "1e12 = 1e-12 (a run of more than 10^12 steps could not end)"));
+  // with the adaptive step the bound is on the shortest step it may take
+  found = issues(std::string(kParticles) +
+                 "[solver]\nadaptive_dt = true\ndt_min = 1e-300\n[run]\nduration = 1\n");
+  ASSERT_EQ(found.size(), 1U);
+  EXPECT_THAT(found[0], HasSubstr("solver.dt_min: got 1e-300, expected at least run.duration"));
 }
 
 TEST_F(SceneReader, EchoesAtMostFortyCharactersOfAValue) {

@@ -22,6 +22,9 @@ inline std::string input_file_problem(const std::filesystem::path& file, std::st
   if (file.empty()) return "the file name is empty; expected " + std::string(what);
   std::error_code error;
   const std::filesystem::file_status status = std::filesystem::status(file, error);
+  if (error && error != std::errc::no_such_file_or_directory) {
+    return "cannot read: " + error.message();  // e.g. a folder on the way without permission
+  }
   if (std::filesystem::is_directory(status)) {
     return "is a folder; expected " + std::string(what);
   }

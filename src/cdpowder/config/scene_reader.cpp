@@ -268,12 +268,16 @@ void check_consistency(TableReader& in, const Scene& s, const SceneReadOptions& 
   // a step so short that the run could never end (and t + Δt = t below 2^-52 t: measured,
   // solver.dt = 1e-300 "ran" zero steps and exited 0)
   constexpr double kMaxRunSteps = 1e12;
-  if (budget / solver.dt > kMaxRunSteps && !in.failed("solver.dt") && !in.failed(budget_key)) {
-    in.add_issue("solver.dt", where("solver.dt"),
+  // (with the adaptive step the controller may go down to dt_min)
+  const bool adaptive = solver.time_step.adaptive;
+  const char* shortest_key = adaptive ? "solver.dt_min" : "solver.dt";
+  const double shortest = adaptive ? solver.time_step.dt_min : solver.dt;
+  if (budget / shortest > kMaxRunSteps && !in.failed(shortest_key) && !in.failed(budget_key)) {
+    in.add_issue(shortest_key, where(shortest_key),
                  fmt::format("got {}, expected at least {} / 1e12 = {} (a run of more than "
                              "10^12 steps could not end)",
-                             solver.dt, budget_key, budget / kMaxRunSteps),
-                 in_file("solver.dt"));
+                             shortest, budget_key, budget / kMaxRunSteps),
+                 in_file(shortest_key));
   }
   // the detector keeps the last window of piston heights and imbalances (16 bytes a step)
   constexpr double kMaxWindowSteps = 1e6;
@@ -327,10 +331,10 @@ void apply_read_options(toml::table& root, const SceneReadOptions& options) {
     const std::filesystem::path absolute =
         std::filesystem::absolute(*options.particles_file, error);
     root.erase("deposition");
-    // parsed back with "--particles" as its source, so a mistake is reported under the option
-    std::ostringstream value;
-    value << toml::table{{"file", (error ? *options.particles_file : absolute).string()}};
-    root.insert_or_assign("particles", toml::parse(value.str(), std::string(kParticlesOption)));
+    // the path as given (bytes that are not UTF-8 included); its mistakes are reported under
+    // the option (TableReader::set_origin in read_scene_text)
+    root.insert_or_assign(
+        "particles", toml::table{{"file", (error ? *options.particles_file : absolute).string()}});
   }
   if (options.compaction) {
     if (!root.contains("run")) root.insert("run", toml::table{});
@@ -366,6 +370,7 @@ Scene read_scene_text(std::string_view toml_text, std::string_view source_name,
   detail::apply_overrides(root, overrides, issues);
   apply_read_options(root, options);
   TableReader in(root, std::string(source_name), issues);
+  if (options.particles_file) in.set_origin("particles.file", std::string(kParticlesOption));
   if (options.deposition_required && root.get("deposition") == nullptr) {
     in.add_issue("deposition", toml::source_region{},
                  "missing: deposit needs a [deposition] section (docs/config.md)", true);

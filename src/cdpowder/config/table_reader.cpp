@@ -272,7 +272,9 @@ void TableReader::add_issue(std::string_view key, const toml::source_region& whe
                             std::string message, bool in_file) {
   failed_.emplace(key);
   ConfigIssue issue{source_name_, 0, 0, std::string(key), std::move(message)};
-  if (in_file) {
+  if (const auto origin = origins_.find(key); origin != origins_.end() && !in_file) {
+    issue.file = origin->second;  // a value a command option set
+  } else if (in_file) {
     // the file, without a position
   } else if (where.path && *where.path != source_name_) {
     issue.file = *where.path;  // an override's origin: "--set", "--particles", "sweep.toml:4:8"

@@ -17,6 +17,7 @@
 #include <cstdint>
 #include <functional>
 #include <limits>
+#include <map>
 #include <optional>
 #include <set>
 #include <string>
@@ -75,6 +76,12 @@ class TableReader {
   /// asked about this way are still checked.
   [[nodiscard]] bool has(std::string_view key) const {
     return root_.at_path(key).node() != nullptr;
+  }
+
+  /// Reports the issues of `key` under `origin` ("--particles"): a value a command option put
+  /// into the table, which has no source of its own.
+  void set_origin(std::string key, std::string origin) {
+    origins_.insert_or_assign(std::move(key), std::move(origin));
   }
 
   /// Whether an issue has been recorded for `key`.
@@ -144,6 +151,7 @@ class TableReader {
   std::vector<ConfigIssue>& issues_;
   std::set<std::string, std::less<>> known_;
   std::set<std::string, std::less<>> failed_;
+  std::map<std::string, std::string, std::less<>> origins_;
 };
 
 /// Applies the overrides ("section.key=value", in order) to `root`, creating the tables on

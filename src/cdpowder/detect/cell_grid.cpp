@@ -28,7 +28,8 @@ void CellGrid::rebuild(const std::vector<Vec3>& positions, const PeriodicBox& bo
   const auto cells_along = [](double length, double edge) {
     return std::max(1.0, std::floor(length / edge));
   };
-  double edge = min_cell_edge;
+  // (an edge of 0, asked for by no caller, would never grow: any edge then does)
+  double edge = min_cell_edge > 0.0 ? min_cell_edge : 1.0;
   while (cells_along(box.lx, edge) * cells_along(box.ly, edge) *
              (cells_along(z_max - z_min, edge) + 1.0) >
          cell_limit) {

@@ -41,8 +41,9 @@ class ColumnGrid {
 
   static double edge_for(const PeriodicBox& box, double min_edge, int spheres) {
     constexpr double kMaxColumnsPerSphere = 16.0;
-    const double limit = std::max(4096.0, kMaxColumnsPerSphere * spheres);
-    double edge = min_edge;
+    constexpr double kMinColumnLimit = 4096.0;
+    const double limit = std::max(kMinColumnLimit, kMaxColumnsPerSphere * spheres);
+    double edge = min_edge > 0.0 ? min_edge : 1.0;
     while (columns_along(box.lx, edge) * columns_along(box.ly, edge) > limit) edge *= 2.0;
     return edge;
   }
