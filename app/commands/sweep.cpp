@@ -195,6 +195,31 @@ std::string try_write_tables(const SweepOptions& options, const SweepPlan& plan,
   return {};
 }
 
+/// How a run's process ended (its wait status), read the same way by the sweep's loop and by
+/// --task.
+struct RunExit {
+  bool fault = false;      ///< exit kExitFault: a fault stopped it
+  bool unwritten = false;  ///< exit kExitOutputFailed: an output could not be written
+  /// Its results count: it ended (a compaction that did not block is finished, blocked = 0
+  /// in the tables), or an output failed after its summary was written (the time series, at
+  /// the end), and the summary is one of this run's scene.
+  bool counts = false;
+};
+
+RunExit run_exit(int status, const std::optional<RunRecord>& record,
+                 const std::string& scene_text) {
+  const int code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  RunExit out;
+  out.fault = code == kExitFault;
+  out.unwritten = code == kExitOutputFailed;
+  out.counts =
+      (code == 0 || code == kExitNotBlocked || out.unwritten) && is_reusable(record, scene_text);
+  return out;
+}
+
+/// What the progress line adds for a run that counts though an output failed.
+constexpr const char* kOutputsMissing = "; not all its outputs were written, see its log.txt";
+
 /// The last "error: …" line of a run's log (what made it fail), without the prefix; `log`
 /// itself when there is none.
 std::string last_error_of(const std::filesystem::path& log) {
@@ -377,13 +402,9 @@ int run_task(const SweepOptions& options, const SweepState& state, std::size_t t
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }
   const std::optional<RunRecord> record = read_run_record(folder / "summary.json");
-  const bool unwritten = WIFEXITED(status) && WEXITSTATUS(status) == kExitOutputFailed;
-  // as in the sweep's own loop: a run whose summary came before a failed output has its results
-  const bool finished =
-      WIFEXITED(status) &&
-      (WEXITSTATUS(status) == 0 || WEXITSTATUS(status) == kExitNotBlocked || unwritten) &&
-      is_reusable(record, state.scene_texts[task]);
-  if (!finished) {
+  const RunExit end = run_exit(status, record, state.scene_texts[task]);
+  const bool unwritten = end.unwritten;
+  if (!end.counts) {
     std::fprintf(stderr, "%s: %s, see %s\n", name.c_str(),
                  asked_to_stop ? "interrupted"
                  : unwritten   ? "FAILED (could not write its outputs)"
@@ -395,7 +416,7 @@ int run_task(const SweepOptions& options, const SweepState& state, std::size_t t
   if (!options.quiet) {
     std::fprintf(stderr, "%s: porosity=%.5f blocked=%s wall=%.1fs%s\n", name.c_str(),
                  record->porosity, record->blocked ? "yes" : "no", record->wall_seconds,
-                 unwritten ? "; not all its outputs were written, see its log.txt" : "");
+                 unwritten ? kOutputsMissing : "");
   }
   return unwritten ? kExitOutputFailed : 0;
 }
@@ -590,16 +611,11 @@ int run_sweep(const SweepOptions& options) {
     const SweepRun& run = plan.runs[i];
     const std::filesystem::path folder = options.out / run.folder;
     std::optional<RunRecord> record = read_run_record(folder / "summary.json");
-    // a compaction that did not block is a finished run (blocked = 0 in the tables); a
-    // fault (exit kExitFault) or any other status fails it
-    const bool finished_run =
-        WIFEXITED(status) && (WEXITSTATUS(status) == 0 || WEXITSTATUS(status) == kExitNotBlocked);
-    const bool fault = WIFEXITED(status) && WEXITSTATUS(status) == kExitFault;
-    const bool unwritten = WIFEXITED(status) && WEXITSTATUS(status) == kExitOutputFailed;
+    const RunExit end = run_exit(status, record, scene_texts[i]);
+    const bool fault = end.fault;
+    const bool unwritten = end.unwritten;
     if (unwritten && write_error.empty()) write_error = last_error_of(folder / "log.txt");
-    // a run whose summary was written before a later output failed (its time series, at the
-    // end) has its results: it counts, as a restarted sweep would reuse it
-    const bool ok = (finished_run || unwritten) && is_reusable(record, scene_texts[i]);
+    const bool ok = end.counts;
     if (ok) {
       records[i] = std::move(record);
       ++done_now;
@@ -626,7 +642,7 @@ int run_sweep(const SweepOptions& options) {
           stderr, "[%zu/%zu] %s seed %lld: porosity=%.5f blocked=%s wall=%.1fs (elapsed %s%s)%s\n",
           finished, total, plan.points[run.point].name.c_str(), static_cast<long long>(run.seed),
           r.porosity, r.blocked ? "yes" : "no", r.wall_seconds, clock_text(elapsed).c_str(),
-          eta.c_str(), unwritten ? "; not all its outputs were written, see its log.txt" : "");
+          eta.c_str(), unwritten ? kOutputsMissing : "");
     } else {
       std::fprintf(stderr, "[%zu/%zu] %s seed %lld: %s, see %s\n", finished, total,
                    plan.points[run.point].name.c_str(), static_cast<long long>(run.seed),

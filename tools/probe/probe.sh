@@ -691,23 +691,16 @@ if sig_category_enabled; then
     record $id sig "kill -$sig after 1.2 s: $cmd; then cdpowder resume o/$id -q" "$RC" "$WALL" "$W/logs/$id.err" "$V" "$NOTE"
   done
 
-  # S004: SIGINT during a 1e6-sphere deposit (deposit command)
-  id=S004; V=ok; NOTE=""
-  cmd="cdpowder deposit $PAPER -o o/$id --set deposition.spheres=1000000 --set system.lx=800 --set system.ly=800"
-  sig_run $id INT 1.0 "$cmd"; sig_common "$W/logs/$id.err"
-  [ "$RC" -eq 1 ] || worse unclear "exit $RC (docs: 1)"
-  grep -a -q -i 'interrupt\|stopped' "$W/logs/$id.err" || worse unclear "stderr does not say interrupted"
-  NOTE="$NOTE; folder after: [$(listing "o/$id")]"
-  record $id sig "kill -INT after 1.0 s: $cmd" "$RC" "$WALL" "$W/logs/$id.err" "$V" "$NOTE"
-
-  # S018: SIGHUP during a 1e6-sphere deposit
-  id=S018; V=ok; NOTE=""
-  cmd="cdpowder deposit $PAPER -o o/$id --set deposition.spheres=1000000 --set system.lx=800 --set system.ly=800"
-  sig_run $id HUP 1.0 "$cmd"; sig_common "$W/logs/$id.err"
-  [ "$RC" -eq 1 ] || worse unclear "exit $RC (docs: 1)"
-  grep -a -q -i 'interrupt\|stopped' "$W/logs/$id.err" || worse unclear "stderr does not say interrupted"
-  NOTE="$NOTE; folder after: [$(listing "o/$id")]"
-  record $id sig "kill -HUP after 1.0 s: $cmd" "$RC" "$WALL" "$W/logs/$id.err" "$V" "$NOTE"
+  # S004 (SIGINT), S018 (SIGHUP): during a 1e6-sphere deposit (deposit command)
+  for pair in S004:INT S018:HUP; do
+    id=${pair%%:*}; sig=${pair#*:}; V=ok; NOTE=""
+    cmd="cdpowder deposit $PAPER -o o/$id --set deposition.spheres=1000000 --set system.lx=800 --set system.ly=800"
+    sig_run $id "$sig" 1.0 "$cmd"; sig_common "$W/logs/$id.err"
+    [ "$RC" -eq 1 ] || worse unclear "exit $RC (docs: 1)"
+    grep -a -q -i 'interrupt\|stopped' "$W/logs/$id.err" || worse unclear "stderr does not say interrupted"
+    NOTE="$NOTE; folder after: [$(listing "o/$id")]"
+    record $id sig "kill -$sig after 1.0 s: $cmd" "$RC" "$WALL" "$W/logs/$id.err" "$V" "$NOTE"
+  done
 
   # S005: SIGTERM during the deposition phase of a compact (1e6 spheres); resume must refuse cleanly
   id=S005; V=ok; NOTE=""

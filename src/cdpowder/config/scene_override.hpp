@@ -9,7 +9,8 @@
 
 namespace cdpowder {
 
-/// ConfigIssue::file of a mistake in a command-line override.
+/// ConfigIssue::file of a mistake in a command-line override (and in a table an override
+/// created, which has no origin of its own).
 inline constexpr const char* kCommandLineOverride = "--set";
 
 struct SceneOverride {
@@ -26,8 +27,6 @@ struct SceneOverride {
 
   SceneOverride(std::string override_text, std::string where)
       : text(std::move(override_text)), origin(std::move(where)) {}
-
-  friend bool operator==(const SceneOverride&, const SceneOverride&) = default;
 };
 
 /// Command-line `--set` values as overrides.

@@ -149,12 +149,14 @@ Scene read_values(TableReader& in, const std::filesystem::path& base_dir,
                                     : in.required_string("particles.file");
   if (!particles.empty()) {
     s.particles_file = (base_dir / std::filesystem::path(particles)).lexically_normal();
-    if (const std::string problem = input_file_problem(s.particles_file, "a particles CSV");
-        !problem.empty()) {
+    std::error_code missing;
+    if (!std::filesystem::exists(s.particles_file, missing) && !missing) {
       in.add_issue("particles.file", in.find("particles.file")->source(),
-                   problem.starts_with("no such")
-                       ? fmt::format("no such file: '{}'", s.particles_file.string())
-                       : fmt::format("'{}' {}", s.particles_file.string(), problem));
+                   fmt::format("no such file: '{}'", s.particles_file.string()));
+    } else if (const std::string problem = input_file_problem(s.particles_file, "a particles CSV");
+               !problem.empty()) {
+      in.add_issue("particles.file", in.find("particles.file")->source(),
+                   fmt::format("'{}' {}", s.particles_file.string(), problem));
     }
   }
 

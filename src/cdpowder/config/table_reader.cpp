@@ -63,12 +63,11 @@ std::optional<Override> parse_override(const SceneOverride& change,
   const std::size_t equals = text.find('=');
   const std::string_view key =
       trim(std::string_view(text).substr(0, equals == std::string::npos ? 0 : equals));
-  const bool key_ok =
-      !key.empty() && key.front() != '.' && key.back() != '.' &&
-      key.find("..") == std::string_view::npos &&
+  const bool characters_ok =
       key.find_first_not_of(std::string(kBareKeyCharacters) + ".") == std::string_view::npos;
-  if (equals != std::string::npos && !key.empty() &&
-      key.find_first_not_of(std::string(kBareKeyCharacters) + ".") != std::string_view::npos) {
+  const bool key_ok = !key.empty() && key.front() != '.' && key.back() != '.' &&
+                      key.find("..") == std::string_view::npos && characters_ok;
+  if (equals != std::string::npos && !key.empty() && !characters_ok) {
     return fail(shown(key),
                 "malformed override: a key holds only the letters a-z and A-Z, "
                 "digits, '_', '-' and '.' (e.g. contact.mu_roll=0.5)");
@@ -279,7 +278,7 @@ void TableReader::add_issue(std::string_view key, const toml::source_region& whe
   } else if (where.path && *where.path != source_name_) {
     issue.file = *where.path;  // an override's origin: "--set", "--particles", "sweep.toml:4:8"
   } else if (where.begin.line == 0) {
-    issue.file = kOverrideSource;  // a table an override created
+    issue.file = kCommandLineOverride;  // a table an override created
   } else {
     issue.line = static_cast<int>(where.begin.line);
     issue.column = static_cast<int>(where.begin.column);

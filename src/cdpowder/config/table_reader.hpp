@@ -27,10 +27,6 @@
 
 namespace cdpowder::detail {
 
-/// ConfigIssue::file of an issue in a table an override created (its values are reported
-/// at their own origin).
-inline constexpr std::string_view kOverrideSource = kCommandLineOverride;
-
 /// No upper bound for TableReader::integer.
 inline constexpr std::int64_t kNoMaximum = std::numeric_limits<std::int64_t>::max();
 

@@ -18,23 +18,16 @@ void CellGrid::rebuild(const std::vector<Vec3>& positions, const PeriodicBox& bo
       z_max = std::max(z_max, p.z());
     }
   }
-  // Memory O(N): in a box far wider or taller than its spheres fill (a cell of 10^9 R for
-  // 10^3 spheres once asked for 10^10 cells and ended in std::bad_alloc) the edge grows until
-  // there are at most kMaxCellsPerSphere cells per sphere; larger cells find the same pairs.
-  // A packing has a few cells per sphere, so its grid is the one of edge min_cell_edge.
+  // at most kMaxCellsPerSphere cells per sphere (edge_within); a packing has a few, so its
+  // grid is the one of edge min_cell_edge
   constexpr double kMaxCellsPerSphere = 64.0;
   constexpr double kMinCellLimit = 4096.0;
-  const double cell_limit = std::max(kMinCellLimit, kMaxCellsPerSphere * static_cast<double>(n));
-  const auto cells_along = [](double length, double edge) {
-    return std::max(1.0, std::floor(length / edge));
-  };
-  // (an edge of 0, asked for by no caller, would never grow: any edge then does)
-  double edge = min_cell_edge > 0.0 ? min_cell_edge : 1.0;
-  while (cells_along(box.lx, edge) * cells_along(box.ly, edge) *
-             (cells_along(z_max - z_min, edge) + 1.0) >
-         cell_limit) {
-    edge *= 2.0;
-  }
+  const double edge = edge_within(
+      min_cell_edge, std::max(kMinCellLimit, kMaxCellsPerSphere * static_cast<double>(n)),
+      [&](double e) {
+        return cells_along(box.lx, e) * cells_along(box.ly, e) *
+               (cells_along(z_max - z_min, e) + 1.0);
+      });
   nx_ = static_cast<int>(cells_along(box.lx, edge));
   ny_ = static_cast<int>(cells_along(box.ly, edge));
   nz_ = static_cast<int>(cells_along(z_max - z_min, edge)) + 1;

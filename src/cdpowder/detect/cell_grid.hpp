@@ -8,11 +8,29 @@
 #include "cdpowder/core/vec3.hpp"
 #include "cdpowder/model/periodic_box.hpp"
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
 namespace cdpowder {
+
+/// Cells of edge `edge` along `length`: at least one.
+inline double cells_along(double length, double edge) {
+  return std::max(1.0, std::floor(length / edge));
+}
+
+/// The edge min_edge × 2^k with the smallest k ≥ 0 for which cell_count(edge) ≤ max_cells.
+/// Memory O(N): in a region far wider than its spheres fill (a cell of 10^9 R for 10^3
+/// spheres once asked for 10^10 cells, std::bad_alloc) the cells grow instead; larger cells
+/// find the same neighbours. (An edge ≤ 0, asked for by no caller, would never grow: 1 then.)
+template <typename CellCount>
+double edge_within(double min_edge, double max_cells, const CellCount& cell_count) {
+  double edge = min_edge > 0.0 ? min_edge : 1.0;
+  while (cell_count(edge) > max_cells) edge *= 2.0;
+  return edge;
+}
 
 class CellGrid {
  public:

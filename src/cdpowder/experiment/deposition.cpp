@@ -5,6 +5,7 @@
 
 #include "cdpowder/analysis/porosity.hpp"
 #include "cdpowder/core/rng.hpp"
+#include "cdpowder/detect/cell_grid.hpp"
 
 #include <fmt/format.h>
 
@@ -21,32 +22,25 @@ namespace {
 /// Columns of deposited spheres over the periodic (x, y) cell.
 class ColumnGrid {
  public:
-  /// Columns of edge ≥ min_edge, at most max(4096, 16 × spheres) of them: in a cell far wider
-  /// than its spheres cover (lx = 10^9 R once asked for 10^9 columns, std::bad_alloc) the edge
-  /// grows instead, so memory stays O(N); wider columns find the same spheres.
+  /// Columns of edge ≥ min_edge, at most max(4096, 16 × spheres) of them (edge_within:
+  /// lx = 10^9 R once asked for 10^9 columns, std::bad_alloc).
   ColumnGrid(const PeriodicBox& box, double min_edge, int spheres)
-      : ColumnGrid(box, edge_for(box, min_edge, spheres)) {}
+      : ColumnGrid(box,
+                   edge_within(min_edge, std::max(kMinColumnLimit, kMaxColumnsPerSphere * spheres),
+                               [&box](double e) {
+                                 return cells_along(box.lx, e) * cells_along(box.ly, e);
+                               })) {}
 
  private:
+  static constexpr double kMaxColumnsPerSphere = 16.0;
+  static constexpr double kMinColumnLimit = 4096.0;
+
   ColumnGrid(const PeriodicBox& box, double edge)
-      : nx_(static_cast<int>(columns_along(box.lx, edge))),
-        ny_(static_cast<int>(columns_along(box.ly, edge))),
+      : nx_(static_cast<int>(cells_along(box.lx, edge))),
+        ny_(static_cast<int>(cells_along(box.ly, edge))),
         edge_x_(box.lx / nx_),
         edge_y_(box.ly / ny_),
         columns_(static_cast<std::size_t>(nx_) * static_cast<std::size_t>(ny_)) {}
-
-  static double columns_along(double length, double edge) {
-    return std::max(1.0, std::floor(length / edge));
-  }
-
-  static double edge_for(const PeriodicBox& box, double min_edge, int spheres) {
-    constexpr double kMaxColumnsPerSphere = 16.0;
-    constexpr double kMinColumnLimit = 4096.0;
-    const double limit = std::max(kMinColumnLimit, kMaxColumnsPerSphere * spheres);
-    double edge = min_edge > 0.0 ? min_edge : 1.0;
-    while (columns_along(box.lx, edge) * columns_along(box.ly, edge) > limit) edge *= 2.0;
-    return edge;
-  }
 
  public:
   void add(BodyIndex i, const Vec3& p) { columns_[column_of(p)].push_back(i); }
