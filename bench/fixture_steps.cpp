@@ -125,6 +125,18 @@ int main(int argc, char** argv) {
       fmt::print("last step: contacts={} colours={} batches={} sequential={} (walls {})\n",
                  work.contacts.size(), coloured.colours(), coloured.batches.size(),
                  coloured.sequential.size(), work.contacts.walls.size());
+      // the parts of a step cut into slabs (slabs.hpp): batched pairs + sequential contacts
+      const PairColouring& colouring = coloured.colouring;
+      std::string parts;
+      for (std::size_t p = 0; p < kSweepParts; ++p) {
+        const auto first =
+            colouring.colour_start[colouring.chunk_colours[colouring.part_chunks[p]]];
+        const auto last =
+            colouring.colour_start[colouring.chunk_colours[colouring.part_chunks[p + 1]]];
+        parts += fmt::format(" {}+{}", last - first,
+                             coloured.part_sequential[p + 1] - coloured.part_sequential[p]);
+      }
+      fmt::print("last step: parts (inside slab 0, inside slab 1, across){}\n", parts);
     }
     fmt::print(
         "per step [us]: detect {:.0f}, build {:.0f}, solve {:.0f}, integrate {:.0f}, "

@@ -10,6 +10,7 @@
 #include "cdpowder/config/scene_reader.hpp"
 #include "cdpowder/experiment/run_loop.hpp"
 #include "cdpowder/experiment/scene_setup.hpp"
+#include "support/fixture_hash.hpp"
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
@@ -177,6 +178,15 @@ TEST(StateHash, PolydisperseCompaction) {
   options.compaction = true;
   const Scene scene = read_scene_text(kPolydisperseScene, "polydisperse", {}, ".", options);
   expect_golden("compact_polydisperse_mu03_300steps", hash_after(scene));
+}
+
+// Ten steps of the paper-size fixtures (≈ 1 000 spheres, so each step is cut into two slabs,
+// slabs.hpp) with the kinematic rule on: the (0, 0) compaction front and the (1, 1) mid-run.
+TEST(StateHash, PaperSizeSteps) {
+  const std::vector<SceneOverride> settings{"solver.kinematic_tolerance=1e-4"};
+  expect_golden("paper_front_mu00_10steps",
+                fixture_hash("paper_front_mu00_t350.cdps", 10, settings));
+  expect_golden("paper_mid_mu11_10steps", fixture_hash("paper_mid_mu11_t240.cdps", 10, settings));
 }
 
 }  // namespace

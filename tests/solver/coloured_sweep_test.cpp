@@ -199,9 +199,11 @@ TEST(ColouredSweep, FullBatchesEqualTheScalarSweepInTheSameSequence) {
       order_groups(sweep, VisitOrder::RandomEachStep, rng);
       scalar.visit_order.clear();
       for (const std::uint32_t g : sweep.group_order) {
-        if (g == sweep.colours()) {
-          scalar.visit_order.insert(scalar.visit_order.end(), sweep.sequential.begin(),
-                                    sweep.sequential.end());
+        if (g >= sweep.colours()) {  // a part's sequential group
+          const std::size_t part = g - sweep.colours();
+          scalar.visit_order.insert(scalar.visit_order.end(),
+                                    sweep.sequential.begin() + sweep.part_sequential[part],
+                                    sweep.sequential.begin() + sweep.part_sequential[part + 1]);
         } else {
           for (std::uint32_t m = sweep.colouring.colour_start[g];
                m < sweep.colouring.colour_start[g + 1]; ++m) {

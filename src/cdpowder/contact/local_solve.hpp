@@ -42,12 +42,14 @@ inline void apply_pair_delta(const PairProblem& p, const Vec3& dR, const Vec3& d
 }
 
 /// Velocity change of a sphere (body b, lever −R n) and of the wall (body a: only the
-/// piston moves, along z) from a change (ΔR, ΔT) of the action on the sphere.
+/// piston moves, along z) from a change (ΔR, ΔT) of the action on the sphere. A bottom-wall
+/// contact leaves V_P alone (not even adding 0), so it may be solved on another thread than
+/// the piston's contacts (slabs.hpp).
 inline void apply_wall_delta(const WallProblem& w, const Vec3& dR, const Vec3& dT,
                              SphereVelocity& s, double& wall_velocity) {
   s.linear += s.dt_inverse_mass * dR;
   s.angular += s.dt_inverse_inertia * (dT - w.radius * w.normal.cross(dR));
-  wall_velocity -= w.wall_response * dR.z();
+  if (w.wall_moves != 0.0) wall_velocity -= w.wall_response * dR.z();
 }
 
 /// A mode has a threshold above zero (μ_t r_eff or μ_n r_eff > 0); without one its torque

@@ -47,13 +47,7 @@ struct PassOneVectors {
   std::size_t n;
 };
 
-/// What pass 1 finds: ΔF_newᵀ ΔF_other[j], ΔF_other[j]ᵀ f, ΔF_newᵀ ΔF_new, ΔF_newᵀ f.
-struct PassOneSums {
-  SlotWeights cross{};
-  SlotWeights rhs{};
-  double new_new = 0.0;
-  double new_rhs = 0.0;
-};
+using PassOneSums = AndersonAccelerator::PassSums;
 
 // The passes over the long vectors, compiled for SSE2 (the x86-64 baseline) and for AVX2
 // (chosen at run time, lanes.hpp): a 4-double vector is two SSE2 registers or one AVX
@@ -78,6 +72,18 @@ void AndersonAccelerator::reset() {
 bool AndersonAccelerator::extrapolate(const AlignedVector<double>& x,
                                       const AlignedVector<double>& g, AlignedVector<double>& next) {
   const std::size_t n = x.size();
+  next.resize(n);
+  begin(n);
+  const PassSums sums = pass(x.data(), g.data(), 0, n);
+  if (!fit(std::span<const PassSums>(&sums, 1))) {
+    std::copy(g.begin(), g.end(), next.begin());
+    return false;
+  }
+  mix(g.data(), next.data(), 0, n);
+  return true;
+}
+
+void AndersonAccelerator::begin(std::size_t n) {
   if (n != size_) {
     size_ = n;
     constexpr std::size_t kLine = kCacheLine / sizeof(double);
@@ -88,83 +94,107 @@ bool AndersonAccelerator::extrapolate(const AlignedVector<double>& x,
     delta_g_.resize(stride_ * static_cast<std::size_t>(depth_));
     reset();
   }
-  next.resize(n);
-  if (!has_last_) {
-    for (std::size_t i = 0; i < n; ++i) {
+  first_ = !has_last_;
+  has_last_ = true;
+  if (first_) return;
+  // the new difference goes to a free slot, or over the oldest one
+  slot_ = count_ < depth_ ? count_ : (newest_ + 1) % depth_;
+  count_ = std::min(count_ + 1, depth_);
+  newest_ = slot_;
+  n_others_ = 0;
+  for (int s = 0; s < count_; ++s) {
+    if (s != slot_) others_[static_cast<std::size_t>(n_others_++)] = s;
+  }
+}
+
+AndersonAccelerator::PassSums AndersonAccelerator::pass(const double* x, const double* g,
+                                                        std::size_t first, std::size_t last) {
+  PassSums sums;
+  if (first_) {
+    for (std::size_t i = first; i < last; ++i) {
       last_f_[i] = g[i] - x[i];
       last_g_[i] = g[i];
-      next[i] = g[i];
     }
-    has_last_ = true;
-    return false;
+    return sums;
   }
-
-  // the new difference goes to a free slot, or over the oldest one
-  const int slot = count_ < depth_ ? count_ : (newest_ + 1) % depth_;
-  count_ = std::min(count_ + 1, depth_);
-  newest_ = slot;
-  std::array<int, kMaxDepth> others{};  // the other slots in the fit
-  int n_others = 0;
-  for (int s = 0; s < count_; ++s) {
-    if (s != slot) others[static_cast<std::size_t>(n_others++)] = s;
-  }
-  SlotPointers other_f{};
-  for (int j = 0; j < n_others; ++j) {
-    other_f[static_cast<std::size_t>(j)] =
-        delta_f_.data() + static_cast<std::size_t>(others[static_cast<std::size_t>(j)]) * stride_;
-  }
-  double* new_f = delta_f_.data() + static_cast<std::size_t>(slot) * stride_;
-  double* new_g = delta_g_.data() + static_cast<std::size_t>(slot) * stride_;
-
   // pass 1: f = g − x, the new differences, ΔF_newᵀΔF_s and ΔF_sᵀ f for every slot
-  const PassOneVectors vectors{x.data(), g.data(), last_f_.data(), last_g_.data(), new_f, new_g, n};
-  PassOneSums sums;
-  CDP_LANES_FOR_CPU(pass_one)(vectors, other_f, n_others, sums);
+  SlotPointers other_f{};
+  for (int j = 0; j < n_others_; ++j) {
+    other_f[static_cast<std::size_t>(j)] =
+        delta_f_.data() + static_cast<std::size_t>(others_[static_cast<std::size_t>(j)]) * stride_ +
+        first;
+  }
+  double* new_f = delta_f_.data() + static_cast<std::size_t>(slot_) * stride_;
+  double* new_g = delta_g_.data() + static_cast<std::size_t>(slot_) * stride_;
+  const PassOneVectors vectors{
+      x + first,     g + first,   last_f_.data() + first, last_g_.data() + first, new_f + first,
+      new_g + first, last - first};
+  CDP_LANES_FOR_CPU(pass_one)(vectors, other_f, n_others_, sums);
+  return sums;
+}
+
+bool AndersonAccelerator::fit(std::span<const PassSums> ranges) {
+  if (first_) return false;
+  // the ranges' sums added range by range
+  PassSums sums = ranges.front();
+  for (std::size_t r = 1; r < ranges.size(); ++r) {
+    for (int j = 0; j < n_others_; ++j) {
+      sums.cross[static_cast<std::size_t>(j)] += ranges[r].cross[static_cast<std::size_t>(j)];
+      sums.rhs[static_cast<std::size_t>(j)] += ranges[r].rhs[static_cast<std::size_t>(j)];
+    }
+    sums.new_new += ranges[r].new_new;
+    sums.new_rhs += ranges[r].new_rhs;
+  }
   SlotWeights& cross = sums.cross;  // ΔF_newᵀ ΔF_other[j]
   SlotWeights& rhs = sums.rhs;      // ΔF_other[j]ᵀ f, then ΔF_newᵀ f of the new slot
   const auto at = [](int s, int t) {
     return static_cast<std::size_t>(s) * kMaxDepth + static_cast<std::size_t>(t);
   };
-  gram_[at(slot, slot)] = sums.new_new;
-  for (int j = 0; j < n_others; ++j) {
-    const int s = others[static_cast<std::size_t>(j)];
-    gram_[at(slot, s)] = gram_[at(s, slot)] = cross[static_cast<std::size_t>(j)];
+  gram_[at(slot_, slot_)] = sums.new_new;
+  for (int j = 0; j < n_others_; ++j) {
+    const int s = others_[static_cast<std::size_t>(j)];
+    gram_[at(slot_, s)] = gram_[at(s, slot_)] = cross[static_cast<std::size_t>(j)];
   }
 
   // normal equations (ΔFᵀΔF + λ I) γ = ΔFᵀ f over the slots [others..., slot], λ a
   // relative Tikhonov term against nearly parallel differences; fixed capacity, no allocation
   using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxDepth, kMaxDepth>;
   using SmallVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxDepth, 1>;
-  const int k = n_others + 1;
-  others[static_cast<std::size_t>(n_others)] = slot;
-  rhs[static_cast<std::size_t>(n_others)] = sums.new_rhs;
+  const int k = n_others_ + 1;
+  std::array<int, kMaxDepth> slots = others_;
+  slots[static_cast<std::size_t>(n_others_)] = slot_;
+  rhs[static_cast<std::size_t>(n_others_)] = sums.new_rhs;
   Small normal(k, k);
   SmallVector right(k);
   for (int a = 0; a < k; ++a) {
     right(a) = rhs[static_cast<std::size_t>(a)];
     for (int b = 0; b < k; ++b) {
       normal(a, b) =
-          gram_[at(others[static_cast<std::size_t>(a)], others[static_cast<std::size_t>(b)])];
+          gram_[at(slots[static_cast<std::size_t>(a)], slots[static_cast<std::size_t>(b)])];
     }
   }
   const double lambda = 1e-12 * normal.trace();
   normal.diagonal().array() += lambda > 0.0 ? lambda : 1e-300;
   const SmallVector gamma = normal.ldlt().solve(right);
-  if (!gamma.allFinite()) {
-    std::copy(g.begin(), g.end(), next.begin());
-    return false;
+  if (!gamma.allFinite()) return false;
+  fitted_ = k;
+  for (int a = 0; a < k; ++a) {
+    others_[static_cast<std::size_t>(a)] = slots[static_cast<std::size_t>(a)];
+    weights_[static_cast<std::size_t>(a)] = gamma(a);
   }
+  return true;
+}
 
+void AndersonAccelerator::mix(const double* g, double* next, std::size_t first,
+                              std::size_t last) const {
   // pass 2: next = g − Σ γ_s ΔG_s
   SlotPointers slot_g{};
-  SlotWeights weights{};
-  for (int a = 0; a < k; ++a) {
+  for (int a = 0; a < fitted_; ++a) {
     slot_g[static_cast<std::size_t>(a)] =
-        delta_g_.data() + static_cast<std::size_t>(others[static_cast<std::size_t>(a)]) * stride_;
-    weights[static_cast<std::size_t>(a)] = gamma(a);
+        delta_g_.data() + static_cast<std::size_t>(others_[static_cast<std::size_t>(a)]) * stride_ +
+        first;
   }
-  CDP_LANES_FOR_CPU(mix)(g.data(), slot_g, weights, k, next.data(), n);
-  return true;
+  CDP_LANES_FOR_CPU(mix)(g + first, slot_g, weights_, fitted_, next + first, last - first);
 }
 
 }  // namespace cdpowder

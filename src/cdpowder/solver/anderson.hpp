@@ -21,6 +21,7 @@
 
 #include <array>
 #include <cstddef>
+#include <span>
 #include <vector>
 
 namespace cdpowder {
@@ -44,9 +45,29 @@ class AndersonAccelerator {
   /// Given the iterate x the sweep started from and g = G(x) the sweep produced, returns
   /// in `next` the accelerated iterate g − ΔG γ, γ = argmin |f − ΔF γ|, f = g − x.
   /// Returns false (and next = g) while there is no history yet or the fit failed.
-  /// `next` must not alias x or g.
+  /// `next` must not alias x or g. It is the three stages below over one range [0, n).
   bool extrapolate(const AlignedVector<double>& x, const AlignedVector<double>& g,
                    AlignedVector<double>& next);
+
+  /// What pass 1 finds over a range: ΔF_newᵀ ΔF_other[j], ΔF_other[j]ᵀ f, ΔF_newᵀ ΔF_new,
+  /// ΔF_newᵀ f.
+  struct PassSums {
+    std::array<double, kMaxDepth> cross{};
+    std::array<double, kMaxDepth> rhs{};
+    double new_new = 0.0;
+    double new_rhs = 0.0;
+  };
+
+  /// The mixing in stages, so that disjoint ranges of the vectors can be passed over by
+  /// different threads (slabs.hpp): begin(n) once; pass(x, g, first, last) over ranges that
+  /// cover [0, n) once each; fit(sums of the ranges, in a fixed order) — false while there is
+  /// no history yet or the fit failed; then, if it returned true, mix(g, next, first, last)
+  /// over ranges that cover [0, n). `next` must hold n doubles.
+  void begin(std::size_t n);
+  [[nodiscard]] PassSums pass(const double* x, const double* g, std::size_t first,
+                              std::size_t last);
+  bool fit(std::span<const PassSums> ranges);
+  void mix(const double* g, double* next, std::size_t first, std::size_t last) const;
 
   /// Differences currently in the fit (≤ depth).
   int history() const { return count_; }
@@ -65,6 +86,13 @@ class AndersonAccelerator {
   /// ΔF_sᵀΔF_t between ring slots s and t (row-major, kMaxDepth × kMaxDepth): a sweep
   /// computes only the products of its new difference.
   std::array<double, static_cast<std::size_t>(kMaxDepth) * kMaxDepth> gram_{};
+  // the mixing under way (begin … mix)
+  bool first_ = false;  ///< no history before it: pass only remembers f and g
+  int slot_ = 0;        ///< ring slot of the new difference
+  int n_others_ = 0;    ///< the other slots in the fit
+  std::array<int, kMaxDepth> others_{};
+  int fitted_ = 0;  ///< slots in the fit (others, then the new one)
+  std::array<double, kMaxDepth> weights_{};
 };
 
 }  // namespace cdpowder

@@ -69,13 +69,29 @@ void build_batches(const Contacts& contacts, const VelocityCache& velocities,
     }
     sweep.colour_batches[c + 1] = static_cast<std::uint32_t>(sweep.batches.size());
   }
+  // part p's sequential group: its overflow pairs, then its wall contacts
   const auto n_pairs = static_cast<ContactIndex>(contacts.pairs.size());
-  sweep.sequential.assign(colouring.overflow.begin(), colouring.overflow.end());
-  for (std::size_t w = 0; w < contacts.walls.size(); ++w) {
-    sweep.sequential.push_back(n_pairs + static_cast<ContactIndex>(w));
+  sweep.sequential.clear();
+  sweep.group_order.clear();
+  for (std::size_t p = 0; p < kSweepParts; ++p) {
+    sweep.part_sequential[p] = static_cast<std::uint32_t>(sweep.sequential.size());
+    sweep.sequential.insert(sweep.sequential.end(),
+                            colouring.overflow.begin() + colouring.part_overflow[p],
+                            colouring.overflow.begin() + colouring.part_overflow[p + 1]);
+    for (std::size_t w = 0; w < contacts.walls.size(); ++w) {
+      const std::size_t part = sweep.wall_part.empty() ? 0 : sweep.wall_part[w];
+      if (part == p) sweep.sequential.push_back(n_pairs + static_cast<ContactIndex>(w));
+    }
+    // the part's colours in storage order, then its sequential group
+    sweep.part_groups[p] = static_cast<std::uint32_t>(sweep.group_order.size());
+    for (std::uint32_t c = colouring.chunk_colours[colouring.part_chunks[p]];
+         c < colouring.chunk_colours[colouring.part_chunks[p + 1]]; ++c) {
+      sweep.group_order.push_back(c);
+    }
+    sweep.group_order.push_back(static_cast<std::uint32_t>(colours + p));
   }
-  sweep.group_order.resize(colours + 1);
-  std::iota(sweep.group_order.begin(), sweep.group_order.end(), std::uint32_t{0});
+  sweep.part_sequential[kSweepParts] = static_cast<std::uint32_t>(sweep.sequential.size());
+  sweep.part_groups[kSweepParts] = static_cast<std::uint32_t>(sweep.group_order.size());
 }
 
 namespace {
@@ -100,11 +116,51 @@ void scatter_back(std::vector<T>& v, const std::vector<ContactIndex>& from,
 
 }  // namespace
 
+namespace {
+
+/// The part of pair p (slab.empty(): 0): 0 or 1 inside a slab, 2 across the cut.
+std::uint8_t part_of(const PairProblem& p, std::span<const std::uint8_t> slab) {
+  if (slab.empty()) return 0;
+  return slab[p.a] == slab[p.b] ? slab[p.a] : 2;
+}
+
+/// Each wall contact's part: a bottom-wall contact is in its sphere's slab; the piston's
+/// contacts share the piston's velocity, so all of them are in slab 1 when all their spheres
+/// are, else across the cut.
+void assign_wall_parts(const Contacts& contacts, std::span<const std::uint8_t> slab,
+                       std::vector<std::uint8_t>& wall_part) {
+  wall_part.clear();
+  if (slab.empty()) return;
+  wall_part.resize(contacts.walls.size());
+  std::uint8_t piston = 1;
+  for (const WallProblem& w : contacts.walls) {
+    if (w.wall == WallKind::Piston && slab[w.sphere] != 1) piston = 2;
+  }
+  for (std::size_t k = 0; k < contacts.walls.size(); ++k) {
+    const WallProblem& w = contacts.walls[k];
+    wall_part[k] = w.wall == WallKind::Piston ? piston : slab[w.sphere];
+  }
+}
+
+}  // namespace
+
 void prepare_coloured_sweep(Contacts& contacts, const VelocityCache& velocities,
-                            ColouredSweep& sweep, std::size_t chunk) {
+                            ColouredSweep& sweep, std::size_t chunk,
+                            std::span<const std::uint8_t> slab) {
+  // the pairs part by part, each part in storage order (a counting sort)
+  std::array<std::uint32_t, kSweepParts + 1> part_start{};
+  for (const PairProblem& p : contacts.pairs) ++part_start[part_of(p, slab) + 1];
+  for (std::size_t p = 0; p < kSweepParts; ++p) part_start[p + 1] += part_start[p];
+  std::vector<ContactIndex>& order = sweep.part_order;
+  order.resize(contacts.pairs.size());
+  std::array<std::uint32_t, kSweepParts + 1> next = part_start;
+  for (std::size_t k = 0; k < contacts.pairs.size(); ++k) {
+    order[next[part_of(contacts.pairs[k], slab)]++] = static_cast<ContactIndex>(k);
+  }
   PairColouring& colouring = sweep.colouring;
-  colour_pairs(contacts.pairs, velocities.spheres.size(), kMaxColours, chunk, colouring,
-               sweep.masks);
+  colour_parts(contacts.pairs, order, part_start, velocities.spheres.size(), kMaxColours, chunk,
+               colouring, sweep.masks);
+  assign_wall_parts(contacts, slab, sweep.wall_part);
   // store the pairs in the order the batches visit them, overflow last
   std::vector<ContactIndex>& from = sweep.storage_index;
   from.assign(colouring.members.begin(), colouring.members.end());
@@ -128,28 +184,36 @@ void restore_storage_order(Contacts& contacts, ColouredSweep& sweep) {
 }
 
 void order_groups(ColouredSweep& sweep, VisitOrder policy, Rng& rng) {
-  const std::vector<std::uint32_t>& chunk_colours = sweep.colouring.chunk_colours;
-  const auto chunks = static_cast<std::uint32_t>(chunk_colours.size() - 1);
+  const PairColouring& colouring = sweep.colouring;
+  const std::vector<std::uint32_t>& chunk_colours = colouring.chunk_colours;
   const bool shuffle = policy != VisitOrder::Fixed;
-  // the chunks and the sequential group (id `chunks`) in a random order, and each chunk's
-  // colours in a random order
-  sweep.chunk_order.resize(chunks + 1);
-  std::iota(sweep.chunk_order.begin(), sweep.chunk_order.end(), std::uint32_t{0});
-  if (shuffle) shuffle_indices(std::span<std::uint32_t>(sweep.chunk_order), rng);
+  constexpr std::uint32_t kSequential = ~std::uint32_t{0};
   sweep.group_order.clear();
-  for (const std::uint32_t chunk : sweep.chunk_order) {
-    if (chunk == chunks) {
-      sweep.group_order.push_back(static_cast<std::uint32_t>(sweep.colours()));
-      continue;
+  for (std::size_t p = 0; p < kSweepParts; ++p) {
+    // the part's chunks and its sequential group in a random order, and each chunk's colours
+    // in a random order
+    sweep.chunk_order.clear();
+    for (std::uint32_t j = colouring.part_chunks[p]; j < colouring.part_chunks[p + 1]; ++j) {
+      sweep.chunk_order.push_back(j);
     }
-    const std::size_t first = sweep.group_order.size();
-    for (std::uint32_t c = chunk_colours[chunk]; c < chunk_colours[chunk + 1]; ++c) {
-      sweep.group_order.push_back(c);
-    }
-    if (shuffle) {
-      shuffle_indices(std::span<std::uint32_t>(sweep.group_order).subspan(first), rng);
+    sweep.chunk_order.push_back(kSequential);
+    if (shuffle) shuffle_indices(std::span<std::uint32_t>(sweep.chunk_order), rng);
+    sweep.part_groups[p] = static_cast<std::uint32_t>(sweep.group_order.size());
+    for (const std::uint32_t chunk : sweep.chunk_order) {
+      if (chunk == kSequential) {
+        sweep.group_order.push_back(static_cast<std::uint32_t>(sweep.colours() + p));
+        continue;
+      }
+      const std::size_t first = sweep.group_order.size();
+      for (std::uint32_t c = chunk_colours[chunk]; c < chunk_colours[chunk + 1]; ++c) {
+        sweep.group_order.push_back(c);
+      }
+      if (shuffle) {
+        shuffle_indices(std::span<std::uint32_t>(sweep.group_order).subspan(first), rng);
+      }
     }
   }
+  sweep.part_groups[kSweepParts] = static_cast<std::uint32_t>(sweep.group_order.size());
 }
 
 bool allow_avx2_kernel(bool allowed) {
@@ -159,52 +223,89 @@ bool allow_avx2_kernel(bool allowed) {
 namespace {
 
 using SolveBatches = void (*)(const PairBatch*, std::uint32_t, std::uint32_t, SphereVelocity*,
-                              ContactAction*, SweepSums&, BatchVisits*);
+                              ContactAction*, SweepSums&);
+using ApplyBatches = void (*)(const PairBatch*, std::uint32_t, std::uint32_t, SphereVelocity*,
+                              const ContactAction*);
 
 /// The kernel for this CPU, with torques or without (ColouredSweep::torques).
 SolveBatches batch_kernel(bool torques) {
   return torques ? CDP_LANES_FOR_CPU(solve_batches<true>) : CDP_LANES_FOR_CPU(solve_batches<false>);
 }
 
+ApplyBatches apply_kernel(bool torques) {
+  return torques ? CDP_LANES_FOR_CPU(apply_batches<true>) : CDP_LANES_FOR_CPU(apply_batches<false>);
+}
+
+/// The batches of part p: its colours are consecutive (colour_parts appends part by part).
+std::pair<std::uint32_t, std::uint32_t> part_batches(const ColouredSweep& sweep, std::size_t p) {
+  const PairColouring& colouring = sweep.colouring;
+  const std::uint32_t first_colour = colouring.chunk_colours[colouring.part_chunks[p]];
+  const std::uint32_t last_colour = colouring.chunk_colours[colouring.part_chunks[p + 1]];
+  return {sweep.colour_batches[first_colour], sweep.colour_batches[last_colour]};
+}
+
 }  // namespace
 
-void apply_pair_deltas(const ColouredSweep& sweep, const std::vector<ContactAction>& deltas,
-                       const Contacts& contacts, VelocityCache& velocities) {
-  using ApplyBatches = void (*)(const PairBatch*, std::uint32_t, std::uint32_t, SphereVelocity*,
-                                const ContactAction*);
-  const ApplyBatches apply = sweep.torques ? CDP_LANES_FOR_CPU(apply_batches<true>)
-                                           : CDP_LANES_FOR_CPU(apply_batches<false>);
-  // colour by colour in storage order: each sphere gets its changes in the order of the
-  // scalar loop over the pairs (no sphere twice in a colour), so the same bits
-  apply(sweep.batches.data(), 0, static_cast<std::uint32_t>(sweep.batches.size()),
-        velocities.spheres.data(), deltas.data());
+void apply_part_deltas(const ColouredSweep& sweep, std::size_t part,
+                       const std::vector<ContactAction>& deltas, VelocityCache& velocities) {
+  const auto [first, last] = part_batches(sweep, part);
+  apply_kernel(sweep.torques)(sweep.batches.data(), first, last, velocities.spheres.data(),
+                              deltas.data());
+}
+
+void apply_overflow_deltas(const ColouredSweep& sweep, const std::vector<ContactAction>& deltas,
+                           const Contacts& contacts, VelocityCache& velocities) {
   for (const ContactIndex k : sweep.colouring.overflow) {
     apply_pair_action(contacts.pairs[k], deltas[k], velocities);
   }
 }
 
-void solve_batches_kept(const ColouredSweep& sweep, std::uint32_t first, std::uint32_t last,
-                        VelocityCache& velocities, Contacts& contacts, BatchVisits* record) {
-  SweepSums unused;
-  batch_kernel(sweep.torques)(sweep.batches.data(), first, last, velocities.spheres.data(),
-                              contacts.pair_actions.data(), unused, record);
+void apply_pair_deltas(const ColouredSweep& sweep, const std::vector<ContactAction>& deltas,
+                       const Contacts& contacts, VelocityCache& velocities) {
+  // colour by colour in storage order: each sphere gets its changes in the order of the
+  // scalar loop over the pairs (no sphere twice in a colour), so the same bits
+  for (std::size_t p = 0; p < kSweepParts; ++p) apply_part_deltas(sweep, p, deltas, velocities);
+  apply_overflow_deltas(sweep, deltas, contacts, velocities);
 }
 
-SweepSums run_coloured_sweep(Contacts& contacts, VelocityCache& velocities,
-                             const ColouredSweep& sweep) {
+SweepSums run_coloured_part(Contacts& contacts, VelocityCache& velocities,
+                            const ColouredSweep& sweep, std::size_t part) {
   SweepSums sums;
   const std::size_t colours = sweep.colours();
   SphereVelocity* const spheres = velocities.spheres.data();
   ContactAction* const actions = contacts.pair_actions.data();
   const SolveBatches solve = batch_kernel(sweep.torques);
-  for (const std::uint32_t group : sweep.group_order) {
-    if (group == colours) {
-      for (const ContactIndex k : sweep.sequential) visit_contact(k, contacts, velocities, sums);
+  for (std::uint32_t i = sweep.part_groups[part]; i < sweep.part_groups[part + 1]; ++i) {
+    const std::uint32_t group = sweep.group_order[i];
+    if (group >= colours) {
+      const std::size_t p = group - colours;
+      for (std::uint32_t j = sweep.part_sequential[p]; j < sweep.part_sequential[p + 1]; ++j) {
+        visit_contact(sweep.sequential[j], contacts, velocities, sums);
+      }
       continue;
     }
     solve(sweep.batches.data(), sweep.colour_batches[group], sweep.colour_batches[group + 1],
-          spheres, actions, sums, nullptr);
+          spheres, actions, sums);
   }
+  return sums;
+}
+
+SweepSums run_coloured_sweep(Contacts& contacts, VelocityCache& velocities,
+                             const ColouredSweep& sweep, SlabThreads* threads, AfterPart after) {
+  // across the cut first, so that each slab's spheres are final when its piece ends
+  SweepSums sums = run_coloured_part(contacts, velocities, sweep, 2);
+
+  struct alignas(64) PartSums {
+    SweepSums sums;
+  };
+
+  std::array<PartSums, 2> inside{};
+  run_pieces(sweep.cut() ? threads : nullptr, 2, [&](std::uint32_t p) {
+    inside[p].sums = run_coloured_part(contacts, velocities, sweep, p);
+    after(p);
+  });
+  sums.add_part(inside[0].sums);
+  sums.add_part(inside[1].sums);
   return sums;
 }
 

@@ -3,20 +3,27 @@
 // coloured (colouring.hpp) and each colour is gathered into batches of kBatchLanes contacts
 // in structure-of-arrays form, solved side by side with the same arithmetic per contact as
 // solve_pair: a coloured sweep is an exact reordering of a scalar sweep. Overflow pairs and
-// all wall contacts (the piston couples its contacts through one velocity) form one more
-// group, solved one by one with the scalar kernels. A sweep visits the groups in an order
-// drawn from the sweep-order stream (physics.md §7.1, at the level of colours).
+// wall contacts (the piston couples its contacts through one velocity) form one more group,
+// solved one by one with the scalar kernels. A sweep visits the groups in an order drawn from
+// the sweep-order stream (physics.md §7.1, at the level of colours).
+// When the step is cut into two slabs (slabs.hpp) the contacts come in three parts (inside
+// slab 0, inside slab 1, across the cut), each with its own colours and sequential group; a
+// sweep visits part 2 (across the cut), then part 0 and part 1, and adds each part's visits to
+// sums of its own, which are then added in that order (SweepSums::add_part), so the bits do
+// not depend on whether parts 0 and 1 ran one after the other or side by side.
 #pragma once
 
 #include "cdpowder/contact/local_problem.hpp"
 #include "cdpowder/core/rng.hpp"
 #include "cdpowder/solver/colouring.hpp"
 #include "cdpowder/solver/settings.hpp"
+#include "cdpowder/solver/slab_threads.hpp"
 #include "cdpowder/solver/sweep_sums.hpp"
 #include "cdpowder/solver/velocity_cache.hpp"
 
 #include <array>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 namespace cdpowder {
@@ -39,22 +46,22 @@ struct alignas(64) PairBatch {
   std::uint32_t lanes = 0;  ///< lanes in use, 1..kBatchLanes
 };
 
-/// What the kBatchLanes visits of a batch report to the sweep sums, kept to be added in
-/// visiting order after a sweep on several threads (closed_normal as in sweep_sums.hpp).
-struct alignas(64) BatchVisits {
-  std::array<double, kBatchLanes> change_sq{};
-  std::array<double, kBatchLanes> closed_normal{};
-};
-
 /// The step's colours, batches and group order; reused from step to step.
 struct ColouredSweep {
   PairColouring colouring;
   std::vector<std::uint64_t> masks;           ///< scratch of the colouring
   std::vector<PairBatch> batches;             ///< colour by colour
   std::vector<std::uint32_t> colour_batches;  ///< colour c: batches [cb[c], cb[c + 1])
-  std::vector<ContactIndex> sequential;       ///< overflow pairs, then walls (n_pairs + w)
-  std::vector<std::uint32_t> group_order;     ///< colours 0..C−1 and C = the sequential group
-  std::vector<std::uint32_t> chunk_order;     ///< scratch of order_groups
+  /// part p's overflow pairs, then its walls (n_pairs + w): sequential[ps[p], ps[p + 1])
+  std::vector<ContactIndex> sequential;
+  std::array<std::uint32_t, kSweepParts + 1> part_sequential{};
+  /// colours 0..C−1, and C + p = part p's sequential group; part p's groups are
+  /// group_order[part_groups[p], part_groups[p + 1])
+  std::vector<std::uint32_t> group_order;
+  std::array<std::uint32_t, kSweepParts + 1> part_groups{};
+  std::vector<std::uint8_t> wall_part;      ///< each wall contact's part (empty: all in part 0)
+  std::vector<std::uint32_t> chunk_order;   ///< scratch of order_groups
+  std::vector<ContactIndex> part_order;     ///< scratch: the pairs part by part
   std::vector<ContactIndex> storage_index;  ///< pair i is stored pair storage_index[i] of the step
   std::vector<PairProblem> pair_scratch;
   std::vector<ContactAction> action_scratch;
@@ -67,23 +74,30 @@ struct ColouredSweep {
   [[nodiscard]] std::size_t colours() const {
     return colour_batches.empty() ? 0 : colour_batches.size() - 1;
   }
+
+  /// whether the step is cut: parts 1 and 2 hold contacts
+  [[nodiscard]] bool cut() const { return part_groups[1] + 2 < part_groups[kSweepParts]; }
 };
 
-/// Colours the step's pairs greedily (chunks of kColourChunk contacts), stores them in the
-/// order the sweep visits them (so a sweep streams through the pairs and their actions;
+/// Colours the step's pairs greedily (chunks of kColourChunk contacts), part by part when
+/// `slab` gives each sphere's slab (slabs.hpp; empty: one part), stores them in the order the
+/// sweep visits them (so a sweep streams through the pairs and their actions;
 /// restore_storage_order undoes it) and builds the batches.
 void prepare_coloured_sweep(Contacts& contacts, const VelocityCache& velocities,
-                            ColouredSweep& sweep, std::size_t chunk = kColourChunk);
+                            ColouredSweep& sweep, std::size_t chunk = kColourChunk,
+                            std::span<const std::uint8_t> slab = {});
 
 /// Puts the pairs, their actions and flags back in storage order (sorted by sphere pair), as
 /// the rest of the step expects them.
 void restore_storage_order(Contacts& contacts, ColouredSweep& sweep);
 
-/// Builds the batches and the sequential group from sweep.colouring (set by the caller).
+/// Builds the batches and the sequential groups from sweep.colouring and sweep.wall_part (set
+/// by the caller).
 void build_batches(const Contacts& contacts, const VelocityCache& velocities, ColouredSweep& sweep);
 
-/// Group order: storage order for VisitOrder::Fixed, else the chunks (and the sequential
-/// group) in a fresh random order from `rng`, each chunk's colours in a random order.
+/// Group order, part by part: storage order for VisitOrder::Fixed, else the part's chunks (and
+/// its sequential group) in a fresh random order from `rng`, each chunk's colours in a random
+/// order.
 void order_groups(ColouredSweep& sweep, VisitOrder policy, Rng& rng);
 
 /// Lets the sweep use the AVX2 kernel where the CPU has it (default, unless the environment
@@ -97,13 +111,43 @@ bool allow_avx2_kernel(bool allowed);
 void apply_pair_deltas(const ColouredSweep& sweep, const std::vector<ContactAction>& deltas,
                        const Contacts& contacts, VelocityCache& velocities);
 
-/// Solves the batches [first, last) of one colour and writes their visits to
-/// record[0, last − first) instead of adding them to sums (a thread's share of a colour).
-void solve_batches_kept(const ColouredSweep& sweep, std::uint32_t first, std::uint32_t last,
-                        VelocityCache& velocities, Contacts& contacts, BatchVisits* record);
+/// apply_pair_deltas of part p's batches alone (parts 0 and 1 touch no common sphere);
+/// apply_pair_deltas is parts 0, 1, 2 and then apply_overflow_deltas.
+void apply_part_deltas(const ColouredSweep& sweep, std::size_t part,
+                       const std::vector<ContactAction>& deltas, VelocityCache& velocities);
+void apply_overflow_deltas(const ColouredSweep& sweep, const std::vector<ContactAction>& deltas,
+                           const Contacts& contacts, VelocityCache& velocities);
 
-/// One sweep over the groups in sweep.group_order.
+/// Part p's groups of one sweep, in sweep.group_order, with sums of their own.
+SweepSums run_coloured_part(Contacts& contacts, VelocityCache& velocities,
+                            const ColouredSweep& sweep, std::size_t part);
+
+/// Work a thread does right after it solved the contacts inside slab `part` (0 or 1), on that
+/// slab's spheres: a reference to a callable, not owned (no allocation).
+class AfterPart {
+ public:
+  AfterPart() = default;
+
+  template <typename F>
+  AfterPart(const F& f)  // NOLINT(google-explicit-constructor): a lambda at the call
+      : call_(
+            [](const void* object, std::uint32_t part) { (*static_cast<const F*>(object))(part); }),
+        object_(&f) {}
+
+  void operator()(std::uint32_t part) const {
+    if (call_ != nullptr) call_(object_, part);
+  }
+
+ private:
+  void (*call_)(const void*, std::uint32_t) = nullptr;
+  const void* object_ = nullptr;
+};
+
+/// One sweep over the groups in sweep.group_order: part 2, then parts 0 and 1 (each followed by
+/// after(part)), their sums added in that order. With `threads`, a cut step's two slabs run
+/// side by side: the same bits.
 SweepSums run_coloured_sweep(Contacts& contacts, VelocityCache& velocities,
-                             const ColouredSweep& sweep);
+                             const ColouredSweep& sweep, SlabThreads* threads = nullptr,
+                             AfterPart after = {});
 
 }  // namespace cdpowder

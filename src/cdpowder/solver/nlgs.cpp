@@ -3,6 +3,8 @@
 
 #include "cdpowder/contact/local_solve.hpp"
 #include "cdpowder/solver/build.hpp"
+#include "cdpowder/solver/mixed_actions.hpp"
+#include "cdpowder/solver/slab_solve.hpp"
 
 #include <algorithm>
 #include <array>
@@ -68,109 +70,6 @@ void shuffle_blocks(std::vector<ContactIndex>& order, std::vector<ContactIndex>&
     const std::size_t last = std::min(n, first + block);
     for (std::size_t k = first; k < last; ++k) order[o++] = static_cast<ContactIndex>(k);
   }
-}
-
-/// Which parts of the actions the mixing carries. Modes without a threshold anywhere in the
-/// step (μ_t = 0: rolling torques; μ_n = 0: torsion torques) stay +0 at every contact (the
-/// kernels write +0 for a mode without a threshold), so leaving them out changes no sum the
-/// mixing forms while it cuts the memory the mixing streams through: 4 instead of 8 doubles
-/// per contact at the paper's (0,0) corner, where the mixing costs a quarter of the run.
-/// Without either mode the coloured kernel also skips the torques (ColouredSweep::torques).
-struct MixedModes {
-  bool rolling = true;
-  bool twisting = true;
-
-  [[nodiscard]] constexpr std::size_t doubles_per_action() const {
-    return 4 + (rolling ? 3 : 0) + (twisting ? 1 : 0);
-  }
-};
-
-/// The modes the mixing must carry this step: those with a threshold at some contact, and
-/// those some (warm-started) action already holds non-zero.
-MixedModes mixed_modes(const Contacts& contacts) {
-  MixedModes modes{false, false};
-  const auto look = [&](double roll_cap, double twist_cap, const ContactAction& a) {
-    modes.rolling = modes.rolling || has_threshold(roll_cap) || a.rolling_torque != Vec3::Zero();
-    modes.twisting = modes.twisting || has_threshold(twist_cap) || a.twisting_torque != 0.0;
-  };
-  for (std::size_t k = 0; k < contacts.pairs.size(); ++k) {
-    look(contacts.pairs[k].roll_cap, contacts.pairs[k].twist_cap, contacts.pair_actions[k]);
-  }
-  for (std::size_t k = 0; k < contacts.walls.size(); ++k) {
-    look(contacts.walls[k].roll_cap, contacts.walls[k].twist_cap, contacts.wall_actions[k]);
-  }
-  return modes;
-}
-
-/// A ContactAction as its 8 doubles R_n, R_t, T_t, T_n (one 64-byte line), and which of them
-/// the mixing carries: R_n and R_t always, T_t with kRolling, T_n with kTwisting.
-using ActionFields = std::array<double, 8>;
-
-ActionFields fields_of(const ContactAction& a) {
-  const Vec3& t = a.tangential_force;
-  const Vec3& r = a.rolling_torque;
-  return {a.normal_force, t.x(), t.y(), t.z(), r.x(), r.y(), r.z(), a.twisting_torque};
-}
-
-ContactAction action_of(const ActionFields& f) {
-  ContactAction a;
-  a.normal_force = f[0];
-  a.tangential_force = Vec3(f[1], f[2], f[3]);
-  a.rolling_torque = Vec3(f[4], f[5], f[6]);
-  a.twisting_torque = f[7];
-  return a;
-}
-
-template <bool kRolling, bool kTwisting>
-constexpr bool carried(std::size_t field) {
-  if (field < 4) return true;  // R_n, R_t
-  if (field < 7) return kRolling;
-  return kTwisting;
-}
-
-/// Calls f(std::bool_constant<rolling>, std::bool_constant<twisting>) for `modes`, so the
-/// loops over the contacts know their fields at compile time.
-template <class F>
-void with_modes(MixedModes modes, F&& f) {
-  if (modes.rolling) {
-    if (modes.twisting) return f(std::true_type{}, std::true_type{});
-    return f(std::true_type{}, std::false_type{});
-  }
-  if (modes.twisting) return f(std::false_type{}, std::true_type{});
-  return f(std::false_type{}, std::false_type{});
-}
-
-void flatten(const Contacts& contacts, MixedModes modes, AlignedVector<double>& out) {
-  out.resize(modes.doubles_per_action() * contacts.size());
-  with_modes(modes, [&](auto rolling, auto twisting) {
-    constexpr bool kRolling = decltype(rolling)::value;
-    constexpr bool kTwisting = decltype(twisting)::value;
-    double* o = out.data();
-    const auto put = [&](const ContactAction& action) {
-      const ActionFields a = fields_of(action);
-      for (std::size_t f = 0; f < a.size(); ++f) {
-        if (carried<kRolling, kTwisting>(f)) *o++ = a[f];
-      }
-    };
-    for (const ContactAction& a : contacts.pair_actions) put(a);
-    for (const ContactAction& a : contacts.wall_actions) put(a);
-  });
-}
-
-/// The next action from the mixed values at `mixed` (the fields carried; the others stay),
-/// and its change from `action`, which it replaces: next − action field by field.
-template <bool kRolling, bool kTwisting>
-[[gnu::always_inline]] inline ContactAction take_mixed(const double* mixed, ContactAction& action) {
-  const ActionFields a = fields_of(action);
-  ActionFields next;
-  ActionFields delta;
-  std::size_t o = 0;
-  for (std::size_t f = 0; f < a.size(); ++f) {
-    next[f] = carried<kRolling, kTwisting>(f) ? mixed[o++] : a[f];
-    delta[f] = next[f] - a[f];
-  }
-  action = action_of(next);
-  return action_of(delta);
 }
 
 /// Replaces the actions by `mixed` and moves the velocity cache by the difference, so
@@ -276,25 +175,27 @@ void prepare_visit_order(Contacts& contacts, VisitOrder policy, NlgsWorkspace& w
 }
 
 namespace {
+
 SolverStats sweep_until_done(Contacts& contacts, VelocityCache& velocities,
                              const SolverSettings& settings, double reference_force,
-                             ColouredThreads* threads, NlgsWorkspace& work, MixedModes modes);
+                             SlabThreads* threads, NlgsWorkspace& work, MixedModes modes,
+                             std::span<const std::uint8_t> slab);
 }  // namespace
 
 SolverStats solve_nlgs(Contacts& contacts, VelocityCache& velocities,
-                       const SolverSettings& settings, double reference_force,
-                       NlgsWorkspace& work) {
+                       const SolverSettings& settings, double reference_force, NlgsWorkspace& work,
+                       std::span<const std::uint8_t> slab) {
   if (settings.kernel != SweepKernel::Coloured) {
     prepare_visit_order(contacts, settings.visit_order, work);
     return sweep_until_done(contacts, velocities, settings, reference_force, nullptr, work,
-                            mixed_modes(contacts));
+                            mixed_modes(contacts), {});
   }
-  ColouredThreads* const threads = work.threads.get(settings.threads);
+  SlabThreads* const threads = work.threads.get(settings.threads);
 
   // the workers spin from sweep to sweep within the step and sleep between steps, also when
   // the step is left by an exception
   struct ParkAtEnd {
-    explicit ParkAtEnd(ColouredThreads* pool) : threads(pool) {}
+    explicit ParkAtEnd(SlabThreads* pool) : threads(pool) {}
 
     ParkAtEnd(const ParkAtEnd&) = delete;
     ParkAtEnd(ParkAtEnd&&) = delete;
@@ -305,16 +206,16 @@ SolverStats solve_nlgs(Contacts& contacts, VelocityCache& velocities,
       if (threads != nullptr) threads->park();
     }
 
-    ColouredThreads* threads;
+    SlabThreads* threads;
   } park_at_end(threads);
 
   // the pairs are stored in colour order during the sweeps (and the mixing)
-  prepare_coloured_sweep(contacts, velocities, work.coloured);
+  prepare_coloured_sweep(contacts, velocities, work.coloured, kColourChunk, slab);
   const MixedModes modes = mixed_modes(contacts);
   work.coloured.torques = modes.rolling || modes.twisting;
   order_groups(work.coloured, settings.visit_order, work.rng);
   const SolverStats stats =
-      sweep_until_done(contacts, velocities, settings, reference_force, threads, work, modes);
+      sweep_until_done(contacts, velocities, settings, reference_force, threads, work, modes, slab);
   restore_storage_order(contacts, work.coloured);
   return stats;
 }
@@ -323,7 +224,8 @@ namespace {
 
 SolverStats sweep_until_done(Contacts& contacts, VelocityCache& velocities,
                              const SolverSettings& settings, double reference_force,
-                             ColouredThreads* threads, NlgsWorkspace& work, MixedModes modes) {
+                             SlabThreads* threads, NlgsWorkspace& work, MixedModes modes,
+                             std::span<const std::uint8_t> slab) {
   std::vector<ContactIndex>& order = contacts.visit_order;
   const bool coloured = settings.kernel == SweepKernel::Coloured;
   const bool accelerate = settings.acceleration_depth > 0;
@@ -348,6 +250,10 @@ SolverStats sweep_until_done(Contacts& contacts, VelocityCache& velocities,
   ContractionWindow spheres_moved;
   ContractionWindow piston_moved;
   const bool kinematic_rule = settings.kinematic_tolerance > 0.0;
+  KinematicChange* const kinematic = kinematic_rule ? &work.kinematic : nullptr;
+  // a step cut into slabs (slabs.hpp) runs its sweeps, the kinematic rule's pass and the
+  // mixing slab by slab (slab_solve.hpp)
+  const bool cut = coloured && work.coloured.cut();
   for (int sweep = 1; sweep <= settings.max_sweeps; ++sweep) {
     // a fresh order every sweep, so corrections spread without a preferred direction (§7.1)
     if (settings.visit_order == VisitOrder::RandomEachSweep) {
@@ -357,11 +263,23 @@ SolverStats sweep_until_done(Contacts& contacts, VelocityCache& velocities,
         shuffle_indices(std::span<ContactIndex>(order), work.rng);
       }
     }
-    if (kinematic_rule && sweep == 1) work.kinematic.begin_step(velocities);
-    const SweepSums sums = !coloured ? run_sweep(contacts, velocities)
-                           : threads != nullptr
-                               ? threads->sweep(contacts, velocities, work.coloured)
-                               : run_coloured_sweep(contacts, velocities, work.coloured);
+    if (kinematic_rule && sweep == 1) {
+      work.kinematic.begin_step(velocities, cut ? slab : std::span<const std::uint8_t>{});
+    }
+    // the estimates of the kinematic rule need a full window of sweeps (ρ over two sweeps at the
+    // start of a step is optimistic), so its test and the RMS speed wait for it; the windows
+    // fill from sweep 1
+    const bool window_full = sweep > kContractionWindow;
+    SweepMotion motion;
+    SweepSums sums;
+    if (cut) {
+      sums = sweep_cut_step(contacts, velocities, work.coloured, threads, kinematic, window_full,
+                            motion);
+    } else {
+      sums = coloured ? run_coloured_sweep(contacts, velocities, work.coloured)
+                      : run_sweep(contacts, velocities);
+      if (kinematic_rule) motion = work.kinematic.after_sweep(velocities, window_full);
+    }
     const double mean_closed =
         sums.closed > 0 ? sums.sum_closed_normal / static_cast<double>(sums.closed) : 0.0;
     stats.force_scale = std::max({reference_force, mean_closed, 1e-300});
@@ -381,10 +299,6 @@ SolverStats sweep_until_done(Contacts& contacts, VelocityCache& velocities,
         const double rho = window.add(sweep, change);
         return std::min(change / (1.0 - rho), change * settings.max_error_amplification);
       };
-      // the estimates need a full window of sweeps (ρ over two sweeps at the start of a step
-      // is optimistic), so the test and the RMS speed wait for it; the windows fill from sweep 1
-      const bool window_full = sweep > kContractionWindow;
-      const SweepMotion motion = work.kinematic.after_sweep(velocities, window_full);
       const double sphere_error = estimate(spheres_moved, motion.largest_change);
       const double piston_error = estimate(piston_moved, motion.piston_change);
       if (window_full) {
@@ -418,10 +332,19 @@ SolverStats sweep_until_done(Contacts& contacts, VelocityCache& velocities,
     if (accelerate && sweep % settings.acceleration_interval == 0 && sweep < settings.max_sweeps) {
       if (stats.residual > kRestartGrowth * best_residual) work.accelerator.reset();
       best_residual = std::min(best_residual, stats.residual);
-      flatten(contacts, modes, work.swept);
-      if (work.accelerator.extrapolate(work.start, work.swept, work.mixed)) {
-        adopt(work.mixed, modes, contacts, velocities, coloured ? &work.coloured : nullptr);
-        if (kinematic_rule) work.kinematic.velocities_changed(velocities);
+      bool mixed = false;
+      if (cut) {
+        mixed = mix_cut_step(work.start, work.swept, work.mixed, modes, work.accelerator, contacts,
+                             velocities, work.coloured, threads, kinematic);
+      } else {
+        flatten(contacts, modes, work.swept);
+        mixed = work.accelerator.extrapolate(work.start, work.swept, work.mixed);
+        if (mixed) {
+          adopt(work.mixed, modes, contacts, velocities, coloured ? &work.coloured : nullptr);
+          if (kinematic_rule) work.kinematic.velocities_changed(velocities);
+        }
+      }
+      if (mixed) {
         work.start.swap(work.mixed);
       } else {
         work.start.swap(work.swept);

@@ -7,11 +7,15 @@
 #include "cdpowder/core/rng.hpp"
 #include "cdpowder/solver/anderson.hpp"
 #include "cdpowder/solver/coloured_sweep.hpp"
-#include "cdpowder/solver/coloured_threads.hpp"
 #include "cdpowder/solver/kinematic_change.hpp"
 #include "cdpowder/solver/settings.hpp"
+#include "cdpowder/solver/slab_threads.hpp"
 #include "cdpowder/solver/sweep_sums.hpp"
 #include "cdpowder/solver/velocity_cache.hpp"
+
+#include <cstdint>
+#include <span>
+#include <vector>
 
 namespace cdpowder {
 
@@ -46,7 +50,9 @@ struct NlgsWorkspace {
   std::vector<ContactIndex> blocks;  ///< block permutation of the per-step order
   KinematicChange kinematic;         ///< the kinematic rule's velocity snapshot
   ColouredSweep coloured;            ///< colours and batches of solver.kernel = "coloured"
-  ColouredThreadsSlot threads;       ///< the workers of solver.threads > 1
+  SlabThreadsSlot threads;           ///< the worker of solver.threads > 1
+  std::vector<std::uint8_t> slab;    ///< each sphere's slab this step (slabs.hpp), or empty
+  std::vector<double> slab_scratch;  ///< scratch of cut_into_slabs
 };
 
 /// Sweeps until the stopping rule holds or max_sweeps is reached. Each visit solves one
@@ -54,8 +60,13 @@ struct NlgsWorkspace {
 /// cache at once, so later visits in the same sweep see it (§7.1). With
 /// acceleration_depth > 0, every sweep is followed by an Anderson mixing step.
 /// `reference_force` is the force scale below which forces count as small (F_coh).
+/// With the coloured kernel and `slab` giving each sphere's slab (slabs.hpp), a sweep visits
+/// the contacts inside slab 0, inside slab 1 and across the cut in turn, and the kinematic rule
+/// and the mixing run in two halves: on two threads (solver.threads = 2) the slabs and the
+/// halves run side by side, with the same bits as on one.
 SolverStats solve_nlgs(Contacts& contacts, VelocityCache& velocities,
-                       const SolverSettings& settings, double reference_force, NlgsWorkspace& work);
+                       const SolverSettings& settings, double reference_force, NlgsWorkspace& work,
+                       std::span<const std::uint8_t> slab = {});
 
 /// Fills contacts.visit_order for a new step: storage order, or a random permutation of
 /// blocks (RandomEachStep; RandomEachSweep reshuffles every sweep inside solve_nlgs).

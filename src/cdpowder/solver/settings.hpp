@@ -95,9 +95,10 @@ struct SolverSettings {
   StoppingRule stopping_rule = StoppingRule::Residual;
   VisitOrder visit_order = VisitOrder::RandomEachStep;
   SweepKernel kernel = SweepKernel::Coloured;
-  /// Threads of the coloured kernel's sweeps (docs/performance.md, "Two threads"): each
-  /// colour's batches shared among them, the same bits for any count. The scene reader
-  /// rejects more than one with the scalar kernel; solve_nlgs runs that on one thread.
+  /// Threads of the coloured kernel's solve (docs/performance.md, "Two slabs"): a step cut
+  /// into two slabs (slabs.hpp) solves them side by side, the same bits for any count. The
+  /// scene reader rejects more than one with the scalar kernel; solve_nlgs runs that on one
+  /// thread.
   int threads = 1;
   int acceleration_depth = 5;  ///< Anderson acceleration history m; 0 = plain NLGS (anderson.hpp)
   /// Sweeps between two mixing steps: the accelerated map is k sweeps in a row. The mixing

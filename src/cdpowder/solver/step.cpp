@@ -6,6 +6,7 @@
 #include "cdpowder/detect/detect_contacts.hpp"
 #include "cdpowder/solver/build.hpp"
 #include "cdpowder/solver/integrate.hpp"
+#include "cdpowder/solver/slabs.hpp"
 
 #include <chrono>
 
@@ -56,8 +57,10 @@ void solve_step(const World& world, StepWorkspace& work, const StepSettings& set
                 StepReport& report) {
   StageClock clock;
   const double reference_force = settings.laws.spheres.cohesion_force;
-  report.solver =
-      solve_nlgs(work.contacts, work.velocities, settings.solver, reference_force, work.solver);
+  NlgsWorkspace& solver = work.solver;
+  cut_into_slabs(world.bodies.position, work.contacts, solver.slab, solver.slab_scratch);
+  report.solver = solve_nlgs(work.contacts, work.velocities, settings.solver, reference_force,
+                             solver, solver.slab);
   clock.lap(Stage::SolveNlgs, report.times);
 
   const CohesiveOpening opening =

@@ -17,6 +17,15 @@ struct SweepSums {
   double sum_change_sq = 0.0;
   double sum_closed_normal = 0.0;
   std::size_t closed = 0;
+
+  /// Adds the sums of the next part of a sweep (coloured_sweep.hpp): adding a part that
+  /// visited nothing leaves the bits (the sums are ≥ +0).
+  void add_part(const SweepSums& part) {
+    max_change_sq = std::max(max_change_sq, part.max_change_sq);
+    sum_change_sq += part.sum_change_sq;
+    sum_closed_normal += part.sum_closed_normal;
+    closed += part.closed;
+  }
 };
 
 /// Adds one visit; the sums depend on the order of the visits.
@@ -26,23 +35,6 @@ inline void add_visit(SweepSums& sums, const VisitChange& change, double normal_
   sums.sum_change_sq += change.change_sq;
   if (normal_force + cohesion > 0.0) {
     sums.sum_closed_normal += std::abs(normal_force);
-    ++sums.closed;
-  }
-}
-
-/// A visit kept for later: with more than one thread the visits of a sweep are added to
-/// the sums after it, in the visiting order, so the sums do not depend on the thread count.
-/// closed_normal is |R_n| of a closed contact (R_n + F_c > 0), −1 for an open one.
-inline double closed_normal(double normal_force, double cohesion) {
-  return normal_force + cohesion > 0.0 ? std::abs(normal_force) : -1.0;
-}
-
-/// add_visit of a kept visit: the same operations in the same order.
-inline void add_kept_visit(SweepSums& sums, double change_sq, double closed_normal) {
-  sums.max_change_sq = std::max(sums.max_change_sq, change_sq);
-  sums.sum_change_sq += change_sq;
-  if (closed_normal >= 0.0) {
-    sums.sum_closed_normal += closed_normal;
     ++sums.closed;
   }
 }
@@ -63,7 +55,11 @@ inline VisitChange solve_contact(ContactIndex k, Contacts& contacts, VelocityCac
   }
   const WallProblem& w = contacts.walls[k - n_pairs];
   ContactAction& action = contacts.wall_actions[k - n_pairs];
-  const VisitChange change = solve_wall(w, action, spheres[w.sphere], velocities.piston_velocity);
+  // the bottom wall does not move: its contacts neither read nor write V_P, so they can be
+  // solved on one thread while the piston's are on another (slabs.hpp)
+  double at_rest = 0.0;
+  double& wall_velocity = w.wall_moves != 0.0 ? velocities.piston_velocity : at_rest;
+  const VisitChange change = solve_wall(w, action, spheres[w.sphere], wall_velocity);
   normal_force = action.normal_force;
   cohesion = w.cohesion;
   return change;

@@ -1,6 +1,8 @@
 // sweep_threads.cpp — the pool's command word, its spinning and its parking.
 #include "cdpowder/solver/sweep_threads.hpp"
 
+#include <chrono>
+
 namespace cdpowder {
 
 namespace {
@@ -17,6 +19,17 @@ std::uint32_t command_word(std::uint32_t sequence, Command kind) {
 /// on an idle machine rarely makes a system call, and on an oversubscribed one lets the
 /// thread it waits for run.
 constexpr int kSpinsBeforeYield = 256;
+
+/// How long a parked worker keeps spinning before it sleeps. The run loop's work between two
+/// steps' solves (detection, building the local problems, integration, diagnostics) takes
+/// 100–250 µs at paper size; a worker still spinning when the next step starts takes its
+/// first piece at once, where a sleeping one is woken by a system call and scheduled tens of
+/// microseconds later, after the caller has done the first sweeps alone (docs/performance.md,
+/// "Two slabs"). Past it the worker sleeps: a run that stops stepping does not burn a core.
+constexpr std::chrono::microseconds kSpinAfterPark{1000};
+
+/// Checks the clock every this many spins (a clock read costs ≈ 20 ns, a pause ≈ 10–40 ns).
+constexpr int kSpinsPerClockRead = 64;
 
 void pause() {
 #if defined(__x86_64__) || defined(__i386__)
@@ -66,13 +79,25 @@ void SweepThreads::park() {
 }
 
 void SweepThreads::work(int thread) {
+  using Clock = std::chrono::steady_clock;
   std::uint32_t seen = 0;
   bool parked = true;
+  bool asleep = true;  // parked and past kSpinAfterPark: sleeps on the futex
+  Clock::time_point parked_at{};
   for (;;) {
     const std::uint32_t command = command_.load(std::memory_order_acquire);
     if (command == seen) {
-      if (parked) {
+      if (asleep) {
         command_.wait(seen, std::memory_order_acquire);  // sleeps until the value changes
+      } else if (parked) {
+        // spin a while after a park: the next step most likely starts soon
+        int spins = 0;
+        spin_until([&] {
+          if (command_.load(std::memory_order_relaxed) != seen) return true;
+          if (++spins % kSpinsPerClockRead != 0) return false;
+          asleep = Clock::now() - parked_at > kSpinAfterPark;
+          return asleep;
+        });
       } else {
         spin_until([&] { return command_.load(std::memory_order_relaxed) != seen; });
       }
@@ -81,11 +106,12 @@ void SweepThreads::work(int thread) {
     seen = command;
     switch (static_cast<Command>(command & ((1U << kCommandBits) - 1))) {
       case Command::Run:
-        parked = false;
+        parked = asleep = false;
         task_.load(std::memory_order_relaxed)(context_.load(std::memory_order_relaxed), thread);
         break;
       case Command::Park:
         parked = true;
+        parked_at = Clock::now();
         break;
       case Command::Stop:
         return;

@@ -1,8 +1,10 @@
-// sweep_threads.hpp — a small persistent pool of threads for the sweeps of the coloured kernel
-// (solver.threads, coloured_threads.hpp). A sweep at paper size is ≈ 85 µs over 10–20 colours,
-// one synchronisation per colour, so that must cost far less than a microsecond: the threads
-// spin on atomics (no mutex, no condition variable) while a step's sweeps run, and sleep
-// (std::atomic::wait, a futex) between steps so an idle run does not burn a core.
+// sweep_threads.hpp — a small persistent pool of threads for the solve of a step cut into two
+// slabs (solver.threads, slab_threads.hpp). A sweep at paper size is ≈ 30 µs and hands work to
+// the other thread once or twice, so a hand-over must cost well under a microsecond: the
+// threads spin on atomics (no mutex, no condition variable) while a step's sweeps run, go on
+// spinning for a millisecond after a step (the next one usually starts within a quarter of
+// that), and then sleep (std::atomic::wait, a futex), so a run that stops stepping does not
+// burn a core.
 // Chosen over OpenMP: the pool is created once per workspace, its spinning and parking are
 // under our control (OpenMP's spin-wait policy is an environment setting of the runtime), and
 // the caller never waits for a worker that has no work (an OpenMP parallel region ends with a
@@ -48,7 +50,8 @@ class SweepThreads {
   /// and `context` must outlive the pool. After start() the workers spin until park().
   void start(Task task, void* context);
 
-  /// Lets the workers sleep until the next start() (between steps).
+  /// Lets the workers sleep until the next start() (between steps): they spin for a
+  /// millisecond first, so a start() soon after finds them awake.
   void park();
 
   /// Whether the workers sleep (park() since the last start()).

@@ -1,0 +1,34 @@
+// slabs.hpp — the two slabs a step's sweeps are cut into, so that two threads can solve them at
+// once (docs/performance.md, "Two slabs"). The spheres are split by height at one horizontal
+// cut: slab 0 below, slab 1 above. A sweep visits the contacts inside slab 0, then those inside
+// slab 1, then those across the cut: the first two touch no common sphere, so on two threads
+// they are solved side by side and the sweep waits once, before the contacts across the cut.
+// The cut is a function of the state alone (never of the thread count), so the visiting order,
+// and with it every result, is the same on one thread or two.
+#pragma once
+
+#include "cdpowder/contact/local_problem.hpp"
+#include "cdpowder/core/vec3.hpp"
+
+#include <cstdint>
+#include <vector>
+
+namespace cdpowder {
+
+/// Below this many sphere–sphere contacts a step is not cut: a sweep then takes a few
+/// microseconds, no more than handing work to a second thread costs (≈ 1 µs a hand-over).
+inline constexpr std::size_t kMinPairsToCut = 256;
+
+/// What a wall contact costs a sweep, in pair visits: wall contacts are solved one at a time
+/// by the scalar kernel, pairs four at a time (measured on the paper's (0,0) front: ≈ 3).
+inline constexpr double kWallVisitCost = 3.0;
+
+/// Sets slab[i] ∈ {0, 1} for every sphere: 1 when its height z is at or above the cut, a
+/// mid-height (z_a + z_b)/2 of a pair contact chosen so that the two slabs hold about the same
+/// work: as many pairs below it as above, less kWallVisitCost per bottom-wall contact (slab 0)
+/// and more per piston contact (slab 1). Leaves `slab` empty (one slab, no cut) below
+/// kMinPairsToCut pairs. `scratch` is reused.
+void cut_into_slabs(const std::vector<Vec3>& positions, const Contacts& contacts,
+                    std::vector<std::uint8_t>& slab, std::vector<double>& scratch);
+
+}  // namespace cdpowder

@@ -1,0 +1,211 @@
+// Two slabs on two threads (slabs.hpp, slab_threads.hpp): the cut, the parts of a sweep, the
+// pieces a team runs, and the bits of one thread against two and three: a solve, steps and a
+// paper-size step.
+#include "cdpowder/solver/slab_threads.hpp"
+
+#include "cdpowder/io/state_hash.hpp"
+#include "cdpowder/solver/slabs.hpp"
+#include "cdpowder/solver/step.hpp"
+#include "support/fixture_hash.hpp"
+#include "support/small_packing.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <atomic>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace cdpowder::testing {
+namespace {
+
+template <typename T>
+bool same_bits(const std::vector<T>& x, const std::vector<T>& y) {
+  return x.size() == y.size() && std::memcmp(x.data(), y.data(), x.size() * sizeof(T)) == 0;
+}
+
+bool same_bits(double x, double y) {
+  return std::bit_cast<std::uint64_t>(x) == std::bit_cast<std::uint64_t>(y);
+}
+
+// Every piece runs exactly once per run, on one, two and three threads, run after run (the
+// worker spins between runs and may come late to one).
+TEST(SlabThreads, RunsEveryPieceOnce) {
+  for (const int n : {1, 2, 3}) {
+    SlabThreads team(n);
+    for (std::uint32_t run = 0; run < 2000; ++run) {
+      const std::uint32_t pieces = 1 + run % 5;
+      std::array<std::atomic<int>, 5> count{};
+      team.run(pieces, [&](std::uint32_t p) { count[p].fetch_add(1); });
+      for (std::uint32_t p = 0; p < 5; ++p) ASSERT_EQ(count[p].load(), p < pieces ? 1 : 0);
+      if (run % 500 == 499) team.park();
+    }
+  }
+}
+
+// The cut balances the work of the two slabs (pairs, and wall contacts at kWallVisitCost
+// each) up to the pairs across it; every sphere on its side of the cut; too few contacts: no cut.
+TEST(Slabs, TheCutBalancesTheWorkOfTheTwoSlabs) {
+  const SmallPacking packing(0.1);
+  const std::vector<Vec3>& position = packing.scene.world.bodies.position;
+  const Contacts& contacts = packing.scene.work.contacts;
+  ASSERT_GE(contacts.pairs.size(), kMinPairsToCut);
+  std::vector<std::uint8_t> slab;
+  std::vector<double> scratch;
+  cut_into_slabs(position, contacts, slab, scratch);
+  ASSERT_EQ(slab.size(), position.size());
+  std::array<double, 3> work{};
+  for (const PairProblem& p : contacts.pairs) work[slab[p.a] == slab[p.b] ? slab[p.a] : 2] += 1;
+  const double across = work[2];
+  for (const WallProblem& w : contacts.walls) {
+    EXPECT_EQ(slab[w.sphere], w.wall == WallKind::Piston ? 1 : 0);
+    work[slab[w.sphere]] += kWallVisitCost;
+  }
+  EXPECT_GT(work[0], 0.3 * static_cast<double>(contacts.pairs.size()));
+  EXPECT_LE(std::abs(work[0] - work[1]), across + kWallVisitCost);
+  EXPECT_LT(across, 0.3 * static_cast<double>(contacts.pairs.size()));
+  double top_of_0 = -1e300;
+  double bottom_of_1 = 1e300;
+  for (std::size_t i = 0; i < position.size(); ++i) {
+    if (slab[i] == 0) top_of_0 = std::max(top_of_0, position[i].z());
+    if (slab[i] == 1) bottom_of_1 = std::min(bottom_of_1, position[i].z());
+  }
+  EXPECT_LT(top_of_0, bottom_of_1);
+
+  Contacts few = contacts;
+  few.pairs.resize(kMinPairsToCut - 1);
+  cut_into_slabs(position, few, slab, scratch);
+  EXPECT_TRUE(slab.empty());
+}
+
+// The parts of a cut sweep: no sphere in both slabs' batches, the piston's contacts in one
+// part, every contact visited once.
+TEST(Slabs, TheTwoSlabsShareNoSphere) {
+  SmallPacking packing(0.1);
+  Contacts contacts = packing.scene.work.contacts;
+  const VelocityCache& velocities = packing.scene.work.velocities;
+  std::vector<std::uint8_t> slab;
+  std::vector<double> scratch;
+  cut_into_slabs(packing.scene.world.bodies.position, contacts, slab, scratch);
+  ColouredSweep sweep;
+  prepare_coloured_sweep(contacts, velocities, sweep, kColourChunk, slab);
+  ASSERT_TRUE(sweep.cut());
+  std::array<std::set<BodyIndex>, kSweepParts> spheres;
+  std::array<std::set<std::size_t>, kSweepParts> piston_parts;
+  std::size_t visits = 0;
+  const std::size_t colours = sweep.colours();
+  for (std::size_t p = 0; p < kSweepParts; ++p) {
+    for (std::uint32_t i = sweep.part_groups[p]; i < sweep.part_groups[p + 1]; ++i) {
+      const std::uint32_t group = sweep.group_order[i];
+      if (group >= colours) {
+        for (std::uint32_t j = sweep.part_sequential[group - colours];
+             j < sweep.part_sequential[group - colours + 1]; ++j) {
+          const ContactIndex k = sweep.sequential[j];
+          ++visits;
+          if (k < contacts.pairs.size()) {
+            spheres[p].insert({contacts.pairs[k].a, contacts.pairs[k].b});
+            continue;
+          }
+          const WallProblem& w = contacts.walls[k - contacts.pairs.size()];
+          spheres[p].insert(w.sphere);
+          if (w.wall == WallKind::Piston) piston_parts[0].insert(p);
+        }
+        continue;
+      }
+      for (std::uint32_t b = sweep.colour_batches[group]; b < sweep.colour_batches[group + 1];
+           ++b) {
+        for (std::uint32_t l = 0; l < sweep.batches[b].lanes; ++l) {
+          spheres[p].insert({sweep.batches[b].a[l], sweep.batches[b].b[l]});
+          ++visits;
+        }
+      }
+    }
+  }
+  EXPECT_EQ(visits, contacts.size());
+  std::vector<BodyIndex> common;
+  std::set_intersection(spheres[0].begin(), spheres[0].end(), spheres[1].begin(), spheres[1].end(),
+                        std::back_inserter(common));
+  EXPECT_TRUE(common.empty());
+  EXPECT_EQ(piston_parts[0].size(), 1U);  // all piston contacts in one part
+  EXPECT_FALSE(spheres[2].empty());
+}
+
+/// Solves the SmallPacking's first step, cut into slabs, on `threads` threads.
+struct CutSolve {
+  Contacts contacts;
+  VelocityCache velocities;
+  SolverStats stats;
+};
+
+CutSolve cut_solve(int threads, bool avx2) {
+  allow_avx2_kernel(avx2);
+  SmallPacking packing(0.1);
+  CutSolve out{packing.scene.work.contacts, packing.scene.work.velocities, {}};
+  std::vector<std::uint8_t> slab;
+  std::vector<double> scratch;
+  cut_into_slabs(packing.scene.world.bodies.position, out.contacts, slab, scratch);
+  SolverSettings settings = packing.scene.settings.solver;
+  settings.threads = threads;
+  settings.kinematic_tolerance = 1e-3;  // the kinematic rule's pass too
+  settings.min_sweeps = 40;             // sweeps and mixings enough to use every piece
+  settings.max_sweeps = 40;
+  NlgsWorkspace work(5);
+  out.stats = solve_nlgs(out.contacts, out.velocities, settings, 1.0, work, slab);
+  allow_avx2_kernel(true);
+  return out;
+}
+
+// A cut step's solve (sweeps, kinematic rule, mixing) on two and three threads leaves the bits
+// of one thread, with both instruction sets.
+TEST(SlabThreads, ASolveGivesTheBitsOfOneThread) {
+  for (const bool avx2 : {false, true}) {
+    if (avx2 && !allow_avx2_kernel(true)) continue;  // no AVX2 here
+    const CutSolve one = cut_solve(1, avx2);
+    EXPECT_EQ(one.stats.sweeps, 40);
+    for (const int n : {2, 3}) {
+      const CutSolve many = cut_solve(n, avx2);
+      EXPECT_EQ(many.stats.sweeps, one.stats.sweeps);
+      EXPECT_TRUE(same_bits(many.stats.residual, one.stats.residual));
+      EXPECT_TRUE(same_bits(many.stats.kinematic_error, one.stats.kinematic_error));
+      EXPECT_TRUE(same_bits(many.stats.force_scale, one.stats.force_scale));
+      EXPECT_TRUE(same_bits(many.contacts.pair_actions, one.contacts.pair_actions));
+      EXPECT_TRUE(same_bits(many.contacts.wall_actions, one.contacts.wall_actions));
+      EXPECT_TRUE(same_bits(many.velocities.spheres, one.velocities.spheres));
+      EXPECT_TRUE(same_bits(many.velocities.piston_velocity, one.velocities.piston_velocity));
+    }
+  }
+}
+
+// Whole steps (mixing and stopping rules included) with solver.threads = 1, 2, 3: one state hash.
+TEST(SlabThreads, StepsGiveTheSameStateHashForAnyThreadCount) {
+  std::vector<std::string> hashes;
+  for (const int n : {1, 2, 3}) {
+    SmallPacking packing(0.1);
+    packing.scene.settings.solver.kernel = SweepKernel::Coloured;
+    packing.scene.settings.solver.threads = n;
+    packing.scene.settings.solver.kinematic_tolerance = 1e-3;  // the kinematic rule's pass too
+    const StepReport last = packing.scene.run(6);
+    EXPECT_TRUE(last.solver.converged);
+    hashes.push_back(hash_text(state_hash(packing.scene.world, packing.scene.work.action_cache)));
+  }
+  EXPECT_EQ(hashes[1], hashes[0]);
+  EXPECT_EQ(hashes[2], hashes[0]);
+}
+
+// Two steps of the paper's (0,0) compaction front (≈ 1 000 spheres, cut into two slabs, and
+// the piston): the hash of one thread with two.
+TEST(SlabThreads, APaperSizeStepGivesTheSameStateHashOnTwoThreads) {
+  const std::vector<SceneOverride> settings{"solver.kinematic_tolerance=1e-4"};
+  std::vector<SceneOverride> two = settings;
+  two.emplace_back("solver.threads=2");
+  EXPECT_EQ(fixture_hash("paper_front_mu00_t350.cdps", 2, two),
+            fixture_hash("paper_front_mu00_t350.cdps", 2, settings));
+}
+
+}  // namespace
+}  // namespace cdpowder::testing
