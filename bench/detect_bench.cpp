@@ -12,7 +12,7 @@ void BM_DetectContacts(benchmark::State& state) {
   Packing packing = fcc_packing_with_vacancies(static_cast<int>(state.range(0)));
   StepWorkspace work(1);
   for (auto _ : state) {
-    detect_contacts(packing.world, packing.settings, work.grid, work.contacts);
+    detect_contacts(packing.world, packing.settings.detection(), work.grid, work.contacts);
     benchmark::DoNotOptimize(work.contacts.pairs.data());
   }
   const auto n = static_cast<double>(packing.world.bodies.size());

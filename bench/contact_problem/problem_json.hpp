@@ -8,7 +8,7 @@
 #pragma once
 
 #include "cdpowder/contact/local_problem.hpp"
-#include "cdpowder/solver/velocity_cache.hpp"
+#include "cdpowder/contact/velocity_cache.hpp"
 
 #include <nlohmann/json.hpp>
 

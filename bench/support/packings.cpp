@@ -61,7 +61,7 @@ Packing fcc_packing_with_vacancies(int spheres, std::uint64_t seed) {
 }
 
 void prepare_contacts(Packing& packing, StepWorkspace& work) {
-  detect_contacts(packing.world, packing.settings, work.grid, work.contacts);
+  detect_contacts(packing.world, packing.settings.detection(), work.grid, work.contacts);
   build_local_problems(packing.world, packing.settings, work.action_cache, work.contacts,
                        work.velocities);
 }

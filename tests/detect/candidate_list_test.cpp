@@ -5,6 +5,7 @@
 
 #include "cdpowder/core/rng.hpp"
 #include "cdpowder/detect/detect_contacts.hpp"
+#include "cdpowder/solver/settings.hpp"
 
 #include <gtest/gtest.h>
 
@@ -62,8 +63,9 @@ TEST(CandidateList, AReusedListGivesEveryStepTheContactsOfAFreshSearch) {
   Contacts reused;
   Contacts fresh;
   for (int step = 0; step < 300; ++step) {
-    detect_contacts(world, settings, grid, reused, &list);
-    detect_contacts(world, settings, fresh_grid, fresh);  // a list of its own, built now
+    detect_contacts(world, settings.detection(), grid, reused, &list);
+    // a list of its own, built now
+    detect_contacts(world, settings.detection(), fresh_grid, fresh);
     expect_same_pairs(reused, fresh, "step " + std::to_string(step));
     ASSERT_FALSE(HasFatalFailure());
     drift(world, settings.solver.dt);
@@ -83,7 +85,7 @@ TEST(CandidateList, MarginZeroRebuildsWheneverASphereMoved) {
   CandidateList list;
   Contacts contacts;
   for (int step = 0; step < 10; ++step) {
-    detect_contacts(world, settings, grid, contacts, &list);
+    detect_contacts(world, settings.detection(), grid, contacts, &list);
     drift(world, settings.solver.dt);
   }
   EXPECT_EQ(list.builds(), 10);

@@ -8,6 +8,7 @@
 
 #include "cdpowder/contact/action_cache.hpp"
 #include "cdpowder/core/rng.hpp"
+#include "cdpowder/solver/settings.hpp"
 
 #include <gtest/gtest.h>
 
@@ -127,9 +128,9 @@ Checked check_against_brute_force(const Packing& packing) {
   settings.solver.verlet_margin = 0.0;
   CellGrid grid;
   Contacts contacts;
-  detect_contacts(world, settings, grid, contacts);
+  detect_contacts(world, settings.detection(), grid, contacts);
   // detect_contacts wraps the positions and changes nothing the cutoff depends on
-  const double cutoff = candidate_gap(world, settings);
+  const double cutoff = candidate_gap(world, settings.detection());
   const std::string where = "packing seed " + std::to_string(packing.seed) + ", cells " +
                             std::to_string(grid.cells_x()) + "×" + std::to_string(grid.cells_y()) +
                             "×" + std::to_string(grid.cells_z());
@@ -254,7 +255,7 @@ TEST(DetectContacts, FindsPairsAcrossEveryPeriodicBoundary) {
   const StepSettings settings;
   CellGrid grid;
   Contacts contacts;
-  detect_contacts(world, settings, grid, contacts);
+  detect_contacts(world, settings.detection(), grid, contacts);
   std::vector<std::uint64_t> keys;
   for (const PairProblem& p : contacts.pairs) keys.push_back(pair_key(p.a, p.b));
   ASSERT_EQ(keys, (std::vector<std::uint64_t>{pair_key(0, 1), pair_key(2, 3), pair_key(4, 5)}));

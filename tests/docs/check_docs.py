@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Keeps the documentation and the code telling the same story. Three checks:
+"""Keeps the documentation and the code telling the same story. Four checks:
 
 (a) citations: every `physics.md §X` in src/ app/ tests/ bench/ tools/ docs/ and README.md,
     and every unqualified `§X` there, names a section heading X of docs/physics.md. In this
@@ -15,6 +15,11 @@
 (c) test labels: every label of the docs/testing.md label table and of the ctest presets'
     label filters (CMakePresets.json) is carried by some test of tests/CMakeLists.txt, and
     every label a test carries is in the table.
+(d) layers: the folder table of docs/architecture.md ("## Folders of the library") lists the
+    library's folders from the bottom of the stack up; a file of src/cdpowder/<folder>/
+    includes only headers of its own folder and of the folders listed before it (a header at
+    the top of src/cdpowder, such as the generated version.hpp, is outside the layers), and
+    every folder of src/cdpowder is in the table.
 
 Debian python3, standard library only. Exit status 0 when all hold, 1 with one line per
 problem otherwise. `--self-test` runs the checks on small synthetic trees, each broken in one
@@ -301,8 +306,58 @@ def check_labels(root):
     return problems
 
 
+# ---------------------------------------------------------------------------------------------
+# (d) the library's layers
+
+LAYER_ROW = re.compile(r"^\|\s*`([a-z_]+)/`\s*\|")
+LIBRARY_INCLUDE = re.compile(r'^\s*#\s*include\s+"cdpowder/([a-z_]+)/')
+
+
+def layer_order(architecture_md):
+    """The folders of the table under '## Folders of the library', in table order."""
+    order = []
+    in_section = False
+    for line in architecture_md.splitlines():
+        if line.startswith("## "):
+            in_section = line.strip() == "## Folders of the library"
+            continue
+        match = LAYER_ROW.match(line) if in_section else None
+        if match:
+            order.append(match.group(1))
+    return order
+
+
+def check_layers(root):
+    architecture = root / "docs" / "architecture.md"
+    library = root / "src" / "cdpowder"
+    if not library.is_dir():
+        return []
+    order = layer_order(architecture.read_text(encoding="utf-8")) if architecture.is_file() else []
+    if not order:
+        return ["docs/architecture.md: no folder table under '## Folders of the library'"]
+    rank = {folder: i for i, folder in enumerate(order)}
+    problems = []
+    for folder in sorted(p.name for p in library.iterdir() if p.is_dir()):
+        if folder not in rank:
+            problems.append(f"src/cdpowder/{folder}/: not in the folder table of "
+                            "docs/architecture.md")
+    for path in sorted(library.rglob("*")):
+        if path.suffix not in {".cpp", ".hpp", ".inc"} or path.parent == library:
+            continue
+        folder = path.relative_to(library).parts[0]
+        if folder not in rank:
+            continue
+        for number, line in enumerate(path.read_text(encoding="utf-8").splitlines(), 1):
+            match = LIBRARY_INCLUDE.match(line)
+            if match and match.group(1) in rank and rank[match.group(1)] > rank[folder]:
+                problems.append(f"{path.relative_to(root)}:{number}: {folder}/ includes "
+                                f"{match.group(1)}/, a folder above it (docs/architecture.md, "
+                                "'Folders of the library')")
+    return problems
+
+
 def run_checks(root):
-    return check_citations(root) + check_scene_keys(root) + check_labels(root)
+    return check_citations(root) + check_scene_keys(root) + check_labels(root) + check_layers(root)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -334,6 +389,13 @@ GOOD_TREE = {
                             'set_tests_properties(t PROPERTIES LABELS "slow")\n',
     "docs/testing.md": "# Testing\n\n## Labels\n\n| label | what |\n| --- | --- |\n"
                        "| `unit` | x |\n| `physics`, `slow` | y |\n\n## Habits\n\n| `other` | z |\n",
+    "docs/architecture.md": "# Architecture\n\n## Folders of the library\n\n"
+                            "| folder | responsibility |\n| --- | --- |\n| `core/` | x |\n"
+                            "| `solver/` | y |\n| `config/` | z |\n\n## One time step\n\n| `io/` | not a layer |\n",
+    "src/cdpowder/core/vec3.hpp": "#include <vector>\n",
+    "src/cdpowder/solver/step.cpp": '#include "cdpowder/core/vec3.hpp"\n'
+                                    '#include "cdpowder/solver/step.hpp"\n'
+                                    '#include "cdpowder/version.hpp"\n',
     "CMakePresets.json": json.dumps({"testPresets": [
         {"name": "release", "filter": {"exclude": {"label": "slow"}}},
         {"name": "slow", "filter": {"include": {"label": "slow"}}}]}),
@@ -425,6 +487,19 @@ class SelfTest(unittest.TestCase):
         self.assertNotIn("other", doc_labels(GOOD_TREE["docs/testing.md"]))
 
 
+    def test_include_pointing_up_the_stack(self):
+        problems = self.problems(src__cdpowder__core__vec3_DOT_hpp=lambda t: t + '#include "cdpowder/solver/settings.hpp"\n')
+        self.assert_reported(problems, "src/cdpowder/core/vec3.hpp:2: core/ includes solver/")
+
+    def test_folder_missing_from_the_layers(self):
+        problems = self.problems(src__cdpowder__io__vtk_DOT_cpp=lambda t: '#include "cdpowder/core/vec3.hpp"\n')
+        self.assert_reported(problems, "src/cdpowder/io/: not in the folder table")
+
+    def test_layers_without_a_folder_table(self):
+        problems = self.problems(docs__architecture_DOT_md=lambda t: "# Architecture\n")
+        self.assert_reported(problems, "docs/architecture.md: no folder table")
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--root", type=pathlib.Path, default=ROOT, help="repository root")
@@ -440,10 +515,11 @@ def main():
         print(problem)
     sys.stdout.flush()
     if problems:
-        print(f"check_docs: {len(problems)} problem(s); docs/physics.md, docs/config.md and "
-              "docs/testing.md must match the code (tests/docs/check_docs.py)")
+        print(f"check_docs: {len(problems)} problem(s); docs/physics.md, docs/config.md, "
+              "docs/testing.md and docs/architecture.md must match the code "
+              "(tests/docs/check_docs.py)")
         return 1
-    print("check_docs: citations, scene keys and test labels agree with the docs")
+    print("check_docs: citations, scene keys, test labels and layers agree with the docs")
     return 0
 
 

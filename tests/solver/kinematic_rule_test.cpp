@@ -140,7 +140,7 @@ SolverStats solve_front_step(const SolverSettings& solver, std::uint64_t order_s
   restore_run(std::move(saved), scene.run, scene.step.solver.dt, world, work, run);
   step(world, work, scene.step);
   // stages 1 and 2 of step(), then the solver with the settings under test
-  detect_contacts(world, scene.step, work.grid, work.contacts, &work.candidates);
+  detect_contacts(world, scene.step.detection(), work.grid, work.contacts, &work.candidates);
   build_local_problems(world, scene.step, work.action_cache, work.contacts, work.velocities);
   work.solver.rng = make_rng(order_seed, RngStream::SweepOrder);
   const SolverStats stats = solve_nlgs(work.contacts, work.velocities, solver,

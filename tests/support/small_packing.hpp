@@ -51,7 +51,7 @@ struct SmallPacking {
     scene.world.walls.piston.force = 1.0;
     scene.world.walls.piston.height = top + 0.002;
     StepWorkspace& w = scene.work;
-    detect_contacts(scene.world, scene.settings, w.grid, w.contacts);
+    detect_contacts(scene.world, scene.settings.detection(), w.grid, w.contacts);
     build_local_problems(scene.world, scene.settings, w.action_cache, w.contacts, w.velocities);
   }
 };

@@ -6,8 +6,8 @@
 
 #include "cdpowder/contact/contact_law.hpp"
 #include "cdpowder/contact/local_problem.hpp"
+#include "cdpowder/contact/velocity_cache.hpp"
 #include "cdpowder/model/world.hpp"
-#include "cdpowder/solver/velocity_cache.hpp"
 
 namespace cdpowder {
 

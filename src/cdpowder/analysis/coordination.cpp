@@ -9,14 +9,14 @@ std::vector<int> contacts_per_sphere(const Contacts& contacts, std::size_t spher
   std::vector<int> count(sphere_count, 0);
   for (std::size_t k = 0; k < contacts.pairs.size(); ++k) {
     const PairProblem& p = contacts.pairs[k];
-    if (contacts.pair_actions[k].normal_force + p.cohesion > 0.0) {
+    if (is_closed(contacts.pair_actions[k].normal_force, p.cohesion)) {
       ++count[p.a];
       ++count[p.b];
     }
   }
   for (std::size_t k = 0; k < contacts.walls.size(); ++k) {
     const WallProblem& w = contacts.walls[k];
-    if (contacts.wall_actions[k].normal_force + w.cohesion > 0.0) ++count[w.sphere];
+    if (is_closed(contacts.wall_actions[k].normal_force, w.cohesion)) ++count[w.sphere];
   }
   return count;
 }

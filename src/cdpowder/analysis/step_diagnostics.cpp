@@ -18,7 +18,7 @@ StepDiagnostics analyse_step(const World& world, const Contacts& contacts) {
     const double overlap = std::max(0.0, bodies.radius[p.a] + bodies.radius[p.b] - d_ab.norm());
     d.max_overlap = std::max(d.max_overlap, overlap);
     if (contacts.pair_cohesive[k] != 0) ++d.cohesive_contacts;
-    if (action.normal_force + p.cohesion > 0.0) {
+    if (is_closed(action.normal_force, p.cohesion)) {
       ++d.closed_contacts;
       overlap_sum += overlap;
     }
@@ -32,7 +32,7 @@ StepDiagnostics analyse_step(const World& world, const Contacts& contacts) {
     const double overlap = std::max(0.0, -gap);
     d.max_overlap = std::max(d.max_overlap, overlap);
     if (contacts.wall_cohesive[k] != 0) ++d.cohesive_contacts;
-    if (action.normal_force + w.cohesion > 0.0) {
+    if (is_closed(action.normal_force, w.cohesion)) {
       ++d.closed_contacts;
       overlap_sum += overlap;
     }

@@ -3,8 +3,8 @@
 #pragma once
 
 #include "cdpowder/contact/local_problem.hpp"
+#include "cdpowder/contact/velocity_cache.hpp"
 #include "cdpowder/model/world.hpp"
-#include "cdpowder/solver/velocity_cache.hpp"
 
 #include <cstddef>
 

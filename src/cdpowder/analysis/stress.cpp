@@ -8,7 +8,7 @@ namespace {
 void add_contact(StressTensors& s, const Vec3& n, const ContactAction& action, double branch,
                  double cohesion) {
   // an open, non-cohesive candidate carries nothing and is neither kind
-  const bool carries = action.normal_force != 0.0 || action.normal_force + cohesion > 0.0;
+  const bool carries = action.normal_force != 0.0 || is_closed(action.normal_force, cohesion);
   if (!carries) return;
   const Vec3 force = action.normal_force * n + action.tangential_force;
   const Mat3 term = force * (branch * n).transpose();

@@ -4,8 +4,8 @@
 // Units: R = ρ = F_coh = 1 unless stated (physics.md §2); docs/config.md lists every key.
 #pragma once
 
+#include "cdpowder/config/deposition_config.hpp"
 #include "cdpowder/core/vec3.hpp"
-#include "cdpowder/experiment/deposition.hpp"
 #include "cdpowder/solver/settings.hpp"
 
 #include <cstdint>

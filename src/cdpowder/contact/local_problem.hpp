@@ -24,6 +24,14 @@ struct ContactAction {
 
 static_assert(sizeof(ContactAction) == 64, "8 doubles per contact action (a cache line's worth)");
 
+/// Whether a contact with normal force R_n and cohesion F_c (0 if not cohesive) is closed,
+/// i.e. carries a force, after its solve: an open or opening contact has R_n = −F_c exactly,
+/// a closed one R_n + F_c ≥ 0 (physics.md §5.4, step 1); one exactly at R_n = −F_c carries no
+/// excess and counts as open. The one test every count of closed contacts uses.
+[[nodiscard]] inline bool is_closed(double normal_force, double cohesion) {
+  return normal_force + cohesion > 0.0;
+}
+
 /// Sphere a – sphere b. Levers l_a = |l_a| n, l_b = −|l_b| n from each centre to one common
 /// contact point, the middle of the gap: |l_a| = R_a + g/2, |l_b| = R_b + g/2 (physics.md
 /// §4.2). Equal and opposite forces at one point conserve the pair's angular momentum

@@ -16,7 +16,7 @@
 
 #include "cdpowder/contact/contact_law.hpp"
 #include "cdpowder/contact/local_problem.hpp"
-#include "cdpowder/solver/velocity_cache.hpp"
+#include "cdpowder/contact/velocity_cache.hpp"
 
 #include <algorithm>
 #include <cmath>

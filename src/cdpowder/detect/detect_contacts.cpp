@@ -11,7 +11,7 @@
 
 namespace cdpowder {
 
-double candidate_gap(const World& world, const StepSettings& settings) {
+double candidate_gap(const World& world, const DetectionSettings& settings) {
   const Bodies& bodies = world.bodies;
   double v_max = 0.0;
   for (std::size_t i = 0; i < bodies.size(); ++i) {
@@ -20,15 +20,13 @@ double candidate_gap(const World& world, const StepSettings& settings) {
     v_max = std::max(v_max, surface_speed);
   }
   if (world.walls.piston.enabled) v_max = std::max(v_max, std::abs(world.walls.piston.velocity));
-  const ContactLaws& laws = settings.laws;
-  const double range = std::max(laws.spheres.cohesion_range, laws.walls.cohesion_range);
-  return std::max(range, 2.0 * v_max * settings.solver.dt) + settings.solver.skin;
+  return std::max(settings.cohesion_range, 2.0 * v_max * settings.dt) + settings.skin;
 }
 
-void detect_contacts(World& world, const StepSettings& settings, CellGrid& grid, Contacts& contacts,
-                     CandidateList* reuse) {
+void detect_contacts(World& world, const DetectionSettings& settings, CellGrid& grid,
+                     Contacts& contacts, CandidateList* reuse) {
   // stage 1 is the start of a step: its inputs must be finite (debug builds only)
-  CDP_ASSERT(all_finite(world) && std::isfinite(settings.solver.dt), "non-finite step input");
+  CDP_ASSERT(all_finite(world) && std::isfinite(settings.dt), "non-finite step input");
   Bodies& bodies = world.bodies;
   const PeriodicBox& box = world.box;
   for (Vec3& p : bodies.position) box.wrap(p);
@@ -42,7 +40,7 @@ void detect_contacts(World& world, const StepSettings& settings, CellGrid& grid,
   CandidateList fresh;
   CandidateList& list = reuse != nullptr ? *reuse : fresh;
   if (!list.covers(bodies, box, cutoff)) {
-    list.rebuild(bodies, box, grid, cutoff, settings.solver.verlet_margin);
+    list.rebuild(bodies, box, grid, cutoff, settings.verlet_margin);
   }
   for (const CandidateList::Pair& pair : list.pairs()) {
     const BodyIndex a = pair.a;

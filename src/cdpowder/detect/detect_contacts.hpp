@@ -5,21 +5,21 @@
 #include "cdpowder/contact/local_problem.hpp"
 #include "cdpowder/detect/candidate_list.hpp"
 #include "cdpowder/detect/cell_grid.hpp"
+#include "cdpowder/detect/detection_settings.hpp"
 #include "cdpowder/model/world.hpp"
-#include "cdpowder/solver/settings.hpp"
 
 namespace cdpowder {
 
 /// Largest gap at which a pair is a candidate this step:
 /// max(d_coh, 2 v_max Δt) + skin (physics.md §4.3), v_max the largest surface speed.
-double candidate_gap(const World& world, const StepSettings& settings);
+double candidate_gap(const World& world, const DetectionSettings& settings);
 
 /// Wraps positions into the box and fills the geometry of every candidate (a, b, n, g,
 /// levers, r_eff) in `contacts`, pairs sorted by (a, b), walls by (wall, sphere). Pairs of
 /// two fixed spheres are skipped: nothing can move them. Sphere pairs come from `reuse`,
 /// rebuilt through `grid` when it no longer covers the step (candidate_list.hpp); without
 /// one, from a list built for this call. The contacts are the same either way.
-void detect_contacts(World& world, const StepSettings& settings, CellGrid& grid, Contacts& contacts,
-                     CandidateList* reuse = nullptr);
+void detect_contacts(World& world, const DetectionSettings& settings, CellGrid& grid,
+                     Contacts& contacts, CandidateList* reuse = nullptr);
 
 }  // namespace cdpowder

@@ -23,7 +23,7 @@ void append_contact(std::string& out, std::int64_t a, std::int64_t b, const Vec3
   fmt::format_to(std::back_inserter(out), ",{}", action.normal_force);
   append_vec(out, action.tangential_force);
   append_vec(out, action.rolling_torque);
-  const bool closed = action.normal_force + cohesion > 0.0;
+  const bool closed = is_closed(action.normal_force, cohesion);
   fmt::format_to(std::back_inserter(out), ",{},{},{},{}\n", action.twisting_torque, gap,
                  cohesive ? 1 : 0, closed ? "closed" : "open");
 }

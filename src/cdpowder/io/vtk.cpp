@@ -81,7 +81,7 @@ std::vector<NetworkLine> network_lines(const World& world, const Contacts& conta
   for (std::size_t k = 0; k < contacts.pairs.size(); ++k) {
     const PairProblem& p = contacts.pairs[k];
     const ContactAction& action = contacts.pair_actions[k];
-    if (action.normal_force + p.cohesion <= 0.0) continue;
+    if (!is_closed(action.normal_force, p.cohesion)) continue;
     const Vec3& a = bodies.position[p.a];
     const Vec3 b = a + world.box.minimum_image(bodies.position[p.b] - a);
     lines.push_back({a, b, action.normal_force, action.tangential_force.norm(),
@@ -90,7 +90,7 @@ std::vector<NetworkLine> network_lines(const World& world, const Contacts& conta
   for (std::size_t k = 0; k < contacts.walls.size(); ++k) {
     const WallProblem& w = contacts.walls[k];
     const ContactAction& action = contacts.wall_actions[k];
-    if (action.normal_force + w.cohesion <= 0.0) continue;
+    if (!is_closed(action.normal_force, w.cohesion)) continue;
     const Vec3& centre = bodies.position[w.sphere];
     // n points from the wall into the sphere: the contact point is R behind the centre
     lines.push_back({centre, centre - w.radius * w.normal, action.normal_force,

@@ -5,9 +5,9 @@
 
 #include "cdpowder/contact/action_cache.hpp"
 #include "cdpowder/contact/local_problem.hpp"
+#include "cdpowder/contact/velocity_cache.hpp"
 #include "cdpowder/model/world.hpp"
 #include "cdpowder/solver/settings.hpp"
-#include "cdpowder/solver/velocity_cache.hpp"
 
 namespace cdpowder {
 

@@ -14,12 +14,12 @@
 #pragma once
 
 #include "cdpowder/contact/local_problem.hpp"
+#include "cdpowder/contact/velocity_cache.hpp"
 #include "cdpowder/core/rng.hpp"
 #include "cdpowder/solver/colouring.hpp"
 #include "cdpowder/solver/settings.hpp"
 #include "cdpowder/solver/slab_threads.hpp"
 #include "cdpowder/solver/sweep_sums.hpp"
-#include "cdpowder/solver/velocity_cache.hpp"
 
 #include <array>
 #include <cstdint>

@@ -2,8 +2,8 @@
 // positions with them (implicit Euler in the velocities, physics.md §3).
 #pragma once
 
+#include "cdpowder/contact/velocity_cache.hpp"
 #include "cdpowder/model/world.hpp"
-#include "cdpowder/solver/velocity_cache.hpp"
 
 namespace cdpowder {
 

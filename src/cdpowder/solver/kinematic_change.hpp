@@ -3,10 +3,10 @@
 // (SolverSettings::kinematic_tolerance, physics.md §7.3).
 #pragma once
 
+#include "cdpowder/contact/velocity_cache.hpp"
 #include "cdpowder/core/aligned_vector.hpp"
 #include "cdpowder/core/index.hpp"
 #include "cdpowder/core/vec3.hpp"
-#include "cdpowder/solver/velocity_cache.hpp"
 
 #include <array>
 #include <cmath>

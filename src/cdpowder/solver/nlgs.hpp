@@ -3,6 +3,7 @@
 #pragma once
 
 #include "cdpowder/contact/local_problem.hpp"
+#include "cdpowder/contact/velocity_cache.hpp"
 #include "cdpowder/core/aligned_vector.hpp"
 #include "cdpowder/core/rng.hpp"
 #include "cdpowder/solver/anderson.hpp"
@@ -11,7 +12,6 @@
 #include "cdpowder/solver/settings.hpp"
 #include "cdpowder/solver/slab_threads.hpp"
 #include "cdpowder/solver/sweep_sums.hpp"
-#include "cdpowder/solver/velocity_cache.hpp"
 
 #include <cstdint>
 #include <span>

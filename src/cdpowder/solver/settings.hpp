@@ -4,7 +4,9 @@
 
 #include "cdpowder/contact/contact_law.hpp"
 #include "cdpowder/core/stop_request.hpp"
+#include "cdpowder/detect/detection_settings.hpp"
 
+#include <algorithm>
 #include <cstdint>
 
 namespace cdpowder {
@@ -120,6 +122,12 @@ struct SolverSettings {
 struct StepSettings {
   SolverSettings solver;
   ContactLaws laws;
+
+  /// What stage 1 reads (detect/detect_contacts.hpp).
+  [[nodiscard]] DetectionSettings detection() const {
+    return {std::max(laws.spheres.cohesion_range, laws.walls.cohesion_range), solver.dt,
+            solver.skin, solver.verlet_margin};
+  }
 };
 
 }  // namespace cdpowder

@@ -9,6 +9,7 @@
 #pragma once
 
 #include "cdpowder/contact/local_problem.hpp"
+#include "cdpowder/contact/velocity_cache.hpp"
 #include "cdpowder/core/aligned_vector.hpp"
 #include "cdpowder/solver/anderson.hpp"
 #include "cdpowder/solver/coloured_sweep.hpp"
@@ -16,7 +17,6 @@
 #include "cdpowder/solver/mixed_actions.hpp"
 #include "cdpowder/solver/slab_threads.hpp"
 #include "cdpowder/solver/sweep_sums.hpp"
-#include "cdpowder/solver/velocity_cache.hpp"
 
 namespace cdpowder {
 

@@ -39,7 +39,7 @@ StepReport begin_step(World& world, StepWorkspace& work, const StepSettings& set
   report.dt = settings.solver.dt;
   StageClock clock;
 
-  detect_contacts(world, settings, work.grid, work.contacts, &work.candidates);
+  detect_contacts(world, settings.detection(), work.grid, work.contacts, &work.candidates);
   clock.lap(Stage::DetectContacts, report.times);
 
   build_local_problems(world, settings, work.action_cache, work.contacts, work.velocities);

@@ -4,13 +4,13 @@
 #include "cdpowder/analysis/step_diagnostics.hpp"
 #include "cdpowder/contact/action_cache.hpp"
 #include "cdpowder/contact/local_problem.hpp"
+#include "cdpowder/contact/velocity_cache.hpp"
 #include "cdpowder/core/rng.hpp"
 #include "cdpowder/detect/candidate_list.hpp"
 #include "cdpowder/detect/cell_grid.hpp"
 #include "cdpowder/model/world.hpp"
 #include "cdpowder/solver/nlgs.hpp"
 #include "cdpowder/solver/settings.hpp"
-#include "cdpowder/solver/velocity_cache.hpp"
 
 #include <array>
 

@@ -33,7 +33,7 @@ inline void add_visit(SweepSums& sums, const VisitChange& change, double normal_
                       double cohesion) {
   sums.max_change_sq = std::max(sums.max_change_sq, change.change_sq);
   sums.sum_change_sq += change.change_sq;
-  if (normal_force + cohesion > 0.0) {
+  if (is_closed(normal_force, cohesion)) {
     sums.sum_closed_normal += std::abs(normal_force);
     ++sums.closed;
   }
