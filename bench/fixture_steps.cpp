@@ -32,6 +32,7 @@ struct Totals {
   std::int64_t sweeps = 0;
   std::int64_t capped = 0;
   std::int64_t repeated = 0;  ///< adaptive steps undone and solved again (--run-loop)
+  std::int64_t threaded = 0;  ///< steps solved on more than one thread (solver.threads)
   double opening = 0.0;       ///< largest opening per step [d_coh]
   double updates = 0.0;       ///< contact updates of the NLGS stage
   double wall = 0.0;          ///< [s]
@@ -42,6 +43,7 @@ void add_step(const cdpowder::StepReport& report, Totals& totals) {
   ++totals.steps;
   totals.sweeps += report.solver.sweeps;
   totals.capped += report.solver.converged ? 0 : 1;
+  totals.threaded += report.solver.threaded ? 1 : 0;
   totals.opening = std::max(totals.opening, report.diagnostics.max_cohesive_opening_per_range);
   totals.updates +=
       static_cast<double>(report.solver.sweeps) * static_cast<double>(report.diagnostics.contacts);
@@ -113,10 +115,10 @@ int main(int argc, char** argv) {
     const double other = (run_loop ? t.wall : stage_sum) - t.stages[solve];
     const auto n = static_cast<double>(t.steps);
     fmt::print(
-        "steps={} sweeps/step={:.1f} capped={} repeated={} ns/update={:.1f} "
+        "steps={} sweeps/step={:.1f} capped={} repeated={} threaded={} ns/update={:.1f} "
         "overhead={:.0f}us/step opening/step={:.3f}d_coh wall={:.2f}s porosity={:.6f} "
         "hash={}\n",
-        t.steps, static_cast<double>(t.sweeps) / n, t.capped, t.repeated,
+        t.steps, static_cast<double>(t.sweeps) / n, t.capped, t.repeated, t.threaded,
         1e9 * t.stages[solve] / t.updates, 1e6 * other / n, t.opening, t.wall, porosity(world),
         hash_text(state_hash(world, work.action_cache)));
     // the last step's colouring: what the threads of solver.threads share, and what they do not

@@ -48,6 +48,37 @@ TEST(SlabThreads, RunsEveryPieceOnce) {
   }
 }
 
+// The choice between the threads and the caller alone: the first block on the threads, the
+// second alone, then the way whose last block was faster, and every kTryEvery-th block the other.
+TEST(ThreadChoice, RunsTheFasterWayAndTriesTheOtherNowAndThen) {
+  constexpr std::uint64_t kBlock = ThreadChoice::kBlockSteps;
+  ThreadChoice choice;
+  // per contact update: 2 ns on the threads, 3 ns alone
+  const auto run_block = [&choice] {
+    const bool threaded = choice.threaded();
+    for (std::uint64_t k = 0; k < kBlock; ++k) {
+      EXPECT_EQ(choice.threaded(), threaded) << "the way changed inside a block";
+      choice.record(threaded ? 2e-9 * 1000 : 3e-9 * 1000, 1000);
+    }
+    return threaded;
+  };
+  EXPECT_TRUE(run_block());
+  EXPECT_FALSE(run_block());
+  std::uint64_t alone = 0;
+  for (std::uint64_t block = 2; block < 2 + 10 * ThreadChoice::kTryEvery; ++block) {
+    alone += run_block() ? 0 : 1;
+  }
+  EXPECT_EQ(alone, 10U);  // one block in kTryEvery tries the slower way
+  // the threads turn slow (a busy second core): the choice follows within a few blocks
+  std::uint64_t threaded_late = 0;
+  for (std::uint64_t block = 0; block < 4 * ThreadChoice::kTryEvery; ++block) {
+    const bool threaded = choice.threaded();
+    for (std::uint64_t k = 0; k < kBlock; ++k) choice.record(threaded ? 5e-6 : 3e-6, 1000);
+    if (block >= 2 * ThreadChoice::kTryEvery) threaded_late += threaded ? 1 : 0;
+  }
+  EXPECT_EQ(threaded_late, 2U);  // only the tries, once the threads' last block was slower
+}
+
 // The cut balances the work of the two slabs (pairs, and wall contacts at kWallVisitCost
 // each) up to the pairs across it; every sphere on its side of the cut; too few contacts: no cut.
 TEST(Slabs, TheCutBalancesTheWorkOfTheTwoSlabs) {

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -190,7 +191,7 @@ SolverStats solve_nlgs(Contacts& contacts, VelocityCache& velocities,
     return sweep_until_done(contacts, velocities, settings, reference_force, nullptr, work,
                             mixed_modes(contacts), {});
   }
-  SlabThreads* const threads = work.threads.get(settings.threads);
+  SlabThreads* const pool = work.threads.get(settings.threads);
 
   // the workers spin from sweep to sweep within the step and sleep between steps, also when
   // the step is left by an exception
@@ -207,15 +208,25 @@ SolverStats solve_nlgs(Contacts& contacts, VelocityCache& velocities,
     }
 
     SlabThreads* threads;
-  } park_at_end(threads);
+  } park_at_end(pool);
 
   // the pairs are stored in colour order during the sweeps (and the mixing)
   prepare_coloured_sweep(contacts, velocities, work.coloured, kColourChunk, slab);
   const MixedModes modes = mixed_modes(contacts);
   work.coloured.torques = modes.rolling || modes.twisting;
   order_groups(work.coloured, settings.visit_order, work.rng);
-  const SolverStats stats =
-      sweep_until_done(contacts, velocities, settings, reference_force, threads, work, modes, slab);
+  // a cut step on the threads or on this one alone, whichever was faster lately: the same bits
+  const bool choose = pool != nullptr && work.coloured.cut();
+  const bool threaded = choose && work.thread_choice.threaded();
+  const auto start = std::chrono::steady_clock::now();
+  SolverStats stats = sweep_until_done(contacts, velocities, settings, reference_force,
+                                       threaded ? pool : nullptr, work, modes, slab);
+  if (choose) {
+    const std::chrono::duration<double> took = std::chrono::steady_clock::now() - start;
+    work.thread_choice.record(
+        took.count(), static_cast<double>(stats.sweeps) * static_cast<double>(contacts.size()));
+  }
+  stats.threaded = threaded;
   restore_storage_order(contacts, work.coloured);
   return stats;
 }

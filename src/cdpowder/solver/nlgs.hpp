@@ -35,6 +35,7 @@ struct SolverStats {
   double piston_speed_error = 0.0;  ///< the same for the piston, over its speed [-]
   double force_scale = 0.0;         ///< F_ref = max(F_coh, mean |R_n| of closed contacts) [F_coh]
   bool stopped = false;             ///< cut short by SolverSettings::stop_request (not converged)
+  bool threaded = false;            ///< solved on more than one thread (ThreadChoice)
 };
 
 /// Scratch state of the solver reused across steps: the sweep-order stream and the
@@ -51,6 +52,7 @@ struct NlgsWorkspace {
   KinematicChange kinematic;         ///< the kinematic rule's velocity snapshot
   ColouredSweep coloured;            ///< colours and batches of solver.kernel = "coloured"
   SlabThreadsSlot threads;           ///< the worker of solver.threads > 1
+  ThreadChoice thread_choice;        ///< whether a cut step runs on them (slab_threads.hpp)
   std::vector<std::uint8_t> slab;    ///< each sphere's slab this step (slabs.hpp), or empty
   std::vector<double> slab_scratch;  ///< scratch of cut_into_slabs
 };

@@ -10,6 +10,7 @@
 
 #include "cdpowder/solver/sweep_threads.hpp"
 
+#include <array>
 #include <atomic>
 #include <cstdint>
 #include <memory>
@@ -65,6 +66,51 @@ void run_pieces(SlabThreads* threads, std::uint32_t pieces, Task&& task) {
   }
   for (std::uint32_t p = 0; p < pieces; ++p) task(p);
 }
+
+/// Whether a step's solve runs on the threads or on the caller alone. The bits are the same
+/// either way (the cut does not depend on it), so the choice is made on time alone: on a
+/// shared machine two threads are not always faster. Runs of the paper example measured in one
+/// session (docs/performance.md, "Two slabs") took 1.2–1.4× less time on two threads in some
+/// minutes and 1.3× more in others, when the second core was not free for this process. The
+/// steps go in blocks of kBlockSteps, each block one way; a block runs the way whose last
+/// block took less time per contact update, and every kTryEvery-th block the other way.
+/// Blocks, not single steps: one step's time is too noisy to choose by (steps differ in their
+/// sweeps, and a step is ≈ 0.5–1.5 ms, the scale of the machine's hiccups).
+class ThreadChoice {
+ public:
+  static constexpr std::uint64_t kBlockSteps = 16;
+  static constexpr std::uint64_t kTryEvery = 8;
+
+  /// Whether this step should run on the threads.
+  [[nodiscard]] bool threaded() const { return threaded_; }
+
+  /// The time this step took [s] for its contact updates (sweeps × contacts); at the end of a
+  /// block, chooses the way of the next.
+  void record(double seconds, double updates) {
+    if (updates > 0.0 && seconds >= 0.0) {
+      seconds_ += seconds;
+      updates_ += updates;
+    }
+    if (++steps_ % kBlockSteps != 0) return;
+    if (updates_ > 0.0) per_update_[threaded_ ? 1 : 0] = seconds_ / updates_;
+    seconds_ = updates_ = 0.0;
+    ++blocks_;
+    if (per_update_[0] == 0.0) {  // the caller alone not measured yet
+      threaded_ = false;
+      return;
+    }
+    const bool faster = per_update_[1] <= per_update_[0];
+    threaded_ = blocks_ % kTryEvery == 0 ? !faster : faster;
+  }
+
+ private:
+  bool threaded_ = true;                ///< the way of the current block
+  std::array<double, 2> per_update_{};  ///< [alone, threads] s per update of its last block
+  double seconds_ = 0.0;                ///< of the current block
+  double updates_ = 0.0;
+  std::uint64_t steps_ = 0;
+  std::uint64_t blocks_ = 0;
+};
 
 /// A workspace's SlabThreads, started at the first step that asks for more than one thread
 /// and kept for the run. Scratch, not state: a copy of a workspace (the run loop solves a copy
