@@ -337,10 +337,15 @@ def check_layers(root):
         return ["docs/architecture.md: no folder table under '## Folders of the library'"]
     rank = {folder: i for i, folder in enumerate(order)}
     problems = []
-    for folder in sorted(p.name for p in library.iterdir() if p.is_dir()):
+    folders = sorted(p.name for p in library.iterdir() if p.is_dir())
+    for folder in folders:
         if folder not in rank:
             problems.append(f"src/cdpowder/{folder}/: not in the folder table of "
                             "docs/architecture.md")
+    for folder in order:
+        if folder not in folders:
+            problems.append(f"docs/architecture.md: the folder table names {folder}/, which "
+                            "src/cdpowder does not have")
     for path in sorted(library.rglob("*")):
         if path.suffix not in {".cpp", ".hpp", ".inc"} or path.parent == library:
             continue
@@ -494,6 +499,11 @@ class SelfTest(unittest.TestCase):
     def test_folder_missing_from_the_layers(self):
         problems = self.problems(src__cdpowder__io__vtk_DOT_cpp=lambda t: '#include "cdpowder/core/vec3.hpp"\n')
         self.assert_reported(problems, "src/cdpowder/io/: not in the folder table")
+
+    def test_layer_row_of_a_folder_that_is_gone(self):
+        problems = self.problems(docs__architecture_DOT_md=lambda t: t.replace(
+            "| `config/` | z |\n", "| `config/` | z |\n| `gone/` | w |\n"))
+        self.assert_reported(problems, "names gone/, which src/cdpowder does not have")
 
     def test_layers_without_a_folder_table(self):
         problems = self.problems(docs__architecture_DOT_md=lambda t: "# Architecture\n")

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cmath>
 #include <fstream>
 #include <iterator>
 #include <stdexcept>
@@ -81,7 +82,8 @@ std::vector<NetworkLine> network_lines(const World& world, const Contacts& conta
   for (std::size_t k = 0; k < contacts.pairs.size(); ++k) {
     const PairProblem& p = contacts.pairs[k];
     const ContactAction& action = contacts.pair_actions[k];
-    if (!is_closed(action.normal_force, p.cohesion)) continue;
+    // open contacts are left out; a force that is not a number is drawn (a failed state)
+    if (!is_closed(action.normal_force, p.cohesion) && !std::isnan(action.normal_force)) continue;
     const Vec3& a = bodies.position[p.a];
     const Vec3 b = a + world.box.minimum_image(bodies.position[p.b] - a);
     lines.push_back({a, b, action.normal_force, action.tangential_force.norm(),
@@ -90,7 +92,7 @@ std::vector<NetworkLine> network_lines(const World& world, const Contacts& conta
   for (std::size_t k = 0; k < contacts.walls.size(); ++k) {
     const WallProblem& w = contacts.walls[k];
     const ContactAction& action = contacts.wall_actions[k];
-    if (!is_closed(action.normal_force, w.cohesion)) continue;
+    if (!is_closed(action.normal_force, w.cohesion) && !std::isnan(action.normal_force)) continue;
     const Vec3& centre = bodies.position[w.sphere];
     // n points from the wall into the sphere: the contact point is R behind the centre
     lines.push_back({centre, centre - w.radius * w.normal, action.normal_force,

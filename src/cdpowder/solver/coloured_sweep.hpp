@@ -75,7 +75,8 @@ struct ColouredSweep {
     return colour_batches.empty() ? 0 : colour_batches.size() - 1;
   }
 
-  /// whether the step is cut: parts 1 and 2 hold contacts
+  /// whether the step is cut: parts 1 and 2 have a colour between them (each part has a
+  /// sequential group, empty or not, so two groups hold no colour)
   [[nodiscard]] bool cut() const { return part_groups[1] + 2 < part_groups[kSweepParts]; }
 };
 

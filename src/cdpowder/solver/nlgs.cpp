@@ -191,10 +191,11 @@ SolverStats solve_nlgs(Contacts& contacts, VelocityCache& velocities,
     return sweep_until_done(contacts, velocities, settings, reference_force, nullptr, work,
                             mixed_modes(contacts), {});
   }
-  SlabThreads* const pool = work.threads.get(settings.threads);
+  // a cut step has two pieces to share: a third thread would only spin
+  SlabThreads* const pool = work.threads.get(std::min(settings.threads, 2));
 
-  // the workers spin from sweep to sweep within the step and sleep between steps, also when
-  // the step is left by an exception
+  // the workers spin from sweep to sweep within the step and are parked at its end (they spin
+  // a millisecond more, then sleep), also when the step is left by an exception
   struct ParkAtEnd {
     explicit ParkAtEnd(SlabThreads* pool) : threads(pool) {}
 

@@ -51,7 +51,7 @@ struct NlgsWorkspace {
   std::vector<ContactIndex> blocks;  ///< block permutation of the per-step order
   KinematicChange kinematic;         ///< the kinematic rule's velocity snapshot
   ColouredSweep coloured;            ///< colours and batches of solver.kernel = "coloured"
-  SlabThreadsSlot threads;           ///< the worker of solver.threads > 1
+  SlabThreadsSlot threads;           ///< the worker of solver.threads ≥ 2 (one: two pieces)
   ThreadChoice thread_choice;        ///< whether a cut step runs on them (slab_threads.hpp)
   std::vector<std::uint8_t> slab;    ///< each sphere's slab this step (slabs.hpp), or empty
   std::vector<double> slab_scratch;  ///< scratch of cut_into_slabs
@@ -63,9 +63,10 @@ struct NlgsWorkspace {
 /// acceleration_depth > 0, every sweep is followed by an Anderson mixing step.
 /// `reference_force` is the force scale below which forces count as small (F_coh).
 /// With the coloured kernel and `slab` giving each sphere's slab (slabs.hpp), a sweep visits
-/// the contacts inside slab 0, inside slab 1 and across the cut in turn, and the kinematic rule
+/// the contacts across the cut, then inside slab 0 and inside slab 1, and the kinematic rule
 /// and the mixing run in two halves: on two threads (solver.threads = 2) the slabs and the
-/// halves run side by side, with the same bits as on one.
+/// halves run side by side, with the same bits as on one; ThreadChoice (slab_threads.hpp)
+/// decides, block by block, whether a cut step uses the threads.
 SolverStats solve_nlgs(Contacts& contacts, VelocityCache& velocities,
                        const SolverSettings& settings, double reference_force, NlgsWorkspace& work,
                        std::span<const std::uint8_t> slab = {});

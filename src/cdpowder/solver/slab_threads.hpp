@@ -2,8 +2,9 @@
 // A sweep hands out its work in a few pieces that touch no common memory they write: the
 // contacts inside each slab, the two halves of the kinematic rule's pass over the spheres, the
 // two halves of the mixing's passes. Any thread may take any piece (the caller as well as the
-// worker, claimed from one shared counter), so the caller never waits for a worker that is not
-// running: on a loaded machine a descheduled worker's pieces are taken by the caller. The
+// worker, claimed from one shared counter), so the caller never waits for a piece nobody has
+// begun: on a loaded machine a descheduled worker's pieces are taken by the caller (a worker
+// descheduled in the middle of a piece is waited for, up to a time slice). The
 // pieces are fixed by the state, not by the thread count, and every sum over pieces is added
 // in piece order by the caller, so the results are the same bits on one thread or two.
 #pragma once
@@ -29,7 +30,8 @@ class SlabThreads {
   template <typename Task>
   void run(std::uint32_t pieces, const Task& task) {
     run_pieces(
-        pieces, [](const void* t, std::uint32_t piece) { (*static_cast<const Task*>(t))(piece); },
+        pieces,
+        [](const void* t, std::uint32_t piece) noexcept { (*static_cast<const Task*>(t))(piece); },
         &task);
   }
 
@@ -37,7 +39,10 @@ class SlabThreads {
   void park() { pool_.park(); }
 
  private:
-  using PieceTask = void (*)(const void* context, std::uint32_t piece);
+  /// noexcept: a piece that threw would leave the other thread writing into the frame of a
+  /// run that is gone, so a throw ends the program instead (no piece throws: the stop request
+  /// is asked between sweeps, on the caller)
+  using PieceTask = void (*)(const void* context, std::uint32_t piece) noexcept;
 
   void run_pieces(std::uint32_t pieces, PieceTask task, const void* context);
   static void work(void* self, int thread);

@@ -1,6 +1,6 @@
 // sweep_threads.hpp — a small persistent pool of threads for the solve of a step cut into two
 // slabs (solver.threads, slab_threads.hpp). A sweep at paper size is ≈ 30 µs and hands work to
-// the other thread once or twice, so a hand-over must cost well under a microsecond: the
+// the other thread once or twice, so a hand-over must cost a few percent of that at most: the
 // threads spin on atomics (no mutex, no condition variable) while a step's sweeps run, go on
 // spinning for a millisecond after a step (the next one usually starts within a quarter of
 // that), and then sleep (std::atomic::wait, a futex), so a run that stops stepping does not
@@ -54,7 +54,8 @@ class SweepThreads {
   /// millisecond first, so a start() soon after finds them awake.
   void park();
 
-  /// Whether the workers sleep (park() since the last start()).
+  /// Whether the workers were parked (park() since the last start()): they spin for a
+  /// millisecond before they sleep.
   [[nodiscard]] bool parked() const { return parked_; }
 
  private:
