@@ -131,11 +131,7 @@ int main(int argc, char** argv) {
       const PairColouring& colouring = coloured.colouring;
       std::string parts;
       for (std::size_t p = 0; p < kSweepParts; ++p) {
-        const auto first =
-            colouring.colour_start[colouring.chunk_colours[colouring.part_chunks[p]]];
-        const auto last =
-            colouring.colour_start[colouring.chunk_colours[colouring.part_chunks[p + 1]]];
-        parts += fmt::format(" {}+{}", last - first,
+        parts += fmt::format(" {}+{}", colouring.first_member(p + 1) - colouring.first_member(p),
                              coloured.part_sequential[p + 1] - coloured.part_sequential[p]);
       }
       fmt::print("last step: parts (inside slab 0, inside slab 1, across){}\n", parts);

@@ -43,8 +43,8 @@ inline void apply_pair_delta(const PairProblem& p, const Vec3& dR, const Vec3& d
 
 /// Velocity change of a sphere (body b, lever −R n) and of the wall (body a: only the
 /// piston moves, along z) from a change (ΔR, ΔT) of the action on the sphere. A bottom-wall
-/// contact leaves V_P alone (not even adding 0), so it may be solved on another thread than
-/// the piston's contacts (slabs.hpp).
+/// contact leaves V_P alone (not even adding 0): it neither reads (solve_wall) nor writes V_P,
+/// so it may be solved on another thread than the piston's contacts (solver/slabs.hpp).
 inline void apply_wall_delta(const WallProblem& w, const Vec3& dR, const Vec3& dT,
                              SphereVelocity& s, double& wall_velocity) {
   s.linear += s.dt_inverse_mass * dR;
@@ -203,13 +203,13 @@ inline void solve_two_pairs(const PairProblem& p, ContactAction& x, SphereVeloci
 }
 
 /// One visit of a sphere–wall contact (wall = body a, sphere = body b, lever −R n):
-/// V = v_s − R ω_s × n − V_wall e_z, Ω = ω_s. `wall_velocity` is V_P*; it enters only
-/// piston contacts (the bottom wall is immobile).
+/// V = v_s − R ω_s × n − V_wall e_z, Ω = ω_s. `wall_velocity` is V_P*; only piston contacts
+/// read or write it (the bottom wall is immobile, V_wall = +0).
 inline VisitChange solve_wall(const WallProblem& w, ContactAction& action, SphereVelocity& s,
                               double& wall_velocity) {
   const Vec3& n = w.normal;
-  const Vec3 V =
-      s.linear - w.radius * s.angular.cross(n) - Vec3(0.0, 0.0, w.wall_moves * wall_velocity);
+  const double wall_z = w.wall_moves != 0.0 ? w.wall_moves * wall_velocity : 0.0;
+  const Vec3 V = s.linear - w.radius * s.angular.cross(n) - Vec3(0.0, 0.0, wall_z);
   const detail::ModeBlock m{w.inv_dt_w_n,
                             w.inv_dt_w_t,
                             w.inv_dt_w_r,

@@ -84,8 +84,7 @@ void build_batches(const Contacts& contacts, const VelocityCache& velocities,
     }
     // the part's colours in storage order, then its sequential group
     sweep.part_groups[p] = static_cast<std::uint32_t>(sweep.group_order.size());
-    for (std::uint32_t c = colouring.chunk_colours[colouring.part_chunks[p]];
-         c < colouring.chunk_colours[colouring.part_chunks[p + 1]]; ++c) {
+    for (std::uint32_t c = colouring.first_colour(p); c < colouring.first_colour(p + 1); ++c) {
       sweep.group_order.push_back(c);
     }
     sweep.group_order.push_back(static_cast<std::uint32_t>(colours + p));
@@ -239,9 +238,8 @@ ApplyBatches apply_kernel(bool torques) {
 /// The batches of part p: its colours are consecutive (colour_parts appends part by part).
 std::pair<std::uint32_t, std::uint32_t> part_batches(const ColouredSweep& sweep, std::size_t p) {
   const PairColouring& colouring = sweep.colouring;
-  const std::uint32_t first_colour = colouring.chunk_colours[colouring.part_chunks[p]];
-  const std::uint32_t last_colour = colouring.chunk_colours[colouring.part_chunks[p + 1]];
-  return {sweep.colour_batches[first_colour], sweep.colour_batches[last_colour]};
+  return {sweep.colour_batches[colouring.first_colour(p)],
+          sweep.colour_batches[colouring.first_colour(p + 1)]};
 }
 
 }  // namespace

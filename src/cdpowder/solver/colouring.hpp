@@ -49,6 +49,16 @@ struct PairColouring {
   [[nodiscard]] std::size_t chunks() const {
     return chunk_colours.empty() ? 0 : chunk_colours.size() - 1;
   }
+
+  /// Part p's colours are [first_colour(p), first_colour(p + 1)) (parts are coloured one
+  /// after the other), its batched pairs members[first_member(p), first_member(p + 1)).
+  [[nodiscard]] std::uint32_t first_colour(std::size_t part) const {
+    return chunk_colours[part_chunks[part]];
+  }
+
+  [[nodiscard]] std::uint32_t first_member(std::size_t part) const {
+    return colour_start[first_colour(part)];
+  }
 };
 
 /// Colours `pairs` (bodies < sphere_count) chunk by chunk (`chunk` consecutive contacts, 0 =

@@ -23,13 +23,11 @@ struct alignas(64) OnItsLine {
 /// pairs, slab 1's pairs, and the rest (the pairs across the cut, the overflow pairs, walls).
 std::array<std::pair<std::size_t, std::size_t>, 3> contact_ranges(const Contacts& contacts,
                                                                   const ColouredSweep& sweep) {
+  // the pairs are stored in colour order during the solve, so a part's members are its pairs
   const PairColouring& colouring = sweep.colouring;
-  const auto first_pair = [&](std::size_t part) -> std::size_t {
-    return colouring.colour_start[colouring.chunk_colours[colouring.part_chunks[part]]];
-  };
-  return {{{first_pair(0), first_pair(1)},
-           {first_pair(1), first_pair(2)},
-           {first_pair(2), contacts.size()}}};
+  return {{{colouring.first_member(0), colouring.first_member(1)},
+           {colouring.first_member(1), colouring.first_member(2)},
+           {colouring.first_member(2), contacts.size()}}};
 }
 
 }  // namespace

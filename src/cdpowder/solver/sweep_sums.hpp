@@ -55,11 +55,7 @@ inline VisitChange solve_contact(ContactIndex k, Contacts& contacts, VelocityCac
   }
   const WallProblem& w = contacts.walls[k - n_pairs];
   ContactAction& action = contacts.wall_actions[k - n_pairs];
-  // the bottom wall does not move: its contacts neither read nor write V_P, so they can be
-  // solved on one thread while the piston's are on another (slabs.hpp)
-  double at_rest = 0.0;
-  double& wall_velocity = w.wall_moves != 0.0 ? velocities.piston_velocity : at_rest;
-  const VisitChange change = solve_wall(w, action, spheres[w.sphere], wall_velocity);
+  const VisitChange change = solve_wall(w, action, spheres[w.sphere], velocities.piston_velocity);
   normal_force = action.normal_force;
   cohesion = w.cohesion;
   return change;
