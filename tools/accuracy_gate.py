@@ -76,6 +76,8 @@ import time
 
 import numpy as np
 
+from run_summary import SummaryError, read_summary
+
 MU_T = "contact.mu_roll"
 MU_N = "contact.mu_twist"
 SEED_KEYS = ("deposition.seed", "solver.seed")
@@ -320,12 +322,19 @@ def read_json(path):
         return None
 
 
+def read_summary_or_none(path):
+    try:
+        return read_summary(path)
+    except (OSError, SummaryError):
+        return None
+
+
 def finished_run(folder, identity):
     """folder's summary.json when it holds a finished run of exactly this identity, else None."""
     record = read_json(folder / "gate_run.json")
     if record is None or record.get("identity") != identity:
         return None
-    summary = read_json(folder / "summary.json")
+    summary = read_summary_or_none(folder / "summary.json")
     if summary is None or summary.get("run", {}).get("interrupted", True):
         return None
     return summary
@@ -361,7 +370,7 @@ class Runner:
                 log.flush()
                 code = subprocess.run(command, stdout=log, stderr=subprocess.STDOUT).returncode
             wall = time.monotonic() - start
-            summary = read_json(folder / "summary.json")
+            summary = read_summary_or_none(folder / "summary.json")
             finished = code == 0 and summary is not None
             if finished:
                 record = {"identity": run["identity"], "binary": str(run["binary"]),
@@ -743,7 +752,7 @@ def swept_run(sweep_dir, point, seed):
     folder = sweep_run_folder(sweep_dir, point, seed)
     if folder is None:
         return sweep_dir / "runs" / f"{point_label(point)}" / f"seed_{seed}", None
-    summary = read_json(folder / "summary.json")
+    summary = read_summary_or_none(folder / "summary.json")
     if summary is None or summary.get("run", {}).get("interrupted", True):
         return folder, None
     return folder, summary

@@ -10,9 +10,10 @@ rest (the quick studies) are totalled apart. Uses only the standard library.
 """
 import argparse
 import csv
-import json
 import pathlib
 import sys
+
+from run_summary import SummaryError, read_summary
 
 
 def finished_runs(folder):
@@ -20,8 +21,8 @@ def finished_runs(folder):
     runs = []
     for summary in sorted(folder.glob("runs/*/seed_*/summary.json")):
         try:
-            s = json.loads(summary.read_text())
-        except (OSError, json.JSONDecodeError):
+            s = read_summary(summary)
+        except (OSError, SummaryError):
             continue
         run = s.get("run", {})
         if run.get("interrupted", True):

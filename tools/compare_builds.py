@@ -14,6 +14,8 @@ import pathlib
 import subprocess
 import sys
 
+from run_summary import read_summary
+
 
 def start(exe, scene, out, point, seed, overrides):
     mu_t, mu_n = point.split(",")
@@ -26,7 +28,7 @@ def start(exe, scene, out, point, seed, overrides):
 
 
 def measured(folder):
-    s = json.loads(pathlib.Path(folder, "summary.json").read_text())
+    s = read_summary(pathlib.Path(folder, "summary.json"))
     r = s["run"]
     return {"porosity": s["porosity"], "steps": r["steps"], "sweeps": r["total_sweeps"],
             "wall_seconds": r["wall_seconds"], "nlgs_seconds": r["stage_seconds"]["solve_nlgs"],

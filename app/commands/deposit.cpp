@@ -11,7 +11,7 @@
 #include "cdpowder/io/atomic_file.hpp"
 #include "cdpowder/io/provenance.hpp"
 #include "cdpowder/io/state_csv.hpp"
-#include "cdpowder/io/summary.hpp"
+#include "cdpowder/io/run_summary.hpp"
 #include "cdpowder/io/vtk.hpp"
 
 #include <fmt/format.h>

@@ -16,9 +16,9 @@
 #include "cdpowder/experiment/scene_setup.hpp"
 #include "cdpowder/io/atomic_file.hpp"
 #include "cdpowder/io/provenance.hpp"
+#include "cdpowder/io/run_summary.hpp"
 #include "cdpowder/io/state_csv.hpp"
 #include "cdpowder/io/state_file.hpp"
-#include "cdpowder/io/summary.hpp"
 #include "cdpowder/io/timeseries.hpp"
 #include "cdpowder/io/vtk.hpp"
 #include "cdpowder/version.hpp"
@@ -164,8 +164,9 @@ int run_and_write(Session& s) {
   // the results first, the summary before the larger files, the time series last: a full
   // disk then costs the least (measured before: the time series failed first and stopped
   // everything after it)
-  write_file_atomically(s.out / "summary.json",
-                        summary_json(scene, world, work.contacts, result, s.initial_porosity));
+  write_file_atomically(
+      s.out / "summary.json",
+      run_summary_json(summarise_run(scene, world, work.contacts, result, s.initial_porosity)));
   write_file_atomically(s.out / "particles.csv", particles_csv(world.bodies, s.header));
   write_file_atomically(s.out / "contacts.csv", contacts_csv(work.contacts, s.header));
   write_file_atomically(s.out / "particles.vtp", particles_vtp(world, &work.contacts));

@@ -25,6 +25,9 @@ import sys
 import time
 from pathlib import Path
 
+sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "tools"))
+from run_summary import read_summary  # noqa: E402  (the tools folder, put on the path above)
+
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parents[1]
 PAPER_SPHERES = 1015
@@ -141,7 +144,7 @@ def yade_job(a, deposit, out, k, cores):
 
 
 def cdpowder_figures(job):
-    s = json.load(open(job.result))
+    s = read_summary(job.result)
     return {"wall": job.wall, "cpu": job.cpu, "loop_wall": s["run"]["wall_seconds"],
             "porosity": s["porosity"], "steps": s["run"]["steps"], "time": s["time"],
             "blocked": s["run"]["blocked"]}

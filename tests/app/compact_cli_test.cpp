@@ -2,6 +2,7 @@
 // quick example compacts to the blocked state with σzz equal to the applied pressure, the
 // VTK files read back, results are reproducible, a deposit feeds a compaction, and bad
 // configurations are refused before anything is written.
+#include "cdpowder/io/run_summary.hpp"
 #include "support/cli_process.hpp"
 
 #include <gmock/gmock.h>
@@ -52,8 +53,14 @@ TEST_F(CompactCli, QuickExampleBlocksWithStressEqualToThePressure) {
   EXPECT_THAT(r.out, HasSubstr("blocked=yes"));
   EXPECT_THAT(r.out, HasSubstr("porosity="));
   const nlohmann::json s = summary_of(out);
+  EXPECT_EQ(s["schema"].get<int>(), cdpowder::kRunSummarySchema);
   EXPECT_TRUE(s["run"]["blocked"].get<bool>());
   EXPECT_FALSE(s["run"]["interrupted"].get<bool>());
+  // the library reads what the command line wrote, field for field
+  const cdpowder::RunSummary read = cdpowder::parse_run_summary(slurp(out / "summary.json"));
+  EXPECT_EQ(read.porosity, s["porosity"].get<double>());
+  EXPECT_EQ(read.run.steps, s["run"]["steps"].get<std::int64_t>());
+  EXPECT_EQ(cdpowder::run_summary_json(read), slurp(out / "summary.json"));
   // Blocked: the packing carries the piston. σzz = F/(L_x L_y) (force balance of a slab)
   // within 1 %, and the piston's own balance within the blocked-state threshold 1e-3.
   EXPECT_NEAR(s["stress"]["sigma_zz_over_pressure"].get<double>(), 1.0, 0.01);

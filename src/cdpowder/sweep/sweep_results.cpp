@@ -2,7 +2,6 @@
 #include "cdpowder/sweep/sweep_results.hpp"
 
 #include <fmt/format.h>
-#include <nlohmann/json.hpp>
 
 #include <cmath>
 #include <fstream>
@@ -80,49 +79,38 @@ const std::vector<std::string>& aggregated() {
   return names;
 }
 
-/// A number of the summary; JSON null (how non-finite numbers are written) and an absent
-/// key read as NaN.
-double number_at(const nlohmann::json& j, const char* key) {
-  const auto it = j.find(key);
-  return it == j.end() || it->is_null() ? NAN : it->get<double>();
-}
-
 }  // namespace
 
+RunRecord run_record(const RunSummary& s) {
+  RunRecord r;
+  r.porosity = s.porosity;
+  r.initial_porosity = s.initial_porosity;
+  r.sigma_zz_over_p = s.stress.sigma_zz_over_pressure;
+  r.sigma_zz_compressive_over_p = s.stress.sigma_zz_compressive_over_pressure;
+  r.sigma_zz_tensile_over_p = s.stress.sigma_zz_tensile_over_pressure;
+  r.compressive_contacts = static_cast<double>(s.stress.compressive_contacts);
+  r.tensile_contacts = static_cast<double>(s.stress.tensile_contacts);
+  r.coordination_number = s.contacts.coordination_number;
+  r.blocked = s.run.blocked;
+  r.interrupted = s.run.interrupted;
+  r.failed = s.run.failed;
+  r.steps = static_cast<double>(s.run.steps);
+  r.total_sweeps = static_cast<double>(s.run.total_sweeps);
+  r.capped_steps = static_cast<double>(s.accuracy.capped_steps);
+  r.mean_overlap = s.accuracy.mean_overlap;
+  r.max_overlap = s.accuracy.max_overlap;
+  r.piston_imbalance = s.piston.force_imbalance;
+  r.max_net_force = s.accuracy.max_net_force;
+  r.wall_seconds = s.run.wall_seconds;
+  r.scene_toml = s.scene_toml;
+  r.commit = s.program.commit;
+  return r;
+}
+
 std::optional<RunRecord> read_run_record(const std::filesystem::path& summary_json) {
-  std::ifstream stream(summary_json, std::ios::binary);
-  if (!stream) return std::nullopt;
-  try {
-    const nlohmann::json j = nlohmann::json::parse(stream);
-    RunRecord r;
-    r.porosity = number_at(j, "porosity");
-    r.initial_porosity = number_at(j, "initial_porosity");
-    const auto& stress = j.at("stress");
-    r.sigma_zz_over_p = number_at(stress, "sigma_zz_over_pressure");
-    r.sigma_zz_compressive_over_p = number_at(stress, "sigma_zz_compressive_over_pressure");
-    r.sigma_zz_tensile_over_p = number_at(stress, "sigma_zz_tensile_over_pressure");
-    r.compressive_contacts = stress.at("compressive_contacts").get<double>();
-    r.tensile_contacts = stress.at("tensile_contacts").get<double>();
-    r.coordination_number = number_at(j.at("contacts"), "coordination_number");
-    const auto& run = j.at("run");
-    r.blocked = run.at("blocked").get<bool>();
-    r.interrupted = run.at("interrupted").get<bool>();
-    r.failed = run.value("failed", false);
-    r.steps = run.at("steps").get<double>();
-    r.total_sweeps = run.at("total_sweeps").get<double>();
-    r.wall_seconds = run.at("wall_seconds").get<double>();
-    const auto& accuracy = j.at("accuracy");
-    r.capped_steps = accuracy.at("capped_steps").get<double>();
-    r.mean_overlap = number_at(accuracy, "mean_overlap");
-    r.max_overlap = number_at(accuracy, "max_overlap");
-    r.piston_imbalance = number_at(j.at("piston"), "force_imbalance");
-    r.max_net_force = number_at(accuracy, "max_net_force");
-    r.scene_toml = j.at("scene_toml").get<std::string>();
-    r.commit = j.at("program").at("commit").get<std::string>();
-    return r;
-  } catch (const nlohmann::json::exception&) {
-    return std::nullopt;
-  }
+  const std::optional<RunSummary> summary = read_run_summary(summary_json);
+  if (!summary) return std::nullopt;
+  return run_record(*summary);
 }
 
 bool is_reusable(const std::optional<RunRecord>& record, const std::string& expected_scene_toml) {

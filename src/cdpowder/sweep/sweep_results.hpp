@@ -2,6 +2,7 @@
 // its summary.json), the table of runs and the aggregate per parameter point.
 #pragma once
 
+#include "cdpowder/io/run_summary.hpp"
 #include "cdpowder/sweep/sweep_plan.hpp"
 
 #include <filesystem>
@@ -37,8 +38,11 @@ struct RunRecord {
   std::string commit;      ///< the program commit that produced the run
 };
 
-/// Reads the record of a run from its summary.json; nullopt when the file is missing or is
-/// not a complete summary (a run killed before it wrote one).
+/// The numbers of a run's summary that the sweep tabulates.
+RunRecord run_record(const RunSummary& summary);
+
+/// Reads the record of a run from its summary.json (read_run_summary, any schema); nullopt
+/// when the file is missing or is not a complete summary (a run killed before it wrote one).
 std::optional<RunRecord> read_run_record(const std::filesystem::path& summary_json);
 
 /// Whether a run can be reused by a restarted sweep: it finished (neither interrupted nor
