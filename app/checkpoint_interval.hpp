@@ -5,6 +5,7 @@
 
 #include "cdpowder/config/config_error.hpp"
 #include "cdpowder/io/atomic_file.hpp"
+#include "cdpowder/io/run_folder.hpp"
 
 #include <fmt/format.h>
 #include <toml++/toml.h>
@@ -16,7 +17,7 @@
 namespace cdpowder::app {
 
 inline std::filesystem::path checkpoint_interval_file(const std::filesystem::path& out) {
-  return out / "checkpoint.toml";
+  return checkpoint_interval_path(out);
 }
 
 /// Writes (atomically) the interval [t0] the run keeps its checkpoint at.

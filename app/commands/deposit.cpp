@@ -1,18 +1,13 @@
 // deposit.cpp — the deposit command.
 #include "commands/deposit.hpp"
 
-#include "run_folder.hpp"
 #include "stop_signals.hpp"
 
 #include "cdpowder/analysis/porosity.hpp"
 #include "cdpowder/config/scene_reader.hpp"
 #include "cdpowder/experiment/deposition.hpp"
 #include "cdpowder/experiment/scene_setup.hpp"
-#include "cdpowder/io/atomic_file.hpp"
-#include "cdpowder/io/provenance.hpp"
-#include "cdpowder/io/state_csv.hpp"
-#include "cdpowder/io/run_summary.hpp"
-#include "cdpowder/io/vtk.hpp"
+#include "cdpowder/io/run_folder.hpp"
 
 #include <fmt/format.h>
 
@@ -45,12 +40,7 @@ int run_deposit(const DepositOptions& options) {
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
-  std::filesystem::create_directories(options.out);
-  const std::string header = provenance_header(scene);
-  write_file_atomically(options.out / "scene.toml", scene.effective_toml);
-  write_file_atomically(options.out / "particles.csv", particles_csv(world.bodies, header));
-  write_file_atomically(options.out / "particles.vtp", particles_vtp(world, nullptr));
-  write_file_atomically(options.out / "summary.json", deposit_summary_json(scene, world));
+  write_deposit_outputs(options.out, scene, world);
 
   std::printf("%s\n", fmt::format("porosity={:.5f} spheres={} height={:.4f} wall={:.3f}s",
                                   deposit_porosity(world.bodies, world.box), world.bodies.size(),

@@ -5,7 +5,6 @@
 #include "checkpoint_interval.hpp"
 #include "folder_lock.hpp"
 #include "progress.hpp"
-#include "run_folder.hpp"
 #include "stop_signals.hpp"
 
 #include "cdpowder/analysis/porosity.hpp"
@@ -14,13 +13,9 @@
 #include "cdpowder/config/scene_reader.hpp"
 #include "cdpowder/experiment/run_loop.hpp"
 #include "cdpowder/experiment/scene_setup.hpp"
-#include "cdpowder/io/atomic_file.hpp"
 #include "cdpowder/io/provenance.hpp"
-#include "cdpowder/io/run_summary.hpp"
-#include "cdpowder/io/state_csv.hpp"
+#include "cdpowder/io/run_folder.hpp"
 #include "cdpowder/io/state_file.hpp"
-#include "cdpowder/io/timeseries.hpp"
-#include "cdpowder/io/vtk.hpp"
 #include "cdpowder/version.hpp"
 
 #include <fmt/format.h>
@@ -29,12 +24,9 @@
 #include <atomic>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <limits>
-#include <memory>
 #include <optional>
 #include <string_view>
-#include <vector>
 // sigaction and struct sigaction are POSIX, declared by <signal.h> and not by <csignal>
 #include <signal.h>  // NOLINT(modernize-deprecated-headers)
 
@@ -93,28 +85,22 @@ void announce(std::string_view what, const Scene& scene, const std::filesystem::
 struct Session {
   Scene scene;
   std::filesystem::path out;
-  std::string header;  ///< provenance lines of the CSV outputs
   double initial_porosity = 0.0;
   World world;
-  StepWorkspace work;
+  StepWorkspace work{1};
   RunState state;
-  std::unique_ptr<TimeseriesWriter> timeseries;
-  VtkSnapshotSeries snapshots;
-  Cadence snapshot_cadence;
-  std::int64_t last_snapshot_step = -1;
+  std::optional<RunFolder> files;
   std::optional<double> checkpoint_every;
   bool quiet = false;
+  ProgressLine* progress = nullptr;  ///< while the run goes: warnings end its line first
 };
 
-std::filesystem::path checkpoint_file(const std::filesystem::path& out) {
-  return out / "checkpoint.cdps";
-}
-
-/// The checkpoint: the time series' rows so far onto the disk first, then the state, so
-/// that the rows a continued run keeps are all there (io/timeseries.hpp, cut_timeseries).
-void save_checkpoint(Session& s) {
-  s.timeseries->flush();
-  save_state(checkpoint_file(s.out), s.scene.effective_toml, s.world, s.work, s.state);
+/// RunFolder's messages: on stderr, after the progress line is ended.
+RunFolder::Warn warn_on_stderr(Session& s) {
+  return [&s](const std::string& message) {
+    if (s.progress != nullptr) s.progress->finish();
+    std::fprintf(stderr, "warning: %s\n", message.c_str());
+  };
 }
 
 /// Runs to the end, writes every output and prints the result line; returns the exit code.
@@ -122,21 +108,11 @@ int run_and_write(Session& s) {
   const Scene& scene = s.scene;
   World& world = s.world;
   StepWorkspace& work = s.work;
-  const bool snapshots_on = s.snapshot_cadence.enabled();
   ProgressLine progress(s.quiet);
+  s.progress = &progress;
   const StepObserver observer = [&](const World& w, const StepReport& report, double fraction) {
-    const bool failed_before = s.timeseries->failed();
-    s.timeseries->record(w, report);
-    if (s.timeseries->failed() && !failed_before) {  // said at once; the run goes on
-      progress.finish();
-      std::fprintf(stderr, "warning: %s; the run goes on and writes its other outputs at its end\n",
-                   s.timeseries->error().c_str());
-    }
+    s.files->after_step(w, report, work.contacts);
     progress.update(w, report, fraction);
-    if (snapshots_on && w.step != s.last_snapshot_step && s.snapshot_cadence.due(w)) {
-      s.last_snapshot_step = w.step;
-      s.snapshots.write(w, work.contacts);
-    }
   };
   // every `checkpoint_every` of simulated time the loop is stopped after a step, the state
   // saved, and the loop continued: a loop stopped and continued is the loop never stopped
@@ -156,35 +132,15 @@ int run_and_write(Session& s) {
     result = run_simulation(world, work, scene.step, scene.run, s.state, observer,
                             [&] { return g_stop_requested.load() || world.time >= checkpoint_at; });
     if (!result.interrupted) break;
-    save_checkpoint(s);  // asked for, or stopped by a signal: either way the state is saved
+    s.files->save_checkpoint(
+        scene, world, work,
+        s.state);  // asked for, or stopped by a signal: either way the state is saved
     if (g_stop_requested.load()) break;
     checkpoint_at = next_checkpoint();
   }
   progress.finish();
-  // the results first, the summary before the larger files, the time series last: a full
-  // disk then costs the least (measured before: the time series failed first and stopped
-  // everything after it)
-  write_file_atomically(
-      s.out / "summary.json",
-      run_summary_json(summarise_run(scene, world, work.contacts, result, s.initial_porosity)));
-  write_file_atomically(s.out / "particles.csv", particles_csv(world.bodies, s.header));
-  write_file_atomically(s.out / "contacts.csv", contacts_csv(work.contacts, s.header));
-  write_file_atomically(s.out / "particles.vtp", particles_vtp(world, &work.contacts));
-  write_file_atomically(s.out / "contacts.vtp", contacts_vtp(world, work.contacts));
-  if (snapshots_on && world.step != s.last_snapshot_step) s.snapshots.write(world, work.contacts);
-  s.timeseries->record(world, result.last, /*force=*/true);
-  s.timeseries->commit();
-  // a finished run (done, not blocked, failed) keeps no checkpoint: only an unfinished one
-  // can be continued, and the folder ends as a run never stopped leaves it
-  if (!result.interrupted) {
-    std::filesystem::remove(checkpoint_file(s.out));
-    std::filesystem::remove(checkpoint_interval_file(s.out));
-  }
-
-  if (result.fault) {
-    // the state at the fault, to look at or to rerun the step from (io/state_file.hpp)
-    save_state(s.out / "failed_state.cdps", scene.effective_toml, world, work, s.state);
-  }
+  s.progress = nullptr;
+  s.files->finish(scene, world, work, s.state, result, s.initial_porosity);
 
   std::printf("%s\n", result_line(scene, world, work.contacts, result).c_str());
   if (result.fault) {
@@ -217,19 +173,11 @@ int run_scene(const RunOptions& options, const SceneReadOptions& read_options,
   if (options.particles) refuse_input_among_outputs(options.out, *options.particles, "--particles");
   SceneReadOptions how = read_options;
   how.particles_file = options.particles;
-  Session s{read_scene(options.scene, command_line_overrides(options.overrides), how),
-            options.out,
-            {},
-            0.0,
-            {},
-            StepWorkspace(1),
-            {},
-            nullptr,
-            VtkSnapshotSeries(options.out),
-            Cadence(0, 0.0),
-            -1,
-            options.checkpoint_every,
-            options.quiet};
+  Session s;
+  s.scene = read_scene(options.scene, command_line_overrides(options.overrides), how);
+  s.out = options.out;
+  s.checkpoint_every = options.checkpoint_every;
+  s.quiet = options.quiet;
   const Scene& scene = s.scene;
   s.world = make_world(scene, [] { return g_stop_requested.load(); });
   s.work = StepWorkspace(scene.step.solver.seed);
@@ -238,98 +186,13 @@ int run_scene(const RunOptions& options, const SceneReadOptions& read_options,
   std::filesystem::create_directories(options.out);
   // one run per folder at a time: held until the process ends, whatever ends it
   const FolderLock lock(run_lock_file(options.out), "another cdpowder run");
-  clear_earlier_run(options.out);
+  s.files = RunFolder::begin(options.out, scene, s.world, s.work.contacts, warn_on_stderr(s));
   announce(fmt::format("{} {}", command, options.scene.string()), scene, options.out,
            s.world.bodies.size());
-  s.header = provenance_header(scene);
-  write_file_atomically(options.out / "scene.toml", scene.effective_toml);
-  if (options.checkpoint_every)
+  if (options.checkpoint_every) {
     remember_checkpoint_interval(options.out, *options.checkpoint_every);
-  write_file_atomically(options.out / "initial_particles.csv",
-                        particles_csv(s.world.bodies, s.header));
-  s.timeseries = std::make_unique<TimeseriesWriter>(
-      options.out / "timeseries.csv", s.header,
-      Cadence(scene.run.timeseries_every, scene.run.timeseries_interval));
-  s.snapshot_cadence = Cadence(scene.run.snapshot_every, scene.run.snapshot_interval);
-  s.last_snapshot_step = s.world.step;
-  if (s.snapshot_cadence.enabled()) {
-    s.snapshots.write(s.world, s.work.contacts);  // t = 0, no contacts yet
-    s.snapshot_cadence.due(s.world);              // and the time cadence starts from there
   }
   return run_and_write(s);
-}
-
-/// The '#' lines at the top of `file` (the provenance header of a CSV output).
-std::string leading_comments(const std::filesystem::path& file) {
-  std::ifstream in(file);
-  std::string header;
-  std::string line;
-  while (std::getline(in, line) && line.starts_with('#')) header += line + '\n';
-  return header;
-}
-
-/// The time series of the run before, cut back to the checkpoint after step `step`: of the
-/// final file (an interrupted run committed it) and the temporary files of killed processes,
-/// the one that keeps the most rows; the others are removed.
-std::unique_ptr<TimeseriesWriter> continue_timeseries(const Session& s) {
-  const std::filesystem::path final_file = s.out / "timeseries.csv";
-  std::vector<std::filesystem::path> candidates;
-  if (std::filesystem::exists(final_file)) candidates.push_back(final_file);
-  for (const auto& entry : std::filesystem::directory_iterator(s.out)) {
-    const std::string name = entry.path().filename().string();
-    if (name.starts_with(".timeseries.csv.") && name.ends_with(".tmp")) {
-      candidates.push_back(entry.path());
-    }
-  }
-  std::optional<std::filesystem::path> best;
-  TimeseriesCut best_cut;
-  for (const std::filesystem::path& file : candidates) {
-    const TimeseriesCut cut = cut_timeseries(file, s.world.step);
-    if (cut.has_header && (!best || cut.rows > best_cut.rows)) {
-      best = file;
-      best_cut = cut;
-    }
-  }
-  const Cadence cadence(s.scene.run.timeseries_every, s.scene.run.timeseries_interval);
-  std::unique_ptr<TimeseriesWriter> writer;
-  if (best) {
-    writer = std::make_unique<TimeseriesWriter>(final_file, *best, best_cut, cadence);
-  } else {
-    std::fprintf(stderr,
-                 "warning: %s: no time series of the run before the checkpoint; timeseries.csv "
-                 "starts at step %lld\n",
-                 s.out.string().c_str(), static_cast<long long>(s.world.step));
-    writer = std::make_unique<TimeseriesWriter>(final_file, s.header, cadence);
-  }
-  for (const std::filesystem::path& file : candidates) {
-    if (!best || file != *best) std::filesystem::remove(file);
-  }
-  // the checkpoint's own step: its row, if the cadence had one there
-  if (s.state.result.steps > 0) writer->record(s.world, s.state.result.last);
-  return writer;
-}
-
-/// The snapshots of the run before, cut back to the checkpoint: those before its time, and
-/// the one at its time if the cadence had one there (not the extra one an interrupted run
-/// writes at its end).
-void continue_snapshots(Session& s) {
-  s.snapshot_cadence = Cadence(s.scene.run.snapshot_every, s.scene.run.snapshot_interval);
-  s.last_snapshot_step = -1;
-  if (!s.snapshot_cadence.enabled()) return;
-  const std::vector<double> times = s.snapshots.read_earlier();
-  std::size_t kept = 0;
-  while (kept < times.size() && times[kept] < s.world.time) ++kept;
-  if (kept > 0) s.snapshot_cadence.resume_after(times[kept - 1]);
-  if (s.snapshot_cadence.due(s.world)) {
-    if (kept < times.size() && times[kept] == s.world.time) {
-      ++kept;
-    } else {
-      std::fprintf(stderr, "warning: %s: the snapshot at the checkpoint's step is missing\n",
-                   s.out.string().c_str());
-    }
-    s.last_snapshot_step = s.world.step;
-  }
-  s.snapshots.keep_earlier(kept);
 }
 
 }  // namespace
@@ -337,7 +200,7 @@ void continue_snapshots(Session& s) {
 int run_resume(const ResumeOptions& options) {
   const StopSignals stop_on_signal(request_stop, SA_RESETHAND);
   const std::filesystem::path& out = options.folder;
-  const std::filesystem::path checkpoint = checkpoint_file(out);
+  const std::filesystem::path checkpoint = checkpoint_path(out);
   if (!std::filesystem::is_regular_file(checkpoint)) {
     throw ConfigError(
         {{out.string(), 0, 0, "",
@@ -367,33 +230,21 @@ int run_resume(const ResumeOptions& options) {
   }
   // the scene as the run resolved it, with the spheres it started from (for the initial
   // porosity; the deposit is not made again)
-  const std::string header = leading_comments(out / "initial_particles.csv");
   SceneReadOptions how;
   how.particles_file = out / "initial_particles.csv";
-  Session s{read_scene_text(saved.scene_toml, (out / "scene.toml").string(), {}, out, how),
-            out,
-            header,
-            0.0,
-            {},
-            StepWorkspace(1),
-            {},
-            nullptr,
-            VtkSnapshotSeries(out),
-            Cadence(0, 0.0),
-            -1,
-            checkpoint_every,
-            options.quiet};
+  Session s;
+  s.scene = read_scene_text(saved.scene_toml, (out / "scene.toml").string(), {}, out, how);
+  s.out = out;
+  s.checkpoint_every = checkpoint_every;
+  s.quiet = options.quiet;
   s.scene.effective_toml = saved.scene_toml;  // the summary's scene, as the run began it
   s.initial_porosity = porosity(make_world(s.scene));
   s.work = StepWorkspace(s.scene.step.solver.seed);
   restore_run(std::move(saved), s.scene.run, s.scene.step.solver.dt, s.world, s.work, s.state);
   announce(fmt::format("resume from step {} (t = {} t0)", s.world.step, s.world.time), s.scene, out,
            s.world.bodies.size());
-  remove_stale_temporaries(out);  // e.g. a .pvd a killed run was writing
+  s.files = RunFolder::resume(out, s.scene, s.world, s.state, warn_on_stderr(s));
   if (options.checkpoint_every) remember_checkpoint_interval(out, *options.checkpoint_every);
-  if (std::filesystem::is_directory(out / "snapshots")) remove_stale_temporaries(out / "snapshots");
-  s.timeseries = continue_timeseries(s);
-  continue_snapshots(s);
   return run_and_write(s);
 }
 

@@ -1,16 +1,23 @@
 // Tests of app/ (the `cdpowder simulate` command) run as a user would: the program is
 // started as a process, its exit status and its output folder are checked.
+#include "cdpowder/analysis/porosity.hpp"
+#include "cdpowder/config/scene_reader.hpp"
+#include "cdpowder/experiment/run_loop.hpp"
+#include "cdpowder/experiment/scene_setup.hpp"
+#include "cdpowder/io/run_folder.hpp"
 #include "support/cli_process.hpp"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace {
 
@@ -53,6 +60,61 @@ TEST_F(SimulateCli, WritesEveryOutputAndAResultLine) {
     if (entry.path().filename() == ".run.lock") continue;
     EXPECT_NE(entry.path().filename().string().front(), '.') << entry.path();
   }
+}
+
+// A library user who runs the loop with a RunFolder gets the command line's files: the same
+// list, and the same bytes in all but the wall times.
+TEST_F(SimulateCli, ALibraryRunWritesTheCommandLinesFiles) {
+  const fs::path scene_file = kExamples / "lattice/scene.toml";
+  const std::vector<std::string> overrides{"run.until_blocked=false", "run.duration=1.0",
+                                           "run.snapshot_every=40"};
+  std::string options;
+  for (const std::string& o : overrides) options += " --set " + o;
+  const ProcessResult r = run_cdpowder("simulate " + scene_file.string() + " --out " +
+                                           (scratch_ / "cli").string() + " --quiet" + options,
+                                       scratch_);
+  ASSERT_EQ(r.status, 0) << r.err;
+
+  const cdpowder::Scene scene =
+      cdpowder::read_scene(scene_file, cdpowder::command_line_overrides(overrides));
+  cdpowder::World world = cdpowder::make_world(scene);
+  cdpowder::StepWorkspace work(scene.step.solver.seed);
+  cdpowder::RunState state;
+  const double initial_porosity = cdpowder::porosity(world);
+  cdpowder::RunFolder files =
+      cdpowder::RunFolder::begin(scratch_ / "lib", scene, world, work.contacts, {});
+  const cdpowder::RunResult result = cdpowder::run_simulation(
+      world, work, scene.step, scene.run, state,
+      [&](const cdpowder::World& w, const cdpowder::StepReport& report, double /*fraction*/) {
+        files.after_step(w, report, work.contacts);
+      });
+  files.finish(scene, world, work, state, result, initial_porosity);
+
+  std::vector<std::string> cli_files;
+  std::vector<std::string> lib_files;
+  for (const auto& e : fs::recursive_directory_iterator(scratch_ / "cli")) {
+    if (e.path().filename() != ".run.lock") {
+      cli_files.push_back(fs::relative(e.path(), scratch_ / "cli").string());
+    }
+  }
+  for (const auto& e : fs::recursive_directory_iterator(scratch_ / "lib")) {
+    lib_files.push_back(fs::relative(e.path(), scratch_ / "lib").string());
+  }
+  std::sort(cli_files.begin(), cli_files.end());
+  std::sort(lib_files.begin(), lib_files.end());
+  EXPECT_EQ(lib_files, cli_files);
+  EXPECT_GT(cli_files.size(), 10U);  // the outputs and a few snapshots
+  for (const std::string& name : cli_files) {
+    if (fs::is_directory(scratch_ / "cli" / name) || name == "summary.json") continue;
+    EXPECT_EQ(slurp(scratch_ / "lib" / name), slurp(scratch_ / "cli" / name)) << name;
+  }
+  auto summary = [](const fs::path& file) {
+    nlohmann::json j = nlohmann::json::parse(slurp(file));
+    j["run"].erase("wall_seconds");
+    j["run"].erase("stage_seconds");
+    return j;
+  };
+  EXPECT_EQ(summary(scratch_ / "lib/summary.json"), summary(scratch_ / "cli/summary.json"));
 }
 
 TEST_F(SimulateCli, SameSeedGivesIdenticalStateAnotherSeedADifferentOne) {
