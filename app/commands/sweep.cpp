@@ -433,6 +433,278 @@ int collect_tables(const SweepOptions& options, const SweepState& state) {
   return 0;
 }
 
+/// --dry-run: what each run would do, nothing started or written.
+int print_dry_run(const SweepOptions& options, const SweepState& state) {
+  const SweepPlan& plan = state.plan;
+  const std::size_t total = plan.runs.size();
+  std::printf("%zu runs (%zu points × %zu seeds), %zu finished, %zu reused, %zu to run\n", total,
+              plan.points.size(), plan.seeds.size(),
+              total - state.pending.size() - state.reused.size(), state.reused.size(),
+              state.pending.size());
+  for (std::size_t i = 0; i < total; ++i) {
+    std::string why_not;
+    const char* what =
+        state.records[i]            ? "done   "
+        : state.reused.count(i) > 0 ? "reuse  "
+        : has_usable_checkpoint(options.out / plan.runs[i].folder, state.scene_texts[i], why_not)
+            ? "resume "
+            : "pending";
+    std::printf("%s  %s\n", what, plan.runs[i].folder.generic_string().c_str());
+  }
+  return 0;
+}
+
+/// Copies the summaries of the runs another sweep has done (--reuse) into their folders here;
+/// a copy that does not read back goes to the pending runs. Returns how many were reused.
+std::size_t adopt_reused_runs(const SweepOptions& options, SweepState& state) {
+  std::size_t reused_count = 0;
+  for (const auto& [i, source] : state.reused) {
+    // an earlier, unfinished attempt may have left its outputs here: they are not this run's
+    const std::filesystem::path folder = options.out / state.plan.runs[i].folder;
+    std::filesystem::remove_all(folder);
+    std::filesystem::create_directories(folder);
+    write_file_atomically(folder / "summary.json", read_text(source));
+    write_file_atomically(
+        folder / "log.txt",
+        fmt::format("reused from {}\n", std::filesystem::absolute(source).string()));
+    state.records[i] = read_run_record(folder / "summary.json");
+    if (is_reusable(state.records[i], state.scene_texts[i])) {
+      ++reused_count;
+    } else {  // the copy failed: run it after all
+      state.records[i].reset();
+      state.pending.push_back(i);
+      if (!options.quiet) {
+        std::fprintf(stderr, "sweep: could not reuse %s; it runs again\n", source.c_str());
+      }
+    }
+  }
+  order_seed_by_seed(state.plan, state.pending);
+  return reused_count;
+}
+
+/// The pending runs as child processes, `jobs` at a time: started while no stop is asked
+/// for, no write has failed and (with --time-limit) each is expected to finish in time;
+/// reaped as they end, with a progress line each and the tables rewritten.
+class SweepPool {
+ public:
+  SweepPool(const SweepOptions& options, SweepState& state,
+            std::chrono::steady_clock::time_point start)
+      : options_(options), state_(state), start_(start) {}
+
+  /// Runs until every pending run has ended or been left (a signal, the time limit, a
+  /// write error); the running runs are stopped and waited for on every exit path.
+  void run(int jobs) {
+    while (next_ < state_.pending.size() || !guard_.runs.empty()) {
+      const int received = g_signals.load();
+      check_time_limit();
+      send_stop_requests(received);
+      if (received == 0) start_runs(jobs);
+      if ((received > 0 || time_up_ || !write_error_.empty()) && guard_.runs.empty()) break;
+      reap_one();
+    }
+    if (std::string error = try_write_tables(options_, state_.plan, state_.records);
+        !error.empty() && write_error_.empty()) {
+      write_error_ = std::move(error);
+    }
+  }
+
+  /// The last line: how many finished, and why the others did not; the exit code.
+  int finish() const {
+    const std::size_t total = state_.plan.runs.size();
+    const std::size_t finished = total - state_.pending.size() + done_now_;
+    std::string what;
+    if (g_signals.load() > 0) {
+      what = " (interrupted: run the same command to resume)";
+    } else if (failed_ > 0) {
+      what = fmt::format(", {} failed (see their log.txt)", failed_);
+    }
+    const std::size_t left = total - finished - failed_;
+    if (held_elsewhere_ > 0) {
+      what += fmt::format(
+          "; {} run{} still written by an earlier process, left for later (run "
+          "the same command again)",
+          held_elsewhere_, held_elsewhere_ == 1 ? "" : "s");
+    }
+    if (g_signals.load() == 0 && (left_for_later_ > 0 || time_up_) && left > 0) {
+      what +=
+          fmt::format("; time limit {}: {} run{} left for later (run the same command to resume)",
+                      clock_text(*options_.time_limit), left, left == 1 ? "" : "s");
+    }
+    if (!write_error_.empty()) {
+      what += fmt::format(
+          "; stopped starting runs after a write error ({}): free space and run the same "
+          "command to go on; the finished runs are kept{}",
+          write_error_,
+          state_.pending.size() > next_
+              ? fmt::format(", {} not started", state_.pending.size() - next_)
+              : "");
+    }
+    std::printf("sweep: %zu of %zu runs finished%s; results in %s\n", finished, total, what.c_str(),
+                (options_.out / "results.csv").string().c_str());
+    if (!write_error_.empty()) return kExitOutputFailed;
+    return finished == total ? 0 : 1;
+  }
+
+ private:
+  [[nodiscard]] double seconds_since_start() const {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  }
+
+  [[nodiscard]] std::string run_name(std::size_t i) const {
+    const SweepRun& run = state_.plan.runs[i];
+    return fmt::format("{} seed {}", state_.plan.points[run.point].name, run.seed);
+  }
+
+  /// Past the limit nothing more starts, and runs still going stop as at a first Ctrl-C
+  /// (the expected durations should have left none).
+  void check_time_limit() {
+    if (!options_.time_limit || time_up_ || seconds_since_start() < *options_.time_limit) return;
+    time_up_ = true;
+    left_for_later_ += state_.pending.size() - next_;
+    next_ = state_.pending.size();
+  }
+
+  /// How hard the running runs are asked to stop: 0 not, 1 SIGTERM (a run finishes its step,
+  /// writes its outputs flagged interrupted, and is rerun next time), 2 SIGKILL. A run
+  /// handles one SIGTERM and dies at a second, so each level is sent once, whether a signal
+  /// to the sweep or the time limit asked for it. A run asked to stop ends within a step; one
+  /// still going a minute after the limit is killed, so the sweep keeps to its limit.
+  void send_stop_requests(int received) {
+    const bool overdue = time_up_ && seconds_since_start() >= *options_.time_limit + 60.0;
+    const int level = std::min(2, std::max({received, time_up_ ? 1 : 0, overdue ? 2 : 0}));
+    if (level <= stop_level_sent_) return;
+    for (const auto& [pid, index] : guard_.runs) kill(pid, level >= 2 ? SIGKILL : SIGTERM);
+    stop_level_sent_ = level;
+  }
+
+  /// A write error (a run's exit kExitOutputFailed, or the sweep's own tables) would fail
+  /// every later run the same way (a full disk): nothing more starts after one.
+  void start_runs(int jobs) {
+    while (write_error_.empty() && next_ < state_.pending.size() &&
+           static_cast<int>(guard_.runs.size()) < jobs) {
+      start_run_at(state_.pending[next_++]);
+    }
+  }
+
+  void start_run_at(std::size_t i) {
+    if (options_.time_limit &&
+        !may_start_within(seconds_since_start(),
+                          expected_run_seconds(state_.plan, state_.records, i),
+                          *options_.time_limit)) {
+      ++left_for_later_;
+      return;
+    }
+    const SweepRun& run = state_.plan.runs[i];
+    const std::filesystem::path folder = options_.out / run.folder;
+    // a process of an earlier sweep still writing into the folder (it got SIGTERM when that
+    // sweep died, and is finishing its step): left for the next run of this command
+    if (FolderLock::held(run_lock_file(folder))) {
+      ++held_elsewhere_;
+      std::fprintf(stderr, "%s: %s is still being written by an earlier process; left for later\n",
+                   run_name(i).c_str(), folder.string().c_str());
+      return;
+    }
+    std::error_code made;
+    std::filesystem::create_directories(folder, made);
+    if (made) {  // a full disk: no run can start; the running ones end as they can
+      write_error_ = fmt::format("cannot create {}: {}", folder.string(), made.message());
+      --next_;
+      return;
+    }
+    // an interrupted run goes on from its checkpoint instead of starting again
+    std::string why_not;
+    const bool resume = has_usable_checkpoint(folder, state_.scene_texts[i], why_not);
+    if (!why_not.empty() && !options_.quiet) {
+      std::fprintf(stderr, "%s: starts again: %s\n", run_name(i).c_str(), why_not.c_str());
+    }
+    std::string error;
+    const pid_t child = start_run(
+        {state_.plan.scene, folder, run.overrides, options_.checkpoint_every, resume}, error);
+    if (child == 0) {
+      ++failed_;
+      std::fprintf(stderr, "%s: %s\n", run_name(i).c_str(), error.c_str());
+      return;
+    }
+    guard_.runs[child] = i;
+  }
+
+  /// Waits up to 0.1 s for a run to end, and takes its result.
+  void reap_one() {
+    int status = 0;
+    const pid_t pid = waitpid(-1, &status, WNOHANG);
+    if (pid < 0 && errno == ECHILD) {  // nothing left to wait for: the bookkeeping is stale
+      guard_.runs.clear();
+      return;
+    }
+    if (pid <= 0) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+      return;
+    }
+    const auto it = guard_.runs.find(pid);
+    if (it == guard_.runs.end()) return;
+    const std::size_t i = it->second;
+    guard_.runs.erase(it);
+    const std::filesystem::path folder = options_.out / state_.plan.runs[i].folder;
+    std::optional<RunRecord> record = read_run_record(folder / "summary.json");
+    const RunExit end = run_exit(status, record, state_.scene_texts[i]);
+    if (end.unwritten && write_error_.empty()) write_error_ = last_error_of(folder / "log.txt");
+    if (end.counts) {
+      state_.records[i] = std::move(record);
+      ++done_now_;
+      if (std::string error = try_write_tables(options_, state_.plan, state_.records);
+          !error.empty() && write_error_.empty()) {
+        write_error_ = std::move(error);
+      }
+    } else if (g_signals.load() == 0 && !time_up_) {
+      ++failed_;
+    }
+    if (!options_.quiet) report(i, end, folder);
+  }
+
+  /// "[7/80] point seed 2: porosity=… blocked=yes wall=…s (elapsed 03:10, ≈27:00 left)".
+  void report(std::size_t i, const RunExit& end, const std::filesystem::path& folder) const {
+    const bool stopped = g_signals.load() > 0 || time_up_;
+    const double elapsed = seconds_since_start();
+    const std::size_t total = state_.plan.runs.size();
+    const std::size_t finished = total - state_.pending.size() + done_now_;
+    const std::size_t left =
+        state_.pending.size() - done_now_ - failed_ - left_for_later_ - held_elsewhere_;
+    // throughput so far (runs finished per wall second, all jobs together) × runs left
+    const std::string eta =
+        done_now_ > 0 && !stopped
+            ? fmt::format(", ≈{} left", clock_text(elapsed * static_cast<double>(left) /
+                                                   static_cast<double>(done_now_)))
+            : "";
+    if (end.counts) {
+      const RunRecord& r = *state_.records[i];
+      std::fprintf(stderr, "[%zu/%zu] %s: porosity=%.5f blocked=%s wall=%.1fs (elapsed %s%s)%s\n",
+                   finished, total, run_name(i).c_str(), r.porosity, r.blocked ? "yes" : "no",
+                   r.wall_seconds, clock_text(elapsed).c_str(), eta.c_str(),
+                   end.unwritten ? kOutputsMissing : "");
+    } else {
+      std::fprintf(stderr, "[%zu/%zu] %s: %s, see %s\n", finished, total, run_name(i).c_str(),
+                   stopped         ? "interrupted"
+                   : end.fault     ? "FAILED (a fault stopped it: unphysical state)"
+                   : end.unwritten ? "FAILED (could not write its outputs)"
+                                   : "FAILED",
+                   (folder / "log.txt").string().c_str());
+    }
+  }
+
+  const SweepOptions& options_;
+  SweepState& state_;
+  std::chrono::steady_clock::time_point start_;
+  RunningRuns guard_;
+  std::size_t next_ = 0;
+  std::size_t done_now_ = 0;
+  std::size_t failed_ = 0;
+  std::size_t left_for_later_ = 0;  ///< not started: not expected to finish within the limit
+  std::size_t held_elsewhere_ = 0;  ///< not started: an earlier process still writes its folder
+  bool time_up_ = false;
+  std::string write_error_;
+  int stop_level_sent_ = 0;
+};
+
 }  // namespace
 
 int run_sweep(const SweepOptions& options) {
@@ -440,32 +712,11 @@ int run_sweep(const SweepOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   const StopSignals signals(count_signal, 0);  // no SA_RESETHAND: the second signal is counted
   g_signals.store(0);
-  SweepState sweep_state = read_sweep_state(options);
-  const SweepPlan& plan = sweep_state.plan;
-  const std::vector<std::string>& scene_texts = sweep_state.scene_texts;
-  std::vector<std::optional<RunRecord>>& records = sweep_state.records;
-  std::vector<std::size_t>& pending = sweep_state.pending;
-  const std::map<std::size_t, std::filesystem::path>& reused = sweep_state.reused;
-  if (options.list) return list_pending_runs(options, sweep_state);
-  if (options.task) return run_task(options, sweep_state, *options.task);
-  if (options.collect) return collect_tables(options, sweep_state);
-  const std::size_t total = plan.runs.size();
-  if (options.dry_run) {
-    std::printf("%zu runs (%zu points × %zu seeds), %zu finished, %zu reused, %zu to run\n", total,
-                plan.points.size(), plan.seeds.size(), total - pending.size() - reused.size(),
-                reused.size(), pending.size());
-    for (std::size_t i = 0; i < total; ++i) {
-      std::string why_not;
-      const char* state =
-          records[i]            ? "done   "
-          : reused.count(i) > 0 ? "reuse  "
-          : has_usable_checkpoint(options.out / plan.runs[i].folder, scene_texts[i], why_not)
-              ? "resume "
-              : "pending";
-      std::printf("%s  %s\n", state, plan.runs[i].folder.generic_string().c_str());
-    }
-    return 0;
-  }
+  SweepState state = read_sweep_state(options);
+  if (options.list) return list_pending_runs(options, state);
+  if (options.task) return run_task(options, state, *options.task);
+  if (options.collect) return collect_tables(options, state);
+  if (options.dry_run) return print_dry_run(options, state);
 
   std::filesystem::create_directories(options.out);
   const FolderLock lock(options.out / ".lock", "another sweep");
@@ -475,217 +726,23 @@ int run_sweep(const SweepOptions& options) {
   // the runs end (as at Ctrl-C) when this process dies, even by SIGKILL (main.cpp)
   setenv(kDieWithParentVariable, std::to_string(getpid()).c_str(), 1);
   write_file_atomically(options.out / "sweep.toml", read_text(options.sweep));
-  std::size_t reused_count = 0;
-  for (const auto& [i, source] : reused) {
-    // an earlier, unfinished attempt may have left its outputs here: they are not this run's
-    const std::filesystem::path folder = options.out / plan.runs[i].folder;
-    std::filesystem::remove_all(folder);
-    std::filesystem::create_directories(folder);
-    write_file_atomically(folder / "summary.json", read_text(source));
-    write_file_atomically(
-        folder / "log.txt",
-        fmt::format("reused from {}\n", std::filesystem::absolute(source).string()));
-    records[i] = read_run_record(folder / "summary.json");
-    if (is_reusable(records[i], scene_texts[i])) {
-      ++reused_count;
-    } else {  // the copy failed: run it after all
-      records[i].reset();
-      pending.push_back(i);
-      if (!options.quiet) {
-        std::fprintf(stderr, "sweep: could not reuse %s; it runs again\n", source.c_str());
-      }
-    }
-  }
-  order_seed_by_seed(plan, pending);
-  write_tables(options, plan, records);
+  const std::size_t reused_count = adopt_reused_runs(options, state);
+  write_tables(options, state.plan, state.records);
 
   const int jobs = options.jobs > 0
                        ? options.jobs
                        : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
   if (!options.quiet) {
+    const SweepPlan& plan = state.plan;
     std::fprintf(stderr,
                  "sweep: %zu runs (%zu points × %zu seeds), %zu already finished (%zu of them "
                  "reused), %d jobs\n",
-                 total, plan.points.size(), plan.seeds.size(), total - pending.size(), reused_count,
-                 jobs);
+                 plan.runs.size(), plan.points.size(), plan.seeds.size(),
+                 plan.runs.size() - state.pending.size(), reused_count, jobs);
   }
-  RunningRuns guard;
-  std::map<pid_t, std::size_t>& running = guard.runs;
-  std::size_t next = 0;
-  std::size_t done_now = 0;
-  std::size_t failed = 0;
-  std::size_t left_for_later = 0;  // not started: not expected to finish within --time-limit
-  std::size_t held_elsewhere = 0;  // not started: an earlier process still writes its folder
-  bool time_up = false;
-  // a write error (a run's exit kExitOutputFailed, or the sweep's own tables) would fail
-  // every later run the same way (a full disk): nothing more starts, the running runs end,
-  // and what finished is kept for the same command to go on from
-  std::string write_error;
-  // how hard the running runs have been asked to stop: 0 not, 1 SIGTERM (a run finishes its
-  // step, writes its outputs flagged interrupted, and is rerun next time), 2 SIGKILL. A run
-  // handles one SIGTERM and dies at a second, so each level is sent once, whether a signal
-  // to the sweep or the time limit asked for it.
-  int stop_level_sent = 0;
-  const auto seconds_since_start = [&start] {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  };
-  while (next < pending.size() || !running.empty()) {
-    const int received = g_signals.load();
-    if (options.time_limit && !time_up && seconds_since_start() >= *options.time_limit) {
-      // past the limit: nothing more starts, and runs still going stop as at a first Ctrl-C
-      // (the expected durations should have left none)
-      time_up = true;
-      left_for_later += pending.size() - next;
-      next = pending.size();
-    }
-    // a run asked to stop ends within a step (milliseconds to seconds); one still going a
-    // minute after the limit is killed, so the sweep keeps to its limit
-    const bool overdue = time_up && seconds_since_start() >= *options.time_limit + 60.0;
-    const int stop_level = std::min(2, std::max({received, time_up ? 1 : 0, overdue ? 2 : 0}));
-    if (stop_level > stop_level_sent) {
-      for (const auto& [pid, index] : running) kill(pid, stop_level >= 2 ? SIGKILL : SIGTERM);
-      stop_level_sent = stop_level;
-    }
-    while (received == 0 && write_error.empty() && next < pending.size() &&
-           static_cast<int>(running.size()) < jobs) {
-      const std::size_t i = pending[next++];
-      if (options.time_limit &&
-          !may_start_within(seconds_since_start(), expected_run_seconds(plan, records, i),
-                            *options.time_limit)) {
-        ++left_for_later;
-        continue;
-      }
-      const std::filesystem::path folder = options.out / plan.runs[i].folder;
-      // a process of an earlier sweep still writing into the folder (it got SIGTERM when
-      // that sweep died, and is finishing its step): left for the next run of this command
-      if (FolderLock::held(run_lock_file(folder))) {
-        ++held_elsewhere;
-        std::fprintf(stderr,
-                     "%s seed %lld: %s is still being written by an earlier process; "
-                     "left for later\n",
-                     plan.points[plan.runs[i].point].name.c_str(),
-                     static_cast<long long>(plan.runs[i].seed), folder.string().c_str());
-        continue;
-      }
-      std::error_code made;
-      std::filesystem::create_directories(folder, made);
-      if (made) {  // a full disk: no run can start; the running ones end as they can
-        write_error = fmt::format("cannot create {}: {}", folder.string(), made.message());
-        --next;
-        break;
-      }
-      // an interrupted run goes on from its checkpoint instead of starting again
-      std::string why_not;
-      const bool resume = has_usable_checkpoint(folder, scene_texts[i], why_not);
-      if (!why_not.empty() && !options.quiet) {
-        std::fprintf(stderr, "%s seed %lld: starts again: %s\n",
-                     plan.points[plan.runs[i].point].name.c_str(),
-                     static_cast<long long>(plan.runs[i].seed), why_not.c_str());
-      }
-      std::string error;
-      const pid_t child = start_run(
-          {plan.scene, folder, plan.runs[i].overrides, options.checkpoint_every, resume}, error);
-      if (child == 0) {
-        ++failed;
-        std::fprintf(stderr, "%s seed %lld: %s\n", plan.points[plan.runs[i].point].name.c_str(),
-                     static_cast<long long>(plan.runs[i].seed), error.c_str());
-        continue;
-      }
-      running[child] = i;
-    }
-    if ((received > 0 || time_up || !write_error.empty()) && running.empty()) break;
-    int status = 0;
-    const pid_t pid = waitpid(-1, &status, WNOHANG);
-    if (pid < 0 && errno == ECHILD) {  // nothing left to wait for: the bookkeeping is stale
-      running.clear();
-      continue;
-    }
-    if (pid <= 0) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(100));
-      continue;
-    }
-    const auto it = running.find(pid);
-    if (it == running.end()) continue;
-    const std::size_t i = it->second;
-    running.erase(it);
-    const SweepRun& run = plan.runs[i];
-    const std::filesystem::path folder = options.out / run.folder;
-    std::optional<RunRecord> record = read_run_record(folder / "summary.json");
-    const RunExit end = run_exit(status, record, scene_texts[i]);
-    const bool fault = end.fault;
-    const bool unwritten = end.unwritten;
-    if (unwritten && write_error.empty()) write_error = last_error_of(folder / "log.txt");
-    const bool ok = end.counts;
-    if (ok) {
-      records[i] = std::move(record);
-      ++done_now;
-      if (std::string error = try_write_tables(options, plan, records); !error.empty()) {
-        if (write_error.empty()) write_error = std::move(error);
-      }
-    } else if (g_signals.load() == 0 && !time_up) {
-      ++failed;
-    }
-    const bool stopped = g_signals.load() > 0 || time_up;
-    if (options.quiet) continue;
-    const double elapsed = seconds_since_start();
-    const std::size_t finished = total - pending.size() + done_now;
-    const std::size_t left = pending.size() - done_now - failed - left_for_later - held_elsewhere;
-    // throughput so far (runs finished per wall second, all jobs together) × runs left
-    const std::string eta =
-        done_now > 0 && !stopped
-            ? fmt::format(", ≈{} left", clock_text(elapsed * static_cast<double>(left) /
-                                                   static_cast<double>(done_now)))
-            : "";
-    if (ok) {
-      const RunRecord& r = *records[i];
-      std::fprintf(
-          stderr, "[%zu/%zu] %s seed %lld: porosity=%.5f blocked=%s wall=%.1fs (elapsed %s%s)%s\n",
-          finished, total, plan.points[run.point].name.c_str(), static_cast<long long>(run.seed),
-          r.porosity, r.blocked ? "yes" : "no", r.wall_seconds, clock_text(elapsed).c_str(),
-          eta.c_str(), unwritten ? kOutputsMissing : "");
-    } else {
-      std::fprintf(stderr, "[%zu/%zu] %s seed %lld: %s, see %s\n", finished, total,
-                   plan.points[run.point].name.c_str(), static_cast<long long>(run.seed),
-                   stopped     ? "interrupted"
-                   : fault     ? "FAILED (a fault stopped it: unphysical state)"
-                   : unwritten ? "FAILED (could not write its outputs)"
-                               : "FAILED",
-                   (folder / "log.txt").string().c_str());
-    }
-  }
-  if (std::string error = try_write_tables(options, plan, records); !error.empty()) {
-    if (write_error.empty()) write_error = std::move(error);
-  }
-  const std::size_t finished = total - pending.size() + done_now;
-  std::string state;
-  if (g_signals.load() > 0) {
-    state = " (interrupted: run the same command to resume)";
-  } else if (failed > 0) {
-    state = fmt::format(", {} failed (see their log.txt)", failed);
-  }
-  const std::size_t left = total - finished - failed;
-  if (held_elsewhere > 0) {
-    state += fmt::format(
-        "; {} run{} still written by an earlier process, left for later (run "
-        "the same command again)",
-        held_elsewhere, held_elsewhere == 1 ? "" : "s");
-  }
-  if (g_signals.load() == 0 && (left_for_later > 0 || time_up) && left > 0) {
-    state +=
-        fmt::format("; time limit {}: {} run{} left for later (run the same command to resume)",
-                    clock_text(*options.time_limit), left, left == 1 ? "" : "s");
-  }
-  if (!write_error.empty()) {
-    state += fmt::format(
-        "; stopped starting runs after a write error ({}): free space and run the same command "
-        "to go on; the finished runs are kept{}",
-        write_error,
-        pending.size() > next ? fmt::format(", {} not started", pending.size() - next) : "");
-  }
-  std::printf("sweep: %zu of %zu runs finished%s; results in %s\n", finished, total, state.c_str(),
-              (options.out / "results.csv").string().c_str());
-  if (!write_error.empty()) return kExitOutputFailed;
-  return finished == total ? 0 : 1;
+  SweepPool pool(options, state, start);
+  pool.run(jobs);
+  return pool.finish();
 }
 
 }  // namespace cdpowder::app
