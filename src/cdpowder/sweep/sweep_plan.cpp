@@ -105,6 +105,238 @@ std::string point_name(const std::vector<SweepSetting>& settings) {
   return name;
 }
 
+/// The file's top-level keys, each known.
+void check_top_level_keys(PlanReader& in, const toml::table& root) {
+  for (const auto& [name, node] : root) {
+    const std::string key(name.str());
+    if (std::find(kTopLevelKeys.begin(), kTopLevelKeys.end(), key) == kTopLevelKeys.end()) {
+      in.issue(key, &node,
+               "unknown key; allowed: scene, seeds, seed_keys, set, [grid], [[points]]" +
+                   did_you_mean(key, kTopLevelKeys));
+    }
+  }
+}
+
+/// `scene`: the base scene file, relative to the sweep file.
+void read_scene_key(PlanReader& in, const toml::table& root, const std::filesystem::path& base_dir,
+                    SweepPlan& plan) {
+  if (const auto* scene = root.get("scene"); scene == nullptr) {
+    in.issue("scene", nullptr, "missing: the base scene file (TOML), relative to the sweep file");
+  } else if (const auto* path = scene->as_string(); path == nullptr || path->get().empty()) {
+    in.issue("scene", scene, "expected a non-empty string: the base scene file");
+  } else {
+    const std::filesystem::path p(path->get());
+    plan.scene = p.is_absolute() ? p : base_dir / p;
+  }
+}
+
+/// `seeds`: n (1..n) or a list of distinct integers; returns where the file gives them (the
+/// origin of the seed overrides), `source` when it does not.
+std::string read_seeds(PlanReader& in, const toml::table& root, const std::string& source,
+                       SweepPlan& plan) {
+  const auto* seeds = root.get("seeds");
+  if (seeds == nullptr) {
+    plan.seeds = {1};
+    return source;
+  }
+  if (const auto* n = seeds->as_integer()) {
+    if (n->get() < 1 || n->get() > kMaxSeedCount) {
+      in.issue("seeds", seeds,
+               fmt::format("got {}, expected a count in [1, {}] or a list of seeds", n->get(),
+                           kMaxSeedCount));
+    } else {
+      for (std::int64_t s = 1; s <= n->get(); ++s) plan.seeds.push_back(s);
+    }
+    return in.origin(*seeds);
+  }
+  const auto* list = seeds->as_array();
+  if (list == nullptr || list->empty()) {
+    in.issue("seeds", seeds, "expected a count (e.g. 3) or a non-empty list of seeds");
+    return source;
+  }
+  std::set<std::int64_t> seen;
+  for (const auto& item : *list) {
+    const auto* s = item.as_integer();
+    if (s == nullptr || s->get() < 0) {
+      in.issue("seeds", &item, "expected non-negative integers");
+    } else if (!seen.insert(s->get()).second) {
+      in.issue("seeds", &item, fmt::format("seed {} is listed twice", s->get()));
+    } else {
+      plan.seeds.push_back(s->get());
+    }
+  }
+  return in.origin(*seeds);
+}
+
+/// `seed_keys` (default deposition.seed and solver.seed) and `set`, the fixed overrides.
+void read_seed_keys_and_fixed(PlanReader& in, const toml::table& root, SweepPlan& plan) {
+  plan.seed_keys = {"deposition.seed", "solver.seed"};
+  if (const auto* keys = root.get("seed_keys")) {
+    plan.seed_keys.clear();
+    const auto* list = keys->as_array();
+    if (list == nullptr) in.issue("seed_keys", keys, "expected a list of scene keys");
+    for (std::size_t i = 0; list != nullptr && i < list->size(); ++i) {
+      const toml::node& item = *list->get(i);
+      if (const auto* k = item.as_string(); k != nullptr && !k->get().empty()) {
+        plan.seed_keys.push_back(k->get());
+      } else {
+        in.issue("seed_keys", &item, "expected scene keys such as \"solver.seed\"");
+      }
+    }
+  }
+  if (const auto* fixed = root.get("set")) {
+    const auto* list = fixed->as_array();
+    if (list == nullptr) in.issue("set", fixed, "expected a list of \"section.key=value\"");
+    for (std::size_t i = 0; list != nullptr && i < list->size(); ++i) {
+      const toml::node& item = *list->get(i);
+      if (const auto* s = item.as_string()) {
+        plan.fixed.emplace_back(s->get(), in.origin(item));
+      } else {
+        in.issue("set", &item, "expected strings \"section.key=value\"");
+      }
+    }
+  }
+}
+
+/// One grid parameter: its key and values, in the file's order.
+using GridAxis = std::pair<std::string, std::vector<SweepSetting>>;
+
+/// `[grid]`: key = [values] (nested tables flattened to dotted keys); each key becomes a
+/// parameter.
+std::vector<GridAxis> read_grid(PlanReader& in, const toml::table& root, SweepPlan& plan) {
+  std::vector<GridAxis> grid;
+  const auto* node = root.get("grid");
+  if (node == nullptr) return grid;
+  const auto* table = node->as_table();
+  if (table == nullptr) in.issue("grid", node, "expected a table of key = [values]");
+  std::vector<std::pair<std::string, const toml::node*>> entries;
+  if (table != nullptr) in.flatten(*table, "", entries);
+  std::set<std::string> grid_keys;
+  for (const auto& [key, value] : entries) {
+    if (!grid_keys.insert(key).second) {
+      in.issue("grid." + key, value, "is given twice (as a nested table and a dotted key?)");
+      continue;
+    }
+    const auto* list = value->as_array();
+    if (list == nullptr || list->empty()) {
+      in.issue("grid." + key, value, "expected a non-empty list of values");
+      continue;
+    }
+    std::vector<SweepSetting> values;
+    std::set<std::string> seen;
+    for (const auto& item : *list) {
+      std::string value_text = in.value_text("grid." + key, item);
+      if (value_text.empty()) continue;
+      if (!seen.insert(value_text).second) {
+        in.issue("grid." + key, &item, fmt::format("value {} is listed twice", value_text));
+        continue;
+      }
+      values.push_back({key, std::move(value_text), in.origin(item)});
+    }
+    grid.emplace_back(key, std::move(values));
+    plan.parameter_keys.push_back(key);
+  }
+  return grid;
+}
+
+/// `[[points]]`: explicit points; a key no grid names becomes a parameter too.
+std::vector<std::map<std::string, SweepSetting>> read_points(PlanReader& in,
+                                                             const toml::table& root,
+                                                             SweepPlan& plan) {
+  std::vector<std::map<std::string, SweepSetting>> points;
+  const auto* node = root.get("points");
+  if (node == nullptr) return points;
+  const auto* list = node->as_array();
+  if (list == nullptr) in.issue("points", node, "expected [[points]] tables of key = value");
+  for (std::size_t i = 0; list != nullptr && i < list->size(); ++i) {
+    const toml::node& item = *list->get(i);
+    const auto* table = item.as_table();
+    if (table == nullptr) {
+      in.issue("points", &item, "expected [[points]] tables of key = value");
+      continue;
+    }
+    std::vector<std::pair<std::string, const toml::node*>> entries;
+    in.flatten(*table, "", entries);
+    std::map<std::string, SweepSetting> point;
+    for (const auto& [key, value] : entries) {
+      if (point.count(key) > 0) {
+        in.issue("points." + key, value, "is given twice in one point");
+        continue;
+      }
+      const std::string value_text = in.value_text("points." + key, *value);
+      if (value_text.empty()) continue;
+      point[key] = {key, value_text, in.origin(*value)};
+      if (std::find(plan.parameter_keys.begin(), plan.parameter_keys.end(), key) ==
+          plan.parameter_keys.end()) {
+        plan.parameter_keys.push_back(key);
+      }
+    }
+    points.push_back(std::move(point));
+  }
+  return points;
+}
+
+/// The points: the grid's, last key fastest, then the explicit ones (a grid key an explicit
+/// point does not name keeps the base scene's value there, so explicit points list every
+/// parameter they set); the base scene alone when there are none. Named, and a point listed
+/// twice (grid and explicit) kept once.
+std::vector<SweepPoint> expand_points(const std::vector<GridAxis>& grid,
+                                      const std::vector<std::map<std::string, SweepSetting>>& given,
+                                      const std::vector<std::string>& parameter_keys) {
+  std::vector<SweepPoint> points;
+  std::vector<std::size_t> index(grid.size(), 0);
+  const bool has_grid = !grid.empty();
+  while (has_grid) {
+    SweepPoint point;
+    for (std::size_t k = 0; k < grid.size(); ++k) {
+      point.settings.push_back(grid[k].second[index[k]]);
+    }
+    points.push_back(std::move(point));
+    std::size_t k = grid.size();
+    while (k > 0 && ++index[k - 1] == grid[k - 1].second.size()) index[--k] = 0;
+    if (k == 0) break;
+  }
+  for (const auto& values : given) {
+    SweepPoint point;
+    for (const std::string& key : parameter_keys) {
+      if (const auto it = values.find(key); it != values.end()) {
+        point.settings.push_back(it->second);
+      }
+    }
+    points.push_back(std::move(point));
+  }
+  if (points.empty()) points.push_back(SweepPoint{});  // the base scene alone
+
+  std::set<std::string> names;
+  std::vector<SweepPoint> unique;
+  for (SweepPoint& point : points) {
+    point.name = point_name(point.settings);
+    if (names.insert(point.name).second) unique.push_back(std::move(point));
+  }
+  return unique;
+}
+
+/// Every point × every seed: its folder and the overrides (fixed, the point's, the seeds).
+void make_runs(SweepPlan& plan, const std::string& seeds_origin) {
+  for (std::size_t p = 0; p < plan.points.size(); ++p) {
+    for (const std::int64_t seed : plan.seeds) {
+      SweepRun run;
+      run.point = p;
+      run.seed = seed;
+      run.folder =
+          std::filesystem::path("runs") / plan.points[p].name / fmt::format("seed_{}", seed);
+      run.overrides = plan.fixed;
+      for (const SweepSetting& s : plan.points[p].settings) {
+        run.overrides.emplace_back(s.key + "=" + s.value, s.origin);
+      }
+      for (const std::string& key : plan.seed_keys) {
+        run.overrides.emplace_back(fmt::format("{}={}", key, seed), seeds_origin);
+      }
+      plan.runs.push_back(std::move(run));
+    }
+  }
+}
+
 }  // namespace
 
 SweepPlan read_sweep_plan_text(std::string_view text, std::string_view source_name,
@@ -123,211 +355,22 @@ SweepPlan read_sweep_plan_text(std::string_view text, std::string_view source_na
   PlanReader in(source, issues);
   SweepPlan plan;
   plan.source = std::filesystem::path(source_name);
-
-  for (const auto& [name, node] : root) {
-    const std::string key(name.str());
-    if (std::find(kTopLevelKeys.begin(), kTopLevelKeys.end(), key) == kTopLevelKeys.end()) {
-      in.issue(key, &node,
-               "unknown key; allowed: scene, seeds, seed_keys, set, [grid], [[points]]" +
-                   did_you_mean(key, kTopLevelKeys));
-    }
-  }
-
-  // scene
-  if (const auto* scene = root.get("scene"); scene == nullptr) {
-    in.issue("scene", nullptr, "missing: the base scene file (TOML), relative to the sweep file");
-  } else if (const auto* path = scene->as_string(); path == nullptr || path->get().empty()) {
-    in.issue("scene", scene, "expected a non-empty string: the base scene file");
-  } else {
-    const std::filesystem::path p(path->get());
-    plan.scene = p.is_absolute() ? p : base_dir / p;
-  }
-
-  // seeds: n (1..n) or a list of distinct integers
-  std::string seeds_origin = source;
-  if (const auto* seeds = root.get("seeds"); seeds == nullptr) {
-    plan.seeds = {1};
-  } else if (const auto* n = seeds->as_integer()) {
-    seeds_origin = in.origin(*seeds);
-    if (n->get() < 1 || n->get() > kMaxSeedCount) {
-      in.issue("seeds", seeds,
-               fmt::format("got {}, expected a count in [1, {}] or a list of seeds", n->get(),
-                           kMaxSeedCount));
-    } else {
-      for (std::int64_t s = 1; s <= n->get(); ++s) plan.seeds.push_back(s);
-    }
-  } else if (const auto* list = seeds->as_array(); list != nullptr && !list->empty()) {
-    seeds_origin = in.origin(*seeds);
-    std::set<std::int64_t> seen;
-    for (const auto& item : *list) {
-      const auto* s = item.as_integer();
-      if (s == nullptr || s->get() < 0) {
-        in.issue("seeds", &item, "expected non-negative integers");
-      } else if (!seen.insert(s->get()).second) {
-        in.issue("seeds", &item, fmt::format("seed {} is listed twice", s->get()));
-      } else {
-        plan.seeds.push_back(s->get());
-      }
-    }
-  } else {
-    in.issue("seeds", seeds, "expected a count (e.g. 3) or a non-empty list of seeds");
-  }
-
-  // seed_keys
-  plan.seed_keys = {"deposition.seed", "solver.seed"};
-  if (const auto* keys = root.get("seed_keys")) {
-    plan.seed_keys.clear();
-    const auto* list = keys->as_array();
-    if (list == nullptr) in.issue("seed_keys", keys, "expected a list of scene keys");
-    if (list != nullptr) {
-      for (const auto& item : *list) {
-        if (const auto* k = item.as_string(); k != nullptr && !k->get().empty()) {
-          plan.seed_keys.push_back(k->get());
-        } else {
-          in.issue("seed_keys", &item, "expected scene keys such as \"solver.seed\"");
-        }
-      }
-    }
-  }
-
-  // set
-  if (const auto* fixed = root.get("set")) {
-    const auto* list = fixed->as_array();
-    if (list == nullptr) in.issue("set", fixed, "expected a list of \"section.key=value\"");
-    if (list != nullptr) {
-      for (const auto& item : *list) {
-        if (const auto* s = item.as_string()) {
-          plan.fixed.emplace_back(s->get(), in.origin(item));
-        } else {
-          in.issue("set", &item, "expected strings \"section.key=value\"");
-        }
-      }
-    }
-  }
+  check_top_level_keys(in, root);
+  read_scene_key(in, root, base_dir, plan);
+  const std::string seeds_origin = read_seeds(in, root, source, plan);
+  read_seed_keys_and_fixed(in, root, plan);
   plan.fixed.insert(plan.fixed.end(), extra_fixed.begin(), extra_fixed.end());
-
   // the parameters: grid keys first, then keys that only explicit points name
-  std::vector<std::pair<std::string, std::vector<SweepSetting>>> grid;
-  if (const auto* node = root.get("grid")) {
-    const auto* table = node->as_table();
-    if (table == nullptr) in.issue("grid", node, "expected a table of key = [values]");
-    std::vector<std::pair<std::string, const toml::node*>> entries;
-    if (table != nullptr) in.flatten(*table, "", entries);
-    std::set<std::string> grid_keys;
-    for (const auto& [key, value] : entries) {
-      if (!grid_keys.insert(key).second) {
-        in.issue("grid." + key, value, "is given twice (as a nested table and a dotted key?)");
-        continue;
-      }
-      const auto* list = value->as_array();
-      if (list == nullptr || list->empty()) {
-        in.issue("grid." + key, value, "expected a non-empty list of values");
-        continue;
-      }
-      std::vector<SweepSetting> values;
-      std::set<std::string> seen;
-      for (const auto& item : *list) {
-        std::string value_text = in.value_text("grid." + key, item);
-        if (value_text.empty()) continue;
-        if (!seen.insert(value_text).second) {
-          in.issue("grid." + key, &item, fmt::format("value {} is listed twice", value_text));
-          continue;
-        }
-        values.push_back({key, std::move(value_text), in.origin(item)});
-      }
-      grid.emplace_back(key, std::move(values));
-      plan.parameter_keys.push_back(key);
-    }
-  }
-  std::vector<std::map<std::string, SweepSetting>> explicit_points;
-  if (const auto* node = root.get("points")) {
-    const auto* list = node->as_array();
-    if (list == nullptr) in.issue("points", node, "expected [[points]] tables of key = value");
-    if (list != nullptr) {
-      for (const auto& item : *list) {
-        const auto* table = item.as_table();
-        if (table == nullptr) {
-          in.issue("points", &item, "expected [[points]] tables of key = value");
-          continue;
-        }
-        std::vector<std::pair<std::string, const toml::node*>> entries;
-        in.flatten(*table, "", entries);
-        std::map<std::string, SweepSetting> point;
-        for (const auto& [key, value] : entries) {
-          if (point.count(key) > 0) {
-            in.issue("points." + key, value, "is given twice in one point");
-            continue;
-          }
-          const std::string value_text = in.value_text("points." + key, *value);
-          if (value_text.empty()) continue;
-          point[key] = {key, value_text, in.origin(*value)};
-          if (std::find(plan.parameter_keys.begin(), plan.parameter_keys.end(), key) ==
-              plan.parameter_keys.end()) {
-            plan.parameter_keys.push_back(key);
-          }
-        }
-        explicit_points.push_back(std::move(point));
-      }
-    }
-  }
+  const std::vector<GridAxis> grid = read_grid(in, root, plan);
+  const std::vector<std::map<std::string, SweepSetting>> given = read_points(in, root, plan);
   for (const std::string& key : plan.parameter_keys) {
     if (std::find(plan.seed_keys.begin(), plan.seed_keys.end(), key) != plan.seed_keys.end()) {
       in.issue(key, nullptr, "is a seed key; vary seeds with `seeds`, not as a parameter");
     }
   }
   if (!issues.empty()) throw ConfigError(std::move(issues));
-
-  // grid points, last key fastest; a grid key an explicit point does not name keeps the
-  // base scene's value there, so explicit points list every parameter they set
-  std::vector<std::size_t> index(grid.size(), 0);
-  const bool has_grid = !grid.empty();
-  while (has_grid) {
-    SweepPoint point;
-    for (std::size_t k = 0; k < grid.size(); ++k) {
-      point.settings.push_back(grid[k].second[index[k]]);
-    }
-    plan.points.push_back(std::move(point));
-    std::size_t k = grid.size();
-    while (k > 0 && ++index[k - 1] == grid[k - 1].second.size()) index[--k] = 0;
-    if (k == 0) break;
-  }
-  for (const auto& values : explicit_points) {
-    SweepPoint point;
-    for (const std::string& key : plan.parameter_keys) {
-      if (const auto it = values.find(key); it != values.end()) {
-        point.settings.push_back(it->second);
-      }
-    }
-    plan.points.push_back(std::move(point));
-  }
-  if (plan.points.empty()) plan.points.push_back(SweepPoint{});  // the base scene alone
-
-  // names; a point listed twice (grid and explicit) is run once
-  std::set<std::string> names;
-  std::vector<SweepPoint> unique;
-  for (SweepPoint& point : plan.points) {
-    point.name = point_name(point.settings);
-    if (names.insert(point.name).second) unique.push_back(std::move(point));
-  }
-  plan.points = std::move(unique);
-
-  for (std::size_t p = 0; p < plan.points.size(); ++p) {
-    for (const std::int64_t seed : plan.seeds) {
-      SweepRun run;
-      run.point = p;
-      run.seed = seed;
-      run.folder =
-          std::filesystem::path("runs") / plan.points[p].name / fmt::format("seed_{}", seed);
-      run.overrides = plan.fixed;
-      for (const SweepSetting& s : plan.points[p].settings) {
-        run.overrides.emplace_back(s.key + "=" + s.value, s.origin);
-      }
-      for (const std::string& key : plan.seed_keys) {
-        run.overrides.emplace_back(fmt::format("{}={}", key, seed), seeds_origin);
-      }
-      plan.runs.push_back(std::move(run));
-    }
-  }
+  plan.points = expand_points(grid, given, plan.parameter_keys);
+  make_runs(plan, seeds_origin);
   return plan;
 }
 
