@@ -17,6 +17,7 @@
 #include <cstdint>
 #include <fstream>
 #include <limits>
+#include <optional>
 #include <sstream>
 #include <system_error>
 #include <utility>
@@ -31,18 +32,15 @@ using detail::TableReader;
 
 constexpr std::int64_t kIntMax = std::numeric_limits<int>::max();  // keys stored as int
 
-/// All values of the scene, each checked where it is read; defaults come from scene.hpp.
-Scene read_values(TableReader& in, const std::filesystem::path& base_dir,
-                  const SceneReadOptions& options) {
-  Scene s;
-  SystemConfig& system = s.system;
+void read_system(TableReader& in, SystemConfig& system) {
   system.lx = in.number("system.lx", system.lx, kPositive);
   system.ly = in.number("system.ly", system.ly, kPositive);
   system.gravity = in.vector3("system.gravity", system.gravity);
   system.density = in.number("system.density", system.density, kPositive);
   system.bottom_wall = in.boolean("system.bottom_wall", system.bottom_wall);
+}
 
-  ContactLaws& laws = s.step.laws;
+void read_laws(TableReader& in, ContactLaws& laws) {
   const auto read_law = [&in](const std::string& table, const ContactLaw& defaults) {
     ContactLaw law;
     law.mu = in.number(table + ".mu", defaults.mu, kNonNegative);
@@ -61,8 +59,9 @@ Scene read_values(TableReader& in, const std::filesystem::path& base_dir,
   laws.walls = read_law("contact.wall", laws.spheres);
   laws.wall_r_eff_factor =
       in.number("contact.wall.r_eff_factor", laws.wall_r_eff_factor, kNonNegative);
+}
 
-  SolverSettings& solver = s.step.solver;
+void read_time_step(TableReader& in, SolverSettings& solver) {
   solver.dt = in.number("solver.dt", solver.dt, kPositive);
   TimeStepControl& control = solver.time_step;
   control.adaptive = in.boolean("solver.adaptive_dt", control.adaptive);
@@ -77,6 +76,10 @@ Scene read_values(TableReader& in, const std::filesystem::path& base_dir,
       in.number("solver.displacement_per_step", control.displacement_per_step, kFraction);
   control.growth = in.number("solver.dt_growth", control.growth,
                              detail::Range{detail::Range::Kind::AtLeast, 1.0});
+}
+
+void read_solver(TableReader& in, SolverSettings& solver) {
+  read_time_step(in, solver);
   solver.tolerance = in.number("solver.tolerance", solver.tolerance, kPositive);
   solver.max_error_amplification =
       in.number("solver.max_error_amplification", solver.max_error_amplification,
@@ -103,8 +106,9 @@ Scene read_values(TableReader& in, const std::filesystem::path& base_dir,
   solver.verlet_margin = in.number("solver.verlet_margin", solver.verlet_margin, kNonNegative);
   solver.seed = static_cast<std::uint64_t>(
       in.integer("solver.seed", static_cast<std::int64_t>(solver.seed), 0));
+}
 
-  PistonConfig& piston = s.piston;
+void read_piston(TableReader& in, PistonConfig& piston) {
   piston.enabled = in.boolean("piston.enabled", piston.enabled);
   piston.mass = in.number("piston.mass", piston.mass, kPositive);
   piston.pressure = in.optional_number("piston.pressure", kNonNegative);
@@ -114,26 +118,33 @@ Scene read_values(TableReader& in, const std::filesystem::path& base_dir,
   piston.height = in.optional_number("piston.height", kPositive);
   piston.start_gap = in.number("piston.start_gap", piston.start_gap, kNonNegative);
   piston.velocity = in.number("piston.velocity", piston.velocity, kAnyNumber);
+}
 
-  if (in.has("deposition")) {
-    DepositionConfig d;
-    // a run holds about 2 kB per sphere (state, candidates, contacts): 10⁷ spheres need
-    // ≈ 20 GB; beyond that the allocation would fail after the outputs were begun
-    constexpr std::int64_t kMaxSpheres = 10'000'000;
-    d.spheres = static_cast<int>(in.integer("deposition.spheres", d.spheres, 1, kMaxSpheres));
-    // `radius` sets both ends of a monodisperse deposit; radius_min/max a uniform spread
-    const double radius = in.number("deposition.radius", 1.0, kPositive);
-    d.radius_min = in.number("deposition.radius_min", radius, kPositive);
-    d.radius_max = in.number("deposition.radius_max", radius, kPositive);
-    d.capture_radius = in.number("deposition.capture_radius", d.capture_radius, kPositive);
-    d.capture_rule =
-        in.choice("deposition.capture_rule", d.capture_rule, detail::kCaptureRuleNames);
-    d.seed = static_cast<std::uint64_t>(
-        in.integer("deposition.seed", static_cast<std::int64_t>(d.seed), 0));
-    d.lx = system.lx;
-    d.ly = system.ly;
-    s.deposition = d;
-  }
+/// [deposition], when given; the deposit fills the cell `system` describes.
+std::optional<DepositionConfig> read_deposition(TableReader& in, const SystemConfig& system) {
+  if (!in.has("deposition")) return std::nullopt;
+  DepositionConfig d;
+  // a run holds about 2 kB per sphere (state, candidates, contacts): 10⁷ spheres need
+  // ≈ 20 GB; beyond that the allocation would fail after the outputs were begun
+  constexpr std::int64_t kMaxSpheres = 10'000'000;
+  d.spheres = static_cast<int>(in.integer("deposition.spheres", d.spheres, 1, kMaxSpheres));
+  // `radius` sets both ends of a monodisperse deposit; radius_min/max a uniform spread
+  const double radius = in.number("deposition.radius", 1.0, kPositive);
+  d.radius_min = in.number("deposition.radius_min", radius, kPositive);
+  d.radius_max = in.number("deposition.radius_max", radius, kPositive);
+  d.capture_radius = in.number("deposition.capture_radius", d.capture_radius, kPositive);
+  d.capture_rule = in.choice("deposition.capture_rule", d.capture_rule, detail::kCaptureRuleNames);
+  d.seed = static_cast<std::uint64_t>(
+      in.integer("deposition.seed", static_cast<std::int64_t>(d.seed), 0));
+  d.lx = system.lx;
+  d.ly = system.ly;
+  return d;
+}
+
+/// [particles] file = "….csv", unless the spheres come from a deposit; the path relative to
+/// the scene file, checked to be a readable file.
+void read_particles(TableReader& in, const std::filesystem::path& base_dir,
+                    const SceneReadOptions& options, Scene& s) {
   const bool spheres_elsewhere = s.deposition.has_value() || options.deposition_required;
   if (spheres_elsewhere && in.has("particles.file")) {
     in.find("particles.file");  // known: a [particles] beside [deposition] is reported once, below
@@ -159,8 +170,9 @@ Scene read_values(TableReader& in, const std::filesystem::path& base_dir,
                    fmt::format("'{}' {}", s.particles_file.string(), problem));
     }
   }
+}
 
-  RunConfig& run = s.run;
+void read_run(TableReader& in, RunConfig& run) {
   run.duration = in.number("run.duration", run.duration, kPositive);
   run.until_blocked = in.boolean("run.until_blocked", run.until_blocked);
   run.max_duration = in.number("run.max_duration", run.max_duration, kPositive);
@@ -182,90 +194,117 @@ Scene read_values(TableReader& in, const std::filesystem::path& base_dir,
       in.number("run.blocked.final_tolerance", blocked.final_tolerance, kPositive);
   blocked.final_max_sweeps = static_cast<int>(
       in.integer("run.blocked.final_max_sweeps", blocked.final_max_sweeps, 1, kIntMax));
+}
+
+/// All values of the scene, each checked where it is read (in this order, so the messages
+/// come in the file's section order); defaults come from scene.hpp.
+Scene read_values(TableReader& in, const std::filesystem::path& base_dir,
+                  const SceneReadOptions& options) {
+  Scene s;
+  read_system(in, s.system);
+  read_laws(in, s.step.laws);
+  read_solver(in, s.step.solver);
+  read_piston(in, s.piston);
+  s.deposition = read_deposition(in, s.system);
+  read_particles(in, base_dir, options, s);
+  read_run(in, s.run);
   return s;
 }
 
-/// Checks between keys, after the single values; each message names both keys. A pair
-/// with an already reported value is skipped, so one mistake gives one message.
-void check_consistency(TableReader& in, const Scene& s, const SceneReadOptions& options) {
-  const auto where = [&in](std::string_view key) {
-    const toml::node* node = in.find(key);
-    return node != nullptr ? node->source() : toml::source_region{};
-  };
-  const auto in_file = [&in](std::string_view key) { return in.find(key) == nullptr; };
+/// Where the file gives `key` (an empty region when it does not).
+toml::source_region where(TableReader& in, std::string_view key) {
+  const toml::node* node = in.find(key);
+  return node != nullptr ? node->source() : toml::source_region{};
+}
+
+/// Whether an issue of `key` belongs to the file as a whole: the key is not in it.
+bool in_file(TableReader& in, std::string_view key) {
+  return in.find(key) == nullptr;
+}
+
+/// The piston's load, and what compaction and the blocked state need of it.
+void check_piston(TableReader& in, const Scene& s, const SceneReadOptions& options) {
   const bool has_pressure = in.find("piston.pressure") != nullptr;
   const bool has_force = in.find("piston.force") != nullptr;
   if (has_pressure && has_force) {
-    in.add_issue("piston.force", where("piston.force"),
+    in.add_issue("piston.force", where(in, "piston.force"),
                  "set together with piston.pressure; set exactly one of them");
   }
   if (s.piston.enabled && !has_pressure && !has_force) {
-    in.add_issue("piston.enabled", where("piston.enabled"),
+    in.add_issue("piston.enabled", where(in, "piston.enabled"),
                  "is true but neither piston.pressure nor piston.force is set; set exactly one",
-                 in_file("piston.enabled"));
+                 in_file(in, "piston.enabled"));
   }
   if (options.compaction && !s.piston.enabled && !in.failed("piston.enabled")) {
-    in.add_issue("piston.enabled", where("piston.enabled"),
+    in.add_issue("piston.enabled", where(in, "piston.enabled"),
                  "is false, but compaction needs the piston: set [piston] enabled = true and "
                  "a pressure or force",
-                 in_file("piston.enabled"));
+                 in_file(in, "piston.enabled"));
   } else if (s.run.until_blocked && !s.piston.enabled && !in.failed("piston.enabled")) {
-    in.add_issue("run.until_blocked", where("run.until_blocked"),
+    in.add_issue("run.until_blocked", where(in, "run.until_blocked"),
                  "is true but piston.enabled is false; the blocked state needs the piston",
-                 in_file("run.until_blocked"));
+                 in_file(in, "run.until_blocked"));
   }
   if (options.compaction && !s.run.until_blocked && !in.failed("run.until_blocked")) {
-    in.add_issue("run.until_blocked", where("run.until_blocked"),
+    in.add_issue("run.until_blocked", where(in, "run.until_blocked"),
                  "is false, but compact always runs until the blocked state (use simulate for a "
                  "fixed duration)");
   }
+}
+
+/// The deposit's radii and capture radius, and one source of spheres.
+void check_deposition(TableReader& in, const Scene& s) {
   if (in.has("deposition.radius") && in.has("deposition.radius_min") &&
       in.has("deposition.radius_max")) {
-    in.add_issue("deposition.radius", where("deposition.radius"),
+    in.add_issue("deposition.radius", where(in, "deposition.radius"),
                  "set together with radius_min and radius_max; give either radius or the range");
   }
   if (s.deposition && in.has("particles")) {
-    in.add_issue("particles", where("particles"),
+    in.add_issue("particles", where(in, "particles"),
                  "given together with [deposition]; the spheres come from exactly one of them");
   }
   if (s.deposition) {
     const DepositionConfig& d = *s.deposition;
     if (d.radius_min > d.radius_max && !in.failed("deposition.radius_min") &&
         !in.failed("deposition.radius_max")) {
-      in.add_issue("deposition.radius_min", where("deposition.radius_min"),
+      in.add_issue("deposition.radius_min", where(in, "deposition.radius_min"),
                    fmt::format("got {}, expected at most deposition.radius_max = {}", d.radius_min,
                                d.radius_max),
-                   in_file("deposition.radius_min"));
+                   in_file(in, "deposition.radius_min"));
     }
     if (d.capture_rule == CaptureRule::CentreDistance && d.capture_gap() < 0.0 &&
         !in.failed("deposition.capture_radius")) {
-      in.add_issue("deposition.capture_radius", where("deposition.capture_radius"),
+      in.add_issue("deposition.capture_radius", where(in, "deposition.capture_radius"),
                    fmt::format("got {}, expected ≥ radius_min + radius_max = {} for the "
                                "centre_distance rule (below it captured spheres would overlap)",
                                d.capture_radius, d.radius_min + d.radius_max),
-                   in_file("deposition.capture_radius"));
+                   in_file(in, "deposition.capture_radius"));
     }
     // a capture sphere wider than half the periodic cell reaches a sphere's own images
     // (measured: capture_radius = 1e10 put the spheres on top of each other)
     const double half_cell = 0.5 * std::min(s.system.lx, s.system.ly);
     if (d.capture_radius > half_cell && !in.failed("deposition.capture_radius") &&
         !in.failed("system.lx") && !in.failed("system.ly")) {
-      in.add_issue("deposition.capture_radius", where("deposition.capture_radius"),
+      in.add_issue("deposition.capture_radius", where(in, "deposition.capture_radius"),
                    fmt::format("got {}, expected at most half the cell, min(system.lx, "
                                "system.ly) / 2 = {}",
                                d.capture_radius, half_cell),
-                   in_file("deposition.capture_radius"));
+                   in_file(in, "deposition.capture_radius"));
     }
   }
+}
+
+/// Δt against the run's length, the blocked-state window and the adaptive bounds.
+void check_time_step(TableReader& in, const Scene& s) {
   const SolverSettings& solver = s.step.solver;
   // a first step longer than the whole run would make a run of no step at all
   const char* budget_key = s.run.until_blocked ? "run.max_duration" : "run.duration";
   const double budget = s.run.until_blocked ? s.run.max_duration : s.run.duration;
   if (solver.dt > budget && !in.failed("solver.dt") && !in.failed(budget_key)) {
-    in.add_issue("solver.dt", where("solver.dt"),
+    in.add_issue("solver.dt", where(in, "solver.dt"),
                  fmt::format("got {}, expected at most {} = {} (the run would take no step)",
                              solver.dt, budget_key, budget),
-                 in_file("solver.dt"));
+                 in_file(in, "solver.dt"));
   }
   // a step so short that the run could never end (and t + Δt = t below 2^-52 t: measured,
   // solver.dt = 1e-300 "ran" zero steps and exited 0)
@@ -275,55 +314,68 @@ void check_consistency(TableReader& in, const Scene& s, const SceneReadOptions& 
   const char* shortest_key = adaptive ? "solver.dt_min" : "solver.dt";
   const double shortest = adaptive ? solver.time_step.dt_min : solver.dt;
   if (budget / shortest > kMaxRunSteps && !in.failed(shortest_key) && !in.failed(budget_key)) {
-    in.add_issue(shortest_key, where(shortest_key),
+    in.add_issue(shortest_key, where(in, shortest_key),
                  fmt::format("got {}, expected at least {} / 1e12 = {} (a run of more than "
                              "10^12 steps could not end)",
                              shortest, budget_key, budget / kMaxRunSteps),
-                 in_file(shortest_key));
+                 in_file(in, shortest_key));
   }
   // the detector keeps the last window of piston heights and imbalances (16 bytes a step)
   constexpr double kMaxWindowSteps = 1e6;
   if (s.run.until_blocked && s.run.blocked.window / solver.dt > kMaxWindowSteps &&
       !in.failed("run.blocked.window") && !in.failed("solver.dt")) {
-    in.add_issue("run.blocked.window", where("run.blocked.window"),
+    in.add_issue("run.blocked.window", where(in, "run.blocked.window"),
                  fmt::format("got {}, expected at most 1e6 steps of solver.dt = {}, i.e. {}",
                              s.run.blocked.window, solver.dt, kMaxWindowSteps * solver.dt),
-                 in_file("run.blocked.window"));
+                 in_file(in, "run.blocked.window"));
   }
   // an adaptive Δt starts at solver.dt and stays in [dt_min, dt_max]
   const TimeStepControl& control = solver.time_step;
   if (control.adaptive && !in.failed("solver.dt") && !in.failed("solver.dt_min") &&
       !in.failed("solver.dt_max") && (control.dt_min > solver.dt || solver.dt > control.dt_max)) {
     const char* key = control.dt_min > solver.dt ? "solver.dt_min" : "solver.dt_max";
-    in.add_issue(key, where(key),
+    in.add_issue(key, where(in, key),
                  fmt::format("with solver.adaptive_dt = true, expected solver.dt_min = {} ≤ "
                              "solver.dt = {} ≤ solver.dt_max = {}",
                              control.dt_min, solver.dt, control.dt_max),
-                 in_file(key));
+                 in_file(in, key));
   }
   if (control.opening_per_step > control.max_opening_per_step &&
       !in.failed("solver.opening_per_step") && !in.failed("solver.max_opening_per_step")) {
-    in.add_issue("solver.opening_per_step", where("solver.opening_per_step"),
+    in.add_issue("solver.opening_per_step", where(in, "solver.opening_per_step"),
                  fmt::format("got {}, expected at most solver.max_opening_per_step = {}",
                              control.opening_per_step, control.max_opening_per_step),
-                 in_file("solver.opening_per_step"));
+                 in_file(in, "solver.opening_per_step"));
   }
+}
+
+void check_solver(TableReader& in, const Scene& s) {
+  const SolverSettings& solver = s.step.solver;
   // only the coloured kernel's sweeps are split among threads
   if (solver.threads > 1 && solver.kernel != SweepKernel::Coloured &&
       !in.failed("solver.threads") && !in.failed("solver.kernel")) {
-    in.add_issue("solver.threads", where("solver.threads"),
+    in.add_issue("solver.threads", where(in, "solver.threads"),
                  fmt::format("got {}, but solver.kernel = \"scalar\" runs on one thread: "
                              "expected 1, or solver.kernel = \"coloured\" for 1 to {} threads",
                              solver.threads, kMaxSweepThreads),
-                 in_file("solver.threads"));
+                 in_file(in, "solver.threads"));
   }
   if (solver.min_sweeps > solver.max_sweeps && !in.failed("solver.min_sweeps") &&
       !in.failed("solver.max_sweeps")) {
-    in.add_issue("solver.min_sweeps", where("solver.min_sweeps"),
+    in.add_issue("solver.min_sweeps", where(in, "solver.min_sweeps"),
                  fmt::format("got {}, expected at most solver.max_sweeps = {}", solver.min_sweeps,
                              solver.max_sweeps),
-                 in_file("solver.min_sweeps"));
+                 in_file(in, "solver.min_sweeps"));
   }
+}
+
+/// Checks between keys, after the single values; each message names both keys. A pair
+/// with an already reported value is skipped, so one mistake gives one message.
+void check_consistency(TableReader& in, const Scene& s, const SceneReadOptions& options) {
+  check_piston(in, s, options);
+  check_deposition(in, s);
+  check_time_step(in, s);
+  check_solver(in, s);
 }
 
 /// The command's demands (SceneReadOptions) as edits of the parsed scene, before it is read.

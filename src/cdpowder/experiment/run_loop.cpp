@@ -8,7 +8,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <optional>
+#include <utility>
 
 namespace cdpowder {
 
@@ -102,6 +104,244 @@ enum class StaticChecks {
   Stopped,  ///< one was cut short by the stop request: asked again when the run continues
 };
 
+/// A static solve on a copy of the run's state: adopted (world and work replace the run's)
+/// only when it ends the run.
+struct RestSolve {
+  World world;
+  StepWorkspace work;
+  StepReport report;
+};
+
+/// One call of run_simulation: the loop over steps, the accounting of each, and the static
+/// solves that decide whether the packing is blocked.
+class RunLoop {
+ public:
+  RunLoop(World& world, StepWorkspace& work, const StepSettings& settings, const RunConfig& run,
+          RunState& state, const StepObserver& observer, const StopRequest& stop_requested)
+      : world_(world),
+        work_(work),
+        settings_(settings),
+        run_(run),
+        state_(state),
+        result_(state.result),
+        observer_(observer),
+        stop_requested_(stop_requested),
+        start_(std::chrono::steady_clock::now()),
+        adaptive_(settings.solver.time_step.adaptive),
+        budget_(run.until_blocked ? run.max_duration : run.duration),
+        // a fixed Δt: the step count from the budget, so round-off in t never adds or drops
+        // a step; an adaptive Δt: until the simulated time has reached the budget
+        max_steps_(adaptive_
+                       ? std::numeric_limits<std::int64_t>::max()
+                       : static_cast<std::int64_t>(std::llround(budget_ / settings.solver.dt))),
+        current_(settings),
+        load_(piston_load(world)),
+        // the grain volume is constant: computed once for the porosity check of every step
+        fault_limits_{run.max_overlap, grain_volume(world.bodies)} {
+    if (!state.started) {
+      state.started = true;
+      state.start_time = world.time;
+      state.dt = settings.solver.dt;
+    }
+    // long solves (a static solve of 20 000 sweeps) ask the stop request after every sweep
+    current_.solver.stop_request = stop_requested ? &stop_requested : nullptr;
+    if (run.until_blocked && !state.detector)
+      state.detector.emplace(run.blocked, settings.solver.dt);
+  }
+
+  RunResult run() {
+    // a run stopped inside a static solve of its last step: that solve first
+    if (result_.steps > 0) {
+      const StaticChecks pending = static_checks();
+      if (pending == StaticChecks::Stopped) result_.interrupted = true;
+      if (pending != StaticChecks::GoOn) return finish();
+    }
+    // result.steps counts the steps of every call, so k continues where a saved run stopped
+    for (std::int64_t k = result_.steps; k < max_steps_ && !budget_spent(); ++k) {
+      if (!advance()) break;
+      // not after the last step: a run whose steps are all done is complete, not interrupted
+      const bool last_step = k + 1 >= max_steps_ || budget_spent();
+      if (!last_step && stop_requested_ && stop_requested_()) {
+        result_.interrupted = true;
+        break;
+      }
+    }
+    return finish();
+  }
+
+ private:
+  [[nodiscard]] double elapsed() const { return world_.time - state_.start_time; }
+
+  [[nodiscard]] bool budget_spent() const {
+    return adaptive_ && elapsed() >= budget_ * (1.0 - 1e-12);
+  }
+
+  [[nodiscard]] double fraction_done() const {
+    return adaptive_ ? std::min(1.0, elapsed() / budget_)
+                     : static_cast<double>(result_.steps) / static_cast<double>(max_steps_);
+  }
+
+  RunResult finish() {
+    result_.wall_seconds +=
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    return result_;
+  }
+
+  /// One step and what follows it; false when the run ends here (stopped inside the solve,
+  /// a fault, blocked, or stopped inside a static solve).
+  bool advance() {
+    current_.solver.dt = state_.dt;
+    const std::optional<StepReport> report =
+        step_unless_stopped(world_, work_, current_, adaptive_, result_);
+    if (!report) {  // stopped inside the solve: the state is the one after the step before
+      result_.interrupted = true;
+      return false;
+    }
+    account(*report);
+    if (adaptive_) state_.dt = current_.solver.dt;  // a repeated step goes on from its shorter Δt
+    if (state_.detector)
+      state_.detector->update(world_, result_.last.diagnostics, current_.solver.dt);
+    if (observer_) observer_(world_, result_.last, fraction_done());
+    // a state no physical run reaches ends the run here, before any test reads it
+    result_.fault = find_fault(world_, work_.contacts, result_.last.diagnostics, fault_limits_);
+    if (result_.fault) return false;
+    // the next Δt before the static solves: they leave the World as it is unless they end
+    // the run, so it is the same either way, and a run stopped inside one has it already
+    if (adaptive_) {
+      state_.dt = next_time_step(settings_.solver.time_step, current_.solver.dt, world_,
+                                 result_.last.diagnostics.max_cohesive_opening_speed,
+                                 settings_.laws, settings_.solver.skin);
+    }
+    const StaticChecks checks = static_checks();
+    if (checks == StaticChecks::Stopped) result_.interrupted = true;
+    return checks == StaticChecks::GoOn;
+  }
+
+  void account(const StepReport& report) {
+    RunResult& r = result_;
+    r.last = report;
+    r.min_dt = r.steps == 0 ? report.dt : std::min(r.min_dt, report.dt);
+    r.max_dt = std::max(r.max_dt, report.dt);
+    ++r.steps;
+    r.total_sweeps += report.solver.sweeps;
+    if (!report.solver.converged) ++r.capped_steps;
+    r.max_overlap_seen = std::max(r.max_overlap_seen, report.diagnostics.max_overlap);
+    r.max_cohesive_opening_per_range = std::max(r.max_cohesive_opening_per_range,
+                                                report.diagnostics.max_cohesive_opening_per_range);
+    for (std::size_t s = 0; s < r.stage_seconds.size(); ++s) r.stage_seconds[s] += report.times[s];
+  }
+
+  /// The static solve on a copy, used by both tests below.
+  [[nodiscard]] RestSolve solve_copy_at_rest() const {
+    RestSolve rest{world_, work_, {}};
+    rest.report = solve_at_rest(rest.world, rest.work, current_, run_.blocked);
+    return rest;
+  }
+
+  /// The run ends blocked on `rest`. The static final solve is a measurement, not a step of
+  /// the dynamics: reported as accuracy.final_solve, outside the step and sweep counts (its
+  /// time is in stage_seconds).
+  StaticChecks adopt(RestSolve&& rest, double fraction) {
+    world_ = std::move(rest.world);
+    work_ = std::move(rest.work);
+    result_.blocked = true;
+    result_.last = rest.report;
+    for (std::size_t s = 0; s < result_.stage_seconds.size(); ++s) {
+      result_.stage_seconds[s] += rest.report.times[s];
+    }
+    result_.final_solve = rest.report.solver;
+    if (observer_) observer_(world_, result_.last, fraction);
+    return StaticChecks::Blocked;
+  }
+
+  /// Blocked by the window's tests: the packing is measured on a static solve of a copy,
+  /// and adopted unless that solve shows a sphere out of balance; then the run goes on
+  /// unchanged and the test is repeated a window later, at most kMaxDeferredWindows times
+  /// (a packing whose static solve never balances is then measured as it is, and its
+  /// gauges say so; without the bound such a run could go on to max_duration).
+  StaticChecks check_blocked_window(double fraction) {
+    RestSolve rest = solve_copy_at_rest();
+    if (rest.report.solver.stopped) return StaticChecks::Stopped;
+    state_.last_rest_check = world_.time;
+    if (spheres_balanced(rest.report, run_.blocked, load_) ||
+        state_.deferred_windows >= kMaxDeferredWindows) {
+      return adopt(std::move(rest), fraction);
+    }
+    ++state_.deferred_windows;
+    ++result_.unbalanced_rest_solves;
+    return StaticChecks::GoOn;
+  }
+
+  /// At rest for a whole window, but the window mean of the force imbalance is above its
+  /// threshold: that mean is of the dynamic steps' forces, and noise the solver leaves in
+  /// them can keep it there for good (measured: a 100-sphere packing at (μt, μn) = (1, 0)
+  /// whose freely spinning spheres kept the mean at ≈ 0.02 until max_duration, 5 000 t0).
+  /// So the balance is tested on a static solve of a copy instead, once per window: if the
+  /// packing at rest carries the load with every sphere in balance, it is blocked;
+  /// otherwise the run goes on unchanged.
+  StaticChecks probe_balance(double fraction) {
+    const auto probe_start = std::chrono::steady_clock::now();
+    RestSolve probe = solve_copy_at_rest();
+    const SolverStats& solver = probe.report.solver;
+    if (solver.stopped) return StaticChecks::Stopped;
+    state_.last_probe = world_.time;
+    ++result_.probes;
+    result_.probe_sweeps += solver.sweeps;
+    result_.probe_seconds +=
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - probe_start).count();
+    // an unconverged static solve says nothing about the balance, and the next would cost
+    // as much again: stop probing and leave the run to the window mean
+    if (!solver.converged) state_.probing = false;
+    // (!(x < bound): a NaN imbalance is not in balance, as before)
+    if (!solver.converged ||
+        !(probe.report.diagnostics.piston_imbalance < run_.blocked.force_balance)) {
+      return StaticChecks::GoOn;
+    }
+    if (!spheres_balanced(probe.report, run_.blocked, load_)) {
+      ++result_.unbalanced_rest_solves;
+      return StaticChecks::GoOn;
+    }
+    result_.blocked_by_probe = true;
+    return adopt(std::move(probe), fraction);
+  }
+
+  /// The static solves after a step, on copies. Their conditions are read from the state
+  /// (the detector's memory, the times of the last solves), and a solve counts only once it
+  /// has ended: a run stopped inside one asks the same question again first thing when it
+  /// is continued, as a run never stopped asked it after that step.
+  StaticChecks static_checks() {
+    const std::optional<BlockedStateDetector>& detector = state_.detector;
+    if (!detector) return StaticChecks::GoOn;
+    const double fraction = fraction_done();
+    const bool blocked = detector->blocked();
+    if (blocked && detector->window_complete(world_.time - state_.last_rest_check)) {
+      const StaticChecks checked = check_blocked_window(fraction);
+      if (checked != StaticChecks::GoOn) return checked;
+    }
+    if (!blocked && state_.probing && detector->at_rest_for_window() &&
+        detector->window_complete(world_.time - state_.last_probe)) {
+      return probe_balance(fraction);
+    }
+    return StaticChecks::GoOn;
+  }
+
+  World& world_;
+  StepWorkspace& work_;
+  const StepSettings& settings_;
+  const RunConfig& run_;
+  RunState& state_;
+  RunResult& result_;
+  const StepObserver& observer_;
+  const StopRequest& stop_requested_;
+  std::chrono::steady_clock::time_point start_;
+  bool adaptive_;
+  double budget_;
+  std::int64_t max_steps_;
+  StepSettings current_;  ///< with the Δt of the step about to run
+  double load_;
+  FaultLimits fault_limits_;
+};
+
 }  // namespace
 
 RunResult run_simulation(World& world, StepWorkspace& work, const StepSettings& settings,
@@ -114,175 +354,10 @@ RunResult run_simulation(World& world, StepWorkspace& work, const StepSettings& 
 RunResult run_simulation(World& world, StepWorkspace& work, const StepSettings& settings,
                          const RunConfig& run, RunState& state, const StepObserver& observer,
                          const StopRequest& stop_requested) {
-  RunResult& result = state.result;
-  if (result.blocked) return result;  // a finished run has nothing left to do
-  result.interrupted = false;         // a resumed run goes on
-  const auto start = std::chrono::steady_clock::now();
-  if (!state.started) {
-    state.started = true;
-    state.start_time = world.time;
-    state.dt = settings.solver.dt;
-  }
-  const bool adaptive = settings.solver.time_step.adaptive;
-  const double budget = run.until_blocked ? run.max_duration : run.duration;
-  // a fixed Δt: the step count from the budget, so round-off in t never adds or drops a
-  // step; an adaptive Δt: until the simulated time has reached the budget
-  const std::int64_t max_steps =
-      adaptive ? std::numeric_limits<std::int64_t>::max()
-               : static_cast<std::int64_t>(std::llround(budget / settings.solver.dt));
-  const auto elapsed = [&] { return world.time - state.start_time; };
-  const auto budget_spent = [&] { return adaptive && elapsed() >= budget * (1.0 - 1e-12); };
-  const auto fraction_done = [&] {
-    return adaptive ? std::min(1.0, elapsed() / budget)
-                    : static_cast<double>(result.steps) / static_cast<double>(max_steps);
-  };
-  StepSettings current = settings;  // with the Δt of the step about to run
-  // long solves (a static solve of 20 000 sweeps) ask the stop request after every sweep
-  current.solver.stop_request = stop_requested ? &stop_requested : nullptr;
-  std::optional<BlockedStateDetector>& detector = state.detector;
-  if (run.until_blocked && !detector) detector.emplace(run.blocked, settings.solver.dt);
-  int& deferred_windows = state.deferred_windows;
-  bool& probing = state.probing;
-  const double load = piston_load(world);
-  // the grain volume is constant: computed once for the porosity check of every step
-  const FaultLimits fault_limits{run.max_overlap, grain_volume(world.bodies)};
-  const auto finish = [&] {
-    result.wall_seconds +=
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    return result;
-  };
-
-  const auto account = [&](const StepReport& report) {
-    result.last = report;
-    result.min_dt = result.steps == 0 ? report.dt : std::min(result.min_dt, report.dt);
-    result.max_dt = std::max(result.max_dt, report.dt);
-    ++result.steps;
-    result.total_sweeps += report.solver.sweeps;
-    if (!report.solver.converged) ++result.capped_steps;
-    result.max_overlap_seen = std::max(result.max_overlap_seen, report.diagnostics.max_overlap);
-    result.max_cohesive_opening_per_range = std::max(
-        result.max_cohesive_opening_per_range, report.diagnostics.max_cohesive_opening_per_range);
-    for (std::size_t s = 0; s < result.stage_seconds.size(); ++s) {
-      result.stage_seconds[s] += report.times[s];
-    }
-  };
-  // the static final solve is a measurement, not a step of the dynamics: reported as
-  // accuracy.final_solve, outside the step and sweep counts (its time is in stage_seconds)
-  const auto finish_at_rest = [&](const StepReport& at_rest, double fraction) {
-    result.blocked = true;
-    result.last = at_rest;
-    for (std::size_t s = 0; s < result.stage_seconds.size(); ++s) {
-      result.stage_seconds[s] += at_rest.times[s];
-    }
-    result.final_solve = at_rest.solver;
-    if (observer) observer(world, result.last, fraction);
-  };
-
-  // The static solves after a step, on copies. Their conditions are read from the state
-  // (the detector's memory, the times of the last solves), and a solve counts only once it
-  // has ended: a run stopped inside one asks the same question again first thing when it
-  // is continued, as a run never stopped asked it after that step.
-  const auto static_checks = [&]() {
-    if (!detector) return StaticChecks::GoOn;
-    const double fraction = fraction_done();
-    const bool blocked = detector->blocked();
-    // Blocked by the window's tests: the packing is measured on a static solve of a copy,
-    // and adopted unless that solve shows a sphere out of balance; then the run goes on
-    // unchanged and the test is repeated a window later, at most kMaxDeferredWindows times
-    // (a packing whose static solve never balances is then measured as it is, and its
-    // gauges say so; without the bound such a run could go on to max_duration).
-    if (blocked && detector->window_complete(world.time - state.last_rest_check)) {
-      World rest_world = world;
-      StepWorkspace rest_work = work;
-      const StepReport at_rest = solve_at_rest(rest_world, rest_work, current, run.blocked);
-      if (at_rest.solver.stopped) return StaticChecks::Stopped;
-      state.last_rest_check = world.time;
-      if (spheres_balanced(at_rest, run.blocked, load) || deferred_windows >= kMaxDeferredWindows) {
-        world = std::move(rest_world);
-        work = std::move(rest_work);
-        finish_at_rest(at_rest, fraction);
-        return StaticChecks::Blocked;
-      }
-      ++deferred_windows;
-      ++result.unbalanced_rest_solves;
-    }
-    // At rest for a whole window, but the window mean of the force imbalance is above its
-    // threshold: that mean is of the dynamic steps' forces, and noise the solver leaves in
-    // them can keep it there for good (measured: a 100-sphere packing at (μt, μn) = (1, 0)
-    // whose freely spinning spheres kept the mean at ≈ 0.02 until max_duration, 5 000 t0).
-    // So test the balance on a static solve of a copy instead, once per window: if the
-    // packing at rest carries the load with every sphere in balance, it is blocked;
-    // otherwise the run goes on unchanged.
-    if (!blocked && probing && detector->at_rest_for_window() &&
-        detector->window_complete(world.time - state.last_probe)) {
-      const auto probe_start = std::chrono::steady_clock::now();
-      World probe_world = world;
-      StepWorkspace probe_work = work;
-      const StepReport probe = solve_at_rest(probe_world, probe_work, current, run.blocked);
-      if (probe.solver.stopped) return StaticChecks::Stopped;
-      state.last_probe = world.time;
-      ++result.probes;
-      result.probe_sweeps += probe.solver.sweeps;
-      result.probe_seconds +=
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - probe_start).count();
-      // an unconverged static solve says nothing about the balance, and the next would
-      // cost as much again: stop probing and leave the run to the window mean
-      if (!probe.solver.converged) probing = false;
-      if (probe.solver.converged &&
-          probe.diagnostics.piston_imbalance < run.blocked.force_balance) {
-        if (spheres_balanced(probe, run.blocked, load)) {
-          world = std::move(probe_world);
-          work = std::move(probe_work);
-          result.blocked_by_probe = true;
-          finish_at_rest(probe, fraction);
-          return StaticChecks::Blocked;
-        }
-        ++result.unbalanced_rest_solves;
-      }
-    }
-    return StaticChecks::GoOn;
-  };
-
-  // a run stopped inside a static solve of its last step: that solve first
-  if (result.steps > 0) {
-    const StaticChecks pending = static_checks();
-    if (pending == StaticChecks::Stopped) result.interrupted = true;
-    if (pending != StaticChecks::GoOn) return finish();
-  }
-  // result.steps counts the steps of every call, so k continues where a saved run stopped
-  for (std::int64_t k = result.steps; k < max_steps && !budget_spent(); ++k) {
-    current.solver.dt = state.dt;
-    const std::optional<StepReport> report =
-        step_unless_stopped(world, work, current, adaptive, result);
-    if (!report) {  // stopped inside the solve: the state is the one after the step before
-      result.interrupted = true;
-      break;
-    }
-    account(*report);
-    if (adaptive) state.dt = current.solver.dt;  // a repeated step continues from its shorter Δt
-    if (detector) detector->update(world, result.last.diagnostics, current.solver.dt);
-    if (observer) observer(world, result.last, fraction_done());
-    // a state no physical run reaches ends the run here, before any test reads it
-    result.fault = find_fault(world, work.contacts, result.last.diagnostics, fault_limits);
-    if (result.fault) break;
-    // the next Δt before the static solves: they leave the World as it is unless they end
-    // the run, so it is the same either way, and a run stopped inside one has it already
-    if (adaptive) {
-      state.dt = next_time_step(settings.solver.time_step, current.solver.dt, world,
-                                result.last.diagnostics.max_cohesive_opening_speed, settings.laws,
-                                settings.solver.skin);
-    }
-    const StaticChecks checks = static_checks();
-    if (checks == StaticChecks::Stopped) result.interrupted = true;
-    if (checks != StaticChecks::GoOn) break;
-    // not after the last step: a run whose steps are all done is complete, not interrupted
-    const bool last_step = k + 1 >= max_steps || budget_spent();
-    if (!last_step && stop_requested && stop_requested()) {
-      result.interrupted = true;
-      break;
-    }
-  }
-  return finish();
+  if (state.result.blocked) return state.result;  // a finished run has nothing left to do
+  state.result.interrupted = false;               // a resumed run goes on
+  RunLoop loop(world, work, settings, run, state, observer, stop_requested);
+  return loop.run();
 }
 
 }  // namespace cdpowder
