@@ -322,6 +322,16 @@ def read_json(path):
         return None
 
 
+def shown(path):
+    """`path` as the report shows it: relative to the working folder when inside it, so a
+    committed gate.md never records this machine's absolute paths."""
+    path = pathlib.Path(path)
+    try:
+        return str(path.relative_to(pathlib.Path.cwd()))
+    except ValueError:
+        return str(path)
+
+
 def read_summary_or_none(path):
     try:
         return read_summary(path)
@@ -837,17 +847,17 @@ def main(argv=None):
     verdict = "PASS" if all(r["verdict"].startswith("PASS") for r in results) else "FAIL"
 
     command = shlex.join([sys.argv[0]] + (sys.argv[1:] if argv is None else list(argv)))
-    programs = {side: ({"binary": str(args.binaries[side]), "sha256": hashes[side],
+    programs = {side: ({"binary": shown(args.binaries[side]), "sha256": hashes[side],
                         "version": version_of(args.binaries[side])}
                        if args.binaries[side] is not None else
-                       {"binary": f"runs of {args.swept[side]}", "sha256": "-",
+                       {"binary": f"runs of {shown(args.swept[side])}", "sha256": "-",
                         "version": "as each run's summary.json records"})
                 for side in SIDES}
     gate = {
         "verdict": verdict,
         "command": command,
         "programs": programs,
-        "scene": str(args.scene),
+        "scene": shown(args.scene) if args.scene else None,
         "seeds": args.seeds,
         "set": args.raw["common"],
         "base_set": args.raw["base"],
@@ -861,7 +871,7 @@ def main(argv=None):
                    "force_balance": "each run's scene run.blocked.force_balance",
                    "max_net_force": "force_balance × the run's piston.applied_force"},
         "runs": [{"side": r["side"], "label": r["label"], "seed": r["seed"],
-                  "folder": str(r["source"]), "finished": r["summary"] is not None}
+                  "folder": shown(r["source"]), "finished": r["summary"] is not None}
                  for r in runs],
         "points": results,
     }
@@ -873,14 +883,14 @@ def main(argv=None):
     md = ["# Accuracy gate", "", f"**{verdict}**{note}", "", "```", command, "```", ""]
     md += [f"- {side}: `{p['binary']}` ({p['version']}, sha256 {p['sha256'][:12]})"
            for side, p in programs.items()]
-    md += [f"- scene `{args.scene}`, seeds {seeds_text(args.seeds)} ({len(args.seeds)}), "
+    md += [f"- scene `{shown(args.scene) if args.scene else None}`, seeds {seeds_text(args.seeds)} ({len(args.seeds)}), "
            "differences candidate − base paired by seed, "
            "± one standard error of the mean difference", ""]
     (args.out / "gate.md").write_text("\n".join(md + text) + "\n")
     print("\n".join(text))
     note = f" (inherited from the base: {inherited})" if inherited else ""
-    print(f"\naccuracy gate: {verdict}{note} (details in {args.out / 'gate.md'}, "
-          f"{args.out / 'gate.json'})")
+    print(f"\naccuracy gate: {verdict}{note} (details in {shown(args.out / 'gate.md')}, "
+          f"{shown(args.out / 'gate.json')})")
     return 0 if verdict == "PASS" and not failures else 1
 
 

@@ -464,9 +464,8 @@ std::size_t adopt_reused_runs(const SweepOptions& options, SweepState& state) {
     std::filesystem::remove_all(folder);
     std::filesystem::create_directories(folder);
     write_file_atomically(folder / "summary.json", read_text(source));
-    write_file_atomically(
-        folder / "log.txt",
-        fmt::format("reused from {}\n", std::filesystem::absolute(source).string()));
+    write_file_atomically(folder / "log.txt",
+                          fmt::format("reused from {}\n", source.string()));  // as --reuse named it
     state.records[i] = read_run_record(folder / "summary.json");
     if (is_reusable(state.records[i], state.scene_texts[i])) {
       ++reused_count;

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Keeps the documentation and the code telling the same story. Four checks:
+"""Keeps the documentation and the code telling the same story. Five checks:
 
 (a) citations: every `physics.md §X` in src/ app/ tests/ bench/ tools/ docs/ and README.md,
     and every unqualified `§X` there, names a section heading X of docs/physics.md. In this
@@ -20,6 +20,9 @@
     includes only headers of its own folder and of the folders listed before it (a header at
     the top of src/cdpowder, such as the generated version.hpp, is outside the layers), and
     every folder of src/cdpowder is in the table.
+(e) machine paths: no text file under results/, docs/ or examples/ records a file by the
+    absolute path of the machine that wrote it (`/…/examples/paper/scene.toml`): provenance
+    names a file as the user named it, or relative to the repository.
 
 Debian python3, standard library only. Exit status 0 when all hold, 1 with one line per
 problem otherwise. `--self-test` runs the checks on small synthetic trees, each broken in one
@@ -29,6 +32,7 @@ import argparse
 import json
 import pathlib
 import re
+import subprocess
 import sys
 import tempfile
 import unittest
@@ -361,8 +365,45 @@ def check_layers(root):
     return problems
 
 
+# ---------------------------------------------------------------------------------------------
+# (e) machine paths in recorded outputs
+
+PATH_SCOPE = ["results", "docs", "examples"]
+# an absolute path that reaches one of the repository's folders: /<one or more folders>/examples/…
+# (not a URL's //host/…, not part of a longer word or relative path)
+MACHINE_PATH = re.compile(r"(?<![\w.:/~-])/(?:[\w.+-]+/)+?"
+                          r"(?:examples|results|src|tests|tools|bench|docs|app)/[\w.=,+-]")
+
+
+def tracked_files(root, tops):
+    """The files under `tops` that git tracks (a run's ignored outputs are not the record);
+    every file there when `root` is not a git checkout."""
+    try:
+        listed = subprocess.run(["git", "-C", str(root), "ls-files", "--", *tops], check=True,
+                                capture_output=True, text=True).stdout.splitlines()
+        return [root / name for name in listed]
+    except (OSError, subprocess.CalledProcessError):
+        return [p for top in tops for p in sorted((root / top).rglob("*"))]
+
+
+def check_machine_paths(root):
+    problems = []
+    for path in tracked_files(root, PATH_SCOPE):
+        if path.is_file() and path.suffix in TEXT_SUFFIXES | {".svg"}:
+            for number, line in enumerate(path.read_text(encoding="utf-8",
+                                                         errors="replace").splitlines(), 1):
+                match = MACHINE_PATH.search(line)
+                if match:
+                    problems.append(f"{path.relative_to(root)}:{number}: records the machine "
+                                    f"path '{match.group(0)}…'; name files relative to the "
+                                    "repository or as the user named them")
+                    break
+    return problems
+
+
 def run_checks(root):
-    return check_citations(root) + check_scene_keys(root) + check_labels(root) + check_layers(root)
+    return (check_citations(root) + check_scene_keys(root) + check_labels(root) +
+            check_layers(root) + check_machine_paths(root))
 
 
 # ---------------------------------------------------------------------------------------------
@@ -428,6 +469,13 @@ class SelfTest(unittest.TestCase):
         text = "\n".join(problems)
         for fragment in fragments:
             self.assertIn(fragment, text, f"not reported: {fragment!r}; got:\n{text}")
+
+    def test_a_machine_path_in_a_result(self):
+        text = ("# scene: /home/me/repo/examples/q/scene.toml\n"
+                "# url: http://www.w3.org/2000/svg\n")
+        p = self.problems(**{"results/t/results.csv": lambda _: text})
+        self.assert_reported(p, "results/t/results.csv:1: records the machine path")
+        self.assertEqual(len(p), 1)
 
     def test_good_tree_passes(self):
         self.assertEqual(self.problems(), [])
@@ -529,7 +577,8 @@ def main():
               "docs/testing.md and docs/architecture.md must match the code "
               "(tests/docs/check_docs.py)")
         return 1
-    print("check_docs: citations, scene keys, test labels and layers agree with the docs")
+    print("check_docs: citations, scene keys, test labels and layers agree with the docs; "
+          "no machine paths recorded")
     return 0
 
 

@@ -10,6 +10,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -59,6 +60,24 @@ TEST(SweepPlan, SaysAFolderIsNotASweepFile) {
     ASSERT_EQ(error.issues().size(), 1U);
     EXPECT_THAT(error.what(), HasSubstr("is a folder; expected a sweep file"));
   }
+}
+
+// Provenance records a file as the user named it: a sweep file given relative to the working
+// folder gives a base scene relative to it too, never this machine's absolute path (the
+// sweep's tables and every run's outputs record plan.scene).
+TEST(SweepPlan, TheBaseSceneIsRelativeToTheSweepFileAsNamed) {
+  const std::filesystem::path before = std::filesystem::current_path();
+  const std::filesystem::path scratch =
+      std::filesystem::temp_directory_path() / "cdpowder_sweep_plan_relative";
+  std::filesystem::remove_all(scratch);
+  std::filesystem::create_directories(scratch / "sub");
+  { std::ofstream(scratch / "sub/sweep.toml") << "scene = \"scene.toml\"\nseeds = 2\n"; }
+  std::filesystem::current_path(scratch);
+  const SweepPlan plan = read_sweep_plan("sub/sweep.toml");
+  std::filesystem::current_path(before);
+  std::filesystem::remove_all(scratch);
+  EXPECT_EQ(plan.scene, std::filesystem::path("sub/scene.toml"));
+  EXPECT_EQ(plan.source, std::filesystem::path("sub/sweep.toml"));
 }
 
 TEST(SweepPlan, GridIsTheCartesianProductWithTheLastKeyFastest) {

@@ -378,10 +378,9 @@ SweepPlan read_sweep_plan(const std::filesystem::path& file,
                           const std::vector<std::string>& extra_fixed) {
   const std::string text =
       read_input_file(file, "a sweep file (TOML), e.g. examples/quick/fig5_sweep.toml");
-  std::error_code error;
-  const std::filesystem::path absolute = std::filesystem::absolute(file, error);
-  SweepPlan plan = read_sweep_plan_text(
-      text, file.string(), error ? file.parent_path() : absolute.parent_path(), extra_fixed);
+  // the base scene relative to the sweep file as the user named it: the runs (children in
+  // the same working folder) find it, and outputs record it without this machine's path
+  SweepPlan plan = read_sweep_plan_text(text, file.string(), file.parent_path(), extra_fixed);
   plan.source = file;
   return plan;
 }
