@@ -37,12 +37,6 @@ class CellGrid {
   /// Sorts the positions (already wrapped into the box) into cells of edge ≥ min_cell_edge [R].
   void rebuild(const std::vector<Vec3>& positions, const PeriodicBox& box, double min_cell_edge);
 
-  /// Calls visit(i, j) once for every pair i < j of spheres in the same or neighbouring
-  /// cells (distinct neighbour cells only, so a box of one or two cells still visits each
-  /// pair once).
-  template <typename Visitor>
-  void for_each_near_pair(Visitor&& visit) const;
-
   /// Calls visit(j) for every sphere j in the same or a neighbouring cell of sphere i
   /// (each once; i itself included), in cell order.
   template <typename Visitor>
@@ -68,30 +62,6 @@ class CellGrid {
       cell_start_;  ///< spheres of cell c: sorted_[cell_start_[c] .. cell_start_[c+1])
   std::vector<BodyIndex> sorted_;  ///< sphere indices ordered by cell
 };
-
-template <typename Visitor>
-void CellGrid::for_each_near_pair(Visitor&& visit) const {
-  std::array<int, 27> neighbours{};
-  for (int cz = 0; cz < nz_; ++cz) {
-    for (int cy = 0; cy < ny_; ++cy) {
-      for (int cx = 0; cx < nx_; ++cx) {
-        const int c = cell_index(cx, cy, cz);
-        if (cell_start_[c] == cell_start_[c + 1]) continue;
-        const int count = neighbour_cells(cx, cy, cz, neighbours);
-        for (std::uint32_t s = cell_start_[c]; s < cell_start_[c + 1]; ++s) {
-          const BodyIndex i = sorted_[s];
-          for (int k = 0; k < count; ++k) {
-            const int nc = neighbours[k];
-            for (std::uint32_t t = cell_start_[nc]; t < cell_start_[nc + 1]; ++t) {
-              const BodyIndex j = sorted_[t];
-              if (j > i) visit(i, j);
-            }
-          }
-        }
-      }
-    }
-  }
-}
 
 template <typename Visitor>
 void CellGrid::for_each_near(BodyIndex i, Visitor&& visit) const {
