@@ -127,12 +127,9 @@ void add_run_options(CLI::App& command, cdpowder::app::RunOptions& options) {
   add_checkpoint_option(command, options.checkpoint_every);
 }
 
-}  // namespace
-
-namespace {
-
-int run_command_line(int argc, char** argv) {
-  // CLI11 says only "A subcommand is required" for a misspelt command
+/// The message and exit code when the first word names no command (CLI11 says only "A
+/// subcommand is required" for a misspelt one), or nullopt.
+std::optional<int> refuse_missing_command(int argc, char** argv) {
   if (argc >= 2 && argv[1][0] != '-' &&
       std::find(kCommands.begin(), kCommands.end(), std::string_view(argv[1])) == kCommands.end()) {
     std::fprintf(stderr,
@@ -147,83 +144,39 @@ int run_command_line(int argc, char** argv) {
                  "(cdpowder --help; the quick start is in README.md)\n");
     return kExitBadInput;
   }
-  CLI::App cli{"cdpowder — contact dynamics of cohesive powders of rigid spheres"};
-  cli.set_version_flag("--version",
-                       std::string(cdpowder::kVersion) + " (commit " + cdpowder::kGitCommit + ")");
-  cli.require_subcommand(1);
+  return std::nullopt;
+}
 
-  cdpowder::app::RunOptions simulate;
-  CLI::App* simulate_cmd = cli.add_subcommand(
-      "simulate", "Run a scene (TOML) for its duration or until it blocks; write the outputs");
-  add_run_options(*simulate_cmd, simulate);
-
-  cdpowder::app::RunOptions compact;
-  CLI::App* compact_cmd = cli.add_subcommand(
-      "compact",
-      "Compact a deposit (or a particles CSV) with the piston until the blocked state; "
-      "write porosity, stress and the packing");
-  add_run_options(*compact_cmd, compact);
-
-  cdpowder::app::ResumeOptions resume;
-  CLI::App* resume_cmd = cli.add_subcommand(
+CLI::App* add_resume_command(CLI::App& cli, cdpowder::app::ResumeOptions& resume) {
+  CLI::App* command = cli.add_subcommand(
       "resume",
       "Continue the unfinished run in DIR from its checkpoint.cdps; it ends bit-identical to "
       "the run never stopped (docs/outputs.md)");
-  resume_cmd->add_option("folder", resume.folder, "The run's output folder")
+  command->add_option("folder", resume.folder, "The run's output folder")
       ->required()
       ->check(CLI::ExistingDirectory);
-  resume_cmd->add_flag("--quiet,-q", resume.quiet, "No progress line on stderr");
-  add_checkpoint_option(*resume_cmd, resume.checkpoint_every);
+  command->add_flag("--quiet,-q", resume.quiet, "No progress line on stderr");
+  add_checkpoint_option(*command, resume.checkpoint_every);
+  return command;
+}
 
-  cdpowder::app::DepositOptions deposit;
-  CLI::App* deposit_cmd = cli.add_subcommand(
+CLI::App* add_deposit_command(CLI::App& cli, cdpowder::app::DepositOptions& deposit) {
+  CLI::App* command = cli.add_subcommand(
       "deposit", "Ballistic deposition with a capture radius ([deposition]); write particles.csv");
-  deposit_cmd->add_option("scene", deposit.scene, "Scene file (TOML) with a [deposition] section")
+  command->add_option("scene", deposit.scene, "Scene file (TOML) with a [deposition] section")
       ->required();
-  deposit_cmd->add_option("--out,-o", deposit.out, "Output folder (created if missing)")
+  command->add_option("--out,-o", deposit.out, "Output folder (created if missing)")
       ->required()
       ->check(output_folder_problem, "FOLDER");
-  deposit_cmd->add_option("--set", deposit.overrides,
-                          "Override a scene key: --set section.key=value (repeatable)");
+  command->add_option("--set", deposit.overrides,
+                      "Override a scene key: --set section.key=value (repeatable)");
+  return command;
+}
 
-  cdpowder::app::SweepOptions sweep;
-  CLI::App* sweep_cmd = cli.add_subcommand(
-      "sweep",
-      "Compact every parameter point × seed of a sweep file, in parallel and resumable; write "
-      "results.csv and points.csv (docs/sweeps.md)");
-  sweep_cmd->add_option("sweep", sweep.sweep, "Sweep file (TOML); see docs/sweeps.md")->required();
-  sweep_cmd->add_option("--out,-o", sweep.out, "Output folder (created if missing)")
-      ->required()
-      ->check(output_folder_problem, "FOLDER");
-  sweep_cmd->add_option("--set", sweep.overrides,
-                        "Override a scene key in every run: --set section.key=value (repeatable)");
-  sweep_cmd->add_option("--jobs,-j", sweep.jobs, "Runs at a time (default: the number of cores)")
-      ->check(count_problem("runs at a time, e.g. 2 (0: one per core)"), "N");
-  sweep_cmd->add_flag("--quiet,-q", sweep.quiet, "No progress lines on stderr");
-  add_checkpoint_option(*sweep_cmd, sweep.checkpoint_every);
-  sweep_cmd->add_flag("--dry-run", sweep.dry_run,
-                      "List the runs and whether each is finished; run nothing");
-  CLI::Option* list = sweep_cmd->add_flag(
-      "--list", sweep.list,
-      "Print one shell command per run still to do (for GNU parallel, xargs -P or a Slurm "
-      "array; docs/sweeps.md); run nothing");
-  CLI::Option* task =
-      sweep_cmd
-          ->add_option(
-              "--task", sweep.task,
-              "Run exactly run I of the plan (the index --list prints), as one of many runners")
-          ->check(count_problem("a run index ≥ 0 (--list prints them)"), "I");
-  CLI::Option* collect = sweep_cmd->add_flag(
-      "--collect", sweep.collect, "Write results.csv and points.csv from the finished runs");
-  list->excludes(task)->excludes(collect);
-  task->excludes(collect);
-  sweep_cmd
-      ->add_option("--reuse", sweep.reuse,
-                   "Another sweep folder: copy in its finished runs whose scene is exactly a "
-                   "run's own instead of running them again (repeatable)")
-      ->check(CLI::ExistingDirectory);
-  sweep_cmd
-      ->add_option_function<std::string>(
+/// --time-limit DURATION of the sweep: seconds, or numbers with units h, m, s.
+void add_time_limit_option(CLI::App& command, cdpowder::app::SweepOptions& sweep) {
+  command
+      .add_option_function<std::string>(
           "--time-limit",
           [&sweep](const std::string& text) { sweep.time_limit = cdpowder::parse_duration(text); },
           "Wall time for the whole sweep (5400, 90m, 2h30m): a run starts only when it is "
@@ -239,20 +192,52 @@ int run_command_line(int argc, char** argv) {
                              "with units h, m, s, largest first (5400, 90m, 2.5h, 2h30m)";
           },
           "DURATION");
+}
 
-  try {
-    cli.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    const int code = cli.exit(e);
-    return code == 0 ? 0 : kExitBadInput;
-  }
+CLI::App* add_sweep_command(CLI::App& cli, cdpowder::app::SweepOptions& sweep) {
+  CLI::App* command = cli.add_subcommand(
+      "sweep",
+      "Compact every parameter point × seed of a sweep file, in parallel and resumable; write "
+      "results.csv and points.csv (docs/sweeps.md)");
+  command->add_option("sweep", sweep.sweep, "Sweep file (TOML); see docs/sweeps.md")->required();
+  command->add_option("--out,-o", sweep.out, "Output folder (created if missing)")
+      ->required()
+      ->check(output_folder_problem, "FOLDER");
+  command->add_option("--set", sweep.overrides,
+                      "Override a scene key in every run: --set section.key=value (repeatable)");
+  command->add_option("--jobs,-j", sweep.jobs, "Runs at a time (default: the number of cores)")
+      ->check(count_problem("runs at a time, e.g. 2 (0: one per core)"), "N");
+  command->add_flag("--quiet,-q", sweep.quiet, "No progress lines on stderr");
+  add_checkpoint_option(*command, sweep.checkpoint_every);
+  command->add_flag("--dry-run", sweep.dry_run,
+                    "List the runs and whether each is finished; run nothing");
+  CLI::Option* list = command->add_flag(
+      "--list", sweep.list,
+      "Print one shell command per run still to do (for GNU parallel, xargs -P or a Slurm "
+      "array; docs/sweeps.md); run nothing");
+  CLI::Option* task =
+      command
+          ->add_option(
+              "--task", sweep.task,
+              "Run exactly run I of the plan (the index --list prints), as one of many runners")
+          ->check(count_problem("a run index ≥ 0 (--list prints them)"), "I");
+  CLI::Option* collect = command->add_flag(
+      "--collect", sweep.collect, "Write results.csv and points.csv from the finished runs");
+  list->excludes(task)->excludes(collect);
+  task->excludes(collect);
+  command
+      ->add_option("--reuse", sweep.reuse,
+                   "Another sweep folder: copy in its finished runs whose scene is exactly a "
+                   "run's own instead of running them again (repeatable)")
+      ->check(CLI::ExistingDirectory);
+  add_time_limit_option(*command, sweep);
+  return command;
+}
 
+/// Runs `command`, turning the expected exceptions into messages and exit codes.
+int run_reporting_errors(const std::function<int()>& command) {
   try {
-    if (simulate_cmd->parsed()) return cdpowder::app::run_simulate(simulate);
-    if (compact_cmd->parsed()) return cdpowder::app::run_compact(compact);
-    if (resume_cmd->parsed()) return cdpowder::app::run_resume(resume);
-    if (deposit_cmd->parsed()) return cdpowder::app::run_deposit(deposit);
-    if (sweep_cmd->parsed()) return cdpowder::app::run_sweep(sweep);
+    return command();
   } catch (const cdpowder::Interrupted& e) {
     std::fprintf(stderr, "error: %s; nothing written\n", e.what());
     return kExitRunFailed;
@@ -281,7 +266,46 @@ int run_command_line(int argc, char** argv) {
     std::fprintf(stderr, "error: %s\n", e.what());
     return kExitRunFailed;
   }
-  return kExitRunFailed;
+}
+
+int run_command_line(int argc, char** argv) {
+  if (const std::optional<int> refused = refuse_missing_command(argc, argv)) return *refused;
+  CLI::App cli{"cdpowder — contact dynamics of cohesive powders of rigid spheres"};
+  cli.set_version_flag("--version",
+                       std::string(cdpowder::kVersion) + " (commit " + cdpowder::kGitCommit + ")");
+  cli.require_subcommand(1);
+
+  cdpowder::app::RunOptions simulate;
+  CLI::App* simulate_cmd = cli.add_subcommand(
+      "simulate", "Run a scene (TOML) for its duration or until it blocks; write the outputs");
+  add_run_options(*simulate_cmd, simulate);
+  cdpowder::app::RunOptions compact;
+  CLI::App* compact_cmd = cli.add_subcommand(
+      "compact",
+      "Compact a deposit (or a particles CSV) with the piston until the blocked state; "
+      "write porosity, stress and the packing");
+  add_run_options(*compact_cmd, compact);
+  cdpowder::app::ResumeOptions resume;
+  CLI::App* resume_cmd = add_resume_command(cli, resume);
+  cdpowder::app::DepositOptions deposit;
+  CLI::App* deposit_cmd = add_deposit_command(cli, deposit);
+  cdpowder::app::SweepOptions sweep;
+  CLI::App* sweep_cmd = add_sweep_command(cli, sweep);
+
+  try {
+    cli.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = cli.exit(e);
+    return code == 0 ? 0 : kExitBadInput;
+  }
+  return run_reporting_errors([&] {
+    if (simulate_cmd->parsed()) return cdpowder::app::run_simulate(simulate);
+    if (compact_cmd->parsed()) return cdpowder::app::run_compact(compact);
+    if (resume_cmd->parsed()) return cdpowder::app::run_resume(resume);
+    if (deposit_cmd->parsed()) return cdpowder::app::run_deposit(deposit);
+    if (sweep_cmd->parsed()) return cdpowder::app::run_sweep(sweep);
+    return kExitRunFailed;
+  });
 }
 
 }  // namespace
