@@ -234,6 +234,101 @@ SolverStats solve_nlgs(Contacts& contacts, VelocityCache& velocities,
 
 namespace {
 
+/// The accelerator's buffers kept from step to step (re-allocating them every step cost a
+/// fifth of a paper-size run: page faults on fresh 200 kB vectors), its history cleared, and
+/// the step's starting actions as the first iterate.
+void begin_acceleration(const Contacts& contacts, const SolverSettings& settings,
+                        NlgsWorkspace& work, MixedModes modes) {
+  if (work.accelerator.depth() != settings.acceleration_depth) {
+    work.accelerator.set_depth(settings.acceleration_depth);
+  } else {
+    work.accelerator.reset();
+  }
+  flatten(contacts, modes, work.start);
+}
+
+/// The measured contraction of the force corrections and, for the kinematic rule, of the
+/// spheres' and the piston's velocity changes.
+struct ContractionWindows {
+  ContractionWindow forces;
+  ContractionWindow spheres_moved;
+  ContractionWindow piston_moved;
+};
+
+/// The stopping gauges of `sweep` from its sums and motion (physics.md §7.2): force scale,
+/// residual, relative change, contraction and error estimate, and the kinematic rule's
+/// errors once its window is full.
+void measure_sweep(int sweep, const SweepSums& sums, const SweepMotion& motion, bool kinematic_rule,
+                   const Contacts& contacts, const VelocityCache& velocities,
+                   const SolverSettings& settings, double reference_force,
+                   ContractionWindows& windows, SolverStats& stats) {
+  const double mean_closed =
+      sums.closed > 0 ? sums.sum_closed_normal / static_cast<double>(sums.closed) : 0.0;
+  stats.force_scale = std::max({reference_force, mean_closed, 1e-300});
+  stats.sweeps = sweep;
+  stats.residual = std::sqrt(sums.max_change_sq) / stats.force_scale;
+  if (settings.stopping_rule == StoppingRule::RelativeChange) {
+    const double size_sq = sum_action_size_sq(contacts);
+    stats.relative_change = size_sq > 0.0 ? std::sqrt(sums.sum_change_sq / size_sq) : 0.0;
+  }
+  stats.contraction = windows.forces.add(sweep, stats.residual);
+  // min() of the two forms: residual/(1 − ρ) ≤ 999.99… × residual when ρ ≤ 0.999, so the
+  // default bound of 1000 returns the first form to the last bit
+  stats.error_estimate = std::min(stats.residual / (1.0 - stats.contraction),
+                                  stats.residual * settings.max_error_amplification);
+  if (!kinematic_rule) return;
+  const auto estimate = [&](ContractionWindow& window, double change) {
+    const double rho = window.add(sweep, change);
+    return std::min(change / (1.0 - rho), change * settings.max_error_amplification);
+  };
+  const double sphere_error = estimate(windows.spheres_moved, motion.largest_change);
+  const double piston_error = estimate(windows.piston_moved, motion.piston_change);
+  if (sweep > kContractionWindow) {
+    // relative to the motion: a packing at rest never stops on this rule (its noise would
+    // let it creep), a flowing front stops once its velocities are settled to κ
+    stats.kinematic_error = sphere_error / std::max(motion.rms_surface_speed, 1e-300);
+    stats.piston_speed_error =
+        piston_error / std::max(std::abs(velocities.piston_velocity), 1e-300);
+  }
+}
+
+/// Whether the step may end after `sweep`: at least min_sweeps, and the force rule or the
+/// kinematic rule met.
+bool sweeps_done(int sweep, bool kinematic_rule, const SolverSettings& settings,
+                 const SolverStats& stats) {
+  const bool forces_done = settings.stopping_rule == StoppingRule::Residual
+                               ? stats.error_estimate <= settings.tolerance
+                               : stats.relative_change <= settings.tolerance;
+  const bool kinematics_done = kinematic_rule && sweep > kContractionWindow &&
+                               stats.kinematic_error <= settings.kinematic_tolerance &&
+                               stats.piston_speed_error <= settings.kinematic_tolerance;
+  return sweep >= settings.min_sweeps && (forces_done || kinematics_done);
+}
+
+/// One Anderson mixing of the actions after a sweep; the next mixing starts from the mixed
+/// actions, or from the sweep's when the fit failed.
+void mix_actions(Contacts& contacts, VelocityCache& velocities, SlabThreads* threads,
+                 NlgsWorkspace& work, MixedModes modes, bool coloured, bool cut,
+                 KinematicChange* kinematic) {
+  bool mixed = false;
+  if (cut) {
+    mixed = mix_cut_step(work.start, work.swept, work.mixed, modes, work.accelerator, contacts,
+                         velocities, work.coloured, threads, kinematic);
+  } else {
+    flatten(contacts, modes, work.swept);
+    mixed = work.accelerator.extrapolate(work.start, work.swept, work.mixed);
+    if (mixed) {
+      adopt(work.mixed, modes, contacts, velocities, coloured ? &work.coloured : nullptr);
+      if (kinematic != nullptr) work.kinematic.velocities_changed(velocities);
+    }
+  }
+  if (mixed) {
+    work.start.swap(work.mixed);
+  } else {
+    work.start.swap(work.swept);
+  }
+}
+
 SolverStats sweep_until_done(Contacts& contacts, VelocityCache& velocities,
                              const SolverSettings& settings, double reference_force,
                              SlabThreads* threads, NlgsWorkspace& work, MixedModes modes,
@@ -241,16 +336,7 @@ SolverStats sweep_until_done(Contacts& contacts, VelocityCache& velocities,
   std::vector<ContactIndex>& order = contacts.visit_order;
   const bool coloured = settings.kernel == SweepKernel::Coloured;
   const bool accelerate = settings.acceleration_depth > 0;
-  if (accelerate) {
-    // keep the buffers from step to step: re-allocating them every step cost a fifth of a
-    // paper-size run (page faults on fresh 200 kB vectors)
-    if (work.accelerator.depth() != settings.acceleration_depth) {
-      work.accelerator.set_depth(settings.acceleration_depth);
-    } else {
-      work.accelerator.reset();
-    }
-    flatten(contacts, modes, work.start);
-  }
+  if (accelerate) begin_acceleration(contacts, settings, work, modes);
   double best_residual = std::numeric_limits<double>::infinity();
 
   SolverStats stats;
@@ -258,9 +344,7 @@ SolverStats sweep_until_done(Contacts& contacts, VelocityCache& velocities,
     stats.converged = true;
     return stats;
   }
-  ContractionWindow forces;
-  ContractionWindow spheres_moved;
-  ContractionWindow piston_moved;
+  ContractionWindows windows;
   const bool kinematic_rule = settings.kinematic_tolerance > 0.0;
   KinematicChange* const kinematic = kinematic_rule ? &work.kinematic : nullptr;
   // a step cut into slabs (slabs.hpp) runs its sweeps, the kinematic rule's pass and the
@@ -292,44 +376,9 @@ SolverStats sweep_until_done(Contacts& contacts, VelocityCache& velocities,
                       : run_sweep(contacts, velocities);
       if (kinematic_rule) motion = work.kinematic.after_sweep(velocities, window_full);
     }
-    const double mean_closed =
-        sums.closed > 0 ? sums.sum_closed_normal / static_cast<double>(sums.closed) : 0.0;
-    stats.force_scale = std::max({reference_force, mean_closed, 1e-300});
-    stats.sweeps = sweep;
-    stats.residual = std::sqrt(sums.max_change_sq) / stats.force_scale;
-    if (settings.stopping_rule == StoppingRule::RelativeChange) {
-      const double size_sq = sum_action_size_sq(contacts);
-      stats.relative_change = size_sq > 0.0 ? std::sqrt(sums.sum_change_sq / size_sq) : 0.0;
-    }
-    stats.contraction = forces.add(sweep, stats.residual);
-    // min() of the two forms: residual/(1 − ρ) ≤ 999.99… × residual when ρ ≤ 0.999, so the
-    // default bound of 1000 returns the first form to the last bit
-    stats.error_estimate = std::min(stats.residual / (1.0 - stats.contraction),
-                                    stats.residual * settings.max_error_amplification);
-    if (kinematic_rule) {
-      const auto estimate = [&](ContractionWindow& window, double change) {
-        const double rho = window.add(sweep, change);
-        return std::min(change / (1.0 - rho), change * settings.max_error_amplification);
-      };
-      const double sphere_error = estimate(spheres_moved, motion.largest_change);
-      const double piston_error = estimate(piston_moved, motion.piston_change);
-      if (window_full) {
-        // relative to the motion: a packing at rest never stops on this rule (its noise would
-        // let it creep), a flowing front stops once its velocities are settled to κ
-        stats.kinematic_error = sphere_error / std::max(motion.rms_surface_speed, 1e-300);
-        stats.piston_speed_error =
-            piston_error / std::max(std::abs(velocities.piston_velocity), 1e-300);
-      }
-    }
-
-    const bool forces_done = settings.stopping_rule == StoppingRule::Residual
-                                 ? stats.error_estimate <= settings.tolerance
-                                 : stats.relative_change <= settings.tolerance;
-    const bool kinematics_done = kinematic_rule && sweep > kContractionWindow &&
-                                 stats.kinematic_error <= settings.kinematic_tolerance &&
-                                 stats.piston_speed_error <= settings.kinematic_tolerance;
-    const bool done = sweep >= settings.min_sweeps && (forces_done || kinematics_done);
-    if (done) {
+    measure_sweep(sweep, sums, motion, kinematic_rule, contacts, velocities, settings,
+                  reference_force, windows, stats);
+    if (sweeps_done(sweep, kinematic_rule, settings, stats)) {
       stats.converged = true;
       break;
     }
@@ -344,23 +393,7 @@ SolverStats sweep_until_done(Contacts& contacts, VelocityCache& velocities,
     if (accelerate && sweep % settings.acceleration_interval == 0 && sweep < settings.max_sweeps) {
       if (stats.residual > kRestartGrowth * best_residual) work.accelerator.reset();
       best_residual = std::min(best_residual, stats.residual);
-      bool mixed = false;
-      if (cut) {
-        mixed = mix_cut_step(work.start, work.swept, work.mixed, modes, work.accelerator, contacts,
-                             velocities, work.coloured, threads, kinematic);
-      } else {
-        flatten(contacts, modes, work.swept);
-        mixed = work.accelerator.extrapolate(work.start, work.swept, work.mixed);
-        if (mixed) {
-          adopt(work.mixed, modes, contacts, velocities, coloured ? &work.coloured : nullptr);
-          if (kinematic_rule) work.kinematic.velocities_changed(velocities);
-        }
-      }
-      if (mixed) {
-        work.start.swap(work.mixed);
-      } else {
-        work.start.swap(work.swept);
-      }
+      mix_actions(contacts, velocities, threads, work, modes, coloured, cut, kinematic);
     }
   }
   return stats;
