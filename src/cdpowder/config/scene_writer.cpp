@@ -73,89 +73,101 @@ toml::table law_table(const ContactLaw& law) {
                      {"cohesion_range", law.cohesion_range}};
 }
 
-}  // namespace
-
-std::string write_effective_toml(const Scene& s) {
-  const Vec3& g = s.system.gravity;
-  const ContactLaws& laws = s.step.laws;
-  const SolverSettings& solver = s.step.solver;
+toml::table contact_table(const ContactLaws& laws) {
   toml::table contact = law_table(laws.spheres);
   contact.insert_or_assign("cohesion_rule", name_of(laws.cohesion_rule, kCohesionRuleNames));
   toml::table wall = law_table(laws.walls);
   wall.insert_or_assign("r_eff_factor", laws.wall_r_eff_factor);
   contact.insert_or_assign("wall", std::move(wall));
-  toml::table piston{{"enabled", s.piston.enabled},
-                     {"mass", s.piston.mass},
-                     {"start_gap", s.piston.start_gap},
-                     {"velocity", s.piston.velocity}};
+  return contact;
+}
+
+toml::table piston_table(const PistonConfig& p) {
+  toml::table piston{{"enabled", p.enabled},
+                     {"mass", p.mass},
+                     {"start_gap", p.start_gap},
+                     {"velocity", p.velocity}};
   // Unset optional keys stay absent: TOML has no null.
   const std::array<std::pair<const char*, const std::optional<double>*>, 3> optionals = {
-      {{"pressure", &s.piston.pressure}, {"force", &s.piston.force}, {"height", &s.piston.height}}};
+      {{"pressure", &p.pressure}, {"force", &p.force}, {"height", &p.height}}};
   for (const auto& [key, value] : optionals) {
-    if (value->has_value()) {
-      piston.insert_or_assign(key, **value);
-    }
+    if (value->has_value()) piston.insert_or_assign(key, **value);
   }
-  const BlockedCriteria& blocked = s.run.blocked;
-  toml::table root{
-      {"system", toml::table{{"lx", s.system.lx},
-                             {"ly", s.system.ly},
-                             {"gravity", toml::array{g.x(), g.y(), g.z()}},
-                             {"density", s.system.density},
-                             {"bottom_wall", s.system.bottom_wall}}},
-      {"contact", std::move(contact)},
-      {"solver", toml::table{{"dt", solver.dt},
-                             {"adaptive_dt", solver.time_step.adaptive},
-                             {"dt_min", solver.time_step.dt_min},
-                             {"dt_max", solver.time_step.dt_max},
-                             {"opening_per_step", solver.time_step.opening_per_step},
-                             {"max_opening_per_step", solver.time_step.max_opening_per_step},
-                             {"displacement_per_step", solver.time_step.displacement_per_step},
-                             {"dt_growth", solver.time_step.growth},
-                             {"tolerance", solver.tolerance},
-                             {"max_error_amplification", solver.max_error_amplification},
-                             {"kinematic_tolerance", solver.kinematic_tolerance},
-                             {"min_sweeps", solver.min_sweeps},
-                             {"max_sweeps", solver.max_sweeps},
-                             {"stopping_rule", name_of(solver.stopping_rule, kStoppingRuleNames)},
-                             {"visit_order", name_of(solver.visit_order, kVisitOrderNames)},
-                             {"kernel", name_of(solver.kernel, kSweepKernelNames)},
-                             {"threads", solver.threads},
-                             {"acceleration_depth", solver.acceleration_depth},
-                             {"acceleration_interval", solver.acceleration_interval},
-                             {"warm_start", solver.warm_start},
-                             {"skin", solver.skin},
-                             {"verlet_margin", solver.verlet_margin},
-                             {"seed", static_cast<std::int64_t>(solver.seed)}}},
-      {"piston", std::move(piston)},
-      {"run",
-       toml::table{{"duration", s.run.duration},
-                   {"until_blocked", s.run.until_blocked},
-                   {"max_duration", s.run.max_duration},
-                   {"timeseries_every", s.run.timeseries_every},
-                   {"snapshot_every", s.run.snapshot_every},
-                   {"timeseries_interval", s.run.timeseries_interval},
-                   {"snapshot_interval", s.run.snapshot_interval},
-                   {"max_overlap", s.run.max_overlap},
-                   {"blocked", toml::table{{"window", blocked.window},
-                                           {"piston_speed", blocked.piston_speed},
-                                           {"sphere_speed", blocked.sphere_speed},
-                                           {"force_balance", blocked.force_balance},
-                                           {"height_change", blocked.height_change},
-                                           {"final_tolerance", blocked.final_tolerance},
-                                           {"final_max_sweeps", blocked.final_max_sweeps}}}}}};
-  if (s.deposition) {
-    const DepositionConfig& d = *s.deposition;
-    root.insert("deposition",
-                toml::table{{"spheres", d.spheres},
-                            {"radius_min", d.radius_min},
-                            {"radius_max", d.radius_max},
-                            {"capture_radius", d.capture_radius},
-                            {"capture_rule", name_of(d.capture_rule, kCaptureRuleNames)},
-                            {"seed", static_cast<std::int64_t>(d.seed)}});
-  } else {
-    root.insert("particles", toml::table{{"file", s.particles_file.string()}});
-  }
+  return piston;
+}
+
+toml::table solver_table(const SolverSettings& solver) {
+  return toml::table{{"dt", solver.dt},
+                     {"adaptive_dt", solver.time_step.adaptive},
+                     {"dt_min", solver.time_step.dt_min},
+                     {"dt_max", solver.time_step.dt_max},
+                     {"opening_per_step", solver.time_step.opening_per_step},
+                     {"max_opening_per_step", solver.time_step.max_opening_per_step},
+                     {"displacement_per_step", solver.time_step.displacement_per_step},
+                     {"dt_growth", solver.time_step.growth},
+                     {"tolerance", solver.tolerance},
+                     {"max_error_amplification", solver.max_error_amplification},
+                     {"kinematic_tolerance", solver.kinematic_tolerance},
+                     {"min_sweeps", solver.min_sweeps},
+                     {"max_sweeps", solver.max_sweeps},
+                     {"stopping_rule", name_of(solver.stopping_rule, kStoppingRuleNames)},
+                     {"visit_order", name_of(solver.visit_order, kVisitOrderNames)},
+                     {"kernel", name_of(solver.kernel, kSweepKernelNames)},
+                     {"threads", solver.threads},
+                     {"acceleration_depth", solver.acceleration_depth},
+                     {"acceleration_interval", solver.acceleration_interval},
+                     {"warm_start", solver.warm_start},
+                     {"skin", solver.skin},
+                     {"verlet_margin", solver.verlet_margin},
+                     {"seed", static_cast<std::int64_t>(solver.seed)}};
+}
+
+toml::table run_table(const RunConfig& run) {
+  const BlockedCriteria& blocked = run.blocked;
+  return toml::table{{"duration", run.duration},
+                     {"until_blocked", run.until_blocked},
+                     {"max_duration", run.max_duration},
+                     {"timeseries_every", run.timeseries_every},
+                     {"snapshot_every", run.snapshot_every},
+                     {"timeseries_interval", run.timeseries_interval},
+                     {"snapshot_interval", run.snapshot_interval},
+                     {"max_overlap", run.max_overlap},
+                     {"blocked", toml::table{{"window", blocked.window},
+                                             {"piston_speed", blocked.piston_speed},
+                                             {"sphere_speed", blocked.sphere_speed},
+                                             {"force_balance", blocked.force_balance},
+                                             {"height_change", blocked.height_change},
+                                             {"final_tolerance", blocked.final_tolerance},
+                                             {"final_max_sweeps", blocked.final_max_sweeps}}}};
+}
+
+/// [deposition], or [particles] file = … when the spheres come from a file.
+std::pair<const char*, toml::table> spheres_table(const Scene& s) {
+  if (!s.deposition) return {"particles", toml::table{{"file", s.particles_file.string()}}};
+  const DepositionConfig& d = *s.deposition;
+  return {"deposition", toml::table{{"spheres", d.spheres},
+                                    {"radius_min", d.radius_min},
+                                    {"radius_max", d.radius_max},
+                                    {"capture_radius", d.capture_radius},
+                                    {"capture_rule", name_of(d.capture_rule, kCaptureRuleNames)},
+                                    {"seed", static_cast<std::int64_t>(d.seed)}}};
+}
+
+}  // namespace
+
+std::string write_effective_toml(const Scene& s) {
+  const Vec3& g = s.system.gravity;
+  toml::table root{{"system", toml::table{{"lx", s.system.lx},
+                                          {"ly", s.system.ly},
+                                          {"gravity", toml::array{g.x(), g.y(), g.z()}},
+                                          {"density", s.system.density},
+                                          {"bottom_wall", s.system.bottom_wall}}},
+                   {"contact", contact_table(s.step.laws)},
+                   {"solver", solver_table(s.step.solver)},
+                   {"piston", piston_table(s.piston)},
+                   {"run", run_table(s.run)}};
+  auto [name, spheres] = spheres_table(s);
+  root.insert(name, std::move(spheres));
   // Basic single-line strings only, so shorten_floats can tell strings from numbers.
   const toml::format_flags flags =
       toml::toml_formatter::default_flags &
