@@ -35,16 +35,11 @@ using namespace cdpowder::bench;
 using nlohmann::json;
 
 std::string rng_text(const Rng& rng) {
-  std::ostringstream text;
-  text << rng;  // pcg-cpp's exact text form
-  return text.str();
+  return rng.text();  // pcg-cpp's exact text form
 }
 
 Rng rng_from_text(const std::string& text) {
-  std::istringstream in(text);
-  Rng rng;
-  in >> rng;
-  return rng;
+  return Rng::from_text(text).value_or(Rng{});
 }
 
 /// The problem begin_step left in `work`, before any sweep.

@@ -30,7 +30,9 @@ Packing fcc_packing_with_vacancies(int spheres, std::uint64_t seed) {
     }
   }
   Rng rng = make_rng(seed, RngStream::Deposition);
-  shuffle_indices(std::span<Vec3>(sites), rng);
+  for (std::size_t i = sites.size(); i > 1; --i) {  // Fisher–Yates, as shuffle_indices draws
+    std::swap(sites[i - 1], sites[rng(static_cast<std::uint32_t>(i))]);
+  }
   sites.resize(std::min<std::size_t>(sites.size(), static_cast<std::size_t>(spheres)));
   // lattice order (by z, then y, x) as a deposition would produce
   std::sort(sites.begin(), sites.end(), [](const Vec3& p, const Vec3& q) {

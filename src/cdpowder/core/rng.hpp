@@ -1,18 +1,43 @@
 // rng.hpp — reproducible random streams (pcg32) and the Fisher–Yates shuffle.
 // One stream per purpose (deposition, sweep order), so adding draws to one never
 // shifts the other. std::shuffle and std::uniform_*_distribution are avoided: their
-// sequences differ between standard libraries, ours must not.
+// sequences differ between standard libraries, ours must not. The engine is pcg-cpp's
+// pcg32, kept inside core/rng.cpp so that no pcg header reaches the library's users.
 #pragma once
 
-#include <pcg_random.hpp>
-
+#include <array>
 #include <cstdint>
+#include <optional>
 #include <span>
-#include <utility>
+#include <string>
+#include <string_view>
 
 namespace cdpowder {
 
-using Rng = pcg32;
+/// A pcg32 stream: 64 bits of state and 64 of stream increment, advanced by core/rng.cpp.
+class Rng {
+ public:
+  /// pcg32's default-seeded stream.
+  Rng();
+  /// pcg32(seed, stream): `stream` selects one of 2^63 independent sequences.
+  Rng(std::uint64_t seed, std::uint64_t stream);
+
+  /// The next 32 random bits.
+  std::uint32_t operator()();
+  /// Uniform in [0, bound) without bias (pcg32's bounded draw), bound ≥ 1.
+  std::uint32_t operator()(std::uint32_t bound);
+
+  /// pcg-cpp's exact text form (multiplier, increment, state), as the state file stores it.
+  [[nodiscard]] std::string text() const;
+  /// The stream of `text()`'s form; nullopt when the text is not one.
+  static std::optional<Rng> from_text(std::string_view text);
+
+  friend bool operator==(const Rng&, const Rng&) = default;
+  friend void shuffle_indices(std::span<std::uint32_t> order, Rng& rng);
+
+ private:
+  std::array<std::uint64_t, 2> engine_{};  ///< pcg32's bytes (core/rng.cpp)
+};
 
 /// Stream ids: pcg32's second seed selects an independent sequence.
 enum class RngStream : std::uint64_t { SweepOrder = 1, Deposition = 2 };
@@ -22,21 +47,10 @@ inline Rng make_rng(std::uint64_t seed, RngStream stream) {
 }
 
 /// Uniform double in [0, 1) with 53 random bits, identical on every platform.
-inline double uniform01(Rng& rng) {
-  const std::uint64_t hi = rng();
-  const std::uint64_t lo = rng();
-  const std::uint64_t bits = ((hi << 32U) | lo) >> 11U;
-  return static_cast<double>(bits) * 0x1.0p-53;
-}
+double uniform01(Rng& rng);
 
 /// Fisher–Yates with pcg32's unbiased bounded draw: the same permutation for a given
 /// seed with every compiler and standard library.
-template <typename T>
-void shuffle_indices(std::span<T> order, Rng& rng) {
-  for (std::size_t i = order.size(); i > 1; --i) {
-    const auto j = rng(static_cast<std::uint32_t>(i));
-    std::swap(order[i - 1], order[j]);
-  }
-}
+void shuffle_indices(std::span<std::uint32_t> order, Rng& rng);
 
 }  // namespace cdpowder

@@ -262,18 +262,15 @@ void check_ascending(const ByteReader& in, const std::vector<CachedAction>& entr
   }
 }
 
+/// pcg-cpp's own exact text form: multiplier, increment, state (Rng::text).
 std::string rng_text(const Rng& rng) {
-  std::ostringstream text;
-  text << rng;  // pcg-cpp's own exact text form: multiplier, increment, state
-  return text.str();
+  return rng.text();
 }
 
 Rng read_rng(ByteReader& in) {
-  std::istringstream text(in.string());
-  Rng rng;
-  text >> rng;
-  if (text.fail()) in.fail("the sweep-order stream cannot be read back");
-  return rng;
+  std::optional<Rng> rng = Rng::from_text(in.string());
+  if (!rng) in.fail("the sweep-order stream cannot be read back");
+  return *rng;
 }
 
 }  // namespace
