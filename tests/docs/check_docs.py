@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Keeps the documentation and the code telling the same story. Five checks:
+"""Keeps the documentation and the code telling the same story. Six checks:
 
 (a) citations: every `physics.md §X` in src/ app/ tests/ bench/ tools/ docs/ and README.md,
     and every unqualified `§X` there, names a section heading X of docs/physics.md. In this
@@ -23,6 +23,7 @@
 (e) machine paths: no text file under results/, docs/ or examples/ records a file by the
     absolute path of the machine that wrote it (`/…/examples/paper/scene.toml`): provenance
     names a file as the user named it, or relative to the repository.
+(f) citation: CITATION.cff's `version:` is the project's (CMakeLists.txt) and LICENSE exists.
 
 Debian python3, standard library only. Exit status 0 when all hold, 1 with one line per
 problem otherwise. `--self-test` runs the checks on small synthetic trees, each broken in one
@@ -401,9 +402,25 @@ def check_machine_paths(root):
     return problems
 
 
+# ---------------------------------------------------------------------------------------------
+# (f) the citation file
+
+def check_citation(root):
+    citation, cmake = root / "CITATION.cff", root / "CMakeLists.txt"
+    if not citation.is_file() or not cmake.is_file():
+        return []
+    problems = [] if (root / "LICENSE").is_file() else ["LICENSE: missing (CITATION.cff names one)"]
+    cited = re.search(r"^version:\s*([\w.]+)", citation.read_text(encoding="utf-8"), re.MULTILINE)
+    project = re.search(r"project\(cdpowder VERSION ([\w.]+)", cmake.read_text(encoding="utf-8"))
+    if project and (cited is None or cited.group(1) != project.group(1)):
+        problems.append(f"CITATION.cff: version {cited.group(1) if cited else '(none)'} is not "
+                        f"the project's {project.group(1)} (CMakeLists.txt)")
+    return problems
+
+
 def run_checks(root):
     return (check_citations(root) + check_scene_keys(root) + check_labels(root) +
-            check_layers(root) + check_machine_paths(root))
+            check_layers(root) + check_machine_paths(root) + check_citation(root))
 
 
 # ---------------------------------------------------------------------------------------------
@@ -475,6 +492,13 @@ class SelfTest(unittest.TestCase):
                 "# url: http://www.w3.org/2000/svg\n")
         p = self.problems(**{"results/t/results.csv": lambda _: text})
         self.assert_reported(p, "results/t/results.csv:1: records the machine path")
+        self.assertEqual(len(p), 1)
+
+    def test_a_citation_of_another_version(self):
+        p = self.problems(**{"CITATION.cff": lambda _: "cff-version: 1.2.0\nversion: 0.0.9\n",
+                             "CMakeLists.txt": lambda _: "project(cdpowder VERSION 0.1.0 LANGUAGES CXX)\n",
+                             "LICENSE": lambda _: "MIT\n"})
+        self.assert_reported(p, "CITATION.cff: version 0.0.9 is not the project's 0.1.0")
         self.assertEqual(len(p), 1)
 
     def test_good_tree_passes(self):
