@@ -6,6 +6,7 @@
 #include "commands/simulate.hpp"
 #include "commands/sweep.hpp"
 #include "die_with_parent.hpp"
+#include "duration.hpp"
 
 #include "cdpowder/config/config_error.hpp"
 #include "cdpowder/core/stop_request.hpp"
@@ -178,13 +179,13 @@ void add_time_limit_option(CLI::App& command, cdpowder::app::SweepOptions& sweep
   command
       .add_option_function<std::string>(
           "--time-limit",
-          [&sweep](const std::string& text) { sweep.time_limit = cdpowder::parse_duration(text); },
+          [&sweep](const std::string& text) { sweep.time_limit = cdpowder::app::parse_duration(text); },
           "Wall time for the whole sweep (5400, 90m, 2h30m): a run starts only when it is "
           "expected to finish by then (1.25 × the longest finished run of its point); runs "
           "still going at the limit stop as at Ctrl-C")
       ->check(
           [](const std::string& text) {
-            const std::optional<double> seconds = cdpowder::parse_duration(text);
+            const std::optional<double> seconds = cdpowder::app::parse_duration(text);
             return seconds && *seconds > 0.0
                        ? std::string()
                        : "'" + text +

@@ -1,6 +1,5 @@
-// time_limit_test.cpp — a sweep within a wall-time limit: durations as written on the
-// command line, the expected length of a run from the finished ones, and when a run may
-// start.
+// time_limit_test.cpp — a sweep within a wall-time limit: the expected length of a run from
+// the finished ones, and when a run may start (durations: tests/app/duration_test.cpp).
 #include "cdpowder/sweep/time_limit.hpp"
 
 #include <gtest/gtest.h>
@@ -12,32 +11,6 @@
 
 namespace cdpowder {
 namespace {
-
-TEST(ParseDuration, ReadsSecondsAndUnitsLargestFirst) {
-  const std::vector<std::pair<const char*, double>> cases = {
-      {"5400", 5400.0},
-      {"0.5", 0.5},
-      {"45s", 45.0},
-      {"90m", 5400.0},
-      {"2.5h", 9000.0},
-      {"2h40m", 9600.0},
-      {"1h5m30s", 3930.0},
-      {"1h30s", 3630.0},
-      {"0", 0.0},
-      // what std::from_chars reads as a number
-      {".5", 0.5},
-      {"5.", 5.0},
-      {"1e3", 1000.0},
-      {"1.5m", 90.0}};
-  for (const auto& [text, seconds] : cases) EXPECT_EQ(parse_duration(text), seconds) << text;
-}
-
-TEST(ParseDuration, RefusesWhatIsNotADuration) {
-  for (const char* text : {"", "h", "2x", "2 h", "-5", "-1m", "2h30", "30m2h", "1h1h", "inf", "nan",
-                           "1e400", "5m ", "m5", "+5", "1h-5m", "1e308h", "5mm"}) {
-    EXPECT_EQ(parse_duration(text), std::nullopt) << text;
-  }
-}
 
 /// A plan of `points` points × 2 seeds (runs point-major) with records of the given wall
 /// times (nullopt: not finished).

@@ -6,8 +6,8 @@
 #include "cdpowder/sweep/sweep_plan.hpp"
 #include "cdpowder/sweep/sweep_results.hpp"
 
+#include <cstddef>
 #include <optional>
-#include <string_view>
 #include <vector>
 
 namespace cdpowder {
@@ -16,12 +16,6 @@ namespace cdpowder {
 /// compared with (expected_run_seconds): whole runs of one point vary by tens of per cent
 /// between seeds and with the load of a shared machine (docs/performance.md).
 inline constexpr double kRunTimeMargin = 1.25;
-
-/// A duration as people write one on a command line: a number of seconds ("5400"), or
-/// numbers with units h, m and s, largest first ("90m", "2.5h", "2h40m", "1h5m30s").
-/// nullopt for anything else, for a unit given twice or out of order, and for a negative
-/// or non-finite value.
-std::optional<double> parse_duration(std::string_view text);
 
 /// How long run `run` of the plan is expected to take [s]: the wall time of the longest
 /// finished run of the same point (any seed), or, when that point has none, of the longest
