@@ -1,23 +1,19 @@
 // coordination.cpp — closed-contact counts.
 #include "cdpowder/analysis/coordination.hpp"
 
+#include "cdpowder/contact/contact_view.hpp"
+
 #include <numeric>
 
 namespace cdpowder {
 
 std::vector<int> contacts_per_sphere(const Contacts& contacts, std::size_t sphere_count) {
   std::vector<int> count(sphere_count, 0);
-  for (std::size_t k = 0; k < contacts.pairs.size(); ++k) {
-    const PairProblem& p = contacts.pairs[k];
-    if (is_closed(contacts.pair_actions[k].normal_force, p.cohesion)) {
-      ++count[p.a];
-      ++count[p.b];
-    }
-  }
-  for (std::size_t k = 0; k < contacts.walls.size(); ++k) {
-    const WallProblem& w = contacts.walls[k];
-    if (is_closed(contacts.wall_actions[k].normal_force, w.cohesion)) ++count[w.sphere];
-  }
+  for_each_contact(contacts, [&](const ContactView& c) {
+    if (!c.closed()) return;
+    ++count[c.b];
+    if (c.is_pair()) ++count[c.a];
+  });
   return count;
 }
 

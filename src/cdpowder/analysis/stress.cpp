@@ -1,6 +1,8 @@
 // stress.cpp — contact stress from the step's frozen geometry and solved forces.
 #include "cdpowder/analysis/stress.hpp"
 
+#include "cdpowder/contact/contact_view.hpp"
+
 namespace cdpowder {
 
 namespace {
@@ -26,15 +28,10 @@ void add_contact(StressTensors& s, const Vec3& n, const ContactAction& action, d
 
 StressTensors stress_tensors(const Contacts& contacts, double volume) {
   StressTensors s;
-  for (std::size_t k = 0; k < contacts.pairs.size(); ++k) {
-    const PairProblem& p = contacts.pairs[k];
-    // branch length |d| = R_a + R_b + g = |l_a| + |l_b|
-    add_contact(s, p.normal, contacts.pair_actions[k], p.lever_a + p.lever_b, p.cohesion);
-  }
-  for (std::size_t k = 0; k < contacts.walls.size(); ++k) {
-    const WallProblem& w = contacts.walls[k];
-    add_contact(s, w.normal, contacts.wall_actions[k], w.radius + w.gap, w.cohesion);
-  }
+  // branch length |d| = R_a + R_b + g = |l_a| + |l_b|, or R + g from a wall
+  for_each_contact(contacts, [&](const ContactView& c) {
+    add_contact(s, c.normal, *c.action, c.branch, c.cohesion);
+  });
   if (volume > 0.0) {
     s.total /= volume;
     s.compressive /= volume;

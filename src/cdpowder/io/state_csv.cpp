@@ -2,6 +2,7 @@
 // so re-reading a file gives the same doubles.
 #include "cdpowder/io/state_csv.hpp"
 
+#include "cdpowder/contact/contact_view.hpp"
 #include "cdpowder/core/index.hpp"
 
 #include <fmt/format.h>
@@ -49,17 +50,13 @@ std::string particles_csv(const Bodies& bodies, const std::string& header) {
 std::string contacts_csv(const Contacts& contacts, const std::string& header) {
   std::string out = header;
   out += "a,b,nx,ny,nz,normal_force,tx,ty,tz,rx,ry,rz,twist,gap,cohesive,state\n";
-  for (std::size_t k = 0; k < contacts.pairs.size(); ++k) {
-    const PairProblem& p = contacts.pairs[k];
-    append_contact(out, p.a, p.b, p.normal, contacts.pair_actions[k], p.gap,
-                   contacts.pair_cohesive[k] != 0, p.cohesion);
-  }
-  for (std::size_t k = 0; k < contacts.walls.size(); ++k) {
-    const WallProblem& w = contacts.walls[k];
-    const std::int64_t wall = w.wall == WallKind::Bottom ? kBottomWallId : kPistonId;
-    append_contact(out, wall, w.sphere, w.normal, contacts.wall_actions[k], w.gap,
-                   contacts.wall_cohesive[k] != 0, w.cohesion);
-  }
+  for_each_contact(contacts, [&](const ContactView& c) {
+    // a wall contact's first member is the wall's id
+    const std::int64_t first = c.is_pair()                   ? std::int64_t{c.a}
+                               : *c.wall == WallKind::Bottom ? kBottomWallId
+                                                             : kPistonId;
+    append_contact(out, first, c.b, c.normal, *c.action, c.gap, c.cohesive, c.cohesion);
+  });
   return out;
 }
 
