@@ -179,7 +179,9 @@ void add_time_limit_option(CLI::App& command, cdpowder::app::SweepOptions& sweep
   command
       .add_option_function<std::string>(
           "--time-limit",
-          [&sweep](const std::string& text) { sweep.time_limit = cdpowder::app::parse_duration(text); },
+          [&sweep](const std::string& text) {
+            sweep.time_limit = cdpowder::app::parse_duration(text);
+          },
           "Wall time for the whole sweep (5400, 90m, 2h30m): a run starts only when it is "
           "expected to finish by then (1.25 × the longest finished run of its point); runs "
           "still going at the limit stop as at Ctrl-C")
