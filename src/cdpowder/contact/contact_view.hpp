@@ -5,6 +5,7 @@
 #pragma once
 
 #include "cdpowder/contact/local_problem.hpp"
+#include "cdpowder/core/assert.hpp"
 #include "cdpowder/core/index.hpp"
 #include "cdpowder/core/vec3.hpp"
 
@@ -34,9 +35,14 @@ struct ContactView {
 };
 
 /// Calls visit(const ContactView&) for every contact, pairs first, then walls.
+/// Contacts keeps its arrays of one kind equally long (checked in the debug build).
 template <typename Visit>
 void for_each_contact(const Contacts& contacts, Visit&& visit) {
   const std::size_t pairs = contacts.pairs.size();
+  CDP_ASSERT(contacts.pair_actions.size() == pairs && contacts.pair_cohesive.size() == pairs &&
+                 contacts.wall_actions.size() == contacts.walls.size() &&
+                 contacts.wall_cohesive.size() == contacts.walls.size(),
+             "every pair and wall contact has its action and cohesion flag");
   for (std::size_t k = 0; k < pairs; ++k) {
     const PairProblem& p = contacts.pairs[k];
     visit(ContactView{k, std::nullopt, p.a, p.b, p.normal, p.gap, p.lever_a + p.lever_b, p.cohesion,
