@@ -16,14 +16,10 @@
 
 namespace cdpowder::app {
 
-inline std::filesystem::path checkpoint_interval_file(const std::filesystem::path& out) {
-  return checkpoint_interval_path(out);
-}
-
 /// Writes (atomically) the interval [t0] the run keeps its checkpoint at.
 inline void remember_checkpoint_interval(const std::filesystem::path& out, double every) {
   write_file_atomically(
-      checkpoint_interval_file(out),
+      checkpoint_interval_path(out),
       fmt::format("# --checkpoint-every of the run in this folder; `cdpowder resume` goes on "
                   "with it\nevery = {}   # [t0] of simulated time\n",
                   every));
@@ -33,7 +29,7 @@ inline void remember_checkpoint_interval(const std::filesystem::path& out, doubl
 /// --checkpoint-every, or a folder of a build that did not keep it). Throws ConfigError for a
 /// file that is not what remember_checkpoint_interval writes.
 inline std::optional<double> remembered_checkpoint_interval(const std::filesystem::path& out) {
-  const std::filesystem::path file = checkpoint_interval_file(out);
+  const std::filesystem::path file = checkpoint_interval_path(out);
   std::error_code error;
   if (!std::filesystem::exists(file, error)) return std::nullopt;
   toml::table table;

@@ -11,6 +11,7 @@
 #include "cdpowder/config/config_error.hpp"
 #include "cdpowder/config/scene_reader.hpp"
 #include "cdpowder/io/atomic_file.hpp"
+#include "cdpowder/io/run_folder.hpp"
 #include "cdpowder/io/state_file.hpp"
 #include "cdpowder/sweep/sweep_plan.hpp"
 #include "cdpowder/sweep/sweep_results.hpp"
@@ -97,7 +98,7 @@ class RunningRuns {
 /// (which clears the folder); `why_not` then says why a checkpoint there was not used.
 bool has_usable_checkpoint(const std::filesystem::path& folder, const std::string& scene_text,
                            std::string& why_not) {
-  const std::filesystem::path file = folder / "checkpoint.cdps";
+  const std::filesystem::path file = checkpoint_path(folder);
   if (!std::filesystem::exists(file)) return false;
   try {
     const StateHeader header = read_state_header(file);

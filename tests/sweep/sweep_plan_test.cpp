@@ -72,8 +72,14 @@ TEST(SweepPlan, TheBaseSceneIsRelativeToTheSweepFileAsNamed) {
   std::filesystem::remove_all(scratch);
   std::filesystem::create_directories(scratch / "sub");
   { std::ofstream(scratch / "sub/sweep.toml") << "scene = \"scene.toml\"\nseeds = 2\n"; }
-  std::filesystem::current_path(scratch);
-  const SweepPlan plan = read_sweep_plan("sub/sweep.toml");
+  SweepPlan plan;
+  try {
+    std::filesystem::current_path(scratch);
+    plan = read_sweep_plan("sub/sweep.toml");
+  } catch (...) {
+    std::filesystem::current_path(before);  // the other tests run in the folder they expect
+    throw;
+  }
   std::filesystem::current_path(before);
   std::filesystem::remove_all(scratch);
   EXPECT_EQ(plan.scene, std::filesystem::path("sub/scene.toml"));
