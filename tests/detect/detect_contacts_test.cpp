@@ -300,5 +300,46 @@ TEST(PeriodicBox, WrapGivesTheFormulasBitsWithAndWithoutItsShortcut) {
   }
 }
 
+/// PeriodicBox::minimum_image without its shortcut for separations already their own image.
+double minimum_image_by_formula(double d, double length) {
+  return d - length * std::nearbyint(d / length);
+}
+
+TEST(PeriodicBox, MinimumImageGivesTheFormulasBitsWithAndWithoutItsShortcut) {
+  for (const double length :
+       {25.0, 16.0, std::nextafter(16.0, 32.0), std::nextafter(16.0, 0.0), 1.0, 3.0, 0.1}) {
+    const double half = 0.5 * length;
+    std::vector<double> separations = {0.0,
+                                       -0.0,
+                                       4.9e-324,
+                                       -4.9e-324,
+                                       1e-17,
+                                       -1e-17,
+                                       half,
+                                       -half,
+                                       std::nextafter(half, 0.0),
+                                       std::nextafter(half, length),
+                                       std::nextafter(-half, 0.0),
+                                       std::nextafter(-half, -length),
+                                       1.5 * length,
+                                       -1.5 * length,
+                                       std::nextafter(length, 0.0),
+                                       -std::nextafter(length, 0.0),
+                                       0.3 * length,
+                                       -0.7 * length};
+    for (const double d : separations) {
+      PeriodicBox box;
+      box.lx = box.ly = length;
+      const Vec3 image = box.minimum_image(Vec3(d, d, d));
+      const double expected = minimum_image_by_formula(d, length);
+      for (const int axis : {0, 1}) {
+        EXPECT_EQ(std::bit_cast<std::uint64_t>(image[axis]), std::bit_cast<std::uint64_t>(expected))
+            << "d = " << d << ", L = " << length << ", axis " << axis;
+      }
+      EXPECT_EQ(std::bit_cast<std::uint64_t>(image.z()), std::bit_cast<std::uint64_t>(d));
+    }
+  }
+}
+
 }  // namespace
 }  // namespace cdpowder

@@ -14,9 +14,19 @@ struct PeriodicBox {
   /// Shortest periodic image of a separation vector: d_x -= L_x round(d_x/L_x), same for y;
   /// z is not periodic.
   [[nodiscard]] Vec3 minimum_image(Vec3 d) const {
-    d.x() -= lx * std::nearbyint(d.x() / lx);
-    d.y() -= ly * std::nearbyint(d.y() / ly);
+    d.x() = minimum_image_1d(d.x(), lx);
+    d.y() = minimum_image_1d(d.y(), ly);
     return d;
+  }
+
+  /// d − L round(d/L), rounding half to even. Nearly every separation is already its own
+  /// image, |d| ≤ L/2: then d/L rounds to at most 1/2 in magnitude (L/2 is exact), which rounds
+  /// to ±0, and d − L·(±0) = d + 0.0 (−0.0 becomes +0.0, every other d stays). That branch
+  /// gives the formula's bits without its division and its call into the maths library
+  /// (x86-64 without SSE4.1 has no rounding instruction); NaN takes the formula.
+  [[nodiscard]] static double minimum_image_1d(double d, double length) {
+    if (std::abs(d) <= 0.5 * length) return d + 0.0;
+    return d - length * std::nearbyint(d / length);
   }
 
   /// Maps a position into [0, L_x) × [0, L_y) × R.
