@@ -209,7 +209,15 @@ inline VisitChange solve_wall(const WallProblem& w, ContactAction& action, Spher
                               double& wall_velocity) {
   const Vec3& n = w.normal;
   const double wall_z = w.wall_moves != 0.0 ? w.wall_moves * wall_velocity : 0.0;
-  const Vec3 V = s.linear - w.radius * s.angular.cross(n) - Vec3(0.0, 0.0, wall_z);
+  // V = v_s − R ω_s × n − (0, 0, V_wall), written out with Eigen's cross product operation for
+  // operation (x − (+0) leaves x's bits). In vector form g++ packed two of its components
+  // through the stack, and the wide load of two narrow stores stalled every visit.
+  const Vec3& omega = s.angular;
+  const double cross_x = omega.y() * n.z() - omega.z() * n.y();
+  const double cross_y = omega.z() * n.x() - omega.x() * n.z();
+  const double cross_z = omega.x() * n.y() - omega.y() * n.x();
+  const Vec3 V(s.linear.x() - w.radius * cross_x, s.linear.y() - w.radius * cross_y,
+               (s.linear.z() - w.radius * cross_z) - wall_z);
   const detail::ModeBlock m{w.inv_dt_w_n,
                             w.inv_dt_w_t,
                             w.inv_dt_w_r,
