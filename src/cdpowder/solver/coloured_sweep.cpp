@@ -8,6 +8,7 @@
 // the results do not depend on the machine.
 #include "cdpowder/solver/coloured_sweep.hpp"
 
+#include "cdpowder/core/assert.hpp"
 #include "cdpowder/solver/build.hpp"
 #include "cdpowder/solver/lanes.hpp"
 
@@ -164,9 +165,11 @@ void prepare_coloured_sweep(Contacts& contacts, const VelocityCache& velocities,
   std::vector<ContactIndex>& from = sweep.storage_index;
   from.assign(colouring.members.begin(), colouring.members.end());
   from.insert(from.end(), colouring.overflow.begin(), colouring.overflow.end());
-  gather_into(contacts.pairs, from, sweep.pair_scratch);
+  // the pairs are only read while they are in colour order: their storage order stays in
+  // stored_pairs and comes back by a swap; the cohesion flags are not read by the sweeps and
+  // stay in storage order
+  gather_into(contacts.pairs, from, sweep.stored_pairs);
   gather_into(contacts.pair_actions, from, sweep.action_scratch);
-  gather_into(contacts.pair_cohesive, from, sweep.flag_scratch);
   std::iota(colouring.members.begin(), colouring.members.end(), ContactIndex{0});
   std::iota(colouring.overflow.begin(), colouring.overflow.end(),
             static_cast<ContactIndex>(colouring.members.size()));
@@ -176,9 +179,17 @@ void prepare_coloured_sweep(Contacts& contacts, const VelocityCache& velocities,
 void restore_storage_order(Contacts& contacts, ColouredSweep& sweep) {
   const std::vector<ContactIndex>& from = sweep.storage_index;
   if (from.size() != contacts.pairs.size()) return;  // not prepared
-  scatter_back(contacts.pairs, from, sweep.pair_scratch);
+  // unchanged by the sweeps, so stored_pairs is still their storage order (debug builds check
+  // that the two hold the same pairs)
+  CDP_ASSERT(sweep.stored_pairs.size() == from.size() &&
+                 std::equal(from.begin(), from.end(), contacts.pairs.begin(),
+                            [&](ContactIndex stored, const PairProblem& p) {
+                              const PairProblem& q = sweep.stored_pairs[stored];
+                              return q.a == p.a && q.b == p.b;
+                            }),
+             "the pairs in colour order are the stored pairs");
+  contacts.pairs.swap(sweep.stored_pairs);
   scatter_back(contacts.pair_actions, from, sweep.action_scratch);
-  scatter_back(contacts.pair_cohesive, from, sweep.flag_scratch);
   sweep.storage_index.clear();
 }
 

@@ -63,9 +63,10 @@ struct ColouredSweep {
   std::vector<std::uint32_t> chunk_order;   ///< scratch of order_groups
   std::vector<ContactIndex> part_order;     ///< scratch: the pairs part by part
   std::vector<ContactIndex> storage_index;  ///< pair i is stored pair storage_index[i] of the step
-  std::vector<PairProblem> pair_scratch;
+  /// the step's pairs in storage order while Contacts holds them in colour order (the sweeps
+  /// only read them; restore_storage_order swaps them back)
+  std::vector<PairProblem> stored_pairs;
   std::vector<ContactAction> action_scratch;
-  std::vector<std::uint8_t> flag_scratch;
   /// false when no contact of the step has a rolling or torsion threshold and no torque is
   /// non-zero: the kernels then leave the torques alone (they stay +0, the bits are the same)
   bool torques = true;
@@ -81,15 +82,16 @@ struct ColouredSweep {
 };
 
 /// Colours the step's pairs greedily (chunks of kColourChunk contacts), part by part when
-/// `slab` gives each sphere's slab (slabs.hpp; empty: one part), stores them in the order the
-/// sweep visits them (so a sweep streams through the pairs and their actions;
-/// restore_storage_order undoes it) and builds the batches.
+/// `slab` gives each sphere's slab (slabs.hpp; empty: one part), stores the pairs and their
+/// actions in the order the sweep visits them (so a sweep streams through them;
+/// restore_storage_order undoes it) and builds the batches. The cohesion flags stay in storage
+/// order: nothing reads them until the pairs are back.
 void prepare_coloured_sweep(Contacts& contacts, const VelocityCache& velocities,
                             ColouredSweep& sweep, std::size_t chunk = kColourChunk,
                             std::span<const std::uint8_t> slab = {});
 
-/// Puts the pairs, their actions and flags back in storage order (sorted by sphere pair), as
-/// the rest of the step expects them.
+/// Puts the pairs and their actions back in storage order (sorted by sphere pair), as the rest
+/// of the step expects them.
 void restore_storage_order(Contacts& contacts, ColouredSweep& sweep);
 
 /// Builds the batches and the sequential groups from sweep.colouring and sweep.wall_part (set
