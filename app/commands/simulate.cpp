@@ -8,19 +8,17 @@
 #include "stop_signals.hpp"
 
 #include "cdpowder/analysis/porosity.hpp"
-#include "cdpowder/analysis/stress.hpp"
 #include "cdpowder/config/config_error.hpp"
 #include "cdpowder/config/scene_reader.hpp"
 #include "cdpowder/experiment/run_loop.hpp"
 #include "cdpowder/experiment/scene_setup.hpp"
 #include "cdpowder/io/provenance.hpp"
 #include "cdpowder/io/run_folder.hpp"
+#include "cdpowder/io/run_messages.hpp"
 #include "cdpowder/io/state_file.hpp"
-#include "cdpowder/version.hpp"
 
 #include <fmt/format.h>
 
-#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <cstdio>
@@ -42,42 +40,11 @@ extern "C" void request_stop(int /*signal*/) {
   g_stop_requested.store(true);
 }
 
-/// "porosity=… sigma_zz…" — normalised by the applied pressure when there is one (the
-/// paper's Table 1 quantities), in F_coh/R² otherwise.
-std::string result_line(const Scene& scene, const World& world, const Contacts& contacts,
-                        const RunResult& result) {
-  const StressTensors sigma = stress_tensors(contacts, packing_volume(world));
-  const Piston& piston = world.walls.piston;
-  const double pressure = piston.enabled ? piston.force / world.box.area() : 0.0;
-  std::string line = fmt::format("porosity={:.5f}", porosity(world));
-  if (pressure > 0.0) {
-    line += fmt::format(" sigma_zz/p={:.4f} sigma_zz+/p={:.4f} sigma_zz-/p={:.4f}",
-                        sigma.total(2, 2) / pressure, sigma.compressive(2, 2) / pressure,
-                        sigma.tensile(2, 2) / pressure);
-  } else {
-    line += fmt::format(" sigma_zz={:.6g} sigma_zz+={:.6g} sigma_zz-={:.6g}", sigma.total(2, 2),
-                        sigma.compressive(2, 2), sigma.tensile(2, 2));
-  }
-  if (scene.run.until_blocked) line += fmt::format(" blocked={}", result.blocked ? "yes" : "no");
-  if (result.interrupted) line += " interrupted=yes";
-  line += fmt::format(" steps={} sweeps/step={:.1f} wall={:.2f}s", result.steps,
-                      static_cast<double>(result.total_sweeps) /
-                          static_cast<double>(std::max<std::int64_t>(1, result.steps)),
-                      result.wall_seconds);
-  return line;
-}
-
-/// "cdpowder 1.2.0 (commit abc): compact examples/quick/scene.toml --out runs/quick; 100
-/// spheres, seed 1, deposition seed 1" — the first line of a run's log, written before any
-/// step (stderr is unbuffered), so a killed run's log says what ran.
+/// The first line of a run's log, written before any step (stderr is unbuffered), so a
+/// killed run's log says what ran.
 void announce(std::string_view what, const Scene& scene, const std::filesystem::path& out,
               std::size_t spheres) {
-  // one line, whatever the folder's name holds (a newline once split it)
-  std::string line =
-      fmt::format("cdpowder {} (commit {}): {} --out {}; {} spheres, seed {}", kVersion, kGitCommit,
-                  one_line(what), one_line(out.string()), spheres, scene.step.solver.seed);
-  if (scene.deposition) line += fmt::format(", deposition seed {}", scene.deposition->seed);
-  std::fprintf(stderr, "%s\n", line.c_str());
+  std::fprintf(stderr, "%s\n", run_announcement(what, scene, out, spheres).c_str());
   std::fflush(stderr);
 }
 
@@ -143,22 +110,18 @@ int run_and_write(Session& s) {
   s.files->finish(scene, world, work, s.state, result, s.initial_porosity);
 
   std::printf("%s\n", result_line(scene, world, work.contacts, result).c_str());
-  if (result.fault) {
-    std::fprintf(stderr, "error: the run failed: %s; outputs and failed_state.cdps in %s\n",
-                 result.fault->message.c_str(), s.out.string().c_str());
-    return kExitFault;
-  }
-  if (result.interrupted) {  // outputs written, but incomplete
-    std::fprintf(stderr, "interrupted at step %lld (t = %g t0); cdpowder resume %s continues it\n",
-                 static_cast<long long>(result.steps), world.time, s.out.string().c_str());
-    return kExitInterrupted;
-  }
-  if (scene.run.until_blocked && !result.blocked) {
-    std::fprintf(stderr,
-                 "error: the packing did not block within run.max_duration = %g t0 (t = %g "
-                 "t0); the summary says blocked = false\n",
-                 scene.run.max_duration, world.time);
-    return kExitNotBlocked;
+  const std::optional<RunEndNotice> notice = run_end_notice(scene, world, result, s.out);
+  if (!notice) return 0;
+  switch (notice->ending) {
+    case RunEnding::Failed:
+      std::fprintf(stderr, "error: %s\n", notice->message.c_str());
+      return kExitFault;
+    case RunEnding::Interrupted:  // outputs written, but incomplete
+      std::fprintf(stderr, "%s\n", notice->message.c_str());
+      return kExitInterrupted;
+    case RunEnding::NotBlocked:
+      std::fprintf(stderr, "error: %s\n", notice->message.c_str());
+      return kExitNotBlocked;
   }
   return 0;
 }
@@ -201,32 +164,17 @@ int run_resume(const ResumeOptions& options) {
   const StopSignals stop_on_signal(request_stop, SA_RESETHAND);
   const std::filesystem::path& out = options.folder;
   const std::filesystem::path checkpoint = checkpoint_path(out);
-  if (!std::filesystem::is_regular_file(checkpoint)) {
-    throw ConfigError(
-        {{out.string(), 0, 0, "",
-          fmt::format("no checkpoint.cdps to continue from; a run keeps one while "
-                      "it is unfinished (written every --checkpoint-every T and "
-                      "when it is stopped by a signal){}",
-                      std::filesystem::exists(out / "summary.json") ? ", and this run has finished"
-                                                                    : "")}});
-  }
+  require_checkpoint(out);
   const FolderLock lock(run_lock_file(out), "another cdpowder run");
   SavedRun saved = load_state(checkpoint);  // the checkpoint's own faults first
-  if (!std::filesystem::is_regular_file(out / "initial_particles.csv")) {
-    throw ConfigError({{out.string(), 0, 0, "",
-                        "initial_particles.csv is missing: the run's starting packing, which "
-                        "resume needs (for the initial porosity); the run cannot be continued"}});
-  }
+  require_initial_particles(out);
   // the run's interval, unless this resume gives another (kept for the next resume)
   const std::optional<double> checkpoint_every =
       options.checkpoint_every ? options.checkpoint_every : remembered_checkpoint_interval(out);
-  if (written_by_another_build(saved.program_version, saved.git_commit)) {
-    std::fprintf(stderr,
-                 "warning: %s was written by cdpowder %s (commit %s), this is cdpowder %s "
-                 "(commit %s): the run goes on, but its result will not be bit-identical to a "
-                 "run never stopped\n",
-                 checkpoint.string().c_str(), saved.program_version.c_str(),
-                 saved.git_commit.c_str(), kVersion, kGitCommit);
+  if (const std::string warning =
+          other_build_warning(checkpoint, saved.program_version, saved.git_commit);
+      !warning.empty()) {
+    std::fprintf(stderr, "warning: %s\n", warning.c_str());
   }
   // the scene as the run resolved it, with the spheres it started from (for the initial
   // porosity; the deposit is not made again)

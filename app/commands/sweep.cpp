@@ -218,9 +218,6 @@ RunExit run_exit(int status, const std::optional<RunRecord>& record,
   return out;
 }
 
-/// What the progress line adds for a run that counts though an output failed.
-constexpr const char* kOutputsMissing = "; not all its outputs were written, see its log.txt";
-
 /// The last "error: …" line of a run's log (what made it fail), without the prefix; `log`
 /// itself when there is none.
 std::string last_error_of(const std::filesystem::path& log) {
@@ -407,17 +404,14 @@ int run_task(const SweepOptions& options, const SweepState& state, std::size_t t
   const bool unwritten = end.unwritten;
   if (!end.counts) {
     std::fprintf(stderr, "%s: %s, see %s\n", name.c_str(),
-                 asked_to_stop ? "interrupted"
-                 : unwritten   ? "FAILED (could not write its outputs)"
-                               : "FAILED",
+                 unfinished_run_text(asked_to_stop, end.fault, unwritten).c_str(),
                  (folder / "log.txt").string().c_str());
     // a scheduler's array then sees the machine's failure apart from the run's
     return unwritten ? kExitOutputFailed : 1;
   }
   if (!options.quiet) {
-    std::fprintf(stderr, "%s: porosity=%.5f blocked=%s wall=%.1fs%s\n", name.c_str(),
-                 record->porosity, record->blocked ? "yes" : "no", record->wall_seconds,
-                 unwritten ? kOutputsMissing : "");
+    std::fprintf(stderr, "%s: %s%s\n", name.c_str(), finished_run_text(*record).c_str(),
+                 unwritten ? kOutputsMissingNote.data() : "");
   }
   return unwritten ? kExitOutputFailed : 0;
 }
@@ -677,16 +671,12 @@ class SweepPool {
             : "";
     if (end.counts) {
       const RunRecord& r = *state_.records[i];
-      std::fprintf(stderr, "[%zu/%zu] %s: porosity=%.5f blocked=%s wall=%.1fs (elapsed %s%s)%s\n",
-                   finished, total, run_name(i).c_str(), r.porosity, r.blocked ? "yes" : "no",
-                   r.wall_seconds, clock_text(elapsed).c_str(), eta.c_str(),
-                   end.unwritten ? kOutputsMissing : "");
+      std::fprintf(stderr, "[%zu/%zu] %s: %s (elapsed %s%s)%s\n", finished, total,
+                   run_name(i).c_str(), finished_run_text(r).c_str(), clock_text(elapsed).c_str(),
+                   eta.c_str(), end.unwritten ? kOutputsMissingNote.data() : "");
     } else {
       std::fprintf(stderr, "[%zu/%zu] %s: %s, see %s\n", finished, total, run_name(i).c_str(),
-                   stopped         ? "interrupted"
-                   : end.fault     ? "FAILED (a fault stopped it: unphysical state)"
-                   : end.unwritten ? "FAILED (could not write its outputs)"
-                                   : "FAILED",
+                   unfinished_run_text(stopped, end.fault, end.unwritten).c_str(),
                    (folder / "log.txt").string().c_str());
     }
   }

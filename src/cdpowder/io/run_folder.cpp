@@ -99,6 +99,24 @@ std::filesystem::path checkpoint_interval_path(const std::filesystem::path& fold
   return folder / "checkpoint.toml";
 }
 
+void require_checkpoint(const std::filesystem::path& folder) {
+  if (std::filesystem::is_regular_file(checkpoint_path(folder))) return;
+  throw ConfigError(
+      {{folder.string(), 0, 0, "",
+        fmt::format("no checkpoint.cdps to continue from; a run keeps one while it is "
+                    "unfinished (written every --checkpoint-every T and when it is stopped by a "
+                    "signal){}",
+                    std::filesystem::exists(folder / "summary.json") ? ", and this run has finished"
+                                                                     : "")}});
+}
+
+void require_initial_particles(const std::filesystem::path& folder) {
+  if (std::filesystem::is_regular_file(folder / "initial_particles.csv")) return;
+  throw ConfigError({{folder.string(), 0, 0, "",
+                      "initial_particles.csv is missing: the run's starting packing, which "
+                      "resume needs (for the initial porosity); the run cannot be continued"}});
+}
+
 void refuse_input_among_outputs(const std::filesystem::path& folder,
                                 const std::filesystem::path& input, std::string_view what) {
   // where the input is, links followed (a link elsewhere to DIR/scene.toml is DIR/scene.toml)

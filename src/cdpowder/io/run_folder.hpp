@@ -37,6 +37,14 @@ std::filesystem::path checkpoint_path(const std::filesystem::path& folder);
 /// Where the interval between a run's checkpoints is kept, for the runs that continue it.
 std::filesystem::path checkpoint_interval_path(const std::filesystem::path& folder);
 
+/// Throws ConfigError naming `folder` when it holds no checkpoint to continue from (a run keeps
+/// one while it is unfinished), saying whether the run has finished.
+void require_checkpoint(const std::filesystem::path& folder);
+
+/// Throws ConfigError when the run's starting packing (initial_particles.csv, for the initial
+/// porosity) is gone from `folder`: the run cannot be continued.
+void require_initial_particles(const std::filesystem::path& folder);
+
 /// Throws ConfigError when `input`, a file the run reads (`what`: "the scene file"), is one
 /// of the files a run writes in `folder`: the run would remove or overwrite it (found: a
 /// scene kept as DIR/scene.toml and run with --out DIR was replaced by the resolved one).

@@ -215,4 +215,16 @@ std::map<std::string, std::filesystem::path> finished_runs_by_scene(
   return found;
 }
 
+std::string finished_run_text(const RunRecord& record) {
+  return fmt::format("porosity={:.5f} blocked={} wall={:.1f}s", record.porosity,
+                     record.blocked ? "yes" : "no", record.wall_seconds);
+}
+
+std::string unfinished_run_text(bool stopped, bool fault, bool unwritten) {
+  if (stopped) return "interrupted";
+  if (fault) return "FAILED (a fault stopped it: unphysical state)";
+  if (unwritten) return "FAILED (could not write its outputs)";
+  return "FAILED";
+}
+
 }  // namespace cdpowder

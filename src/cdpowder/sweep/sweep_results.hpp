@@ -9,6 +9,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace cdpowder {
@@ -40,6 +41,17 @@ struct RunRecord {
 
 /// The numbers of a run's summary that the sweep tabulates.
 RunRecord run_record(const RunSummary& summary);
+
+/// "porosity=0.64305 blocked=yes wall=41.2s": a finished run as a sweep's progress lines show it.
+std::string finished_run_text(const RunRecord& record);
+
+/// Added to a finished run's line when not all of its outputs were written.
+inline constexpr std::string_view kOutputsMissingNote =
+    "; not all its outputs were written, see its log.txt";
+
+/// Why a run of a sweep did not finish: "interrupted" (`stopped`), "FAILED (a fault stopped it:
+/// unphysical state)", "FAILED (could not write its outputs)" or "FAILED".
+std::string unfinished_run_text(bool stopped, bool fault, bool unwritten);
 
 /// Reads the record of a run from its summary.json (read_run_summary, any schema); nullopt
 /// when the file is missing or is not a complete summary (a run killed before it wrote one).

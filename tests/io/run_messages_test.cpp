@@ -1,0 +1,157 @@
+// The words of a run (io/run_messages.hpp) and of a sweep's runs (sweep/sweep_results.hpp),
+// which the command line prints and a library user reads: what each says, for each ending.
+#include "cdpowder/io/run_messages.hpp"
+
+#include "cdpowder/config/config_error.hpp"
+#include "cdpowder/config/scene_reader.hpp"
+#include "cdpowder/experiment/scene_setup.hpp"
+#include "cdpowder/io/run_folder.hpp"
+#include "cdpowder/sweep/sweep_results.hpp"
+#include "cdpowder/version.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <unistd.h>
+
+namespace cdpowder {
+namespace {
+
+Scene quick_scene() {
+  SceneReadOptions options;
+  options.compaction = true;
+  return read_scene(std::filesystem::path(CDPOWDER_SOURCE_DIR) / "examples/quick/scene.toml", {},
+                    options);
+}
+
+/// A fresh empty folder under the system's temporary folder, removed at the end.
+class TemporaryFolder {
+ public:
+  explicit TemporaryFolder(const std::string& name)
+      : path_(std::filesystem::temp_directory_path() / (name + "." + std::to_string(::getpid()))) {
+    std::filesystem::remove_all(path_);
+    std::filesystem::create_directories(path_);
+  }
+
+  ~TemporaryFolder() { std::filesystem::remove_all(path_); }
+
+  TemporaryFolder(const TemporaryFolder&) = delete;
+  TemporaryFolder& operator=(const TemporaryFolder&) = delete;
+  TemporaryFolder(TemporaryFolder&&) = delete;
+  TemporaryFolder& operator=(TemporaryFolder&&) = delete;
+
+  [[nodiscard]] const std::filesystem::path& path() const { return path_; }
+
+ private:
+  std::filesystem::path path_;
+};
+
+TEST(RunMessages, TheAnnouncementSaysWhatRanOnOneLine) {
+  const Scene scene = quick_scene();
+  const std::string line = run_announcement("compact a\nb.toml", scene, "runs/x\ny", 100);
+  EXPECT_EQ(line.find('\n'), std::string::npos);
+  EXPECT_EQ(line.rfind(std::string("cdpowder ") + kVersion + " (commit " + kGitCommit + "): ", 0),
+            0U);
+  EXPECT_NE(line.find("100 spheres, seed 1, deposition seed"), std::string::npos) << line;
+}
+
+TEST(RunMessages, TheResultLineGivesTheStressOverThePressureAndTheCounts) {
+  const Scene scene = quick_scene();
+  const World world = make_world(scene);
+  RunResult result;
+  result.steps = 4;
+  result.total_sweeps = 10;
+  result.blocked = true;
+  result.wall_seconds = 1.25;
+  const std::string line = result_line(scene, world, Contacts{}, result);
+  EXPECT_EQ(line.rfind("porosity=0.", 0), 0U) << line;
+  // no contacts: no stress; the quick example pushes with a pressure
+  EXPECT_NE(line.find(" sigma_zz/p=0.0000 sigma_zz+/p=0.0000 sigma_zz-/p=0.0000"),
+            std::string::npos)
+      << line;
+  EXPECT_NE(line.find(" blocked=yes steps=4 sweeps/step=2.5 wall=1.25s"), std::string::npos)
+      << line;
+}
+
+TEST(RunMessages, EachEarlyEndingSaysWhatToDo) {
+  const Scene scene = quick_scene();
+  World world = make_world(scene);
+  world.time = 12.5;
+  RunResult result;
+  result.blocked = true;
+  EXPECT_FALSE(run_end_notice(scene, world, result, "out").has_value());
+
+  result.blocked = false;  // the quick example runs until blocked
+  auto notice = run_end_notice(scene, world, result, "out");
+  ASSERT_TRUE(notice.has_value());
+  EXPECT_EQ(notice->ending, RunEnding::NotBlocked);
+  EXPECT_NE(notice->message.find("did not block within run.max_duration"), std::string::npos);
+  EXPECT_NE(notice->message.find("(t = 12.5 t0)"), std::string::npos) << notice->message;
+
+  result.interrupted = true;
+  result.steps = 7;
+  notice = run_end_notice(scene, world, result, "out");
+  ASSERT_TRUE(notice.has_value());
+  EXPECT_EQ(notice->ending, RunEnding::Interrupted);
+  EXPECT_EQ(notice->message,
+            "interrupted at step 7 (t = 12.5 t0); cdpowder resume out continues it");
+
+  RunFault fault;
+  fault.message = "a sphere left the cell";
+  result.fault = fault;
+  notice = run_end_notice(scene, world, result, "out");
+  ASSERT_TRUE(notice.has_value());
+  EXPECT_EQ(notice->ending, RunEnding::Failed);
+  EXPECT_EQ(notice->message,
+            "the run failed: a sphere left the cell; outputs and failed_state.cdps in out");
+}
+
+TEST(RunMessages, OnlyACheckpointOfAnotherBuildIsWarnedAbout) {
+  EXPECT_EQ(other_build_warning("c.cdps", kVersion, kGitCommit), "");
+  const std::string warning = other_build_warning("c.cdps", "0.0.1", "abc");
+  EXPECT_EQ(
+      warning.rfind("c.cdps was written by cdpowder 0.0.1 (commit abc), this is cdpowder ", 0), 0U)
+      << warning;
+  EXPECT_NE(warning.find("will not be bit-identical"), std::string::npos);
+}
+
+TEST(RunMessages, AFolderWithoutACheckpointOrItsStartingPackingCannotBeResumed) {
+  const TemporaryFolder folder("cdpowder_run_messages_test");
+  try {
+    require_checkpoint(folder.path());
+    ADD_FAILURE() << "no checkpoint, no error";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("no checkpoint.cdps to continue from"), std::string::npos);
+    EXPECT_EQ(std::string(e.what()).find("this run has finished"), std::string::npos);
+  }
+  std::ofstream(folder.path() / "summary.json") << "{}";
+  try {
+    require_checkpoint(folder.path());
+    ADD_FAILURE() << "no checkpoint, no error";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find(", and this run has finished"), std::string::npos);
+  }
+  EXPECT_THROW(require_initial_particles(folder.path()), ConfigError);
+  std::ofstream(checkpoint_path(folder.path())) << "x";
+  std::ofstream(folder.path() / "initial_particles.csv") << "x";
+  EXPECT_NO_THROW(require_checkpoint(folder.path()));
+  EXPECT_NO_THROW(require_initial_particles(folder.path()));
+}
+
+TEST(SweepMessages, ARunsLineSaysHowItEnded) {
+  RunRecord record;
+  record.porosity = 0.643046;
+  record.blocked = true;
+  record.wall_seconds = 41.23;
+  EXPECT_EQ(finished_run_text(record), "porosity=0.64305 blocked=yes wall=41.2s");
+  EXPECT_EQ(unfinished_run_text(true, true, true), "interrupted");
+  EXPECT_EQ(unfinished_run_text(false, true, true),
+            "FAILED (a fault stopped it: unphysical state)");
+  EXPECT_EQ(unfinished_run_text(false, false, true), "FAILED (could not write its outputs)");
+  EXPECT_EQ(unfinished_run_text(false, false, false), "FAILED");
+}
+
+}  // namespace
+}  // namespace cdpowder
