@@ -238,5 +238,46 @@ TEST(SlabThreads, APaperSizeStepGivesTheSameStateHashOnTwoThreads) {
             fixture_hash("paper_front_mu00_t350.cdps", 2, settings));
 }
 
+// The stages after a threaded solve run their halves side by side (step.cpp): each step's
+// diagnostics on two threads have the bits of one.
+TEST(SlabThreads, AThreadedStepsDiagnosticsHaveTheBitsOfOneThread) {
+  const auto reports = [](int threads) {
+    const std::filesystem::path file =
+        std::filesystem::path(CDPOWDER_SOURCE_DIR) / "bench/fixtures/paper_front_mu00_t350.cdps";
+    SavedRun saved = load_state(file);
+    const Scene saved_scene = read_scene_text(saved.scene_toml, file.string(), {}, ".");
+    const Scene scene = read_scene_text(saved.scene_toml, file.string(),
+                                        {"solver.threads=" + std::to_string(threads)}, ".");
+    World world;
+    StepWorkspace work(scene.step.solver.seed);
+    RunState run;
+    restore_run(std::move(saved), saved_scene.run, saved_scene.step.solver.dt, world, work, run);
+    std::vector<StepReport> out;
+    for (int k = 0; k < 3; ++k) out.push_back(step(world, work, scene.step));
+    return out;
+  };
+  const std::vector<StepReport> one = reports(1);
+  const std::vector<StepReport> two = reports(2);
+  ASSERT_EQ(one.size(), two.size());
+  for (std::size_t k = 0; k < one.size(); ++k) {
+    EXPECT_TRUE(two[k].solver.threaded);  // the first block of steps runs on the threads
+    const StepDiagnostics& a = one[k].diagnostics;
+    const StepDiagnostics& b = two[k].diagnostics;
+    EXPECT_EQ(a.contacts, b.contacts);
+    EXPECT_EQ(a.closed_contacts, b.closed_contacts);
+    EXPECT_EQ(a.cohesive_contacts, b.cohesive_contacts);
+    for (const auto field : {&StepDiagnostics::mean_overlap, &StepDiagnostics::max_overlap,
+                             &StepDiagnostics::kinetic_energy, &StepDiagnostics::max_speed,
+                             &StepDiagnostics::rms_speed, &StepDiagnostics::piston_contact_force,
+                             &StepDiagnostics::piston_imbalance, &StepDiagnostics::max_net_force,
+                             &StepDiagnostics::max_cohesive_opening_speed,
+                             &StepDiagnostics::max_cohesive_opening_per_range}) {
+      EXPECT_TRUE(same_bits(a.*field, b.*field)) << "step " << k;
+    }
+    EXPECT_GT(a.kinetic_energy, 0.0);
+    EXPECT_GT(a.closed_contacts, 0U);
+  }
+}
+
 }  // namespace
 }  // namespace cdpowder::testing

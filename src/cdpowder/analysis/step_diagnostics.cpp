@@ -6,8 +6,7 @@
 
 namespace cdpowder {
 
-StepDiagnostics analyse_step(const World& world, const Contacts& contacts) {
-  StepDiagnostics d;
+void measure_contacts(const World& world, const Contacts& contacts, StepDiagnostics& d) {
   const Bodies& bodies = world.bodies;
   d.contacts = contacts.size();
   double overlap_sum = 0.0;
@@ -41,7 +40,10 @@ StepDiagnostics analyse_step(const World& world, const Contacts& contacts) {
   }
   d.mean_overlap =
       d.closed_contacts > 0 ? overlap_sum / static_cast<double>(d.closed_contacts) : 0.0;
+}
 
+void measure_spheres(const World& world, StepDiagnostics& d) {
+  const Bodies& bodies = world.bodies;
   double moving_mass = 0.0;
   double mass_v2 = 0.0;
   for (std::size_t i = 0; i < bodies.size(); ++i) {
@@ -54,6 +56,15 @@ StepDiagnostics analyse_step(const World& world, const Contacts& contacts) {
                         0.5 * bodies.inertia(i) * bodies.angular_velocity[i].squaredNorm();
   }
   d.rms_speed = moving_mass > 0.0 ? std::sqrt(mass_v2 / moving_mass) : 0.0;
+}
+
+StepDiagnostics join_measures(const World& world, const StepDiagnostics& of_contacts,
+                              const StepDiagnostics& of_spheres) {
+  StepDiagnostics d = of_contacts;
+  d.kinetic_energy = of_spheres.kinetic_energy;
+  d.max_speed = of_spheres.max_speed;
+  d.rms_speed = of_spheres.rms_speed;
+  const Piston& piston = world.walls.piston;
   if (piston.enabled) {
     d.kinetic_energy += 0.5 * piston.mass * piston.velocity * piston.velocity;
     // against the push and the piston's weight: under gravity the spheres carry both
@@ -61,6 +72,14 @@ StepDiagnostics analyse_step(const World& world, const Contacts& contacts) {
     if (load > 0.0) d.piston_imbalance = std::abs(d.piston_contact_force - load) / load;
   }
   return d;
+}
+
+StepDiagnostics analyse_step(const World& world, const Contacts& contacts) {
+  StepDiagnostics of_contacts;
+  StepDiagnostics of_spheres;
+  measure_contacts(world, contacts, of_contacts);
+  measure_spheres(world, of_spheres);
+  return join_measures(world, of_contacts, of_spheres);
 }
 
 double net_force_of_step(const Bodies& bodies, const VelocityCache& velocities) {

@@ -43,6 +43,15 @@ struct StepDiagnostics {
 /// Δt decides whether to keep the step).
 StepDiagnostics analyse_step(const World& world, const Contacts& contacts);
 
+/// The two halves of analyse_step, which read and write nothing in common (each its own
+/// StepDiagnostics), so they may run side by side: the contacts' overlaps, counts and the
+/// piston's contact force, and the spheres' speeds and kinetic energy. join_measures takes
+/// the fields of each and adds the piston's share, with analyse_step's bits.
+void measure_contacts(const World& world, const Contacts& contacts, StepDiagnostics& d);
+void measure_spheres(const World& world, StepDiagnostics& d);
+StepDiagnostics join_measures(const World& world, const StepDiagnostics& of_contacts,
+                              const StepDiagnostics& of_spheres);
+
 /// max_i of m_i|v*_i − v_i|/Δt + I_i|ω*_i − ω_i|/(Δt r_i) over free spheres: the largest
 /// net force (and torque / radius) the step's contact forces and loads leave on a sphere.
 /// Call after the solve and before integrate(), while `bodies` holds the old velocities.

@@ -8,7 +8,9 @@
 #include "cdpowder/solver/integrate.hpp"
 #include "cdpowder/solver/slabs.hpp"
 
+#include <algorithm>
 #include <chrono>
+#include <cstdint>
 
 namespace cdpowder {
 
@@ -53,6 +55,33 @@ void finish_step(World& world, StepWorkspace& work, const StepSettings& settings
   commit_step(world, work, settings, report);
 }
 
+namespace {
+
+/// The workers of a step whose solve ran on them (report.solver.threaded), for the stages
+/// after it; nullptr otherwise. A step the ThreadChoice keeps on one thread (the second core
+/// was slower lately) keeps its other stages there too.
+SlabThreads* stage_threads(StepWorkspace& work, const StepSettings& settings,
+                           const StepReport& report) {
+  if (!report.solver.threaded || settings.solver.threads < 2) return nullptr;
+  return work.solver.threads.get(std::min(settings.solver.threads, 2));
+}
+
+/// Runs first() and second() side by side on `threads` (one after the other on the caller
+/// when null), then lets the workers rest: the two must write nothing in common.
+template <typename First, typename Second>
+void side_by_side(SlabThreads* threads, const First& first, const Second& second) {
+  run_pieces(threads, 2, [&](std::uint32_t piece) {
+    if (piece == 0) {
+      first();
+    } else {
+      second();
+    }
+  });
+  if (threads != nullptr) threads->park();
+}
+
+}  // namespace
+
 void solve_step(const World& world, StepWorkspace& work, const StepSettings& settings,
                 StepReport& report) {
   StageClock clock;
@@ -63,25 +92,48 @@ void solve_step(const World& world, StepWorkspace& work, const StepSettings& set
                              solver, solver.slab);
   clock.lap(Stage::SolveNlgs, report.times);
 
-  const CohesiveOpening opening =
-      cohesive_opening(world, work.contacts, work.velocities, settings.laws, settings.solver.dt);
+  // the opening gauge, and the net force while `world` still holds the old velocities: both
+  // only read, so side by side on a threaded step
+  CohesiveOpening opening;
+  double net_force = 0.0;
+  side_by_side(
+      stage_threads(work, settings, report),
+      [&] {
+        opening = cohesive_opening(world, work.contacts, work.velocities, settings.laws,
+                                   settings.solver.dt);
+      },
+      [&] { net_force = net_force_of_step(world.bodies, work.velocities); });
   report.diagnostics.max_cohesive_opening_speed = opening.speed;
   report.diagnostics.max_cohesive_opening_per_range = opening.per_range;
+  report.diagnostics.max_net_force = net_force;
   clock.lap(Stage::Analyse, report.times);
 }
 
 void commit_step(World& world, StepWorkspace& work, const StepSettings& settings,
                  StepReport& report) {
   StageClock clock;
-  work.action_cache.store(work.contacts);  // warm start of the next step (§7.4)
-  clock.lap(Stage::SolveNlgs, report.times);
-
-  const double net_force = net_force_of_step(world.bodies, work.velocities);
-  integrate(work.velocities, settings.solver.dt, world);
+  SlabThreads* const threads = stage_threads(work, settings, report);
+  // the warm start of the next step (§7.4) reads the contacts, integration the velocities
+  // and writes the World: side by side on a threaded step, where the store's time counts as
+  // integration's
+  if (threads == nullptr) {
+    work.action_cache.store(work.contacts);
+    clock.lap(Stage::SolveNlgs, report.times);
+    integrate(work.velocities, settings.solver.dt, world);
+  } else {
+    side_by_side(
+        threads, [&] { work.action_cache.store(work.contacts); },
+        [&] { integrate(work.velocities, settings.solver.dt, world); });
+  }
   clock.lap(Stage::Integrate, report.times);
 
-  StepDiagnostics diagnostics = analyse_step(world, work.contacts);
-  diagnostics.max_net_force = net_force;
+  StepDiagnostics of_contacts;
+  StepDiagnostics of_spheres;
+  side_by_side(
+      threads, [&] { measure_contacts(world, work.contacts, of_contacts); },
+      [&] { measure_spheres(world, of_spheres); });
+  StepDiagnostics diagnostics = join_measures(world, of_contacts, of_spheres);
+  diagnostics.max_net_force = report.diagnostics.max_net_force;
   diagnostics.max_cohesive_opening_speed = report.diagnostics.max_cohesive_opening_speed;
   diagnostics.max_cohesive_opening_per_range = report.diagnostics.max_cohesive_opening_per_range;
   report.diagnostics = diagnostics;
