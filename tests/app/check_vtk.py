@@ -1,10 +1,13 @@
 #!/usr/bin/env python3
 """Reads back the VTK files of a cdpowder output folder with an XML parser of Python's
 standard library and checks them against particles.csv and contacts.csv: every array has
-the declared length, points are the sphere centres, radii match, and the contact network
-holds exactly the closed contacts. Usage: check_vtk.py OUTPUT_DIR. Exit status 0 = valid.
+the declared length, points are the sphere centres, radii match, the contact network
+holds exactly the closed contacts with force and normal vectors that agree with their
+normal and tangential forces, and the walls (the cell's edges, the bottom wall and the
+piston) are where they belong. Usage: check_vtk.py OUTPUT_DIR. Exit status 0 = valid.
 """
 import csv
+import json
 import math
 import sys
 import xml.etree.ElementTree as ET
@@ -46,6 +49,20 @@ def check_cells(path, arrays, cells, size):
         fail(f"{path}: offsets are not the ends of {cells} cells of {size} points")
 
 
+def read_cell_sections(path):
+    """{section: (connectivity, offsets)} of the Verts, Lines and Polys of a .vtp file."""
+    piece = ET.parse(path).getroot().find("PolyData/Piece")
+    sections = {}
+    for name in ("Verts", "Lines", "Polys"):
+        section = piece.find(name)
+        if section is None:
+            continue
+        arrays = {a.get("Name"): [int(float(v)) for v in (a.text or "").split()]
+                  for a in section.iter("DataArray")}
+        sections[name] = (arrays.get("connectivity", []), arrays.get("offsets", []))
+    return sections
+
+
 def read_csv(path):
     with open(path) as f:
         return list(csv.DictReader(line for line in f if not line.startswith("#")))
@@ -81,13 +98,25 @@ def check_contacts(out):
     if int(attributes["NumberOfPoints"]) != 2 * lines or len(arrays.get("Points", [])) != 2 * lines:
         fail("contacts.vtp: expected two points per line")
     check_cells("contacts.vtp", arrays, lines, 2)
-    for name in ("normal_force", "tensile", "tangential_force", "cohesive", "kind"):
+    for name in ("normal_force", "force", "normal", "tensile", "tangential_force", "cohesive",
+                 "kind"):
         if len(arrays.get(name, [])) != lines:
             fail(f"contacts.vtp: cell array {name} has the wrong length")
     for k in range(lines):
         force = arrays["normal_force"][k][0]
         if int(arrays["tensile"][k][0]) != (1 if force < 0 else 0):
             fail(f"contacts.vtp: line {k} tensile flag disagrees with its force {force}")
+        # the vectors: n a unit vector, R = R_n n + R_t with R_t ⟂ n and |R_t| the tangential force
+        n, vector = arrays["normal"][k], arrays["force"][k]
+        if abs(math.hypot(*n) - 1.0) > 1e-6:
+            fail(f"contacts.vtp: line {k} normal {n} is not a unit vector")
+        along = sum(a * b for a, b in zip(vector, n))
+        across = math.hypot(*(v - along * c for v, c in zip(vector, n)))
+        scale = max(1.0, abs(force), arrays["tangential_force"][k][0])
+        if abs(along - force) > 1e-6 * scale or \
+                abs(across - arrays["tangential_force"][k][0]) > 1e-6 * scale:
+            fail(f"contacts.vtp: line {k} force {vector} disagrees with its normal force {force} "
+                 f"and tangential force {arrays['tangential_force'][k][0]}")
         a, b = arrays["Points"][2 * k], arrays["Points"][2 * k + 1]
         if math.dist(a, b) > 2.5:  # at most R_a + R_b (+ d_coh) for unit spheres
             fail(f"contacts.vtp: line {k} spans {math.dist(a, b)} R: wrong periodic image?")
@@ -96,6 +125,33 @@ def check_contacts(out):
     if any(abs(x - y) > 1e-6 * max(1.0, abs(x)) for x, y in zip(forces_csv, forces_vtp)):
         fail("contacts.vtp: normal forces differ from contacts.csv")
     return lines
+
+
+def check_walls(path, piston_height=None):
+    """The cell's four vertical edges, then the bottom wall and the piston as squares."""
+    attributes, arrays = read_polydata(path)
+    polys = int(attributes["NumberOfPolys"])
+    if int(attributes["NumberOfLines"]) != 4 or polys not in (0, 1, 2):
+        fail(f"{path}: expected 4 cell edges and at most 2 planes")
+    if int(attributes["NumberOfPoints"]) != 8 + 4 * polys:
+        fail(f"{path}: expected 8 + 4 × {polys} points")
+    sections = read_cell_sections(path)
+    if sections["Lines"] != (list(range(8)), [2, 4, 6, 8]):
+        fail(f"{path}: the cell edges are not lines of points 0 … 7")
+    if sections["Polys"] != (list(range(8, 8 + 4 * polys)), [4 * (k + 1) for k in range(polys)]):
+        fail(f"{path}: the planes are not squares of the points after the edges")
+    kinds = [int(k[0]) for k in arrays["kind"]]
+    if kinds[:4] != [2, 2, 2, 2] or not set(kinds[4:]) <= {0, 1} or len(kinds) != 4 + polys:
+        fail(f"{path}: kinds {kinds}: expected four edges (2), then bottom (0) and piston (1)")
+    points = arrays["Points"]
+    for k, kind in enumerate(kinds[4:]):
+        heights = {p[2] for p in points[8 + 4 * k: 12 + 4 * k]}
+        expected = 0.0 if kind == 0 else piston_height
+        # the files hold 9 significant digits
+        if len(heights) != 1 or (expected is not None and
+                                 abs(heights.pop() - expected) > 1e-8 * max(1.0, abs(expected))):
+            fail(f"{path}: plane {k} (kind {kind}) is not flat at z = {expected}")
+    return polys
 
 
 def check_collection(out):
@@ -111,6 +167,11 @@ def check_collection(out):
         read_polydata(out / d.get("file"))
     for d in ET.parse(out / "contacts.pvd").getroot().findall("Collection/DataSet"):
         read_polydata(out / d.get("file"))
+    walls = ET.parse(out / "walls.pvd").getroot().findall("Collection/DataSet")
+    if [float(d.get("timestep")) for d in walls] != times:
+        fail("walls.pvd: not the time steps of particles.pvd")
+    for d in walls:
+        check_walls(out / d.get("file"))
     return len(datasets)
 
 
@@ -120,8 +181,14 @@ def main():
     out = Path(sys.argv[1])
     spheres = check_particles(out)
     lines = check_contacts(out)
+    # the final piston, from the summary the run wrote with the files
+    summary = json.loads((out / "summary.json").read_text())
+    piston = summary.get("piston", {})
+    planes = check_walls(out / "walls.vtp",
+                         piston.get("height") if piston.get("enabled") else None)
     snapshots = check_collection(out)
-    print(f"check_vtk: {spheres} spheres, {lines} contact lines, {snapshots} snapshots: valid")
+    print(f"check_vtk: {spheres} spheres, {lines} contact lines, {planes} wall planes, "
+          f"{snapshots} snapshots: valid")
 
 
 if __name__ == "__main__":

@@ -157,6 +157,7 @@ void write_deposit_outputs(const std::filesystem::path& folder, const Scene& sce
   write_file_atomically(folder / "scene.toml", scene.effective_toml);
   write_file_atomically(folder / "particles.csv", particles_csv(world.bodies, header));
   write_file_atomically(folder / "particles.vtp", particles_vtp(world, nullptr));
+  write_file_atomically(folder / "walls.vtp", walls_vtp(world));
   write_file_atomically(folder / "summary.json", deposit_summary_json(scene, world));
 }
 
@@ -253,6 +254,7 @@ void RunFolder::finish(const Scene& scene, const World& world, const StepWorkspa
   write_file_atomically(folder_ / "contacts.csv", contacts_csv(work.contacts, header_));
   write_file_atomically(folder_ / "particles.vtp", particles_vtp(world, &work.contacts));
   write_file_atomically(folder_ / "contacts.vtp", contacts_vtp(world, work.contacts));
+  write_file_atomically(folder_ / "walls.vtp", walls_vtp(world));
   if (snapshot_cadence_.enabled() && world.step != last_snapshot_step_) {
     snapshots_.write(world, work.contacts);
   }

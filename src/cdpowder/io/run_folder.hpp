@@ -24,12 +24,11 @@ namespace cdpowder {
 
 /// The files and folders a run writes into its folder; a sweep's log.txt (written before
 /// the run starts) and the run lock are not among them.
-inline constexpr std::array<std::string_view, 14> kRunOutputs{
-    "summary.json",    "scene.toml",     "initial_particles.csv",
-    "particles.csv",   "contacts.csv",   "timeseries.csv",
-    "particles.vtp",   "contacts.vtp",   "particles.pvd",
-    "contacts.pvd",    "snapshots",      "failed_state.cdps",
-    "checkpoint.cdps", "checkpoint.toml"};
+inline constexpr std::array<std::string_view, 16> kRunOutputs{
+    "summary.json", "scene.toml",        "initial_particles.csv", "particles.csv",
+    "contacts.csv", "timeseries.csv",    "particles.vtp",         "contacts.vtp",
+    "walls.vtp",    "particles.pvd",     "contacts.pvd",          "walls.pvd",
+    "snapshots",    "failed_state.cdps", "checkpoint.cdps",       "checkpoint.toml"};
 
 /// The state of an unfinished run, from which it continues (io/state_file.hpp).
 std::filesystem::path checkpoint_path(const std::filesystem::path& folder);

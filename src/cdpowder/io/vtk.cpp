@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <charconv>
 #include <cmath>
 #include <fstream>
@@ -24,15 +25,24 @@ constexpr int kKindPair = 0;
 constexpr int kKindBottom = 1;
 constexpr int kKindPiston = 2;
 
-void begin_polydata(Buffer& out, std::size_t points, std::size_t verts, std::size_t lines) {
+/// Cell kinds in the walls' "kind" array.
+constexpr int kWallsKindBottom = 0;
+constexpr int kWallsKindPiston = 1;
+constexpr int kWallsKindCellEdge = 2;
+
+/// The files of one snapshot, DIR/snapshots/KIND_NNNNNN.vtp, each with its DIR/KIND.pvd.
+constexpr std::array<const char*, 3> kSnapshotKinds{"particles", "contacts", "walls"};
+
+void begin_polydata(Buffer& out, std::size_t points, std::size_t verts, std::size_t lines,
+                    std::size_t polys = 0) {
   fmt::format_to(std::back_inserter(out),
                  "<?xml version=\"1.0\"?>\n"
                  "<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\" "
                  "header_type=\"UInt64\">\n"
                  "<PolyData>\n"
                  "<Piece NumberOfPoints=\"{}\" NumberOfVerts=\"{}\" NumberOfLines=\"{}\" "
-                 "NumberOfStrips=\"0\" NumberOfPolys=\"0\">\n",
-                 points, verts, lines);
+                 "NumberOfStrips=\"0\" NumberOfPolys=\"{}\">\n",
+                 points, verts, lines, polys);
 }
 
 void end_polydata(Buffer& out) {
@@ -55,11 +65,15 @@ void put_vec(Buffer& out, const Vec3& v) {
   fmt::format_to(std::back_inserter(out), "{:.9g} {:.9g} {:.9g}\n", v.x(), v.y(), v.z());
 }
 
-/// Connectivity and offsets of `cells` cells of `size` consecutive points each.
-void cell_arrays(Buffer& out, const char* section, std::size_t cells, std::size_t size) {
+/// Connectivity and offsets of `cells` cells of `size` consecutive points each, the first
+/// at point `first_point`.
+void cell_arrays(Buffer& out, const char* section, std::size_t cells, std::size_t size,
+                 std::size_t first_point = 0) {
   fmt::format_to(std::back_inserter(out), "<{}>\n", section);
   data_array(out, "Int64", "connectivity", 1, cells * size,
-             [](Buffer& b, std::size_t i) { fmt::format_to(std::back_inserter(b), "{}\n", i); });
+             [first_point](Buffer& b, std::size_t i) {
+               fmt::format_to(std::back_inserter(b), "{}\n", first_point + i);
+             });
   data_array(out, "Int64", "offsets", 1, cells, [size](Buffer& b, std::size_t i) {
     fmt::format_to(std::back_inserter(b), "{}\n", (i + 1) * size);
   });
@@ -70,6 +84,8 @@ void cell_arrays(Buffer& out, const char* section, std::size_t cells, std::size_
 struct NetworkLine {
   Vec3 from;
   Vec3 to;
+  Vec3 normal;  ///< n, from a to b (from the wall into the sphere)
+  Vec3 force;   ///< R_n n + R_t: the force on b (on the sphere of a wall contact) [F_coh]
   double normal_force;
   double tangential_force;
   bool cohesive;
@@ -86,7 +102,8 @@ std::vector<NetworkLine> network_lines(const World& world, const Contacts& conta
     if (!is_closed(action.normal_force, p.cohesion) && !std::isnan(action.normal_force)) continue;
     const Vec3& a = bodies.position[p.a];
     const Vec3 b = a + world.box.minimum_image(bodies.position[p.b] - a);
-    lines.push_back({a, b, action.normal_force, action.tangential_force.norm(),
+    lines.push_back({a, b, p.normal, action.normal_force * p.normal + action.tangential_force,
+                     action.normal_force, action.tangential_force.norm(),
                      contacts.pair_cohesive[k] != 0, kKindPair});
   }
   for (std::size_t k = 0; k < contacts.walls.size(); ++k) {
@@ -95,7 +112,8 @@ std::vector<NetworkLine> network_lines(const World& world, const Contacts& conta
     if (!is_closed(action.normal_force, w.cohesion) && !std::isnan(action.normal_force)) continue;
     const Vec3& centre = bodies.position[w.sphere];
     // n points from the wall into the sphere: the contact point is R behind the centre
-    lines.push_back({centre, centre - w.radius * w.normal, action.normal_force,
+    lines.push_back({centre, centre - w.radius * w.normal, w.normal,
+                     action.normal_force * w.normal + action.tangential_force, action.normal_force,
                      action.tangential_force.norm(), contacts.wall_cohesive[k] != 0,
                      w.wall == WallKind::Bottom ? kKindBottom : kKindPiston});
   }
@@ -164,10 +182,15 @@ std::string contacts_vtp(const World& world, const Contacts& contacts) {
   });
   fmt::format_to(std::back_inserter(out), "</Points>\n");
   cell_arrays(out, "Lines", n, 2);
-  fmt::format_to(std::back_inserter(out), "<CellData Scalars=\"normal_force\">\n");
+  fmt::format_to(std::back_inserter(out),
+                 "<CellData Scalars=\"normal_force\" Vectors=\"force\" Normals=\"normal\">\n");
   data_array(out, "Float64", "normal_force", 1, n, [&](Buffer& b, std::size_t i) {
     fmt::format_to(std::back_inserter(b), "{:.9g}\n", lines[i].normal_force);
   });
+  data_array(out, "Float64", "force", 3, n,
+             [&](Buffer& b, std::size_t i) { put_vec(b, lines[i].force); });
+  data_array(out, "Float64", "normal", 3, n,
+             [&](Buffer& b, std::size_t i) { put_vec(b, lines[i].normal); });
   data_array(out, "Int32", "tensile", 1, n, [&](Buffer& b, std::size_t i) {
     fmt::format_to(std::back_inserter(b), "{}\n", lines[i].normal_force < 0.0 ? 1 : 0);
   });
@@ -179,6 +202,50 @@ std::string contacts_vtp(const World& world, const Contacts& contacts) {
   });
   data_array(out, "Int32", "kind", 1, n, [&](Buffer& b, std::size_t i) {
     fmt::format_to(std::back_inserter(b), "{}\n", lines[i].kind);
+  });
+  fmt::format_to(std::back_inserter(out), "</CellData>\n");
+  end_polydata(out);
+  return fmt::to_string(out);
+}
+
+std::string walls_vtp(const World& world) {
+  const Bodies& bodies = world.bodies;
+  const Walls& walls = world.walls;
+  const double lx = world.box.lx;
+  const double ly = world.box.ly;
+  // the cell's four vertical edges reach the piston, or the highest sphere top without one
+  double top = walls.piston.enabled ? walls.piston.height : 0.0;
+  if (!walls.piston.enabled) {
+    for (std::size_t i = 0; i < bodies.size(); ++i) {
+      top = std::max(top, bodies.position[i].z() + bodies.radius[i]);
+    }
+  }
+  std::vector<Vec3> points;
+  for (const auto& [x, y] : {std::pair{0.0, 0.0}, {lx, 0.0}, {lx, ly}, {0.0, ly}}) {
+    points.emplace_back(x, y, 0.0);
+    points.emplace_back(x, y, top);
+  }
+  std::vector<int> kinds(4, kWallsKindCellEdge);  // cell data: the lines first, then the polys
+  const auto add_plane = [&](double z, int kind) {
+    for (const auto& [x, y] : {std::pair{0.0, 0.0}, {lx, 0.0}, {lx, ly}, {0.0, ly}}) {
+      points.emplace_back(x, y, z);
+    }
+    kinds.push_back(kind);
+  };
+  if (walls.bottom.enabled) add_plane(0.0, kWallsKindBottom);
+  if (walls.piston.enabled) add_plane(walls.piston.height, kWallsKindPiston);
+  const std::size_t planes = kinds.size() - 4;
+  Buffer out;
+  begin_polydata(out, points.size(), 0, 4, planes);
+  fmt::format_to(std::back_inserter(out), "<Points>\n");
+  data_array(out, "Float64", "Points", 3, points.size(),
+             [&](Buffer& b, std::size_t i) { put_vec(b, points[i]); });
+  fmt::format_to(std::back_inserter(out), "</Points>\n");
+  cell_arrays(out, "Lines", 4, 2);
+  cell_arrays(out, "Polys", planes, 4, 8);
+  fmt::format_to(std::back_inserter(out), "<CellData Scalars=\"kind\">\n");
+  data_array(out, "Int32", "kind", 1, kinds.size(), [&](Buffer& b, std::size_t i) {
+    fmt::format_to(std::back_inserter(b), "{}\n", kinds[i]);
   });
   fmt::format_to(std::back_inserter(out), "</CellData>\n");
   end_polydata(out);
@@ -220,14 +287,20 @@ void VtkSnapshotSeries::keep_earlier(std::size_t count) {
     for (const auto& entry : std::filesystem::directory_iterator(folder)) {
       const std::string name = entry.path().filename().string();
       const bool kept = std::any_of(entries_.begin(), entries_.end(), [&](const auto& e) {
-        return name == fmt::format("particles_{}.vtp", e.second) ||
-               name == fmt::format("contacts_{}.vtp", e.second);
+        return std::any_of(kSnapshotKinds.begin(), kSnapshotKinds.end(), [&](const char* kind) {
+          return name == fmt::format("{}_{}.vtp", kind, e.second);
+        });
       });
       if (!kept) std::filesystem::remove(entry.path());
     }
   }
-  write_file_atomically(out_dir_ / "particles.pvd", pvd(entries_, "particles"));
-  write_file_atomically(out_dir_ / "contacts.pvd", pvd(entries_, "contacts"));
+  write_collections();
+}
+
+void VtkSnapshotSeries::write_collections() const {
+  for (const char* kind : kSnapshotKinds) {
+    write_file_atomically(out_dir_ / fmt::format("{}.pvd", kind), pvd(entries_, kind));
+  }
 }
 
 VtkSnapshotSeries::VtkSnapshotSeries(std::filesystem::path out_dir)
@@ -241,9 +314,9 @@ void VtkSnapshotSeries::write(const World& world, const Contacts& contacts) {
                         particles_vtp(world, &contacts));
   write_file_atomically(folder / fmt::format("contacts_{}.vtp", suffix),
                         contacts_vtp(world, contacts));
+  write_file_atomically(folder / fmt::format("walls_{}.vtp", suffix), walls_vtp(world));
   entries_.emplace_back(world.time, suffix);
-  write_file_atomically(out_dir_ / "particles.pvd", pvd(entries_, "particles"));
-  write_file_atomically(out_dir_ / "contacts.pvd", pvd(entries_, "contacts"));
+  write_collections();
 }
 
 }  // namespace cdpowder

@@ -9,8 +9,15 @@
 // Contact network: one line per closed contact (R_n + F_c > 0), from the centre of a to
 // the centre of b's periodic image nearest to a (so lines never span the cell), or, for a
 // wall contact, from the sphere centre to its contact point on the wall. Cell data:
-// normal_force R_n [F_coh] (> 0 compressive), tensile (1 if R_n < 0), tangential_force
-// |R_t| [F_coh], cohesive (0/1), kind (0 sphere–sphere, 1 bottom wall, 2 piston).
+// normal_force R_n [F_coh] (> 0 compressive), force R_n n + R_t (a vector: the force on b, or
+// on the sphere of a wall contact) [F_coh], normal n (unit, from a to b, or from the wall into
+// the sphere), tensile (1 if R_n < 0), tangential_force |R_t| [F_coh], cohesive (0/1), kind
+// (0 sphere–sphere, 1 bottom wall, 2 piston).
+//
+// Walls: the periodic cell's four vertical edges as lines (up to the piston, or to the highest
+// sphere top without one), then the bottom wall (z = 0) and the piston (z = Z_P) as squares
+// over the cell, each only when it is enabled. Cell data: kind (0 bottom wall, 1 piston, 2 an
+// edge of the cell).
 #pragma once
 
 #include "cdpowder/contact/local_problem.hpp"
@@ -31,9 +38,12 @@ std::string particles_vtp(const World& world, const Contacts* contacts);
 /// The closed contacts of `contacts` as a .vtp document of lines.
 std::string contacts_vtp(const World& world, const Contacts& contacts);
 
-/// A time series of snapshots: DIR/snapshots/{particles,contacts}_NNNNNN.vtp and the
-/// collections DIR/particles.pvd and DIR/contacts.pvd, rewritten (atomically) after every
-/// snapshot so a run that is stopped early still leaves valid collections.
+/// The bottom wall, the piston and the periodic cell of `world` as a .vtp document.
+std::string walls_vtp(const World& world);
+
+/// A time series of snapshots: DIR/snapshots/{particles,contacts,walls}_NNNNNN.vtp and the
+/// collections DIR/particles.pvd, DIR/contacts.pvd and DIR/walls.pvd, rewritten (atomically)
+/// after every snapshot so a run that is stopped early still leaves valid collections.
 class VtkSnapshotSeries {
  public:
   explicit VtkSnapshotSeries(std::filesystem::path out_dir);
@@ -52,6 +62,9 @@ class VtkSnapshotSeries {
   void keep_earlier(std::size_t count);
 
  private:
+  /// Rewrites the three collections from entries_.
+  void write_collections() const;
+
   std::filesystem::path out_dir_;
   std::vector<std::pair<double, std::string>> entries_;  ///< (time, file stem suffix)
 };
