@@ -6,9 +6,11 @@ holds exactly the closed contacts with force and normal vectors that agree with 
 normal and tangential forces, and the walls (the cell's edges, the bottom wall and the
 piston) are where they belong. Usage: check_vtk.py OUTPUT_DIR. Exit status 0 = valid.
 """
+import base64
 import csv
 import json
 import math
+import struct
 import sys
 import xml.etree.ElementTree as ET
 from pathlib import Path
@@ -17,6 +19,35 @@ from pathlib import Path
 def fail(message):
     print(f"check_vtk: {message}", file=sys.stderr)
     sys.exit(1)
+
+
+BINARY_TYPES = {"Float64": "d", "Int64": "q", "Int32": "i"}
+
+
+def array_values(path, root, array):
+    """The values of a <DataArray>: inline text (format="ascii") or, for format="appended",
+    its block in the base64 <AppendedData>: the byte count (UInt64) and the bytes, encoded
+    as one block starting at the array's offset."""
+    if array.get("format") == "ascii":
+        return [float(v) for v in (array.text or "").split()]
+    if array.get("format") != "appended":
+        fail(f"{path}: array {array.get('Name')} has format {array.get('format')}")
+    appended = root.find("AppendedData")
+    if appended is None or appended.get("encoding") != "base64" or \
+            root.get("header_type") != "UInt64" or root.get("byte_order") != "LittleEndian":
+        fail(f"{path}: expected base64 appended data with UInt64 little-endian headers")
+    text = (appended.text or "").strip()
+    if not text.startswith("_"):
+        fail(f"{path}: appended data does not start with '_'")
+    start = 1 + int(array.get("offset"))
+    (size,) = struct.unpack("<Q", base64.b64decode(text[start:start + 12])[:8])
+    chars = 4 * ((8 + size + 2) // 3)
+    block = base64.b64decode(text[start:start + chars])
+    code = BINARY_TYPES.get(array.get("type"))
+    if code is None or len(block) < 8 + size or size % struct.calcsize(code) != 0:
+        fail(f"{path}: array {array.get('Name')}: a block of {size} bytes of {array.get('type')}")
+    count = size // struct.calcsize(code)
+    return [float(v) for v in struct.unpack(f"<{count}{code}", block[8:8 + size])]
 
 
 def read_polydata(path):
@@ -30,7 +61,7 @@ def read_polydata(path):
     arrays = {}
     for array in piece.iter("DataArray"):
         components = int(array.get("NumberOfComponents", "1"))
-        values = [float(v) for v in (array.text or "").split()]
+        values = array_values(path, root, array)
         if len(values) % components != 0:
             fail(f"{path}: array {array.get('Name')} has {len(values)} values, "
                  f"not a multiple of {components}")
@@ -51,13 +82,14 @@ def check_cells(path, arrays, cells, size):
 
 def read_cell_sections(path):
     """{section: (connectivity, offsets)} of the Verts, Lines and Polys of a .vtp file."""
-    piece = ET.parse(path).getroot().find("PolyData/Piece")
+    root = ET.parse(path).getroot()
+    piece = root.find("PolyData/Piece")
     sections = {}
     for name in ("Verts", "Lines", "Polys"):
         section = piece.find(name)
         if section is None:
             continue
-        arrays = {a.get("Name"): [int(float(v)) for v in (a.text or "").split()]
+        arrays = {a.get("Name"): [int(v) for v in array_values(path, root, a)]
                   for a in section.iter("DataArray")}
         sections[name] = (arrays.get("connectivity", []), arrays.get("offsets", []))
     return sections

@@ -21,6 +21,7 @@ using cdpowder::testing::ProcessResult;
 using cdpowder::testing::run_cdpowder;
 using cdpowder::testing::slurp;
 using ::testing::HasSubstr;
+using ::testing::Not;
 
 const fs::path kQuick = CDPOWDER_SOURCE_DIR "/examples/quick/scene.toml";
 const fs::path kPaper = CDPOWDER_SOURCE_DIR "/examples/paper/scene.toml";
@@ -78,12 +79,33 @@ TEST_F(CompactCli, QuickExampleBlocksWithStressEqualToThePressure) {
   EXPECT_GT(s["contacts"]["coordination_number"].get<double>(), 1.0);
   EXPECT_EQ(s["spheres"], 100);
 
-  for (const char* name :
-       {"summary.json", "particles.csv", "initial_particles.csv", "contacts.csv", "timeseries.csv",
-        "scene.toml", "particles.vtp", "contacts.vtp", "particles.pvd", "contacts.pvd"}) {
+  for (const char* name : {"summary.json", "particles.csv", "initial_particles.csv", "contacts.csv",
+                           "timeseries.csv", "scene.toml", "particles.vtp", "contacts.vtp",
+                           "walls.vtp", "particles.pvd", "contacts.pvd", "walls.pvd"}) {
     EXPECT_TRUE(fs::exists(out / name)) << name;
   }
   // ParaView's files, read back by an independent reader and checked against the CSVs
+  const ProcessResult vtk =
+      cdpowder::testing::run_process("python3", kCheckVtk.string() + " " + out.string(), scratch_);
+  EXPECT_EQ(vtk.status, 0) << vtk.err;
+  EXPECT_THAT(vtk.out, HasSubstr("valid"));
+}
+
+// run.vtk_format = "binary": every .vtp with its arrays as appended base64, read back by the
+// same independent reader (which decodes the blocks) and checked against the CSVs.
+TEST_F(CompactCli, BinaryVtkFilesReadBackAsTheRunsState) {
+  const fs::path out = scratch_ / "out";
+  const ProcessResult r =
+      run_cdpowder("compact " + kQuick.string() + " --out " + out.string() + " " + kShort +
+                       " --set run.vtk_format='\"binary\"' --set run.snapshot_every=100",
+                   scratch_);
+  ASSERT_EQ(r.status, kNotBlocked) << r.err;
+  for (const char* name : {"particles.vtp", "contacts.vtp", "walls.vtp"}) {
+    const std::string text = slurp(out / name);
+    EXPECT_THAT(text, HasSubstr("format=\"appended\"")) << name;
+    EXPECT_THAT(text, HasSubstr("<AppendedData encoding=\"base64\">")) << name;
+    EXPECT_THAT(text, Not(HasSubstr("format=\"ascii\""))) << name;
+  }
   const ProcessResult vtk =
       cdpowder::testing::run_process("python3", kCheckVtk.string() + " " + out.string(), scratch_);
   EXPECT_EQ(vtk.status, 0) << vtk.err;

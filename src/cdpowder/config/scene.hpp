@@ -56,6 +56,10 @@ struct BlockedCriteria {
   int final_max_sweeps = 20000;
 };
 
+/// How the VTK files hold their arrays: text, one tuple a line (readable, diffable), or
+/// appended base64-encoded binary (smaller, full precision, faster to load).
+enum class VtkFormat { Ascii, Binary };
+
 /// [run]: how long to run and how often to record.
 struct RunConfig {
   double duration = 10.0;       ///< simulated time when until_blocked is false [t0]
@@ -70,6 +74,7 @@ struct RunConfig {
   /// a step after which any contact overlaps by more than this ends the run as failed
   /// (run_fault.hpp): rigid contacts keep the mean overlap near 1e-3 R (physics.md §17) [R]
   double max_overlap = 0.1;
+  VtkFormat vtk_format = VtkFormat::Ascii;  ///< of every .vtp the run writes
   BlockedCriteria blocked;
 };
 

@@ -184,6 +184,7 @@ void read_run(TableReader& in, RunConfig& run) {
       in.number("run.timeseries_interval", run.timeseries_interval, kNonNegative);
   run.snapshot_interval = in.number("run.snapshot_interval", run.snapshot_interval, kNonNegative);
   run.max_overlap = in.number("run.max_overlap", run.max_overlap, kPositive);
+  run.vtk_format = in.choice("run.vtk_format", run.vtk_format, detail::kVtkFormatNames);
   BlockedCriteria& blocked = run.blocked;
   blocked.window = in.number("run.blocked.window", blocked.window, kPositive);
   blocked.piston_speed = in.number("run.blocked.piston_speed", blocked.piston_speed, kPositive);

@@ -132,6 +132,7 @@ toml::table run_table(const RunConfig& run) {
                      {"timeseries_interval", run.timeseries_interval},
                      {"snapshot_interval", run.snapshot_interval},
                      {"max_overlap", run.max_overlap},
+                     {"vtk_format", name_of(run.vtk_format, kVtkFormatNames)},
                      {"blocked", toml::table{{"window", blocked.window},
                                              {"piston_speed", blocked.piston_speed},
                                              {"sphere_speed", blocked.sphere_speed},

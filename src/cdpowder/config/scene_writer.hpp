@@ -15,6 +15,8 @@ inline constexpr EnumNames<CohesionRule, 2> kCohesionRuleNames = {
     {{"graph", CohesionRule::Graph}, {"history", CohesionRule::History}}};
 inline constexpr EnumNames<StoppingRule, 2> kStoppingRuleNames = {
     {{"residual", StoppingRule::Residual}, {"relative_change", StoppingRule::RelativeChange}}};
+inline constexpr EnumNames<VtkFormat, 2> kVtkFormatNames = {
+    {{"ascii", VtkFormat::Ascii}, {"binary", VtkFormat::Binary}}};
 inline constexpr EnumNames<CaptureRule, 2> kCaptureRuleNames = {
     {{"centre_distance", CaptureRule::CentreDistance}, {"surface_gap", CaptureRule::SurfaceGap}}};
 inline constexpr EnumNames<VisitOrder, 3> kVisitOrderNames = {

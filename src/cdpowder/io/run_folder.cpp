@@ -156,16 +156,18 @@ void write_deposit_outputs(const std::filesystem::path& folder, const Scene& sce
   const std::string header = provenance_header(scene);
   write_file_atomically(folder / "scene.toml", scene.effective_toml);
   write_file_atomically(folder / "particles.csv", particles_csv(world.bodies, header));
-  write_file_atomically(folder / "particles.vtp", particles_vtp(world, nullptr));
-  write_file_atomically(folder / "walls.vtp", walls_vtp(world));
+  const VtkFormat vtk = scene.run.vtk_format;
+  write_file_atomically(folder / "particles.vtp", particles_vtp(world, nullptr, vtk));
+  write_file_atomically(folder / "walls.vtp", walls_vtp(world, vtk));
   write_file_atomically(folder / "summary.json", deposit_summary_json(scene, world));
 }
 
-RunFolder::RunFolder(std::filesystem::path folder, std::string header, Warn warn)
+RunFolder::RunFolder(std::filesystem::path folder, std::string header, Warn warn,
+                     VtkFormat vtk_format)
     : folder_(std::move(folder)),
       header_(std::move(header)),
       warn_(std::move(warn)),
-      snapshots_(folder_) {
+      snapshots_(folder_, vtk_format) {
   if (!warn_) warn_ = [](const std::string&) {};
 }
 
@@ -177,7 +179,7 @@ RunFolder RunFolder::begin(const std::filesystem::path& folder, const Scene& sce
                            const World& world, const Contacts& contacts, Warn warn) {
   std::filesystem::create_directories(folder);
   clear_earlier_run(folder);
-  RunFolder f(folder, provenance_header(scene), std::move(warn));
+  RunFolder f(folder, provenance_header(scene), std::move(warn), scene.run.vtk_format);
   write_file_atomically(folder / "scene.toml", scene.effective_toml);
   write_file_atomically(folder / "initial_particles.csv", particles_csv(world.bodies, f.header_));
   f.timeseries_ = std::make_unique<TimeseriesWriter>(folder / "timeseries.csv", f.header_,
@@ -193,7 +195,8 @@ RunFolder RunFolder::begin(const std::filesystem::path& folder, const Scene& sce
 
 RunFolder RunFolder::resume(const std::filesystem::path& folder, const Scene& scene,
                             const World& world, const RunState& state, Warn warn) {
-  RunFolder f(folder, leading_comments(folder / "initial_particles.csv"), std::move(warn));
+  RunFolder f(folder, leading_comments(folder / "initial_particles.csv"), std::move(warn),
+              scene.run.vtk_format);
   remove_stale_temporaries(folder);  // e.g. a .pvd a killed run was writing
   if (std::filesystem::is_directory(folder / "snapshots")) {
     remove_stale_temporaries(folder / "snapshots");
@@ -252,9 +255,10 @@ void RunFolder::finish(const Scene& scene, const World& world, const StepWorkspa
       run_summary_json(summarise_run(scene, world, work.contacts, result, initial_porosity)));
   write_file_atomically(folder_ / "particles.csv", particles_csv(world.bodies, header_));
   write_file_atomically(folder_ / "contacts.csv", contacts_csv(work.contacts, header_));
-  write_file_atomically(folder_ / "particles.vtp", particles_vtp(world, &work.contacts));
-  write_file_atomically(folder_ / "contacts.vtp", contacts_vtp(world, work.contacts));
-  write_file_atomically(folder_ / "walls.vtp", walls_vtp(world));
+  const VtkFormat vtk = scene.run.vtk_format;
+  write_file_atomically(folder_ / "particles.vtp", particles_vtp(world, &work.contacts, vtk));
+  write_file_atomically(folder_ / "contacts.vtp", contacts_vtp(world, work.contacts, vtk));
+  write_file_atomically(folder_ / "walls.vtp", walls_vtp(world, vtk));
   if (snapshot_cadence_.enabled() && world.step != last_snapshot_step_) {
     snapshots_.write(world, work.contacts);
   }

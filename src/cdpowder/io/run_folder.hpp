@@ -110,7 +110,7 @@ class RunFolder {
   [[nodiscard]] const std::string& header() const { return header_; }
 
  private:
-  RunFolder(std::filesystem::path folder, std::string header, Warn warn);
+  RunFolder(std::filesystem::path folder, std::string header, Warn warn, VtkFormat vtk_format);
 
   std::filesystem::path folder_;
   std::string header_;

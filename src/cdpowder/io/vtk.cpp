@@ -10,9 +10,13 @@
 #include <array>
 #include <charconv>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <fstream>
 #include <iterator>
 #include <stdexcept>
+#include <string_view>
+#include <type_traits>
 
 namespace cdpowder {
 
@@ -33,52 +37,120 @@ constexpr int kWallsKindCellEdge = 2;
 /// The files of one snapshot, DIR/snapshots/KIND_NNNNNN.vtp, each with its DIR/KIND.pvd.
 constexpr std::array<const char*, 3> kSnapshotKinds{"particles", "contacts", "walls"};
 
-void begin_polydata(Buffer& out, std::size_t points, std::size_t verts, std::size_t lines,
-                    std::size_t polys = 0) {
-  fmt::format_to(std::back_inserter(out),
-                 "<?xml version=\"1.0\"?>\n"
-                 "<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\" "
-                 "header_type=\"UInt64\">\n"
-                 "<PolyData>\n"
-                 "<Piece NumberOfPoints=\"{}\" NumberOfVerts=\"{}\" NumberOfLines=\"{}\" "
-                 "NumberOfStrips=\"0\" NumberOfPolys=\"{}\">\n",
-                 points, verts, lines, polys);
+/// Base64 (RFC 4648, with padding) of `size` bytes.
+void append_base64(const unsigned char* bytes, std::size_t size, std::string& out) {
+  static constexpr std::string_view kAlphabet =
+      "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  for (std::size_t i = 0; i < size; i += 3) {
+    const std::size_t n = std::min<std::size_t>(3, size - i);
+    std::uint32_t group = std::uint32_t{bytes[i]} << 16U;
+    if (n > 1) group |= std::uint32_t{bytes[i + 1]} << 8U;
+    if (n > 2) group |= std::uint32_t{bytes[i + 2]};
+    out += kAlphabet[(group >> 18U) & 63U];
+    out += kAlphabet[(group >> 12U) & 63U];
+    out += n > 1 ? kAlphabet[(group >> 6U) & 63U] : '=';
+    out += n > 2 ? kAlphabet[group & 63U] : '=';
+  }
 }
 
-void end_polydata(Buffer& out) {
-  fmt::format_to(std::back_inserter(out), "</Piece>\n</PolyData>\n</VTKFile>\n");
-}
+/// A .vtp document: the XML with each data array inline as text (VtkFormat::Ascii) or, as
+/// binary, referring by offset into an <AppendedData> section of base64 blocks, each the
+/// array's byte count (UInt64, the header_type) and then its bytes, encoded one after the
+/// other. Little-endian, as the file declares (x86-64).
+class VtpDocument {
+ public:
+  explicit VtpDocument(VtkFormat format) : binary_(format == VtkFormat::Binary) {}
 
-/// <DataArray> with the values produced by value(i) for i < count, `components` each.
-template <typename ValueOf>
-void data_array(Buffer& out, const char* type, const char* name, int components, std::size_t count,
-                ValueOf&& value) {
-  fmt::format_to(std::back_inserter(out),
-                 "<DataArray type=\"{}\" Name=\"{}\" NumberOfComponents=\"{}\" "
-                 "format=\"ascii\">\n",
-                 type, name, components);
-  for (std::size_t i = 0; i < count; ++i) value(out, i);
-  fmt::format_to(std::back_inserter(out), "</DataArray>\n");
-}
+  /// XML text, as it is.
+  template <typename... Args>
+  void xml(fmt::format_string<Args...> text, Args&&... args) {
+    fmt::format_to(std::back_inserter(out_), text, std::forward<Args>(args)...);
+  }
 
-void put_vec(Buffer& out, const Vec3& v) {
-  fmt::format_to(std::back_inserter(out), "{:.9g} {:.9g} {:.9g}\n", v.x(), v.y(), v.z());
-}
+  /// <DataArray> of `values`, `components` per tuple; `type` is VTK's name of T.
+  template <typename T>
+  void array(const char* type, const char* name, int components, const std::vector<T>& values) {
+    if (binary_) {
+      xml("<DataArray type=\"{}\" Name=\"{}\" NumberOfComponents=\"{}\" format=\"appended\" "
+          "offset=\"{}\"/>\n",
+          type, name, components, appended_.size());
+      // the byte count and the bytes, encoded as one block
+      const std::uint64_t bytes = values.size() * sizeof(T);
+      std::vector<unsigned char> block(sizeof(bytes) + bytes);
+      std::memcpy(block.data(), &bytes, sizeof(bytes));
+      if (bytes > 0) std::memcpy(block.data() + sizeof(bytes), values.data(), bytes);
+      append_base64(block.data(), block.size(), appended_);
+      return;
+    }
+    xml("<DataArray type=\"{}\" Name=\"{}\" NumberOfComponents=\"{}\" format=\"ascii\">\n", type,
+        name, components);
+    for (std::size_t i = 0; i < values.size(); ++i) {
+      if constexpr (std::is_floating_point_v<T>) {
+        fmt::format_to(std::back_inserter(out_), "{:.9g}", values[i]);
+      } else {
+        fmt::format_to(std::back_inserter(out_), "{}", values[i]);
+      }
+      out_.push_back((i + 1) % static_cast<std::size_t>(components) == 0 ? '\n' : ' ');
+    }
+    xml("</DataArray>\n");
+  }
 
-/// Connectivity and offsets of `cells` cells of `size` consecutive points each, the first
-/// at point `first_point`.
-void cell_arrays(Buffer& out, const char* section, std::size_t cells, std::size_t size,
-                 std::size_t first_point = 0) {
-  fmt::format_to(std::back_inserter(out), "<{}>\n", section);
-  data_array(out, "Int64", "connectivity", 1, cells * size,
-             [first_point](Buffer& b, std::size_t i) {
-               fmt::format_to(std::back_inserter(b), "{}\n", first_point + i);
-             });
-  data_array(out, "Int64", "offsets", 1, cells, [size](Buffer& b, std::size_t i) {
-    fmt::format_to(std::back_inserter(b), "{}\n", (i + 1) * size);
-  });
-  fmt::format_to(std::back_inserter(out), "</{}>\n", section);
-}
+  void doubles(const char* name, const std::vector<double>& values, int components = 1) {
+    array("Float64", name, components, values);
+  }
+
+  void vectors(const char* name, const std::vector<Vec3>& values) {
+    std::vector<double> flat;
+    flat.reserve(3 * values.size());
+    for (const Vec3& v : values) flat.insert(flat.end(), {v.x(), v.y(), v.z()});
+    array("Float64", name, 3, flat);
+  }
+
+  void ints(const char* name, const std::vector<std::int32_t>& values) {
+    array("Int32", name, 1, values);
+  }
+
+  /// Connectivity and offsets of `cells` cells of `size` consecutive points each, the first
+  /// at point `first_point`.
+  void cells(const char* section, std::size_t cells, std::size_t size,
+             std::size_t first_point = 0) {
+    std::vector<std::int64_t> connectivity(cells * size);
+    std::vector<std::int64_t> offsets(cells);
+    for (std::size_t i = 0; i < connectivity.size(); ++i) {
+      connectivity[i] = static_cast<std::int64_t>(first_point + i);
+    }
+    for (std::size_t k = 0; k < cells; ++k) offsets[k] = static_cast<std::int64_t>((k + 1) * size);
+    xml("<{}>\n", section);
+    array("Int64", "connectivity", 1, connectivity);
+    array("Int64", "offsets", 1, offsets);
+    xml("</{}>\n", section);
+  }
+
+  /// Opens the VTKFile and its one Piece.
+  void begin_polydata(std::size_t points, std::size_t verts, std::size_t lines,
+                      std::size_t polys = 0) {
+    xml("<?xml version=\"1.0\"?>\n"
+        "<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\" "
+        "header_type=\"UInt64\">\n"
+        "<PolyData>\n"
+        "<Piece NumberOfPoints=\"{}\" NumberOfVerts=\"{}\" NumberOfLines=\"{}\" "
+        "NumberOfStrips=\"0\" NumberOfPolys=\"{}\">\n",
+        points, verts, lines, polys);
+  }
+
+  /// Closes the Piece and the document (with the appended data of a binary one).
+  std::string finish() {
+    xml("</Piece>\n</PolyData>\n");
+    if (binary_) xml("<AppendedData encoding=\"base64\">\n_{}\n</AppendedData>\n", appended_);
+    xml("</VTKFile>\n");
+    return fmt::to_string(out_);
+  }
+
+ private:
+  Buffer out_;
+  std::string appended_;
+  bool binary_;
+};
 
 /// One closed contact of the network, in output form.
 struct NetworkLine {
@@ -139,76 +211,71 @@ std::string pvd(const std::vector<std::pair<double, std::string>>& entries,
 
 }  // namespace
 
-std::string particles_vtp(const World& world, const Contacts* contacts) {
+std::string particles_vtp(const World& world, const Contacts* contacts, VtkFormat format) {
   const Bodies& bodies = world.bodies;
   const std::size_t n = bodies.size();
-  const std::vector<int> coordination =
-      contacts != nullptr ? contacts_per_sphere(*contacts, n) : std::vector<int>{};
-  Buffer out;
-  begin_polydata(out, n, n, 0);
-  fmt::format_to(std::back_inserter(out), "<Points>\n");
-  data_array(out, "Float64", "Points", 3, n,
-             [&](Buffer& b, std::size_t i) { put_vec(b, bodies.position[i]); });
-  fmt::format_to(std::back_inserter(out), "</Points>\n");
-  cell_arrays(out, "Verts", n, 1);
-  fmt::format_to(std::back_inserter(out), "<PointData Scalars=\"radius\" Vectors=\"velocity\">\n");
-  data_array(out, "Int64", "id", 1, n,
-             [](Buffer& b, std::size_t i) { fmt::format_to(std::back_inserter(b), "{}\n", i); });
-  data_array(out, "Float64", "radius", 1, n, [&](Buffer& b, std::size_t i) {
-    fmt::format_to(std::back_inserter(b), "{:.9g}\n", bodies.radius[i]);
-  });
-  data_array(out, "Float64", "velocity", 3, n,
-             [&](Buffer& b, std::size_t i) { put_vec(b, bodies.velocity[i]); });
-  data_array(out, "Float64", "angular_velocity", 3, n,
-             [&](Buffer& b, std::size_t i) { put_vec(b, bodies.angular_velocity[i]); });
+  VtpDocument doc(format);
+  doc.begin_polydata(n, n, 0);
+  doc.xml("<Points>\n");
+  doc.vectors("Points", bodies.position);
+  doc.xml("</Points>\n");
+  doc.cells("Verts", n, 1);
+  doc.xml("<PointData Scalars=\"radius\" Vectors=\"velocity\">\n");
+  std::vector<std::int64_t> ids(n);
+  for (std::size_t i = 0; i < n; ++i) ids[i] = static_cast<std::int64_t>(i);
+  doc.array("Int64", "id", 1, ids);
+  doc.doubles("radius", bodies.radius);
+  doc.vectors("velocity", bodies.velocity);
+  doc.vectors("angular_velocity", bodies.angular_velocity);
   if (contacts != nullptr) {
-    data_array(out, "Int32", "coordination", 1, n, [&](Buffer& b, std::size_t i) {
-      fmt::format_to(std::back_inserter(b), "{}\n", coordination[i]);
-    });
+    const std::vector<int> coordination = contacts_per_sphere(*contacts, n);
+    doc.ints("coordination", std::vector<std::int32_t>(coordination.begin(), coordination.end()));
   }
-  fmt::format_to(std::back_inserter(out), "</PointData>\n");
-  end_polydata(out);
-  return fmt::to_string(out);
+  doc.xml("</PointData>\n");
+  return doc.finish();
 }
 
-std::string contacts_vtp(const World& world, const Contacts& contacts) {
+std::string contacts_vtp(const World& world, const Contacts& contacts, VtkFormat format) {
   const std::vector<NetworkLine> lines = network_lines(world, contacts);
   const std::size_t n = lines.size();
-  Buffer out;
-  begin_polydata(out, 2 * n, 0, n);
-  fmt::format_to(std::back_inserter(out), "<Points>\n");
-  data_array(out, "Float64", "Points", 3, 2 * n, [&](Buffer& b, std::size_t i) {
-    put_vec(b, i % 2 == 0 ? lines[i / 2].from : lines[i / 2].to);
-  });
-  fmt::format_to(std::back_inserter(out), "</Points>\n");
-  cell_arrays(out, "Lines", n, 2);
-  fmt::format_to(std::back_inserter(out),
-                 "<CellData Scalars=\"normal_force\" Vectors=\"force\" Normals=\"normal\">\n");
-  data_array(out, "Float64", "normal_force", 1, n, [&](Buffer& b, std::size_t i) {
-    fmt::format_to(std::back_inserter(b), "{:.9g}\n", lines[i].normal_force);
-  });
-  data_array(out, "Float64", "force", 3, n,
-             [&](Buffer& b, std::size_t i) { put_vec(b, lines[i].force); });
-  data_array(out, "Float64", "normal", 3, n,
-             [&](Buffer& b, std::size_t i) { put_vec(b, lines[i].normal); });
-  data_array(out, "Int32", "tensile", 1, n, [&](Buffer& b, std::size_t i) {
-    fmt::format_to(std::back_inserter(b), "{}\n", lines[i].normal_force < 0.0 ? 1 : 0);
-  });
-  data_array(out, "Float64", "tangential_force", 1, n, [&](Buffer& b, std::size_t i) {
-    fmt::format_to(std::back_inserter(b), "{:.9g}\n", lines[i].tangential_force);
-  });
-  data_array(out, "Int32", "cohesive", 1, n, [&](Buffer& b, std::size_t i) {
-    fmt::format_to(std::back_inserter(b), "{}\n", lines[i].cohesive ? 1 : 0);
-  });
-  data_array(out, "Int32", "kind", 1, n, [&](Buffer& b, std::size_t i) {
-    fmt::format_to(std::back_inserter(b), "{}\n", lines[i].kind);
-  });
-  fmt::format_to(std::back_inserter(out), "</CellData>\n");
-  end_polydata(out);
-  return fmt::to_string(out);
+  std::vector<Vec3> points;
+  std::vector<Vec3> forces;
+  std::vector<Vec3> normals;
+  std::vector<double> normal_force;
+  std::vector<double> tangential_force;
+  std::vector<std::int32_t> tensile;
+  std::vector<std::int32_t> cohesive;
+  std::vector<std::int32_t> kind;
+  for (const NetworkLine& line : lines) {
+    points.push_back(line.from);
+    points.push_back(line.to);
+    forces.push_back(line.force);
+    normals.push_back(line.normal);
+    normal_force.push_back(line.normal_force);
+    tangential_force.push_back(line.tangential_force);
+    tensile.push_back(line.normal_force < 0.0 ? 1 : 0);
+    cohesive.push_back(line.cohesive ? 1 : 0);
+    kind.push_back(line.kind);
+  }
+  VtpDocument doc(format);
+  doc.begin_polydata(2 * n, 0, n);
+  doc.xml("<Points>\n");
+  doc.vectors("Points", points);
+  doc.xml("</Points>\n");
+  doc.cells("Lines", n, 2);
+  doc.xml("<CellData Scalars=\"normal_force\" Vectors=\"force\" Normals=\"normal\">\n");
+  doc.doubles("normal_force", normal_force);
+  doc.vectors("force", forces);
+  doc.vectors("normal", normals);
+  doc.ints("tensile", tensile);
+  doc.doubles("tangential_force", tangential_force);
+  doc.ints("cohesive", cohesive);
+  doc.ints("kind", kind);
+  doc.xml("</CellData>\n");
+  return doc.finish();
 }
 
-std::string walls_vtp(const World& world) {
+std::string walls_vtp(const World& world, VtkFormat format) {
   const Bodies& bodies = world.bodies;
   const Walls& walls = world.walls;
   const double lx = world.box.lx;
@@ -220,36 +287,31 @@ std::string walls_vtp(const World& world) {
       top = std::max(top, bodies.position[i].z() + bodies.radius[i]);
     }
   }
+  constexpr std::array<std::array<double, 2>, 4> kCorners{{{0, 0}, {1, 0}, {1, 1}, {0, 1}}};
   std::vector<Vec3> points;
-  for (const auto& [x, y] : {std::pair{0.0, 0.0}, {lx, 0.0}, {lx, ly}, {0.0, ly}}) {
-    points.emplace_back(x, y, 0.0);
-    points.emplace_back(x, y, top);
+  for (const auto& [x, y] : kCorners) {
+    points.emplace_back(x * lx, y * ly, 0.0);
+    points.emplace_back(x * lx, y * ly, top);
   }
-  std::vector<int> kinds(4, kWallsKindCellEdge);  // cell data: the lines first, then the polys
+  std::vector<std::int32_t> kinds(4, kWallsKindCellEdge);  // the lines first, then the polys
   const auto add_plane = [&](double z, int kind) {
-    for (const auto& [x, y] : {std::pair{0.0, 0.0}, {lx, 0.0}, {lx, ly}, {0.0, ly}}) {
-      points.emplace_back(x, y, z);
-    }
+    for (const auto& [x, y] : kCorners) points.emplace_back(x * lx, y * ly, z);
     kinds.push_back(kind);
   };
   if (walls.bottom.enabled) add_plane(0.0, kWallsKindBottom);
   if (walls.piston.enabled) add_plane(walls.piston.height, kWallsKindPiston);
   const std::size_t planes = kinds.size() - 4;
-  Buffer out;
-  begin_polydata(out, points.size(), 0, 4, planes);
-  fmt::format_to(std::back_inserter(out), "<Points>\n");
-  data_array(out, "Float64", "Points", 3, points.size(),
-             [&](Buffer& b, std::size_t i) { put_vec(b, points[i]); });
-  fmt::format_to(std::back_inserter(out), "</Points>\n");
-  cell_arrays(out, "Lines", 4, 2);
-  cell_arrays(out, "Polys", planes, 4, 8);
-  fmt::format_to(std::back_inserter(out), "<CellData Scalars=\"kind\">\n");
-  data_array(out, "Int32", "kind", 1, kinds.size(), [&](Buffer& b, std::size_t i) {
-    fmt::format_to(std::back_inserter(b), "{}\n", kinds[i]);
-  });
-  fmt::format_to(std::back_inserter(out), "</CellData>\n");
-  end_polydata(out);
-  return fmt::to_string(out);
+  VtpDocument doc(format);
+  doc.begin_polydata(points.size(), 0, 4, planes);
+  doc.xml("<Points>\n");
+  doc.vectors("Points", points);
+  doc.xml("</Points>\n");
+  doc.cells("Lines", 4, 2);
+  doc.cells("Polys", planes, 4, 8);
+  doc.xml("<CellData Scalars=\"kind\">\n");
+  doc.ints("kind", kinds);
+  doc.xml("</CellData>\n");
+  return doc.finish();
 }
 
 std::vector<double> VtkSnapshotSeries::read_earlier() {
@@ -303,18 +365,18 @@ void VtkSnapshotSeries::write_collections() const {
   }
 }
 
-VtkSnapshotSeries::VtkSnapshotSeries(std::filesystem::path out_dir)
-    : out_dir_(std::move(out_dir)) {}
+VtkSnapshotSeries::VtkSnapshotSeries(std::filesystem::path out_dir, VtkFormat format)
+    : out_dir_(std::move(out_dir)), format_(format) {}
 
 void VtkSnapshotSeries::write(const World& world, const Contacts& contacts) {
   const std::filesystem::path folder = out_dir_ / "snapshots";
   std::filesystem::create_directories(folder);
   const std::string suffix = fmt::format("{:06d}", entries_.size());
   write_file_atomically(folder / fmt::format("particles_{}.vtp", suffix),
-                        particles_vtp(world, &contacts));
+                        particles_vtp(world, &contacts, format_));
   write_file_atomically(folder / fmt::format("contacts_{}.vtp", suffix),
-                        contacts_vtp(world, contacts));
-  write_file_atomically(folder / fmt::format("walls_{}.vtp", suffix), walls_vtp(world));
+                        contacts_vtp(world, contacts, format_));
+  write_file_atomically(folder / fmt::format("walls_{}.vtp", suffix), walls_vtp(world, format_));
   entries_.emplace_back(world.time, suffix);
   write_collections();
 }

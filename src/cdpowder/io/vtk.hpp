@@ -1,10 +1,12 @@
 // vtk.hpp — VTK XML PolyData (.vtp) files that ParaView opens, and .pvd collections of
-// them over time. ASCII, so the files are readable and diffable; a 100 000-sphere
-// snapshot is ≈ 15 MB. Every file is written atomically (io/atomic_file.hpp).
+// them over time. ASCII by default, so the files are readable and diffable (a 100 000-sphere
+// snapshot is ≈ 15 MB), or binary (VtkFormat::Binary, run.vtk_format = "binary": appended
+// base64 at full precision). Every file is written atomically (io/atomic_file.hpp).
 //
 // Particles: one point per sphere (a vertex cell each) with point data id, radius [R],
 // velocity [R/t0], angular_velocity [1/t0], coordination (closed contacts incl. walls).
-// Render with the Glyph filter, sphere glyphs scaled by "radius" (scale factor 1).
+// Render with the Glyph filter, sphere glyphs scaled by "radius" with a scale factor of 2
+// (ParaView's sphere glyph has radius 0.5; README, "In ParaView").
 //
 // Contact network: one line per closed contact (R_n + F_c > 0), from the centre of a to
 // the centre of b's periodic image nearest to a (so lines never span the cell), or, for a
@@ -20,6 +22,7 @@
 // edge of the cell).
 #pragma once
 
+#include "cdpowder/config/scene.hpp"
 #include "cdpowder/contact/local_problem.hpp"
 #include "cdpowder/model/world.hpp"
 
@@ -33,20 +36,22 @@ namespace cdpowder {
 
 /// The particles of `world` as a .vtp document; coordination from `contacts`, or no
 /// coordination array when `contacts` is null (a deposit, whose contacts are not detected).
-std::string particles_vtp(const World& world, const Contacts* contacts);
+std::string particles_vtp(const World& world, const Contacts* contacts,
+                          VtkFormat format = VtkFormat::Ascii);
 
 /// The closed contacts of `contacts` as a .vtp document of lines.
-std::string contacts_vtp(const World& world, const Contacts& contacts);
+std::string contacts_vtp(const World& world, const Contacts& contacts,
+                         VtkFormat format = VtkFormat::Ascii);
 
 /// The bottom wall, the piston and the periodic cell of `world` as a .vtp document.
-std::string walls_vtp(const World& world);
+std::string walls_vtp(const World& world, VtkFormat format = VtkFormat::Ascii);
 
 /// A time series of snapshots: DIR/snapshots/{particles,contacts,walls}_NNNNNN.vtp and the
 /// collections DIR/particles.pvd, DIR/contacts.pvd and DIR/walls.pvd, rewritten (atomically)
 /// after every snapshot so a run that is stopped early still leaves valid collections.
 class VtkSnapshotSeries {
  public:
-  explicit VtkSnapshotSeries(std::filesystem::path out_dir);
+  explicit VtkSnapshotSeries(std::filesystem::path out_dir, VtkFormat format = VtkFormat::Ascii);
 
   /// Writes the snapshot of the current state, labelled with world.time.
   void write(const World& world, const Contacts& contacts);
@@ -66,6 +71,7 @@ class VtkSnapshotSeries {
   void write_collections() const;
 
   std::filesystem::path out_dir_;
+  VtkFormat format_;
   std::vector<std::pair<double, std::string>> entries_;  ///< (time, file stem suffix)
 };
 
