@@ -11,6 +11,7 @@
 #include "cdpowder/core/assert.hpp"
 #include "cdpowder/solver/build.hpp"
 #include "cdpowder/solver/lanes.hpp"
+#include "cdpowder/solver/visit_contact.hpp"
 
 #include <algorithm>
 #include <array>

@@ -5,6 +5,7 @@
 #include "cdpowder/solver/build.hpp"
 #include "cdpowder/solver/mixed_actions.hpp"
 #include "cdpowder/solver/slab_solve.hpp"
+#include "cdpowder/solver/visit_contact.hpp"
 
 #include <algorithm>
 #include <array>

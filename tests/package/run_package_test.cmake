@@ -1,0 +1,71 @@
+# Installs the build tree BUILD_DIR into a scratch prefix, builds tests/package against it
+# (find_package(cdpowder CONFIG)) and runs the program on the quick example; also checks that
+# the man page and the bash completion were installed.
+# With -DCXX=COMPILER, also what the public header brings into a program.
+#   cmake -DBUILD_DIR=… -DSOURCE_DIR=… -DSCRATCH=… [-DCXX=…] [-DCXX_FLAGS=…] [-DMAN_PAGE=ON]
+#         -P run_package_test.cmake
+foreach(variable BUILD_DIR SOURCE_DIR SCRATCH)
+  if(NOT DEFINED ${variable})
+    message(FATAL_ERROR "run_package_test: -D${variable}=… is required")
+  endif()
+endforeach()
+file(REMOVE_RECURSE ${SCRATCH})
+set(prefix ${SCRATCH}/prefix)
+
+function(run)
+  execute_process(COMMAND ${ARGV} RESULT_VARIABLE status OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT status EQUAL 0)
+    message(FATAL_ERROR "run_package_test: `${ARGV}` failed (${status}):\n${out}\n${err}")
+  endif()
+  set(last_output "${out}" PARENT_SCOPE)
+endfunction()
+
+run(${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${prefix})
+foreach(file bin/cdpowder include/cdpowder/cdpowder.hpp include/cdpowder/version.hpp
+             share/bash-completion/completions/cdpowder)
+  if(NOT EXISTS ${prefix}/${file})
+    message(FATAL_ERROR "run_package_test: ${file} was not installed")
+  endif()
+endforeach()
+file(GLOB package_files ${prefix}/lib*/cmake/cdpowder/cdpowderConfigVersion.cmake)
+if(NOT package_files)
+  message(FATAL_ERROR "run_package_test: no cdpowderConfigVersion.cmake under ${prefix}/lib*/cmake")
+endif()
+if(MAN_PAGE AND NOT EXISTS ${prefix}/share/man/man1/cdpowder.1)
+  message(FATAL_ERROR "run_package_test: the man page was not installed")
+endif()
+
+# What <cdpowder/cdpowder.hpp> brings into a user's program: of the third-party headers only
+# Eigen's, and nothing of cdpowder's internals (namespace detail)
+if(DEFINED CXX)
+  file(WRITE ${SCRATCH}/umbrella.cpp "#include <cdpowder/cdpowder.hpp>\n")
+  execute_process(COMMAND ${CXX} -std=c++20 -H -fsyntax-only -I${prefix}/include
+                          -I/usr/include/eigen3 ${SCRATCH}/umbrella.cpp
+                  RESULT_VARIABLE status ERROR_VARIABLE included)
+  if(NOT status EQUAL 0)
+    message(FATAL_ERROR "run_package_test: <cdpowder/cdpowder.hpp> does not compile:\n${included}")
+  endif()
+  string(REGEX MATCHALL "[^\n ]+\\.h(pp)?" headers "${included}")
+  foreach(header ${headers})
+    foreach(library fmt/ toml++/ nlohmann/ CLI/ pcg_ hwy/ gtest/ benchmark/)
+      string(FIND "${header}" "/${library}" at)
+      if(at GREATER_EQUAL 0)
+        message(FATAL_ERROR "run_package_test: <cdpowder/cdpowder.hpp> includes ${header}")
+      endif()
+    endforeach()
+    if(header MATCHES "^${prefix}/include/cdpowder/")
+      file(READ ${header} text)
+      if(text MATCHES "namespace detail")
+        message(FATAL_ERROR "run_package_test: <cdpowder/cdpowder.hpp> reaches ${header}, "
+                            "which declares cdpowder's internals (namespace detail)")
+      endif()
+    endif()
+  endforeach()
+endif()
+
+run(${CMAKE_COMMAND} -S ${SOURCE_DIR}/tests/package -B ${SCRATCH}/build -G Ninja
+    -DCMAKE_PREFIX_PATH=${prefix} -DCMAKE_BUILD_TYPE=Release "-DCMAKE_CXX_FLAGS=${CXX_FLAGS}")
+run(${CMAKE_COMMAND} --build ${SCRATCH}/build)
+run(${SCRATCH}/build/package_user ${SOURCE_DIR}/examples/quick/scene.toml)
+message(STATUS "run_package_test: ${last_output}")
+file(REMOVE_RECURSE ${SCRATCH})
