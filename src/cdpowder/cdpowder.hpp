@@ -32,6 +32,7 @@
 #include "cdpowder/config/config_error.hpp"
 #include "cdpowder/config/scene.hpp"
 #include "cdpowder/config/scene_reader.hpp"
+#include "cdpowder/contact/contact_view.hpp"
 #include "cdpowder/core/stop_request.hpp"
 #include "cdpowder/experiment/deposition.hpp"
 #include "cdpowder/experiment/run_loop.hpp"

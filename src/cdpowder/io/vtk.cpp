@@ -11,7 +11,6 @@
 #include <charconv>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <fstream>
 #include <iterator>
 #include <stdexcept>
@@ -76,10 +75,9 @@ class VtpDocument {
           type, name, components, appended_.size());
       // the byte count and the bytes, encoded as one block
       const std::uint64_t bytes = values.size() * sizeof(T);
-      std::vector<unsigned char> block(sizeof(bytes) + bytes);
-      std::memcpy(block.data(), &bytes, sizeof(bytes));
-      if (bytes > 0) std::memcpy(block.data() + sizeof(bytes), values.data(), bytes);
-      append_base64(block.data(), block.size(), appended_);
+      std::string block(reinterpret_cast<const char*>(&bytes), sizeof(bytes));
+      if (bytes > 0) block.append(reinterpret_cast<const char*>(values.data()), bytes);
+      append_base64(reinterpret_cast<const unsigned char*>(block.data()), block.size(), appended_);
       return;
     }
     xml("<DataArray type=\"{}\" Name=\"{}\" NumberOfComponents=\"{}\" format=\"ascii\">\n", type,

@@ -1,0 +1,370 @@
+// cdpowder_module.cpp — `import cdpowder`: the library from Python (pybind11). The runs go
+// through the same functions as the command line (read_scene, make_world, run_simulation,
+// RunFolder), so the same scene and seeds give the same numbers; errors arrive as exceptions
+// with the command line's messages; a sphere's state is a NumPy view of the World's own arrays.
+#include <cdpowder/cdpowder.hpp>
+#include <cmath>
+#include <memory>
+#include <optional>
+#include <pybind11/eigen.h>
+#include <pybind11/functional.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace py = pybind11;
+
+namespace cdpowder::python {
+namespace {
+
+/// A Python value as the TOML text of a --set override ("key=value").
+std::string override_text(const std::string& key, const py::handle& value) {
+  std::string text;
+  if (py::isinstance<py::bool_>(value)) {
+    text = value.cast<bool>() ? "true" : "false";
+  } else if (py::isinstance<py::int_>(value)) {
+    text = std::to_string(value.cast<long long>());
+  } else if (py::isinstance<py::float_>(value)) {
+    text = py::repr(value).cast<std::string>();  // shortest exact form
+    if (text.find_first_of(".eEn") == std::string::npos) text += ".0";
+  } else if (py::isinstance<py::str>(value)) {
+    text = "\"" + value.cast<std::string>() + "\"";
+  } else {
+    throw py::type_error("overrides[\"" + key + "\"]: got " +
+                         py::str(py::type::of(value)).cast<std::string>() +
+                         ", expected a bool, an int, a float or a str");
+  }
+  return key + "=" + text;
+}
+
+std::vector<SceneOverride> overrides_of(const py::dict& overrides) {
+  std::vector<SceneOverride> out;
+  for (const auto& [key, value] : overrides) {
+    const std::string name = py::str(key).cast<std::string>();
+    out.emplace_back(override_text(name, value));
+  }
+  return out;
+}
+
+/// A scene as read, with where it came from (a compaction reads it again with its demands).
+struct PyScene {
+  Scene scene;
+  std::filesystem::path base_dir;
+
+  static PyScene from_toml(const std::filesystem::path& path, const py::dict& overrides) {
+    PyScene s;
+    s.scene = read_scene(path, overrides_of(overrides));
+    std::error_code error;
+    s.base_dir = std::filesystem::absolute(path, error).parent_path();
+    return s;
+  }
+
+  /// The same scene with more overrides, checked as the command line checks them.
+  [[nodiscard]] PyScene with(const py::dict& overrides, const SceneReadOptions& how = {}) const {
+    PyScene s;
+    s.scene = read_scene_text(scene.effective_toml, scene.source.string(), overrides_of(overrides),
+                              base_dir, how);
+    s.scene.source = scene.source;
+    s.base_dir = base_dir;
+    return s;
+  }
+};
+
+/// A view of `values` (n × 3 doubles, a std::vector<Vec3>) that keeps `owner` alive.
+py::array_t<double> vec3_view(std::vector<Vec3>& values, const py::object& owner) {
+  static_assert(sizeof(Vec3) == 3 * sizeof(double), "Vec3 is three packed doubles");
+  return py::array_t<double>(
+      {static_cast<py::ssize_t>(values.size()), py::ssize_t{3}},
+      {static_cast<py::ssize_t>(sizeof(Vec3)), static_cast<py::ssize_t>(sizeof(double))},
+      reinterpret_cast<double*>(values.data()), owner);
+}
+
+py::array_t<double> double_view(std::vector<double>& values, const py::object& owner) {
+  return py::array_t<double>({static_cast<py::ssize_t>(values.size())},
+                             {static_cast<py::ssize_t>(sizeof(double))}, values.data(), owner);
+}
+
+/// A world with the step workspace that goes with it (the warm start, the candidate lists):
+/// continuing a run continues both.
+struct Engine {
+  World world;
+  StepWorkspace work{1};
+  RunState state;
+};
+
+/// The contacts of the engine's last step as a dict of NumPy arrays (copies).
+py::dict contacts_of(const Engine& engine) {
+  std::vector<long long> a;
+  std::vector<long long> b;
+  std::vector<double> normal;
+  std::vector<double> force;
+  std::vector<double> normal_force;
+  std::vector<double> gap;
+  std::vector<bool> closed;
+  std::vector<bool> cohesive;
+  for_each_contact(engine.work.contacts, [&](const ContactView& c) {
+    // a wall contact: a = −1 for the bottom wall, −2 for the piston (contacts.csv's codes)
+    a.push_back(c.is_pair() ? static_cast<long long>(c.a)
+                            : (*c.wall == WallKind::Bottom ? -1 : -2));
+    b.push_back(static_cast<long long>(c.b));
+    const Vec3 total = c.action->normal_force * c.normal + c.action->tangential_force;
+    normal.insert(normal.end(), {c.normal.x(), c.normal.y(), c.normal.z()});
+    force.insert(force.end(), {total.x(), total.y(), total.z()});
+    normal_force.push_back(c.action->normal_force);
+    gap.push_back(c.gap);
+    closed.push_back(c.closed());
+    cohesive.push_back(c.cohesive);
+  });
+  const auto n = static_cast<py::ssize_t>(a.size());
+  py::dict out;
+  out["a"] = py::array_t<long long>(n, a.data());
+  out["b"] = py::array_t<long long>(n, b.data());
+  out["normal"] = py::array_t<double>({n, py::ssize_t{3}}, normal.data());
+  out["force"] = py::array_t<double>({n, py::ssize_t{3}}, force.data());
+  out["normal_force"] = py::array_t<double>(n, normal_force.data());
+  out["gap"] = py::array_t<double>(n, gap.data());
+  py::array_t<bool> closed_array(n);
+  py::array_t<bool> cohesive_array(n);
+  for (py::ssize_t k = 0; k < n; ++k) {
+    closed_array.mutable_at(k) = closed[static_cast<std::size_t>(k)];
+    cohesive_array.mutable_at(k) = cohesive[static_cast<std::size_t>(k)];
+  }
+  out["closed"] = closed_array;
+  out["cohesive"] = cohesive_array;
+  return out;
+}
+
+/// What a run returns to Python.
+struct Result {
+  std::shared_ptr<Engine> engine;
+  RunResult run;
+  Scene scene;
+  double initial_porosity = 0.0;
+
+  [[nodiscard]] StressTensors stress() const {
+    return stress_tensors(engine->work.contacts, packing_volume(engine->world));
+  }
+
+  [[nodiscard]] py::dict summary() const {
+    const std::string json = run_summary_json(
+        summarise_run(scene, engine->world, engine->work.contacts, run, initial_porosity));
+    return py::module_::import("json").attr("loads")(json);
+  }
+};
+
+/// Runs `scene` on `engine` to its end, calling `callback(world, step)` every `every` steps
+/// (False from it stops the run) and checking for Ctrl-C after every step; writes the command
+/// line's files into `out` when given. A Ctrl-C ends the run as interrupted (outputs written)
+/// and then raises KeyboardInterrupt.
+Result run(const Scene& scene, std::shared_ptr<Engine> engine, const py::object& callback,
+           int every, const std::optional<std::filesystem::path>& out, double initial_porosity) {
+  if (every < 1) throw py::value_error("every: got " + std::to_string(every) + ", expected ≥ 1");
+  std::optional<RunFolder> files;
+  if (out) {
+    std::filesystem::create_directories(*out);
+    files = RunFolder::begin(*out, scene, engine->world, engine->work.contacts, {});
+  }
+  bool interrupted_by_signal = false;
+  bool stopped_by_callback = false;
+  std::optional<py::error_already_set> callback_error;
+  std::int64_t steps = 0;
+  const py::object world_object = py::cast(engine);
+  const StepObserver observer = [&](const World& world, const StepReport& report, double) {
+    if (files) files->after_step(world, report, engine->work.contacts);
+    ++steps;
+    if (callback.is_none() || steps % every != 0 || stopped_by_callback) return;
+    try {
+      const py::object verdict = callback(world_object, py::cast(report.diagnostics));
+      if (!verdict.is_none() && !verdict.cast<bool>()) stopped_by_callback = true;
+    } catch (py::error_already_set& e) {
+      callback_error = std::move(e);
+      stopped_by_callback = true;
+    }
+  };
+  const StopRequest stop = [&] {
+    if (PyErr_CheckSignals() != 0) interrupted_by_signal = true;
+    return interrupted_by_signal || stopped_by_callback;
+  };
+  Result result;
+  result.run = run_simulation(engine->world, engine->work, scene.step, scene.run, engine->state,
+                              observer, stop);
+  result.engine = engine;
+  result.scene = scene;
+  result.initial_porosity = initial_porosity;
+  if (files)
+    files->finish(scene, engine->world, engine->work, engine->state, result.run, initial_porosity);
+  if (callback_error) throw std::move(*callback_error);
+  if (interrupted_by_signal) throw py::error_already_set();  // the KeyboardInterrupt
+  return result;
+}
+
+std::shared_ptr<Engine> fresh_engine(const Scene& scene) {
+  auto engine = std::make_shared<Engine>();
+  engine->world = make_world(scene, [] { return PyErr_CheckSignals() != 0; });
+  engine->work = StepWorkspace(scene.step.solver.seed);
+  return engine;
+}
+
+/// A compaction or a simulation: on `world` (a Result's or a deposit's engine, continued: its
+/// piston gets this scene's push) or on the scene's own spheres.
+Result start(const PyScene& scene, const py::object& world, const py::object& callback, int every,
+             const std::optional<std::filesystem::path>& out) {
+  std::shared_ptr<Engine> engine;
+  if (world.is_none()) {
+    engine = fresh_engine(scene.scene);
+  } else {
+    engine = world.cast<std::shared_ptr<Engine>>();
+    Piston& piston = engine->world.walls.piston;
+    piston.force = scene.scene.piston.push(engine->world.box.area());
+    engine->state = RunState{};  // a new run on the packing as it is
+  }
+  return run(scene.scene, engine, callback, every, out, porosity(engine->world));
+}
+
+}  // namespace
+}  // namespace cdpowder::python
+
+// NOLINTNEXTLINE: pybind11's entry point
+PYBIND11_MODULE(cdpowder, m) {
+  using namespace cdpowder;          // NOLINT(google-build-using-namespace)
+  using namespace cdpowder::python;  // NOLINT(google-build-using-namespace)
+  m.doc() = "cdpowder: contact dynamics of cohesive powders of rigid spheres";
+  m.attr("__version__") = kVersion;
+  m.attr("git_commit") = kGitCommit;
+
+  static py::exception<ConfigError> config_error(m, "ConfigError", PyExc_ValueError);
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const ConfigError& e) {
+      config_error(e.what());
+    } catch (const Interrupted& e) {
+      PyErr_SetString(PyExc_KeyboardInterrupt, e.what());
+    }
+  });
+
+  py::class_<PyScene>(m, "Scene", "A scene (docs/config.md), read and checked")
+      .def_static("from_toml", &PyScene::from_toml, py::arg("path"),
+                  py::arg("overrides") = py::dict(),
+                  "The scene of a TOML file with --set style overrides {\"section.key\": value}")
+      .def(
+          "with_overrides",
+          [](const PyScene& s, const py::dict& overrides) { return s.with(overrides); },
+          py::arg("overrides"), "The same scene with more overrides")
+      .def_property_readonly(
+          "toml", [](const PyScene& s) { return s.scene.effective_toml; },
+          "The fully resolved scene as TOML")
+      .def_property_readonly("seed", [](const PyScene& s) { return s.scene.step.solver.seed; })
+      .def("__repr__", [](const PyScene& s) {
+        return "<cdpowder.Scene from " + s.scene.source.string() + ">";
+      });
+
+  py::class_<StepDiagnostics>(m, "StepDiagnostics", "The measures and gauges of one step")
+      .def_readonly("contacts", &StepDiagnostics::contacts)
+      .def_readonly("closed_contacts", &StepDiagnostics::closed_contacts)
+      .def_readonly("cohesive_contacts", &StepDiagnostics::cohesive_contacts)
+      .def_readonly("mean_overlap", &StepDiagnostics::mean_overlap)
+      .def_readonly("max_overlap", &StepDiagnostics::max_overlap)
+      .def_readonly("kinetic_energy", &StepDiagnostics::kinetic_energy)
+      .def_readonly("rms_speed", &StepDiagnostics::rms_speed)
+      .def_readonly("piston_imbalance", &StepDiagnostics::piston_imbalance)
+      .def_readonly("max_net_force", &StepDiagnostics::max_net_force);
+
+  py::class_<Engine, std::shared_ptr<Engine>>(
+      m, "World", "Spheres, walls and piston, with the solver's memory of the last step")
+      .def_property_readonly(
+          "positions",
+          [](py::object self) {
+            return vec3_view(self.cast<Engine&>().world.bodies.position, self);
+          },
+          "Sphere centres, n × 3 [R] (a view: no copy)")
+      .def_property_readonly(
+          "velocities",
+          [](py::object self) {
+            return vec3_view(self.cast<Engine&>().world.bodies.velocity, self);
+          },
+          "n × 3 [R/t0] (a view)")
+      .def_property_readonly(
+          "angular_velocities",
+          [](py::object self) {
+            return vec3_view(self.cast<Engine&>().world.bodies.angular_velocity, self);
+          },
+          "n × 3 [1/t0] (a view)")
+      .def_property_readonly(
+          "radii",
+          [](py::object self) {
+            return double_view(self.cast<Engine&>().world.bodies.radius, self);
+          },
+          "n [R] (a view)")
+      .def_property_readonly("time", [](const Engine& e) { return e.world.time; })
+      .def_property_readonly("step", [](const Engine& e) { return e.world.step; })
+      .def_property_readonly("piston_height",
+                             [](const Engine& e) { return e.world.walls.piston.height; })
+      .def_property_readonly("porosity", [](const Engine& e) { return porosity(e.world); })
+      .def_property_readonly("coordination_number",
+                             [](const Engine& e) {
+                               return coordination_number(e.work.contacts, e.world.bodies.size());
+                             })
+      .def("contacts", &contacts_of,
+           "The last step's contacts: a dict of arrays a, b (−1 bottom wall, −2 piston), "
+           "normal, force, normal_force, gap, closed, cohesive")
+      .def("__len__", [](const Engine& e) { return e.world.bodies.size(); });
+
+  py::class_<Result>(m, "Result", "The end of a run")
+      .def_property_readonly("world", [](const Result& r) { return r.engine; })
+      .def_property_readonly("porosity", [](const Result& r) { return porosity(r.engine->world); })
+      .def_property_readonly("blocked", [](const Result& r) { return r.run.blocked; })
+      .def_property_readonly("interrupted", [](const Result& r) { return r.run.interrupted; })
+      .def_property_readonly("steps", [](const Result& r) { return r.run.steps; })
+      .def_property_readonly(
+          "sigma", [](const Result& r) { return Eigen::Matrix3d(r.stress().total); },
+          "σ, 3 × 3 [F_coh/R²]")
+      .def_property_readonly(
+          "sigma_plus", [](const Result& r) { return Eigen::Matrix3d(r.stress().compressive); },
+          "σ⁺, the compressive part")
+      .def_property_readonly(
+          "sigma_minus", [](const Result& r) { return Eigen::Matrix3d(r.stress().tensile); },
+          "σ⁻, the tensile part")
+      .def_property_readonly("summary", &Result::summary, "summary.json's content, as a dict")
+      .def_property_readonly(
+          "line",
+          [](const Result& r) {
+            return result_line(r.scene, r.engine->world, r.engine->work.contacts, r.run);
+          },
+          "The command line's result line");
+
+  m.def(
+      "deposit",
+      [](const PyScene& scene) {
+        SceneReadOptions how;
+        how.deposition_required = true;
+        return fresh_engine(scene.with({}, how).scene);
+      },
+      py::arg("scene"), "The scene's ballistic deposit, as `cdpowder deposit` makes it");
+  m.def(
+      "compact",
+      [](const PyScene& scene, const py::object& world, const py::object& callback, int every,
+         const std::optional<std::filesystem::path>& out) {
+        SceneReadOptions how;
+        how.compaction = true;
+        return start(scene.with({}, how), world, callback, every, out);
+      },
+      py::arg("scene"), py::arg("world") = py::none(), py::arg("callback") = py::none(),
+      py::arg("every") = 1, py::arg("out") = py::none(),
+      "Compaction by the piston until the blocked state, as `cdpowder compact`: on the scene's "
+      "deposit, or on `world` (continued, with this scene's push). callback(world, step) runs "
+      "every `every` steps; returning False stops the run. `out`: write the command line's files");
+  m.def(
+      "simulate",
+      [](const PyScene& scene, const py::object& world, const py::object& callback, int every,
+         const std::optional<std::filesystem::path>& out) {
+        return start(scene, world, callback, every, out);
+      },
+      py::arg("scene"), py::arg("world") = py::none(), py::arg("callback") = py::none(),
+      py::arg("every") = 1, py::arg("out") = py::none(),
+      "The scene's run (its duration, or until blocked), as `cdpowder simulate`");
+}

@@ -1,0 +1,113 @@
+"""`import cdpowder` (python/cdpowder_module.cpp): the same numbers as the command line, the
+state as NumPy views, callbacks that can stop a run, errors with the command line's messages.
+Run by ctest (python_module_test) with PYTHONPATH at the build tree's module; needs
+CDPOWDER_EXE (the program) and CDPOWDER_SOURCE_DIR in the environment."""
+import json
+import os
+import signal
+import subprocess
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import cdpowder
+
+SOURCE = Path(os.environ["CDPOWDER_SOURCE_DIR"])
+QUICK = SOURCE / "examples/quick/scene.toml"
+SHORT = {"run.max_duration": 5.0}  # the quick compaction's first 500 steps
+
+
+def quick(**overrides):
+    return cdpowder.Scene.from_toml(QUICK, {**SHORT, **overrides})
+
+
+def test_a_compaction_gives_the_command_lines_numbers(tmp_path):
+    scene = quick(**{"contact.mu_roll": 0.3})
+    result = cdpowder.compact(scene, out=tmp_path / "py")
+    cli = subprocess.run([os.environ["CDPOWDER_EXE"], "compact", str(QUICK), "--out",
+                          str(tmp_path / "cli"), "--quiet", "--set", "run.max_duration=5.0",
+                          "--set", "contact.mu_roll=0.3"], capture_output=True, text=True)
+    assert cli.returncode == 4, cli.stderr  # not blocked within the short duration
+    summary = json.loads((tmp_path / "cli" / "summary.json").read_text())
+    assert result.porosity == summary["porosity"]
+    assert result.steps == summary["run"]["steps"]
+    assert result.blocked is False
+    assert result.summary["porosity"] == summary["porosity"]
+    # the library wrote the command line's files, the same particles to the last digit
+    assert (tmp_path / "py" / "particles.csv").read_text().split("\n")[3:] == \
+        (tmp_path / "cli" / "particles.csv").read_text().split("\n")[3:]
+    assert cli.stdout.strip().split(" wall=")[0] == result.line.split(" wall=")[0]
+
+
+def test_the_stress_is_symmetric_in_its_parts_and_they_add_up():
+    result = cdpowder.compact(quick())
+    for tensor in (result.sigma, result.sigma_plus, result.sigma_minus):
+        assert tensor.shape == (3, 3)
+    np.testing.assert_allclose(result.sigma_plus + result.sigma_minus, result.sigma, atol=1e-15)
+    assert result.sigma_plus[2, 2] >= 0.0 >= result.sigma_minus[2, 2]
+
+
+def test_the_state_is_a_view_of_the_world_without_a_copy():
+    world = cdpowder.deposit(quick())
+    positions = world.positions
+    assert positions.shape == (len(world), 3) and world.radii.shape == (len(world),)
+    assert not positions.flags["OWNDATA"]
+    assert np.all(world.radii == 1.0)
+    assert np.all(positions[:, 2] >= world.radii - 1e-9)  # above the bottom wall
+    # the same memory, seen again
+    assert world.positions.__array_interface__["data"][0] == \
+        positions.__array_interface__["data"][0]
+    result = cdpowder.compact(quick(), world=world)
+    assert result.world is not None and result.porosity < world.porosity + 1.0
+    assert positions.base is not None  # still valid: it keeps the world alive
+
+
+def test_a_callback_runs_every_k_steps_and_can_stop_the_run():
+    seen = []
+
+    def every_100(world, step):
+        seen.append((world.step, step.contacts))
+        return len(seen) < 3  # False: stop
+
+    result = cdpowder.compact(quick(), callback=every_100, every=100)
+    assert [s for s, _ in seen] == [100, 200, 300]
+    assert result.interrupted and result.steps == 300
+
+
+def test_an_exception_in_the_callback_ends_the_run_and_arrives_in_python():
+    def broken(world, step):
+        raise RuntimeError("stop here")
+
+    with pytest.raises(RuntimeError, match="stop here"):
+        cdpowder.compact(quick(), callback=broken, every=10)
+
+
+def test_bad_input_raises_with_the_command_lines_message(tmp_path):
+    with pytest.raises(cdpowder.ConfigError, match=r"contact\.mu_roll: got -0\.2, expected a number ≥ 0"):
+        cdpowder.Scene.from_toml(QUICK, {"contact.mu_roll": -0.2})
+    with pytest.raises(cdpowder.ConfigError, match="unknown key; did you mean 'solver.tolerance'"):
+        cdpowder.Scene.from_toml(QUICK, {"solver.tolerence": 1e-6})
+    with pytest.raises(ValueError):  # ConfigError is a ValueError
+        cdpowder.Scene.from_toml(tmp_path / "missing.toml")
+    with pytest.raises(TypeError, match="expected a bool, an int, a float or a str"):
+        cdpowder.Scene.from_toml(QUICK, {"contact.mu": [0.3]})
+
+
+def test_overrides_keep_their_types_and_the_seed():
+    scene = quick(**{"solver.seed": 7, "run.vtk_format": "binary", "solver.warm_start": True})
+    assert scene.seed == 7
+    assert 'vtk_format = "binary"' in scene.toml
+    again = scene.with_overrides({"solver.seed": 8})
+    assert again.seed == 8 and scene.seed == 7
+
+
+def test_ctrl_c_ends_the_run_cleanly_and_raises_keyboard_interrupt(tmp_path):
+    def press_ctrl_c(world, step):
+        os.kill(os.getpid(), signal.SIGINT)  # as a Ctrl-C at the terminal would
+
+    with pytest.raises(KeyboardInterrupt):
+        cdpowder.compact(quick(), callback=press_ctrl_c, every=50, out=tmp_path)
+    summary = json.loads((tmp_path / "summary.json").read_text())
+    assert summary["run"]["interrupted"] is True
+    assert summary["run"]["steps"] == 50  # stopped after the step that saw the signal
