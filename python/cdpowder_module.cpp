@@ -55,6 +55,15 @@ struct PyScene {
   Scene scene;
   std::filesystem::path base_dir;
 
+  /// A scene built in code: every key given as a --set override on an empty file, relative
+  /// paths from the working folder.
+  static PyScene from_keys(const py::dict& keys) {
+    PyScene s;
+    s.base_dir = std::filesystem::current_path();
+    s.scene = read_scene_text("", "<keys>", overrides_of(keys), s.base_dir);
+    return s;
+  }
+
   static PyScene from_toml(const std::filesystem::path& path, const py::dict& overrides) {
     PyScene s;
     s.scene = read_scene(path, overrides_of(overrides));
@@ -251,6 +260,9 @@ PYBIND11_MODULE(cdpowder, m) {
       .def_static("from_toml", &PyScene::from_toml, py::arg("path"),
                   py::arg("overrides") = py::dict(),
                   "The scene of a TOML file with --set style overrides {\"section.key\": value}")
+      .def_static("from_keys", &PyScene::from_keys, py::arg("keys"),
+                  "A scene built in code from {\"section.key\": value} (docs/config.md); keys "
+                  "left out take their defaults")
       .def(
           "with_overrides",
           [](const PyScene& s, const py::dict& overrides) { return s.with(overrides); },

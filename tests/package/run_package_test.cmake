@@ -1,7 +1,8 @@
 # Installs the build tree BUILD_DIR into a scratch prefix, builds tests/package against it
 # (find_package(cdpowder CONFIG)) and runs the program on the quick example; also checks that
 # the man page and the bash completion were installed.
-# With -DCXX=COMPILER, also what the public header brings into a program.
+# With -DCXX=COMPILER, also what the public header brings into a program; with -DPYTHON=…,
+# that the installed Python module imports.
 #   cmake -DBUILD_DIR=… -DSOURCE_DIR=… -DSCRATCH=… [-DCXX=…] [-DCXX_FLAGS=…] [-DMAN_PAGE=ON]
 #         -P run_package_test.cmake
 foreach(variable BUILD_DIR SOURCE_DIR SCRATCH)
@@ -33,6 +34,16 @@ if(NOT package_files)
 endif()
 if(MAN_PAGE AND NOT EXISTS ${prefix}/share/man/man1/cdpowder.1)
   message(FATAL_ERROR "run_package_test: the man page was not installed")
+endif()
+# the Python module, imported from the prefix's site folder
+if(PYTHON)
+  set(ENV{PYTHONPATH} ${prefix}/lib/python3/dist-packages)
+  # (a newline, not a semicolon: CMake would split the argument there)
+  run(${PYTHON} -c "import cdpowder\nprint(cdpowder.__file__, cdpowder.__version__)")
+  string(FIND "${last_output}" "${prefix}/lib/python3/dist-packages/cdpowder" at)
+  if(NOT at EQUAL 0)
+    message(FATAL_ERROR "run_package_test: Python imported ${last_output}, not the installed module")
+  endif()
 endif()
 
 # What <cdpowder/cdpowder.hpp> brings into a user's program: of the third-party headers only

@@ -111,3 +111,18 @@ def test_ctrl_c_ends_the_run_cleanly_and_raises_keyboard_interrupt(tmp_path):
     summary = json.loads((tmp_path / "summary.json").read_text())
     assert summary["run"]["interrupted"] is True
     assert summary["run"]["steps"] == 50  # stopped after the step that saw the signal
+
+
+def test_a_scene_built_in_code_runs_like_one_read_from_a_file(tmp_path):
+    keys = {"deposition.spheres": 100, "deposition.capture_radius": 3.0, "system.lx": 10.0,
+            "system.ly": 10.0, "contact.cohesion_range": 0.05, "piston.enabled": True,
+            "piston.pressure": 0.0025, "piston.start_gap": 0.5, "run.until_blocked": True,
+            "run.max_duration": 5.0}
+    in_code = cdpowder.Scene.from_keys(keys)
+    assert "[deposition]" in in_code.toml and "spheres = 100" in in_code.toml
+    # the same scene as a file gives the same run
+    (tmp_path / "scene.toml").write_text(in_code.toml)
+    from_file = cdpowder.Scene.from_toml(tmp_path / "scene.toml")
+    assert cdpowder.compact(in_code).porosity == cdpowder.compact(from_file).porosity
+    with pytest.raises(cdpowder.ConfigError, match="deposition.spheres"):
+        cdpowder.Scene.from_keys({**keys, "deposition.spheres": 0})
