@@ -105,6 +105,20 @@ struct Engine {
   RunState state;
 };
 
+/// A property of World: the n × 3 view of one of the spheres' vectors.
+auto body_vectors(std::vector<Vec3> Bodies::*field) {
+  return [field](const py::object& self) {
+    return vec3_view(self.cast<Engine&>().world.bodies.*field, self);
+  };
+}
+
+/// A property of World: the view of one of the spheres' numbers.
+auto body_scalars(std::vector<double> Bodies::*field) {
+  return [field](const py::object& self) {
+    return double_view(self.cast<Engine&>().world.bodies.*field, self);
+  };
+}
+
 /// The contacts of the engine's last step as a dict of NumPy arrays (copies).
 py::dict contacts_of(const Engine& engine) {
   std::vector<long long> a;
@@ -288,30 +302,12 @@ PYBIND11_MODULE(cdpowder, m) {
 
   py::class_<Engine, std::shared_ptr<Engine>>(
       m, "World", "Spheres, walls and piston, with the solver's memory of the last step")
-      .def_property_readonly(
-          "positions",
-          [](py::object self) {
-            return vec3_view(self.cast<Engine&>().world.bodies.position, self);
-          },
-          "Sphere centres, n × 3 [R] (a view: no copy)")
-      .def_property_readonly(
-          "velocities",
-          [](py::object self) {
-            return vec3_view(self.cast<Engine&>().world.bodies.velocity, self);
-          },
-          "n × 3 [R/t0] (a view)")
-      .def_property_readonly(
-          "angular_velocities",
-          [](py::object self) {
-            return vec3_view(self.cast<Engine&>().world.bodies.angular_velocity, self);
-          },
-          "n × 3 [1/t0] (a view)")
-      .def_property_readonly(
-          "radii",
-          [](py::object self) {
-            return double_view(self.cast<Engine&>().world.bodies.radius, self);
-          },
-          "n [R] (a view)")
+      .def_property_readonly("positions", body_vectors(&Bodies::position),
+                             "Sphere centres, n × 3 [R] (a view: no copy)")
+      .def_property_readonly("velocities", body_vectors(&Bodies::velocity), "n × 3 [R/t0] (a view)")
+      .def_property_readonly("angular_velocities", body_vectors(&Bodies::angular_velocity),
+                             "n × 3 [1/t0] (a view)")
+      .def_property_readonly("radii", body_scalars(&Bodies::radius), "n [R] (a view)")
       .def_property_readonly("time", [](const Engine& e) { return e.world.time; })
       .def_property_readonly("step", [](const Engine& e) { return e.world.step; })
       .def_property_readonly("piston_height",
