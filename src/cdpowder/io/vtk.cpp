@@ -2,6 +2,7 @@
 #include "cdpowder/io/vtk.hpp"
 
 #include "cdpowder/analysis/coordination.hpp"
+#include "cdpowder/contact/contact_view.hpp"
 #include "cdpowder/io/atomic_file.hpp"
 
 #include <fmt/format.h>
@@ -165,28 +166,24 @@ struct NetworkLine {
 std::vector<NetworkLine> network_lines(const World& world, const Contacts& contacts) {
   std::vector<NetworkLine> lines;
   const Bodies& bodies = world.bodies;
-  for (std::size_t k = 0; k < contacts.pairs.size(); ++k) {
-    const PairProblem& p = contacts.pairs[k];
-    const ContactAction& action = contacts.pair_actions[k];
+  for_each_contact(contacts, [&](const ContactView& c) {
+    const ContactAction& action = *c.action;
     // open contacts are left out; a force that is not a number is drawn (a failed state)
-    if (!is_closed(action.normal_force, p.cohesion) && !std::isnan(action.normal_force)) continue;
-    const Vec3& a = bodies.position[p.a];
-    const Vec3 b = a + world.box.minimum_image(bodies.position[p.b] - a);
-    lines.push_back({a, b, p.normal, action.normal_force * p.normal + action.tangential_force,
-                     action.normal_force, action.tangential_force.norm(),
-                     contacts.pair_cohesive[k] != 0, kKindPair});
-  }
-  for (std::size_t k = 0; k < contacts.walls.size(); ++k) {
-    const WallProblem& w = contacts.walls[k];
-    const ContactAction& action = contacts.wall_actions[k];
-    if (!is_closed(action.normal_force, w.cohesion) && !std::isnan(action.normal_force)) continue;
-    const Vec3& centre = bodies.position[w.sphere];
+    if (!c.closed() && !std::isnan(action.normal_force)) return;
+    const Vec3 force = action.normal_force * c.normal + action.tangential_force;
+    const double tangential = action.tangential_force.norm();
+    const Vec3& b = bodies.position[c.b];
+    if (c.is_pair()) {
+      const Vec3& a = bodies.position[c.a];
+      lines.push_back({a, a + world.box.minimum_image(b - a), c.normal, force, action.normal_force,
+                       tangential, c.cohesive, kKindPair});
+      return;
+    }
     // n points from the wall into the sphere: the contact point is R behind the centre
-    lines.push_back({centre, centre - w.radius * w.normal, w.normal,
-                     action.normal_force * w.normal + action.tangential_force, action.normal_force,
-                     action.tangential_force.norm(), contacts.wall_cohesive[k] != 0,
-                     w.wall == WallKind::Bottom ? kKindBottom : kKindPiston});
-  }
+    lines.push_back({b, b - bodies.radius[c.b] * c.normal, c.normal, force, action.normal_force,
+                     tangential, c.cohesive,
+                     *c.wall == WallKind::Bottom ? kKindBottom : kKindPiston});
+  });
   return lines;
 }
 
