@@ -57,7 +57,7 @@ TEST(AccuracyGauges, CohesiveOpeningSpeedIsZeroWhileHeldAndTheRelativeSpeedOnceO
   EXPECT_NEAR(relative, 2.0 * 3.0 * pulled.settings.solver.dt * 0.5 / mass, 1e-9);
 }
 
-/// The opening gauges as analyse_step measured them before they moved ahead of integrate():
+/// The opening gauges as stage 5 measured them before they moved ahead of integrate():
 /// from the World's velocities after the step.
 CohesiveOpening opening_after_integration(const TinyScene& scene) {
   const Bodies& bodies = scene.world.bodies;

@@ -74,14 +74,6 @@ StepDiagnostics join_measures(const World& world, const StepDiagnostics& of_cont
   return d;
 }
 
-StepDiagnostics analyse_step(const World& world, const Contacts& contacts) {
-  StepDiagnostics of_contacts;
-  StepDiagnostics of_spheres;
-  measure_contacts(world, contacts, of_contacts);
-  measure_spheres(world, of_spheres);
-  return join_measures(world, of_contacts, of_spheres);
-}
-
 double net_force_of_step(const Bodies& bodies, const VelocityCache& velocities) {
   double largest = 0.0;
   for (std::size_t i = 0; i < bodies.size(); ++i) {

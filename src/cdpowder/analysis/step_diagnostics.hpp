@@ -37,16 +37,13 @@ struct StepDiagnostics {
   double max_cohesive_opening_per_range = 0.0;
 };
 
-/// Measures the state after integrate(); `contacts` still holds the step's forces.
-/// Leaves max_net_force to net_force_of_step (it needs the velocities before the step) and
-/// the two opening gauges to cohesive_opening (measured before integrate(), where an adaptive
-/// Δt decides whether to keep the step).
-StepDiagnostics analyse_step(const World& world, const Contacts& contacts);
-
-/// The two halves of analyse_step, which read and write nothing in common (each its own
-/// StepDiagnostics), so they may run side by side: the contacts' overlaps, counts and the
-/// piston's contact force, and the spheres' speeds and kinetic energy. join_measures takes
-/// the fields of each and adds the piston's share, with analyse_step's bits.
+/// Stage 5: measures the state after integrate(), where `contacts` still holds the step's
+/// forces, in two halves that read and write nothing in common (each its own StepDiagnostics),
+/// so they may run side by side: the contacts' overlaps, counts and the piston's contact force,
+/// and the spheres' speeds and kinetic energy. join_measures takes the fields of each and adds
+/// the piston's share. It leaves max_net_force to net_force_of_step (it needs the velocities
+/// before the step) and the two opening gauges to cohesive_opening (measured before
+/// integrate(), where an adaptive Δt decides whether to keep the step).
 void measure_contacts(const World& world, const Contacts& contacts, StepDiagnostics& d);
 void measure_spheres(const World& world, StepDiagnostics& d);
 StepDiagnostics join_measures(const World& world, const StepDiagnostics& of_contacts,
