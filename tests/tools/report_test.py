@@ -8,6 +8,7 @@ E1(1, 0) = 0.2, E1(0, 1) = 0.1, their ratio 2, no additivity residual, and satur
 μ = 0.4 on both lines; on a three-point line it must decline to judge saturation.
 """
 import csv
+import json
 import pathlib
 import subprocess
 import sys
@@ -42,7 +43,10 @@ def write_sweep(folder, points, seeds=3, blocked=lambda p, s: True, sigma=lambda
                             int(blocked((mu_t, mu_n), s)), f"runs/{name}/seed_{s}"])
 
 
-def run_report(folder, *options):
+def run_report(folder, *options, vector=False):
+    """report.md of a report on `folder`; the SVG and PDF figures only where a test reads
+    them (vector=True): they take most of a report's time."""
+    options = options if vector else (*options, "--png-only")
     out = subprocess.run([sys.executable, str(REPORT), str(folder), *options],
                          capture_output=True, text=True, check=True)
     assert "report:" in out.stdout
@@ -68,7 +72,7 @@ class ReportOnKnownSweeps(unittest.TestCase):
     def test_full_mesh_gives_the_constructed_claims(self):
         mus = [0.0, 0.05, 0.1, 0.2, 0.3, 0.4, 0.6, 1.0]
         write_sweep(self.dir, [(t, n) for t in mus for n in mus])
-        report = run_report(self.dir)
+        report = run_report(self.dir, vector=True)
         self.assertEqual(claim(report, "E0 = E(0, 0)"), "0.6200 ± 0.0058")
         self.assertEqual(claim(report, "E1(1, 0) (rolling only)"), "0.2000 ± 0.0000")
         self.assertEqual(claim(report, "E1(0, 1) (torsion only)"), "0.1000 ± 0.0000")
@@ -86,18 +90,30 @@ class ReportOnKnownSweeps(unittest.TestCase):
         self.assertEqual(claim(report, "E(1, 1) below the deposit's porosity E_init"),
                          "yes: 0.9200 ± 0.0058 against E_init 0.9500 ± 0.0000")
         self.assertIn("| 0.4 | 0.2000 ± 0.0000 | 0.1000 ± 0.0000 | 2.00 ± 0.00 |", report)
-        for figure in ("fig5_porosity", "added_porosity", "additivity"):
-            for ext in ("png", "svg"):
+        for figure in ("fig5_porosity", "added_porosity", "additivity", "table1_stress"):
+            for ext in ("png", "svg", "pdf"):
                 self.assertTrue((self.dir / "report" / f"{figure}.{ext}").stat().st_size > 0)
+        # the vector files keep their text: Fig. 5's panel labels, the paper's values
+        fig5 = (self.dir / "report" / "fig5_porosity.svg").read_text()
+        for text in ("(a)", "(b)", "(c)", "paper (text)", "paper: saturates"):
+            self.assertIn(text, fig5)
+        self.assertTrue((self.dir / "report" / "fig5_porosity.pdf").read_bytes()
+                        .startswith(b"%PDF"))
 
     def test_coarse_lines_do_not_claim_saturation(self):
         # the paper's Table 1 points: three values of μ on each line
         write_sweep(self.dir, [(0.0, 0.0), (0.1, 0.1), (0.3, 0.3), (1.0, 1.0), (0.0, 0.3),
                                (0.0, 1.0), (0.3, 0.0), (1.0, 0.0)])
-        report = run_report(self.dir)
+        report = run_report(self.dir, vector=True)
         self.assertTrue(claim(report, "E1 saturates (μn = 0) from μt ≈").startswith("– (needs"))
         self.assertIn("| 0 | 0 | 1.0 | 1.000 ± 0.000 | 2.2 | 2.00 ± 0.00 | -1.2 | -1.00 ± 0.00 | 3 |",
                       report)
+        # Table 1 as a figure: cdpowder's and the paper's values of both parts, each point
+        self.assertIn("![Table 1](table1_stress.png)", report)
+        svg = (self.dir / "report" / "table1_stress.svg").read_text()
+        for text in ("(compressive), cdpowder", "(compressive), paper", "(tensile), paper",
+                     "(0.1, 0.1)", "(1, 0)"):
+            self.assertIn(text, svg)
 
     def test_unsaturated_line_is_said_so(self):
         mus = [0.0, 0.2, 0.4, 0.6, 1.0]
@@ -151,7 +167,15 @@ class ReportOnKnownSweeps(unittest.TestCase):
         run.mkdir(parents=True)
         for name, top in (("initial_particles.csv", 9.0), ("particles.csv", 3.0)):
             (run / name).write_text("id,x,y,z,r\n0,1,1,1,1\n1,2,1,%g,1\n" % top)
-        self.assertIn(f"`{run}`", run_report(self.dir))
+        (run / "summary.json").write_text(json.dumps({
+            "initial_porosity": 0.9, "porosity": 0.6,
+            "piston": {"enabled": True, "height": 4.5},
+            "scene": {"system": {"lx": 5.0}, "piston": {"start_gap": 2.0}}}))
+        self.assertIn(f"`{run}`", run_report(self.dir, vector=True))
+        # drawn with the piston and each packing's porosity from the run's summary
+        svg = (self.dir / "report" / "packing.svg").read_text()
+        for text in ("piston", "deposit, E = 0.900", "compacted, E = 0.600", "(a)", "(b)"):
+            self.assertIn(text, svg)
         for name in ("initial_particles.csv", "particles.csv"):
             (run / name).unlink()
         report = run_report(self.dir)
@@ -208,11 +232,12 @@ class ReportOnKnownSweeps(unittest.TestCase):
     def test_regenerated_report_is_byte_identical(self):
         write_sweep(self.dir, [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0)])
         folder = self.dir / "report"
-        run_report(self.dir)
+        run_report(self.dir, vector=True)
         first = {f.name: f.read_bytes() for f in folder.iterdir()}
-        run_report(self.dir)
+        run_report(self.dir, vector=True)
         second = {f.name: f.read_bytes() for f in folder.iterdir()}
         self.assertEqual(sorted(first), sorted(second))
+        self.assertIn("fig5_porosity.pdf", first)
         for name in first:
             self.assertEqual(first[name], second[name], name)
 
