@@ -178,18 +178,18 @@ std::string sweep_header(const SweepPlan& plan) {
 }
 
 void write_tables(const SweepOptions& options, const SweepPlan& plan,
-                  const std::vector<std::optional<RunRecord>>& records) {
+                  const std::vector<std::optional<RunSummary>>& summaries) {
   const std::string header = sweep_header(plan);
-  write_file_atomically(options.out / "results.csv", results_csv(plan, records, header));
-  write_file_atomically(options.out / "points.csv", points_csv(plan, records, header));
+  write_file_atomically(options.out / "results.csv", results_csv(plan, summaries, header));
+  write_file_atomically(options.out / "points.csv", points_csv(plan, summaries, header));
 }
 
 /// As write_tables, while runs go on: the failure's message ("cannot write …: No space left
 /// on device"), or "" when both tables were written.
 std::string try_write_tables(const SweepOptions& options, const SweepPlan& plan,
-                             const std::vector<std::optional<RunRecord>>& records) {
+                             const std::vector<std::optional<RunSummary>>& summaries) {
   try {
-    write_tables(options, plan, records);
+    write_tables(options, plan, summaries);
   } catch (const OutputError& error) {
     return error.what();
   }
@@ -207,14 +207,14 @@ struct RunExit {
   bool counts = false;
 };
 
-RunExit run_exit(int status, const std::optional<RunRecord>& record,
+RunExit run_exit(int status, const std::optional<RunSummary>& summary,
                  const std::string& scene_text) {
   const int code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   RunExit out;
   out.fault = code == kExitFault;
   out.unwritten = code == kExitOutputFailed;
   out.counts =
-      (code == 0 || code == kExitNotBlocked || out.unwritten) && is_reusable(record, scene_text);
+      (code == 0 || code == kExitNotBlocked || out.unwritten) && is_reusable(summary, scene_text);
   return out;
 }
 
@@ -231,12 +231,12 @@ std::string last_error_of(const std::filesystem::path& log) {
 }
 
 /// What a sweep folder holds against its plan: every run's resolved scene, the finished
-/// runs' records, and the runs still to do (those another sweep has done, with --reuse,
+/// runs' summaries, and the runs still to do (those another sweep has done, with --reuse,
 /// apart).
 struct SweepState {
   SweepPlan plan;
   std::vector<std::string> scene_texts;
-  std::vector<std::optional<RunRecord>> records;
+  std::vector<std::optional<RunSummary>> summaries;
   std::vector<std::size_t> pending;
   std::map<std::size_t, std::filesystem::path> reused;
 };
@@ -277,14 +277,14 @@ SweepState read_sweep_state(const SweepOptions& options) {
   }
   if (!issues.empty()) throw ConfigError(std::move(issues));
 
-  std::vector<std::optional<RunRecord>>& records = state.records;
-  records.resize(plan.runs.size());
+  std::vector<std::optional<RunSummary>>& summaries = state.summaries;
+  summaries.resize(plan.runs.size());
   std::vector<std::size_t>& pending = state.pending;
   for (std::size_t i = 0; i < plan.runs.size(); ++i) {
-    std::optional<RunRecord> record =
-        read_run_record(options.out / plan.runs[i].folder / "summary.json");
-    if (is_reusable(record, scene_texts[i])) {
-      records[i] = std::move(record);
+    std::optional<RunSummary> summary =
+        read_run_summary(options.out / plan.runs[i].folder / "summary.json");
+    if (is_reusable(summary, scene_texts[i])) {
+      summaries[i] = std::move(summary);
     } else {
       pending.push_back(i);
     }
@@ -365,7 +365,7 @@ int run_task(const SweepOptions& options, const SweepState& state, std::size_t t
   const std::filesystem::path folder = options.out / run.folder;
   const std::string name =
       fmt::format("run {} ({} seed {})", task, plan.points[run.point].name, run.seed);
-  if (state.records[task]) {
+  if (state.summaries[task]) {
     if (!options.quiet) std::fprintf(stderr, "%s: already finished\n", name.c_str());
     return 0;
   }
@@ -399,8 +399,8 @@ int run_task(const SweepOptions& options, const SweepState& state, std::size_t t
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }
-  const std::optional<RunRecord> record = read_run_record(folder / "summary.json");
-  const RunExit end = run_exit(status, record, state.scene_texts[task]);
+  const std::optional<RunSummary> summary = read_run_summary(folder / "summary.json");
+  const RunExit end = run_exit(status, summary, state.scene_texts[task]);
   const bool unwritten = end.unwritten;
   if (!end.counts) {
     std::fprintf(stderr, "%s: %s, see %s\n", name.c_str(),
@@ -410,7 +410,7 @@ int run_task(const SweepOptions& options, const SweepState& state, std::size_t t
     return unwritten ? kExitOutputFailed : 1;
   }
   if (!options.quiet) {
-    std::fprintf(stderr, "%s: %s%s\n", name.c_str(), finished_run_text(*record).c_str(),
+    std::fprintf(stderr, "%s: %s%s\n", name.c_str(), finished_run_text(*summary).c_str(),
                  unwritten ? kOutputsMissingNote.data() : "");
   }
   return unwritten ? kExitOutputFailed : 0;
@@ -419,10 +419,10 @@ int run_task(const SweepOptions& options, const SweepState& state, std::size_t t
 /// --collect: the tables of what has finished, starting nothing.
 int collect_tables(const SweepOptions& options, const SweepState& state) {
   std::filesystem::create_directories(options.out);
-  write_tables(options, state.plan, state.records);
+  write_tables(options, state.plan, state.summaries);
   const auto finished = static_cast<std::size_t>(
-      std::count_if(state.records.begin(), state.records.end(),
-                    [](const std::optional<RunRecord>& r) { return r.has_value(); }));
+      std::count_if(state.summaries.begin(), state.summaries.end(),
+                    [](const std::optional<RunSummary>& r) { return r.has_value(); }));
   std::printf("sweep: %zu of %zu runs finished; results in %s\n", finished, state.plan.runs.size(),
               (options.out / "results.csv").string().c_str());
   return 0;
@@ -439,7 +439,7 @@ int print_dry_run(const SweepOptions& options, const SweepState& state) {
   for (std::size_t i = 0; i < total; ++i) {
     std::string why_not;
     const char* what =
-        state.records[i]            ? "done   "
+        state.summaries[i]          ? "done   "
         : state.reused.count(i) > 0 ? "reuse  "
         : has_usable_checkpoint(options.out / plan.runs[i].folder, state.scene_texts[i], why_not)
             ? "resume "
@@ -461,11 +461,11 @@ std::size_t adopt_reused_runs(const SweepOptions& options, SweepState& state) {
     write_file_atomically(folder / "summary.json", read_text(source));
     write_file_atomically(folder / "log.txt",
                           fmt::format("reused from {}\n", source.string()));  // as --reuse named it
-    state.records[i] = read_run_record(folder / "summary.json");
-    if (is_reusable(state.records[i], state.scene_texts[i])) {
+    state.summaries[i] = read_run_summary(folder / "summary.json");
+    if (is_reusable(state.summaries[i], state.scene_texts[i])) {
       ++reused_count;
     } else {  // the copy failed: run it after all
-      state.records[i].reset();
+      state.summaries[i].reset();
       state.pending.push_back(i);
       if (!options.quiet) {
         std::fprintf(stderr, "sweep: could not reuse %s; it runs again\n", source.c_str());
@@ -496,7 +496,7 @@ class SweepPool {
       if ((received > 0 || time_up_ || !write_error_.empty()) && guard_.runs.empty()) break;
       reap_one();
     }
-    if (std::string error = try_write_tables(options_, state_.plan, state_.records);
+    if (std::string error = try_write_tables(options_, state_.plan, state_.summaries);
         !error.empty() && write_error_.empty()) {
       write_error_ = std::move(error);
     }
@@ -583,7 +583,7 @@ class SweepPool {
   void start_run_at(std::size_t i) {
     if (options_.time_limit &&
         !may_start_within(seconds_since_start(),
-                          expected_run_seconds(state_.plan, state_.records, i),
+                          expected_run_seconds(state_.plan, state_.summaries, i),
                           *options_.time_limit)) {
       ++left_for_later_;
       return;
@@ -639,13 +639,13 @@ class SweepPool {
     const std::size_t i = it->second;
     guard_.runs.erase(it);
     const std::filesystem::path folder = options_.out / state_.plan.runs[i].folder;
-    std::optional<RunRecord> record = read_run_record(folder / "summary.json");
-    const RunExit end = run_exit(status, record, state_.scene_texts[i]);
+    std::optional<RunSummary> summary = read_run_summary(folder / "summary.json");
+    const RunExit end = run_exit(status, summary, state_.scene_texts[i]);
     if (end.unwritten && write_error_.empty()) write_error_ = last_error_of(folder / "log.txt");
     if (end.counts) {
-      state_.records[i] = std::move(record);
+      state_.summaries[i] = std::move(summary);
       ++done_now_;
-      if (std::string error = try_write_tables(options_, state_.plan, state_.records);
+      if (std::string error = try_write_tables(options_, state_.plan, state_.summaries);
           !error.empty() && write_error_.empty()) {
         write_error_ = std::move(error);
       }
@@ -670,7 +670,7 @@ class SweepPool {
                                                    static_cast<double>(done_now_)))
             : "";
     if (end.counts) {
-      const RunRecord& r = *state_.records[i];
+      const RunSummary& r = *state_.summaries[i];
       std::fprintf(stderr, "[%zu/%zu] %s: %s (elapsed %s%s)%s\n", finished, total,
                    run_name(i).c_str(), finished_run_text(r).c_str(), clock_text(elapsed).c_str(),
                    eta.c_str(), end.unwritten ? kOutputsMissingNote.data() : "");
@@ -717,7 +717,7 @@ int run_sweep(const SweepOptions& options) {
   setenv(kDieWithParentVariable, std::to_string(getpid()).c_str(), 1);
   write_file_atomically(options.out / "sweep.toml", read_text(options.sweep));
   const std::size_t reused_count = adopt_reused_runs(options, state);
-  write_tables(options, state.plan, state.records);
+  write_tables(options, state.plan, state.summaries);
 
   const int jobs = options.jobs > 0
                        ? options.jobs

@@ -141,11 +141,11 @@ TEST(RunMessages, AFolderWithoutACheckpointOrItsStartingPackingCannotBeResumed) 
 }
 
 TEST(SweepMessages, ARunsLineSaysHowItEnded) {
-  RunRecord record;
-  record.porosity = 0.643046;
-  record.blocked = true;
-  record.wall_seconds = 41.23;
-  EXPECT_EQ(finished_run_text(record), "porosity=0.64305 blocked=yes wall=41.2s");
+  RunSummary summary;
+  summary.porosity = 0.643046;
+  summary.run.blocked = true;
+  summary.run.wall_seconds = 41.23;
+  EXPECT_EQ(finished_run_text(summary), "porosity=0.64305 blocked=yes wall=41.2s");
   EXPECT_EQ(unfinished_run_text(true, true, true), "interrupted");
   EXPECT_EQ(unfinished_run_text(false, true, true),
             "FAILED (a fault stopped it: unphysical state)");

@@ -203,38 +203,41 @@ TEST(SweepPlan, MistakesNameTheKeyAndWhatIsAllowed) {
               HasSubstr("grid.contact.mu: is given twice"));
 }
 
-RunRecord record(double porosity, bool blocked) {
-  RunRecord r;
+RunSummary summary(double porosity, bool blocked) {
+  RunSummary r;
   r.porosity = porosity;
-  r.blocked = blocked;
-  r.sigma_zz_over_p = 1.0;
-  r.commit = "abc";
+  r.run.blocked = blocked;
+  r.stress.sigma_zz_over_pressure = 1.0;
+  r.program.commit = "abc";
   return r;
 }
 
 TEST(SweepResults, PointsAverageTheBlockedRunsWithTheStandardError) {
   const SweepPlan plan = plan_of("scene = \"s\"\nseeds = 4\n[grid]\n\"contact.mu\" = [0.1, 0.2]\n");
-  std::vector<std::optional<RunRecord>> records(plan.runs.size());
-  records[0] = record(0.5, true);
-  records[1] = record(0.7, true);
-  records[2] = record(0.9, false);  // finished, not blocked: listed, not averaged
-  records[4] = record(0.4, true);
-  const std::string points = points_csv(plan, records, "# h\n");
+  std::vector<std::optional<RunSummary>> summaries(plan.runs.size());
+  summaries[0] = summary(0.5, true);
+  summaries[1] = summary(0.7, true);
+  summaries[2] = summary(0.9, false);  // finished, not blocked: listed, not averaged
+  summaries[4] = summary(0.4, true);
+  const std::string points = points_csv(plan, summaries, "# h\n");
   // point 0: runs 3, n 2, mean 0.6, sem = sd/√n = 0.1414…/√2 = 0.1
   EXPECT_THAT(points, HasSubstr("contact.mu=0.1,0.1,3,2,0.6,0.1,1,0,"));
   // point 1: one blocked run: a mean, no error
   EXPECT_THAT(points, HasSubstr("contact.mu=0.2,0.2,1,1,0.4,,1,,"));
-  const std::string runs = results_csv(plan, records, "# h\n");
+  const std::string runs = results_csv(plan, summaries, "# h\n");
   EXPECT_EQ(std::count(runs.begin(), runs.end(), '\n'), 1 + 1 + 4);  // header lines + 4 rows
   EXPECT_THAT(runs, HasSubstr("contact.mu=0.1,0.1,3,0.9,"));
 }
 
 TEST(SweepResults, ARunIsReusedOnlyWhenFinishedForTheSameScene) {
-  RunRecord r = record(0.5, true);
+  RunSummary r = summary(0.5, true);
   r.scene_toml = "a";
   EXPECT_TRUE(is_reusable(r, "a"));
   EXPECT_FALSE(is_reusable(r, "b"));
-  r.interrupted = true;
+  r.run.failed = true;
+  EXPECT_FALSE(is_reusable(r, "a"));
+  r.run.failed = false;
+  r.run.interrupted = true;
   EXPECT_FALSE(is_reusable(r, "a"));
   EXPECT_FALSE(is_reusable(std::nullopt, "a"));
 }

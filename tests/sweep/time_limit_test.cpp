@@ -12,11 +12,11 @@
 namespace cdpowder {
 namespace {
 
-/// A plan of `points` points × 2 seeds (runs point-major) with records of the given wall
+/// A plan of `points` points × 2 seeds (runs point-major) with summaries of the given wall
 /// times (nullopt: not finished).
 struct PlanWithRecords {
   SweepPlan plan;
-  std::vector<std::optional<RunRecord>> records;
+  std::vector<std::optional<RunSummary>> records;
 };
 
 PlanWithRecords plan_with(std::size_t points, const std::vector<std::optional<double>>& seconds) {
@@ -35,9 +35,9 @@ PlanWithRecords plan_with(std::size_t points, const std::vector<std::optional<do
       p.records.emplace_back();
       continue;
     }
-    RunRecord record;
-    record.wall_seconds = *s;
-    p.records.emplace_back(record);
+    RunSummary summary;
+    summary.run.wall_seconds = *s;
+    p.records.emplace_back(summary);
   }
   return p;
 }

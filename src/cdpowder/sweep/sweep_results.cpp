@@ -1,11 +1,10 @@
-// sweep_results.cpp — run records and the sweep's two tables.
+// sweep_results.cpp — the sweep's two tables from its runs' summaries.
 #include "cdpowder/sweep/sweep_results.hpp"
 
 #include <fmt/format.h>
 
 #include <cmath>
 #include <fstream>
-#include <functional>
 #include <sstream>
 
 namespace cdpowder {
@@ -38,30 +37,35 @@ std::string parameter_value(const SweepPoint& point, const std::string& key) {
   return "";
 }
 
+/// A column of results.csv: its name and the summary field it shows (docs/sweeps.md).
 struct Column {
   const char* name;
-  std::function<double(const RunRecord&)> get;
+  double (*get)(const RunSummary&);
 };
 
 const std::vector<Column>& run_columns() {
+  using S = RunSummary;
   static const std::vector<Column> columns{
-      {"porosity", [](const RunRecord& r) { return r.porosity; }},
-      {"initial_porosity", [](const RunRecord& r) { return r.initial_porosity; }},
-      {"sigma_zz_over_p", [](const RunRecord& r) { return r.sigma_zz_over_p; }},
+      {"porosity", [](const S& s) { return s.porosity; }},
+      {"initial_porosity", [](const S& s) { return s.initial_porosity; }},
+      {"sigma_zz_over_p", [](const S& s) { return s.stress.sigma_zz_over_pressure; }},
       {"sigma_zz_compressive_over_p",
-       [](const RunRecord& r) { return r.sigma_zz_compressive_over_p; }},
-      {"sigma_zz_tensile_over_p", [](const RunRecord& r) { return r.sigma_zz_tensile_over_p; }},
-      {"compressive_contacts", [](const RunRecord& r) { return r.compressive_contacts; }},
-      {"tensile_contacts", [](const RunRecord& r) { return r.tensile_contacts; }},
-      {"coordination_number", [](const RunRecord& r) { return r.coordination_number; }},
-      {"steps", [](const RunRecord& r) { return r.steps; }},
-      {"total_sweeps", [](const RunRecord& r) { return r.total_sweeps; }},
-      {"capped_steps", [](const RunRecord& r) { return r.capped_steps; }},
-      {"mean_overlap", [](const RunRecord& r) { return r.mean_overlap; }},
-      {"max_overlap", [](const RunRecord& r) { return r.max_overlap; }},
-      {"piston_imbalance", [](const RunRecord& r) { return r.piston_imbalance; }},
-      {"max_net_force", [](const RunRecord& r) { return r.max_net_force; }},
-      {"wall_seconds", [](const RunRecord& r) { return r.wall_seconds; }},
+       [](const S& s) { return s.stress.sigma_zz_compressive_over_pressure; }},
+      {"sigma_zz_tensile_over_p",
+       [](const S& s) { return s.stress.sigma_zz_tensile_over_pressure; }},
+      {"compressive_contacts",
+       [](const S& s) { return static_cast<double>(s.stress.compressive_contacts); }},
+      {"tensile_contacts",
+       [](const S& s) { return static_cast<double>(s.stress.tensile_contacts); }},
+      {"coordination_number", [](const S& s) { return s.contacts.coordination_number; }},
+      {"steps", [](const S& s) { return static_cast<double>(s.run.steps); }},
+      {"total_sweeps", [](const S& s) { return static_cast<double>(s.run.total_sweeps); }},
+      {"capped_steps", [](const S& s) { return static_cast<double>(s.accuracy.capped_steps); }},
+      {"mean_overlap", [](const S& s) { return s.accuracy.mean_overlap; }},
+      {"max_overlap", [](const S& s) { return s.accuracy.max_overlap; }},
+      {"piston_imbalance", [](const S& s) { return s.piston.force_imbalance; }},
+      {"max_net_force", [](const S& s) { return s.accuracy.max_net_force; }},
+      {"wall_seconds", [](const S& s) { return s.run.wall_seconds; }},
   };
   return columns;
 }
@@ -81,44 +85,13 @@ const std::vector<std::string>& aggregated() {
 
 }  // namespace
 
-RunRecord run_record(const RunSummary& s) {
-  RunRecord r;
-  r.porosity = s.porosity;
-  r.initial_porosity = s.initial_porosity;
-  r.sigma_zz_over_p = s.stress.sigma_zz_over_pressure;
-  r.sigma_zz_compressive_over_p = s.stress.sigma_zz_compressive_over_pressure;
-  r.sigma_zz_tensile_over_p = s.stress.sigma_zz_tensile_over_pressure;
-  r.compressive_contacts = static_cast<double>(s.stress.compressive_contacts);
-  r.tensile_contacts = static_cast<double>(s.stress.tensile_contacts);
-  r.coordination_number = s.contacts.coordination_number;
-  r.blocked = s.run.blocked;
-  r.interrupted = s.run.interrupted;
-  r.failed = s.run.failed;
-  r.steps = static_cast<double>(s.run.steps);
-  r.total_sweeps = static_cast<double>(s.run.total_sweeps);
-  r.capped_steps = static_cast<double>(s.accuracy.capped_steps);
-  r.mean_overlap = s.accuracy.mean_overlap;
-  r.max_overlap = s.accuracy.max_overlap;
-  r.piston_imbalance = s.piston.force_imbalance;
-  r.max_net_force = s.accuracy.max_net_force;
-  r.wall_seconds = s.run.wall_seconds;
-  r.scene_toml = s.scene_toml;
-  r.commit = s.program.commit;
-  return r;
+bool is_reusable(const std::optional<RunSummary>& summary, const std::string& expected_scene_toml) {
+  return summary.has_value() && !summary->run.interrupted && !summary->run.failed &&
+         summary->scene_toml == expected_scene_toml;
 }
 
-std::optional<RunRecord> read_run_record(const std::filesystem::path& summary_json) {
-  const std::optional<RunSummary> summary = read_run_summary(summary_json);
-  if (!summary) return std::nullopt;
-  return run_record(*summary);
-}
-
-bool is_reusable(const std::optional<RunRecord>& record, const std::string& expected_scene_toml) {
-  return record.has_value() && !record->interrupted && !record->failed &&
-         record->scene_toml == expected_scene_toml;
-}
-
-std::string results_csv(const SweepPlan& plan, const std::vector<std::optional<RunRecord>>& records,
+std::string results_csv(const SweepPlan& plan,
+                        const std::vector<std::optional<RunSummary>>& summaries,
                         const std::string& header) {
   // (appended piece by piece: GCC 12 warns falsely on "," + std::string at -O3, -Wrestrict)
   std::string out = header + "point";
@@ -129,11 +102,11 @@ std::string results_csv(const SweepPlan& plan, const std::vector<std::optional<R
   out += ",seed";
   for (const Column& c : run_columns()) out += fmt::format(",{}", c.name);
   out += ",blocked,commit,folder\n";
-  for (std::size_t i = 0; i < plan.runs.size() && i < records.size(); ++i) {
-    if (!records[i]) continue;
+  for (std::size_t i = 0; i < plan.runs.size() && i < summaries.size(); ++i) {
+    if (!summaries[i]) continue;
     const SweepRun& run = plan.runs[i];
     const SweepPoint& point = plan.points[run.point];
-    const RunRecord& r = *records[i];
+    const RunSummary& r = *summaries[i];
     out += csv_field(point.name);
     for (const std::string& key : plan.parameter_keys) {
       out += ',';
@@ -144,13 +117,14 @@ std::string results_csv(const SweepPlan& plan, const std::vector<std::optional<R
       out += ',';
       out += number(c.get(r));
     }
-    out += fmt::format(",{},{},{}\n", r.blocked ? 1 : 0, csv_field(r.commit),
+    out += fmt::format(",{},{},{}\n", r.run.blocked ? 1 : 0, csv_field(r.program.commit),
                        csv_field(run.folder.generic_string()));
   }
   return out;
 }
 
-std::string points_csv(const SweepPlan& plan, const std::vector<std::optional<RunRecord>>& records,
+std::string points_csv(const SweepPlan& plan,
+                       const std::vector<std::optional<RunSummary>>& summaries,
                        const std::string& header) {
   std::string out = header + "point";
   for (const std::string& key : plan.parameter_keys) {
@@ -161,12 +135,12 @@ std::string points_csv(const SweepPlan& plan, const std::vector<std::optional<Ru
   for (const std::string& name : aggregated()) out += fmt::format(",{0}_mean,{0}_sem", name);
   out += '\n';
   for (std::size_t p = 0; p < plan.points.size(); ++p) {
-    std::vector<const RunRecord*> blocked;
+    std::vector<const RunSummary*> blocked;
     std::size_t finished = 0;
-    for (std::size_t i = 0; i < plan.runs.size() && i < records.size(); ++i) {
-      if (plan.runs[i].point != p || !records[i]) continue;
+    for (std::size_t i = 0; i < plan.runs.size() && i < summaries.size(); ++i) {
+      if (plan.runs[i].point != p || !summaries[i]) continue;
       ++finished;
-      if (records[i]->blocked) blocked.push_back(&*records[i]);
+      if (summaries[i]->run.blocked) blocked.push_back(&*summaries[i]);
     }
     const SweepPoint& point = plan.points[p];
     out += csv_field(point.name);
@@ -182,10 +156,10 @@ std::string points_csv(const SweepPlan& plan, const std::vector<std::optional<Ru
       }
       const auto n = static_cast<double>(blocked.size());
       double sum = 0.0;
-      for (const RunRecord* r : blocked) sum += column->get(*r);
+      for (const RunSummary* r : blocked) sum += column->get(*r);
       const double mean = blocked.empty() ? NAN : sum / n;
       double squares = 0.0;
-      for (const RunRecord* r : blocked) squares += std::pow(column->get(*r) - mean, 2);
+      for (const RunSummary* r : blocked) squares += std::pow(column->get(*r) - mean, 2);
       const double sem = blocked.size() < 2 ? NAN : std::sqrt(squares / (n - 1.0) / n);
       out += ',';
       out += number(mean);
@@ -208,16 +182,16 @@ std::map<std::string, std::filesystem::path> finished_runs_by_scene(
            runs, std::filesystem::directory_options::skip_permission_denied, error);
        !error && it != std::filesystem::recursive_directory_iterator(); it.increment(error)) {
     if (it->path().filename() != "summary.json") continue;
-    const std::optional<RunRecord> record = read_run_record(it->path());
-    if (record && !record->interrupted && !record->failed)
-      found.emplace(record->scene_toml, it->path());
+    const std::optional<RunSummary> summary = read_run_summary(it->path());
+    if (summary && !summary->run.interrupted && !summary->run.failed)
+      found.emplace(summary->scene_toml, it->path());
   }
   return found;
 }
 
-std::string finished_run_text(const RunRecord& record) {
-  return fmt::format("porosity={:.5f} blocked={} wall={:.1f}s", record.porosity,
-                     record.blocked ? "yes" : "no", record.wall_seconds);
+std::string finished_run_text(const RunSummary& summary) {
+  return fmt::format("porosity={:.5f} blocked={} wall={:.1f}s", summary.porosity,
+                     summary.run.blocked ? "yes" : "no", summary.run.wall_seconds);
 }
 
 std::string unfinished_run_text(bool stopped, bool fault, bool unwritten) {

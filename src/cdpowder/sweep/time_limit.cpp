@@ -6,13 +6,13 @@
 namespace cdpowder {
 
 std::optional<double> expected_run_seconds(const SweepPlan& plan,
-                                           const std::vector<std::optional<RunRecord>>& records,
+                                           const std::vector<std::optional<RunSummary>>& summaries,
                                            std::size_t run) {
   std::optional<double> same_point;
   std::optional<double> any;
-  for (std::size_t i = 0; i < records.size() && i < plan.runs.size(); ++i) {
-    if (!records[i]) continue;
-    const double seconds = records[i]->wall_seconds;
+  for (std::size_t i = 0; i < summaries.size() && i < plan.runs.size(); ++i) {
+    if (!summaries[i]) continue;
+    const double seconds = summaries[i]->run.wall_seconds;
     any = std::max(any.value_or(seconds), seconds);
     if (plan.runs[i].point == plan.runs[run].point) {
       same_point = std::max(same_point.value_or(seconds), seconds);

@@ -19,10 +19,10 @@ inline constexpr double kRunTimeMargin = 1.25;
 
 /// How long run `run` of the plan is expected to take [s]: the wall time of the longest
 /// finished run of the same point (any seed), or, when that point has none, of the longest
-/// finished run of the whole sweep; nullopt when nothing has finished. records[i] belongs
+/// finished run of the whole sweep; nullopt when nothing has finished. summaries[i] belongs
 /// to plan.runs[i].
 std::optional<double> expected_run_seconds(const SweepPlan& plan,
-                                           const std::vector<std::optional<RunRecord>>& records,
+                                           const std::vector<std::optional<RunSummary>>& summaries,
                                            std::size_t run);
 
 /// Whether a run expected to take `expected` seconds (nullopt: not known) may start after
