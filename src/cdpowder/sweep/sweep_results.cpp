@@ -38,6 +38,27 @@ std::string parameter_value(const SweepPoint& point, const std::string& key) {
 }
 
 /// A column of results.csv: its name and the summary field it shows (docs/sweeps.md).
+/// "point,KEY1,KEY2…": the first cells of both tables' header rows.
+std::string point_header(const SweepPlan& plan) {
+  // (appended piece by piece: GCC 12 warns falsely on "," + std::string at -O3, -Wrestrict)
+  std::string out = "point";
+  for (const std::string& key : plan.parameter_keys) {
+    out += ',';
+    out += csv_field(key);
+  }
+  return out;
+}
+
+/// The point's name and the value it gives each parameter key ("" for the base's).
+std::string point_cells(const SweepPlan& plan, const SweepPoint& point) {
+  std::string out = csv_field(point.name);
+  for (const std::string& key : plan.parameter_keys) {
+    out += ',';
+    out += csv_field(parameter_value(point, key));
+  }
+  return out;
+}
+
 struct Column {
   const char* name;
   double (*get)(const RunSummary&);
@@ -93,13 +114,7 @@ bool is_reusable(const std::optional<RunSummary>& summary, const std::string& ex
 std::string results_csv(const SweepPlan& plan,
                         const std::vector<std::optional<RunSummary>>& summaries,
                         const std::string& header) {
-  // (appended piece by piece: GCC 12 warns falsely on "," + std::string at -O3, -Wrestrict)
-  std::string out = header + "point";
-  for (const std::string& key : plan.parameter_keys) {
-    out += ',';
-    out += csv_field(key);
-  }
-  out += ",seed";
+  std::string out = header + point_header(plan) + ",seed";
   for (const Column& c : run_columns()) out += fmt::format(",{}", c.name);
   out += ",blocked,commit,folder\n";
   for (std::size_t i = 0; i < plan.runs.size() && i < summaries.size(); ++i) {
@@ -107,11 +122,7 @@ std::string results_csv(const SweepPlan& plan,
     const SweepRun& run = plan.runs[i];
     const SweepPoint& point = plan.points[run.point];
     const RunSummary& r = *summaries[i];
-    out += csv_field(point.name);
-    for (const std::string& key : plan.parameter_keys) {
-      out += ',';
-      out += csv_field(parameter_value(point, key));
-    }
+    out += point_cells(plan, point);
     out += fmt::format(",{}", run.seed);
     for (const Column& c : run_columns()) {
       out += ',';
@@ -126,12 +137,7 @@ std::string results_csv(const SweepPlan& plan,
 std::string points_csv(const SweepPlan& plan,
                        const std::vector<std::optional<RunSummary>>& summaries,
                        const std::string& header) {
-  std::string out = header + "point";
-  for (const std::string& key : plan.parameter_keys) {
-    out += ',';
-    out += csv_field(key);
-  }
-  out += ",runs,n";
+  std::string out = header + point_header(plan) + ",runs,n";
   for (const std::string& name : aggregated()) out += fmt::format(",{0}_mean,{0}_sem", name);
   out += '\n';
   for (std::size_t p = 0; p < plan.points.size(); ++p) {
@@ -142,12 +148,7 @@ std::string points_csv(const SweepPlan& plan,
       ++finished;
       if (summaries[i]->run.blocked) blocked.push_back(&*summaries[i]);
     }
-    const SweepPoint& point = plan.points[p];
-    out += csv_field(point.name);
-    for (const std::string& key : plan.parameter_keys) {
-      out += ',';
-      out += csv_field(parameter_value(point, key));
-    }
+    out += point_cells(plan, plan.points[p]);
     out += fmt::format(",{},{}", finished, blocked.size());
     for (const std::string& name : aggregated()) {
       const Column* column = nullptr;
