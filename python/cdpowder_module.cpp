@@ -2,6 +2,8 @@
 // through the same functions as the command line (read_scene, make_world, run_simulation,
 // RunFolder), so the same scene and seeds give the same numbers; errors arrive as exceptions
 // with the command line's messages; a sphere's state is a NumPy view of the World's own arrays.
+#include <fmt/format.h>
+
 #include <cdpowder/cdpowder.hpp>
 #include <cmath>
 #include <memory>
@@ -232,6 +234,81 @@ std::shared_ptr<Engine> fresh_engine(const Scene& scene) {
   return engine;
 }
 
+using Doubles = py::array_t<double, py::array::c_style | py::array::forcecast>;
+
+/// "(4, 2)": an array's shape as NumPy prints it.
+std::string shape_text(const py::array& a) {
+  return py::str(py::tuple(py::cast(std::vector<py::ssize_t>(a.shape(), a.shape() + a.ndim()))))
+      .cast<std::string>();
+}
+
+/// `values` as n × `columns` finite numbers (columns 0: a vector of n), each at least
+/// `lower` (exclusive when `above`); a ValueError names the argument, the entry and the rule.
+Doubles checked_array(const std::string& name, const py::object& values, py::ssize_t n,
+                      py::ssize_t columns, double lower = -INFINITY, bool above = false) {
+  const Doubles a = Doubles::ensure(values);
+  if (!a) throw py::value_error(name + ": expected an array of numbers");
+  const bool vector = columns == 0;
+  if (a.ndim() != (vector ? 1 : 2) || a.shape(0) != n || (!vector && a.shape(1) != columns)) {
+    const std::string wanted =
+        vector ? fmt::format("({},)", n) : fmt::format("({}, {})", n, columns);
+    throw py::value_error(
+        fmt::format("{}: got an array of shape {}, expected {}", name, shape_text(a), wanted));
+  }
+  const double* data = a.data();
+  const py::ssize_t width = vector ? 1 : columns;
+  for (py::ssize_t k = 0; k < a.size(); ++k) {
+    const double v = data[k];
+    const bool ok = std::isfinite(v) && (above ? v > lower : v >= lower);
+    if (ok) continue;
+    const std::string where =
+        vector ? fmt::format("[{}]", k) : fmt::format("[{}, {}]", k / width, k % width);
+    const std::string rule = std::isinf(lower) ? "a finite number"
+                             : above           ? fmt::format("a finite number > {}", lower)
+                                               : fmt::format("a finite number ≥ {}", lower);
+    throw py::value_error(fmt::format("{}{}: got {}, expected {}", name, where, v, rule));
+  }
+  return a;
+}
+
+/// The world of `scene` around spheres given as arrays (positions n × 3 [R], radii n [R],
+/// optional velocities n × 3 [R/t0], angular velocities n × 3 [1/t0], fixed n booleans),
+/// with the scene's density, cell, walls and piston: make_world's, the spheres excepted.
+std::shared_ptr<Engine> world_from_arrays(const PyScene& scene, const py::object& positions,
+                                          const py::object& radii, const py::object& velocities,
+                                          const py::object& angular_velocities,
+                                          const py::object& fixed) {
+  const Doubles r = Doubles::ensure(radii);
+  if (!r || r.ndim() != 1) throw py::value_error("radii: expected a vector of n numbers");
+  const py::ssize_t n = r.shape(0);
+  const Doubles x = checked_array("positions", positions, n, 3);
+  checked_array("radii", radii, n, 0, 0.0, /*above=*/true);
+  SceneReadOptions how;
+  how.spheres_from_caller = true;
+  const Scene resolved = scene.with({}, how).scene;
+  Bodies spheres;
+  const auto is_fixed = fixed.is_none() ? std::vector<bool>(static_cast<std::size_t>(n), false)
+                                        : fixed.cast<std::vector<bool>>();
+  if (is_fixed.size() != static_cast<std::size_t>(n))
+    throw py::value_error(fmt::format("fixed: got {} values, expected {}", is_fixed.size(), n));
+  for (py::ssize_t i = 0; i < n; ++i) {
+    spheres.add_sphere(Vec3(x.at(i, 0), x.at(i, 1), x.at(i, 2)), r.at(i), resolved.system.density,
+                       is_fixed[static_cast<std::size_t>(i)]);
+  }
+  const auto set_vectors = [&](const char* name, const py::object& values,
+                               std::vector<Vec3>& field) {
+    if (values.is_none()) return;
+    const Doubles v = checked_array(name, values, n, 3);
+    for (py::ssize_t i = 0; i < n; ++i) field[i] = Vec3(v.at(i, 0), v.at(i, 1), v.at(i, 2));
+  };
+  set_vectors("velocities", velocities, spheres.velocity);
+  set_vectors("angular_velocities", angular_velocities, spheres.angular_velocity);
+  auto engine = std::make_shared<Engine>();
+  engine->world = make_world(resolved, std::move(spheres));
+  engine->work = StepWorkspace(resolved.step.solver.seed);
+  return engine;
+}
+
 /// A compaction or a simulation: on `world` (a Result's or a deposit's engine, continued: its
 /// piston gets this scene's push) or on the scene's own spheres.
 Result start(const PyScene& scene, const py::object& world, const py::object& callback, int every,
@@ -302,6 +379,14 @@ PYBIND11_MODULE(cdpowder, m) {
 
   py::class_<Engine, std::shared_ptr<Engine>>(
       m, "World", "Spheres, walls and piston, with the solver's memory of the last step")
+      .def_static("from_arrays", &world_from_arrays, py::arg("scene"), py::arg("positions"),
+                  py::arg("radii"), py::arg("velocities") = py::none(),
+                  py::arg("angular_velocities") = py::none(), py::arg("fixed") = py::none(),
+                  "A world of the scene's cell, walls and piston (at rest on the highest sphere "
+                  "plus piston.start_gap, unless piston.height) around spheres given as arrays: "
+                  "positions n × 3 [R], radii n [R], optionally velocities and "
+                  "angular_velocities n × 3, fixed n booleans; the scene's [deposition] or "
+                  "[particles] is not used. Compact or simulate it with world=")
       .def_property_readonly("positions", body_vectors(&Bodies::position),
                              "Sphere centres, n × 3 [R] (a view: no copy)")
       .def_property_readonly("velocities", body_vectors(&Bodies::velocity), "n × 3 [R/t0] (a view)")

@@ -13,7 +13,8 @@
 //   reported at once by ConfigError), or a Scene filled in code (plain structs with the
 //   defaults of docs/config.md);
 // - the world: make_world (a ballistic deposit or a particles CSV, walls and piston as the
-//   scene says), or a World filled in code (Bodies is a structure of arrays);
+//   scene says), or make_world(scene, spheres) around spheres made in code (Bodies is a
+//   structure of arrays; the scene read with {.spheres_from_caller = true});
 // - stepping: step() for one time step, run_simulation() to the end of the scene's run (until
 //   the blocked state for a compaction), with an observer after every step and a stop request;
 // - measurements: porosity, the stress tensors with their compressive and tensile parts,

@@ -132,3 +132,36 @@ def test_a_scene_built_in_code_runs_like_one_read_from_a_file(tmp_path):
     assert cdpowder.compact(in_code).porosity == cdpowder.compact(from_file).porosity
     with pytest.raises(cdpowder.ConfigError, match="deposition.spheres"):
         cdpowder.Scene.from_keys({**keys, "deposition.spheres": 0})
+
+
+def test_a_world_from_arrays_compacts_like_the_deposit_it_copies():
+    scene = quick()
+    deposit = cdpowder.deposit(scene)
+    copy = cdpowder.World.from_arrays(scene, deposit.positions.copy(), deposit.radii.copy())
+    assert len(copy) == len(deposit) and copy.piston_height == deposit.piston_height
+    assert copy.positions.flags["C_CONTIGUOUS"] and not copy.positions.flags["OWNDATA"]
+    # the same spheres, walls, piston and seed: the same run, bit for bit
+    assert cdpowder.compact(scene, world=copy).porosity == \
+        cdpowder.compact(scene, world=deposit).porosity
+    # lists are arrays too; velocities and fixed spheres are taken as given
+    moving = cdpowder.World.from_arrays(
+        scene, [[1.0, 1.0, 1.0], [4.0, 1.0, 1.0]], [1.0, 1.0],
+        velocities=[[0.0, 0.0, 0.5], [0.0, 0.0, 0.0]], fixed=[False, True])
+    assert moving.velocities[0, 2] == 0.5 and moving.piston_height == 2.0 + 0.0
+    assert cdpowder.simulate(scene.with_overrides({"run.max_duration": 0.5}),
+                             world=moving).world.positions[1, 2] == 1.0  # fixed: never moves
+
+
+def test_bad_arrays_are_named_with_the_entry_and_what_is_allowed():
+    scene = quick()
+    good = np.array([[1.0, 1.0, 1.0], [4.0, 1.0, 1.0]])
+    cases = [((good[:, :2], [1.0, 1.0]), r"positions: got an array of shape \(2, 2\), expected \(2, 3\)"),
+             ((good, [1.0, -1.0]), r"radii\[1\]: got -1, expected a finite number > 0"),
+             ((np.where(good == 4.0, np.nan, good), [1.0, 1.0]),
+              r"positions\[1, 0\]: got nan, expected a finite number")]
+    for (positions, radii), message in cases:
+        with pytest.raises(ValueError, match=message):
+            cdpowder.World.from_arrays(scene, positions, radii)
+    # a sphere too large for the cell: the scene's own check, as a ConfigError
+    with pytest.raises(cdpowder.ConfigError, match="system.lx"):
+        cdpowder.World.from_arrays(scene, good, [1.0, 8.0])

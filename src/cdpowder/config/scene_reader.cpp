@@ -145,7 +145,8 @@ std::optional<DepositionConfig> read_deposition(TableReader& in, const SystemCon
 /// the scene file, checked to be a readable file.
 void read_particles(TableReader& in, const std::filesystem::path& base_dir,
                     const SceneReadOptions& options, Scene& s) {
-  const bool spheres_elsewhere = s.deposition.has_value() || options.deposition_required;
+  const bool spheres_elsewhere =
+      s.deposition.has_value() || options.deposition_required || options.spheres_from_caller;
   if (spheres_elsewhere && in.has("particles.file")) {
     in.find("particles.file");  // known: a [particles] beside [deposition] is reported once, below
   }
@@ -381,6 +382,10 @@ void check_consistency(TableReader& in, const Scene& s, const SceneReadOptions& 
 
 /// The command's demands (SceneReadOptions) as edits of the parsed scene, before it is read.
 void apply_read_options(toml::table& root, const SceneReadOptions& options) {
+  if (options.spheres_from_caller) {
+    root.erase("deposition");
+    root.erase("particles");
+  }
   if (options.particles_file) {
     std::error_code error;
     const std::filesystem::path absolute =

@@ -25,6 +25,9 @@ struct SceneReadOptions {
   bool compaction = false;
   /// `deposit`: the scene must have a [deposition] section.
   bool deposition_required = false;
+  /// The caller makes the spheres (make_world(scene, spheres)): the scene's [particles] and
+  /// [deposition] are dropped, and none is needed.
+  bool spheres_from_caller = false;
 };
 
 /// ConfigIssue::file of a mistake in SceneReadOptions::particles_file.

@@ -167,8 +167,11 @@ std::string write_effective_toml(const Scene& s) {
                    {"solver", solver_table(s.step.solver)},
                    {"piston", piston_table(s.piston)},
                    {"run", run_table(s.run)}};
-  auto [name, spheres] = spheres_table(s);
-  root.insert(name, std::move(spheres));
+  // spheres the caller made (SceneReadOptions::spheres_from_caller) are in no table
+  if (s.deposition || !s.particles_file.empty()) {
+    auto [name, spheres] = spheres_table(s);
+    root.insert(name, std::move(spheres));
+  }
   // Basic single-line strings only, so shorten_floats can tell strings from numbers.
   const toml::format_flags flags =
       toml::toml_formatter::default_flags &

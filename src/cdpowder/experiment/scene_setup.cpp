@@ -5,19 +5,17 @@
 #include "cdpowder/experiment/deposition.hpp"
 
 #include <algorithm>
+#include <utility>
 
 namespace cdpowder {
 
-World make_world(const Scene& scene, const StopRequest& stop_requested) {
-  World world;
+namespace {
+
+/// The cell, gravity, walls and piston of `scene` around the spheres `world` holds.
+void place_walls(const Scene& scene, World& world) {
   world.box = PeriodicBox{scene.system.lx, scene.system.ly};
   world.gravity = scene.system.gravity;
   world.walls.bottom.enabled = scene.system.bottom_wall;
-  if (scene.deposition) {
-    deposit_ballistically(*scene.deposition, scene.system.density, world.bodies, stop_requested);
-  } else {
-    read_particles_csv(scene.particles_file, scene.system.density, world.bodies);
-  }
   check_box_fits(scene, world.bodies);
 
   Piston& piston = world.walls.piston;
@@ -32,6 +30,25 @@ World make_world(const Scene& scene, const StopRequest& stop_requested) {
     }
     piston.height = scene.piston.height.value_or(top + scene.piston.start_gap);
   }
+}
+
+}  // namespace
+
+World make_world(const Scene& scene, const StopRequest& stop_requested) {
+  World world;
+  if (scene.deposition) {
+    deposit_ballistically(*scene.deposition, scene.system.density, world.bodies, stop_requested);
+  } else {
+    read_particles_csv(scene.particles_file, scene.system.density, world.bodies);
+  }
+  place_walls(scene, world);
+  return world;
+}
+
+World make_world(const Scene& scene, Bodies spheres) {
+  World world;
+  world.bodies = std::move(spheres);
+  place_walls(scene, world);
   return world;
 }
 

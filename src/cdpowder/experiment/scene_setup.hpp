@@ -15,4 +15,10 @@ namespace cdpowder {
 /// Interrupted when it answers true.
 World make_world(const Scene& scene, const StopRequest& stop_requested = {});
 
+/// The world of `scene` around spheres the caller made (a program or the Python module; the
+/// scene read with SceneReadOptions::spheres_from_caller): its cell, gravity, walls and
+/// piston, placed as make_world places them. Throws ConfigError when the cell is too small
+/// for the spheres (check_box_fits).
+World make_world(const Scene& scene, Bodies spheres);
+
 }  // namespace cdpowder
