@@ -1,14 +1,14 @@
-// scene_reader.cpp — the scene schema (scene_reader.hpp): which keys exist, their defaults
-// (from scene.hpp), types and ranges, and the checks across keys. Passes: parse, apply the
-// `--set` overrides, read every key, report keys nobody read and inconsistent pairs. Each
-// mistake is an issue, not an exception, so one run names every mistake (style guide 3.7).
-// The typed reads are in table_reader.cpp, the effective TOML in scene_writer.cpp.
+// scene_reader.cpp — reads a scene (scene_reader.hpp): the keys of scene_keys.hpp in their
+// order, and the checks across keys. Passes: parse, apply the `--set` overrides, read every
+// key, report keys nobody read and inconsistent pairs. Each mistake is an issue, not an
+// exception, so one run names every mistake (style guide 3.7). The typed reads are in
+// table_reader.cpp, the effective TOML in scene_writer.cpp.
 #include "cdpowder/config/scene_reader.hpp"
 
 #include "cdpowder/config/input_file.hpp"
+#include "cdpowder/config/scene_keys.hpp"
 #include "cdpowder/config/scene_writer.hpp"
 #include "cdpowder/config/table_reader.hpp"
-#include "cdpowder/solver/anderson.hpp"
 
 #include <fmt/format.h>
 #include <toml++/toml.h>
@@ -20,122 +20,71 @@
 #include <optional>
 #include <sstream>
 #include <system_error>
+#include <type_traits>
 #include <utility>
 
 namespace cdpowder {
 namespace {
 
-using detail::kAnyNumber;
-using detail::kNonNegative;
-using detail::kPositive;
+using detail::SceneKey;
 using detail::TableReader;
 
-constexpr std::int64_t kIntMax = std::numeric_limits<int>::max();  // keys stored as int
+/// Reads one key of the table (scene_keys.hpp) into its field, with the field as the fallback:
+/// the in-class default, or the default another key set before.
+struct KeyReader {
+  TableReader& in;
 
-void read_system(TableReader& in, SystemConfig& system) {
-  system.lx = in.number("system.lx", system.lx, kPositive);
-  system.ly = in.number("system.ly", system.ly, kPositive);
-  system.gravity = in.vector3("system.gravity", system.gravity);
-  system.density = in.number("system.density", system.density, kPositive);
-  system.bottom_wall = in.boolean("system.bottom_wall", system.bottom_wall);
-}
+  void operator()(const SceneKey& key, double& value) const {
+    value = in.number(key.dotted(), value, key.range);
+  }
 
-void read_laws(TableReader& in, ContactLaws& laws) {
-  const auto read_law = [&in](const std::string& table, const ContactLaw& defaults) {
-    ContactLaw law;
-    law.mu = in.number(table + ".mu", defaults.mu, kNonNegative);
-    law.mu_roll = in.number(table + ".mu_roll", defaults.mu_roll, kNonNegative);
-    law.mu_twist = in.number(table + ".mu_twist", defaults.mu_twist, kNonNegative);
-    law.cohesion_force =
-        in.number(table + ".cohesion_force", defaults.cohesion_force, kNonNegative);
-    law.cohesion_range =
-        in.number(table + ".cohesion_range", defaults.cohesion_range, kNonNegative);
-    return law;
-  };
-  laws.spheres = read_law("contact", laws.spheres);
-  laws.cohesion_rule =
-      in.choice("contact.cohesion_rule", laws.cohesion_rule, detail::kCohesionRuleNames);
-  // Wall laws default to the sphere–sphere ones (physics.md §5.4 notes).
-  laws.walls = read_law("contact.wall", laws.spheres);
-  laws.wall_r_eff_factor =
-      in.number("contact.wall.r_eff_factor", laws.wall_r_eff_factor, kNonNegative);
-}
+  void operator()(const SceneKey& key, std::optional<double>& value) const {
+    value = in.optional_number(key.dotted(), key.range);
+  }
 
-void read_time_step(TableReader& in, SolverSettings& solver) {
-  solver.dt = in.number("solver.dt", solver.dt, kPositive);
-  TimeStepControl& control = solver.time_step;
-  control.adaptive = in.boolean("solver.adaptive_dt", control.adaptive);
-  control.dt_min = in.number("solver.dt_min", control.dt_min, kPositive);
-  control.dt_max = in.number("solver.dt_max", control.dt_max, kPositive);
-  constexpr detail::Range kFraction{detail::Range::Kind::FractionAbove, 0.0};
-  control.opening_per_step =
-      in.number("solver.opening_per_step", control.opening_per_step, kFraction);
-  control.max_opening_per_step =
-      in.number("solver.max_opening_per_step", control.max_opening_per_step, kPositive);
-  control.displacement_per_step =
-      in.number("solver.displacement_per_step", control.displacement_per_step, kFraction);
-  control.growth = in.number("solver.dt_growth", control.growth,
-                             detail::Range{detail::Range::Kind::AtLeast, 1.0});
-}
+  void operator()(const SceneKey& key, int& value) const {
+    constexpr std::int64_t kIntMax = std::numeric_limits<int>::max();  // keys stored as int
+    value = static_cast<int>(
+        in.integer(key.dotted(), value, key.minimum, std::min(key.maximum, kIntMax)));
+  }
 
-void read_solver(TableReader& in, SolverSettings& solver) {
-  read_time_step(in, solver);
-  solver.tolerance = in.number("solver.tolerance", solver.tolerance, kPositive);
-  solver.max_error_amplification =
-      in.number("solver.max_error_amplification", solver.max_error_amplification,
-                detail::Range{detail::Range::Kind::AtLeast, 1.0});
-  solver.kinematic_tolerance =
-      in.number("solver.kinematic_tolerance", solver.kinematic_tolerance, kNonNegative);
-  solver.min_sweeps =
-      static_cast<int>(in.integer("solver.min_sweeps", solver.min_sweeps, 1, kIntMax));
-  solver.max_sweeps =
-      static_cast<int>(in.integer("solver.max_sweeps", solver.max_sweeps, 1, kIntMax));
-  solver.stopping_rule =
-      in.choice("solver.stopping_rule", solver.stopping_rule, detail::kStoppingRuleNames);
-  solver.visit_order =
-      in.choice("solver.visit_order", solver.visit_order, detail::kVisitOrderNames);
-  solver.kernel = in.choice("solver.kernel", solver.kernel, detail::kSweepKernelNames);
-  solver.threads =
-      static_cast<int>(in.integer("solver.threads", solver.threads, 1, kMaxSweepThreads));
-  solver.acceleration_depth = static_cast<int>(in.integer(
-      "solver.acceleration_depth", solver.acceleration_depth, 0, AndersonAccelerator::kMaxDepth));
-  solver.acceleration_interval = static_cast<int>(
-      in.integer("solver.acceleration_interval", solver.acceleration_interval, 1, 100));
-  solver.warm_start = in.boolean("solver.warm_start", solver.warm_start);
-  solver.skin = in.number("solver.skin", solver.skin, kNonNegative);
-  solver.verlet_margin = in.number("solver.verlet_margin", solver.verlet_margin, kNonNegative);
-  solver.seed = static_cast<std::uint64_t>(
-      in.integer("solver.seed", static_cast<std::int64_t>(solver.seed), 0));
-}
+  void operator()(const SceneKey& key, std::uint64_t& value) const {
+    value = static_cast<std::uint64_t>(
+        in.integer(key.dotted(), static_cast<std::int64_t>(value), key.minimum, key.maximum));
+  }
 
-void read_piston(TableReader& in, PistonConfig& piston) {
-  piston.enabled = in.boolean("piston.enabled", piston.enabled);
-  piston.mass = in.number("piston.mass", piston.mass, kPositive);
-  piston.pressure = in.optional_number("piston.pressure", kNonNegative);
-  piston.force = in.optional_number("piston.force", kNonNegative);
-  // above the bottom wall z = 0; below the spheres' tops the first step stops the run at
-  // its overlap bound (run.max_overlap)
-  piston.height = in.optional_number("piston.height", kPositive);
-  piston.start_gap = in.number("piston.start_gap", piston.start_gap, kNonNegative);
-  piston.velocity = in.number("piston.velocity", piston.velocity, kAnyNumber);
+  void operator()(const SceneKey& key, bool& value) const {
+    value = in.boolean(key.dotted(), value);
+  }
+
+  void operator()(const SceneKey& key, Vec3& value) const {
+    value = in.vector3(key.dotted(), value);
+  }
+
+  template <typename Enum>
+  requires std::is_enum_v<Enum>
+
+  void operator()(const SceneKey& key, Enum& value) const {
+    value = in.choice(key.dotted(), value, detail::choices_of(value));
+  }
+
+  void operator()(const SceneKey& key, detail::SetsBoth<double> both) const {
+    both.first = both.second = in.number(key.dotted(), both.first, key.range);
+  }
+};
+
+/// The name of the one key of a table list that a field is visited with.
+std::string key_of(const auto& visit_keys) {
+  std::string name;
+  visit_keys([&name](const SceneKey& key, const auto& /*field*/) { name = key.dotted(); });
+  return name;
 }
 
 /// [deposition], when given; the deposit fills the cell `system` describes.
 std::optional<DepositionConfig> read_deposition(TableReader& in, const SystemConfig& system) {
-  if (!in.has("deposition")) return std::nullopt;
+  if (!in.has(detail::kDepositionTable)) return std::nullopt;
   DepositionConfig d;
-  // a run holds about 2 kB per sphere (state, candidates, contacts): 10⁷ spheres need
-  // ≈ 20 GB; beyond that the allocation would fail after the outputs were begun
-  constexpr std::int64_t kMaxSpheres = 10'000'000;
-  d.spheres = static_cast<int>(in.integer("deposition.spheres", d.spheres, 1, kMaxSpheres));
-  // `radius` sets both ends of a monodisperse deposit; radius_min/max a uniform spread
-  const double radius = in.number("deposition.radius", 1.0, kPositive);
-  d.radius_min = in.number("deposition.radius_min", radius, kPositive);
-  d.radius_max = in.number("deposition.radius_max", radius, kPositive);
-  d.capture_radius = in.number("deposition.capture_radius", d.capture_radius, kPositive);
-  d.capture_rule = in.choice("deposition.capture_rule", d.capture_rule, detail::kCaptureRuleNames);
-  d.seed = static_cast<std::uint64_t>(
-      in.integer("deposition.seed", static_cast<std::int64_t>(d.seed), 0));
+  detail::visit_deposition_keys(d, KeyReader{in});
   d.lx = system.lx;
   d.ly = system.ly;
   return d;
@@ -145,56 +94,33 @@ std::optional<DepositionConfig> read_deposition(TableReader& in, const SystemCon
 /// the scene file, checked to be a readable file.
 void read_particles(TableReader& in, const std::filesystem::path& base_dir,
                     const SceneReadOptions& options, Scene& s) {
+  const std::string file_key =
+      key_of([&s](auto&& visit) { detail::visit_particles_keys(s.particles_file, visit); });
+  const std::string table(detail::kParticlesTable);
   const bool spheres_elsewhere = s.deposition.has_value() || options.deposition_required;
-  if (spheres_elsewhere && in.has("particles.file")) {
-    in.find("particles.file");  // known: a [particles] beside [deposition] is reported once, below
+  if (spheres_elsewhere && in.has(file_key)) {
+    in.find(file_key);  // known: a [particles] beside [deposition] is reported once, below
   }
-  if (!spheres_elsewhere && !in.has("particles")) {
-    in.add_issue("particles", toml::source_region{},
+  if (!spheres_elsewhere && !in.has(table)) {
+    in.add_issue(table, toml::source_region{},
                  "missing: the spheres come from a [deposition] section (a ballistic deposit) "
                  "or a [particles] file = \"….csv\" (docs/config.md)",
                  /*in_file=*/true);
   }
-  const std::string particles = spheres_elsewhere || !in.has("particles")
-                                    ? std::string()
-                                    : in.required_string("particles.file");
+  const std::string particles =
+      spheres_elsewhere || !in.has(table) ? std::string() : in.required_string(file_key);
   if (!particles.empty()) {
     s.particles_file = (base_dir / std::filesystem::path(particles)).lexically_normal();
     std::error_code missing;
     if (!std::filesystem::exists(s.particles_file, missing) && !missing) {
-      in.add_issue("particles.file", in.find("particles.file")->source(),
+      in.add_issue(file_key, in.find(file_key)->source(),
                    fmt::format("no such file: '{}'", s.particles_file.string()));
     } else if (const std::string problem = input_file_problem(s.particles_file, "a particles CSV");
                !problem.empty()) {
-      in.add_issue("particles.file", in.find("particles.file")->source(),
+      in.add_issue(file_key, in.find(file_key)->source(),
                    fmt::format("'{}' {}", s.particles_file.string(), problem));
     }
   }
-}
-
-void read_run(TableReader& in, RunConfig& run) {
-  run.duration = in.number("run.duration", run.duration, kPositive);
-  run.until_blocked = in.boolean("run.until_blocked", run.until_blocked);
-  run.max_duration = in.number("run.max_duration", run.max_duration, kPositive);
-  run.timeseries_every =
-      static_cast<int>(in.integer("run.timeseries_every", run.timeseries_every, 1, kIntMax));
-  run.snapshot_every =
-      static_cast<int>(in.integer("run.snapshot_every", run.snapshot_every, 0, kIntMax));
-  run.timeseries_interval =
-      in.number("run.timeseries_interval", run.timeseries_interval, kNonNegative);
-  run.snapshot_interval = in.number("run.snapshot_interval", run.snapshot_interval, kNonNegative);
-  run.max_overlap = in.number("run.max_overlap", run.max_overlap, kPositive);
-  run.vtk_format = in.choice("run.vtk_format", run.vtk_format, detail::kVtkFormatNames);
-  BlockedCriteria& blocked = run.blocked;
-  blocked.window = in.number("run.blocked.window", blocked.window, kPositive);
-  blocked.piston_speed = in.number("run.blocked.piston_speed", blocked.piston_speed, kPositive);
-  blocked.sphere_speed = in.number("run.blocked.sphere_speed", blocked.sphere_speed, kPositive);
-  blocked.force_balance = in.number("run.blocked.force_balance", blocked.force_balance, kPositive);
-  blocked.height_change = in.number("run.blocked.height_change", blocked.height_change, kPositive);
-  blocked.final_tolerance =
-      in.number("run.blocked.final_tolerance", blocked.final_tolerance, kPositive);
-  blocked.final_max_sweeps = static_cast<int>(
-      in.integer("run.blocked.final_max_sweeps", blocked.final_max_sweeps, 1, kIntMax));
 }
 
 /// All values of the scene, each checked where it is read (in this order, so the messages
@@ -202,13 +128,18 @@ void read_run(TableReader& in, RunConfig& run) {
 Scene read_values(TableReader& in, const std::filesystem::path& base_dir,
                   const SceneReadOptions& options) {
   Scene s;
-  read_system(in, s.system);
-  read_laws(in, s.step.laws);
-  read_solver(in, s.step.solver);
-  read_piston(in, s.piston);
+  const KeyReader read{in};
+  detail::visit_system_keys(s.system, read);
+  detail::visit_contact_keys(s.step.laws, read);
+  // the wall laws default to the sphere–sphere ones (physics.md §5.4 notes)
+  s.step.laws.walls = s.step.laws.spheres;
+  detail::visit_wall_keys(s.step.laws, read);
+  detail::visit_solver_keys(s.step.solver, read);
+  detail::visit_piston_keys(s.piston, read);
   s.deposition = read_deposition(in, s.system);
   read_particles(in, base_dir, options, s);
-  read_run(in, s.run);
+  detail::visit_run_keys(s.run, read);
+  detail::visit_blocked_keys(s.run.blocked, read);
   return s;
 }
 
