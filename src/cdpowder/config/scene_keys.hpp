@@ -15,6 +15,7 @@
 #include <cstdint>
 #include <string>
 #include <string_view>
+#include <type_traits>
 
 namespace cdpowder::detail {
 
@@ -696,6 +697,59 @@ void visit_scene_keys(auto& scene, auto&& visit) {
   }
   visit_run_keys(scene.run, visit);
   visit_blocked_keys(scene.run.blocked, visit);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Keys by their fields: the checks across keys and the messages that name a key find it here, so
+// each name is spelled once, in the lists above.
+
+/// Remembers the key a list visits with one field (by address and type); with `shorthand`, the
+/// SetsBoth key whose first field it is (deposition.radius of radius_min).
+template <typename Field>
+struct KeyFinder {
+  const Field* field;
+  bool shorthand;
+  SceneKey* found;
+
+  void operator()(const SceneKey& key, const auto& visited) const {
+    using Visited = std::remove_cvref_t<decltype(visited)>;
+    if constexpr (std::is_same_v<Visited, Field>) {
+      if (!shorthand && &visited == field) *found = key;
+    } else if constexpr (std::is_same_v<Visited, SetsBoth<const Field>>) {
+      if (shorthand && &visited.first == field) *found = key;
+    }
+  }
+};
+
+/// The key of `field`, a field of `d` (any DepositionConfig, e.g. a default one).
+template <typename Field>
+SceneKey key_of(const DepositionConfig& d, const Field& field, bool shorthand = false) {
+  SceneKey found;
+  visit_deposition_keys(d, KeyFinder<Field>{&field, shorthand, &found});
+  return found;
+}
+
+/// The key of `field`, a field of `scene` outside [deposition]: key_of(s, s.piston.force)
+/// is piston.force. A message without a scene at hand asks a default one.
+template <typename Field>
+SceneKey key_of(const Scene& scene, const Field& field) {
+  SceneKey found;
+  const KeyFinder<Field> finder{&field, false, &found};
+  visit_system_keys(scene.system, finder);
+  visit_contact_keys(scene.step.laws, finder);
+  visit_wall_keys(scene.step.laws, finder);
+  visit_solver_keys(scene.step.solver, finder);
+  visit_piston_keys(scene.piston, finder);
+  visit_particles_keys(scene.particles_file, finder);
+  visit_run_keys(scene.run, finder);
+  visit_blocked_keys(scene.run.blocked, finder);
+  return found;
+}
+
+/// The dotted name of a key of `scene` (key_of).
+template <typename Field>
+std::string key_name(const Scene& scene, const Field& field) {
+  return key_of(scene, field).dotted();
 }
 
 }  // namespace cdpowder::detail

@@ -73,13 +73,6 @@ struct KeyReader {
   }
 };
 
-/// The name of the one key of a table list that a field is visited with.
-std::string key_of(const auto& visit_keys) {
-  std::string name;
-  visit_keys([&name](const SceneKey& key, const auto& /*field*/) { name = key.dotted(); });
-  return name;
-}
-
 /// [deposition], when given; the deposit fills the cell `system` describes.
 std::optional<DepositionConfig> read_deposition(TableReader& in, const SystemConfig& system) {
   if (!in.has(detail::kDepositionTable)) return std::nullopt;
@@ -94,17 +87,18 @@ std::optional<DepositionConfig> read_deposition(TableReader& in, const SystemCon
 /// the scene file, checked to be a readable file.
 void read_particles(TableReader& in, const std::filesystem::path& base_dir,
                     const SceneReadOptions& options, Scene& s) {
-  const std::string file_key =
-      key_of([&s](auto&& visit) { detail::visit_particles_keys(s.particles_file, visit); });
-  const std::string table(detail::kParticlesTable);
+  const detail::SceneKey file = detail::key_of(s, s.particles_file);
+  const std::string file_key = file.dotted();
+  const std::string table(file.table);
   const bool spheres_elsewhere = s.deposition.has_value() || options.deposition_required;
   if (spheres_elsewhere && in.has(file_key)) {
     in.find(file_key);  // known: a [particles] beside [deposition] is reported once, below
   }
   if (!spheres_elsewhere && !in.has(table)) {
     in.add_issue(table, toml::source_region{},
-                 "missing: the spheres come from a [deposition] section (a ballistic deposit) "
-                 "or a [particles] file = \"….csv\" (docs/config.md)",
+                 fmt::format("missing: the spheres come from a [{}] section (a ballistic deposit) "
+                             "or a [{}] {} = \"….csv\" (docs/config.md)",
+                             detail::kDepositionTable, file.table, file.name),
                  /*in_file=*/true);
   }
   const std::string particles =
@@ -143,161 +137,201 @@ Scene read_values(TableReader& in, const std::filesystem::path& base_dir,
   return s;
 }
 
-/// Where the file gives `key` (an empty region when it does not).
-toml::source_region where(TableReader& in, std::string_view key) {
-  const toml::node* node = in.find(key);
-  return node != nullptr ? node->source() : toml::source_region{};
-}
+/// A key as the checks across keys see it: its dotted name, and what the reader knows of it.
+class CheckedKey {
+ public:
+  CheckedKey(TableReader& in, std::string name) : in_(&in), name_(std::move(name)) {}
 
-/// Whether an issue of `key` belongs to the file as a whole: the key is not in it.
-bool in_file(TableReader& in, std::string_view key) {
-  return in.find(key) == nullptr;
+  [[nodiscard]] const std::string& name() const { return name_; }
+
+  /// Whether the key has a reported mistake of its own.
+  [[nodiscard]] bool failed() const { return in_->failed(name_); }
+
+  /// Whether the key is given (marks it known).
+  [[nodiscard]] bool given() const { return in_->find(name_) != nullptr; }
+
+  /// Reports `message` at the key where the file gives it, else against the whole file when
+  /// `in_file` (the key is not in it) or without a position.
+  void report(std::string message, bool in_file) const {
+    const toml::node* node = in_->find(name_);
+    in_->add_issue(name_, node != nullptr ? node->source() : toml::source_region{},
+                   std::move(message), in_file && node == nullptr);
+  }
+
+  /// As report(), against the whole file when the key is not in it.
+  void report(std::string message) const { report(std::move(message), true); }
+
+ private:
+  TableReader* in_;
+  std::string name_;
+};
+
+/// The key of `field`, a field of `s` (scene_keys.hpp).
+template <typename Field>
+CheckedKey checked(TableReader& in, const Scene& s, const Field& field) {
+  return {in, detail::key_name(s, field)};
 }
 
 /// The piston's load, and what compaction and the blocked state need of it.
 void check_piston(TableReader& in, const Scene& s, const SceneReadOptions& options) {
-  const bool has_pressure = in.find("piston.pressure") != nullptr;
-  const bool has_force = in.find("piston.force") != nullptr;
+  const CheckedKey pressure = checked(in, s, s.piston.pressure);
+  const CheckedKey force = checked(in, s, s.piston.force);
+  const CheckedKey enabled = checked(in, s, s.piston.enabled);
+  const CheckedKey until_blocked = checked(in, s, s.run.until_blocked);
+  const bool has_pressure = pressure.given();
+  const bool has_force = force.given();
   if (has_pressure && has_force) {
-    in.add_issue("piston.force", where(in, "piston.force"),
-                 "set together with piston.pressure; set exactly one of them");
+    force.report(fmt::format("set together with {}; set exactly one of them", pressure.name()),
+                 /*in_file=*/false);
   }
   if (s.piston.enabled && !has_pressure && !has_force) {
-    in.add_issue("piston.enabled", where(in, "piston.enabled"),
-                 "is true but neither piston.pressure nor piston.force is set; set exactly one",
-                 in_file(in, "piston.enabled"));
+    enabled.report(fmt::format("is true but neither {} nor {} is set; set exactly one",
+                               pressure.name(), force.name()));
   }
-  if (options.compaction && !s.piston.enabled && !in.failed("piston.enabled")) {
-    in.add_issue("piston.enabled", where(in, "piston.enabled"),
-                 "is false, but compaction needs the piston: set [piston] enabled = true and "
-                 "a pressure or force",
-                 in_file(in, "piston.enabled"));
-  } else if (s.run.until_blocked && !s.piston.enabled && !in.failed("piston.enabled")) {
-    in.add_issue("run.until_blocked", where(in, "run.until_blocked"),
-                 "is true but piston.enabled is false; the blocked state needs the piston",
-                 in_file(in, "run.until_blocked"));
+  const detail::SceneKey enabled_key = detail::key_of(s, s.piston.enabled);
+  if (options.compaction && !s.piston.enabled && !enabled.failed()) {
+    enabled.report(
+        fmt::format("is false, but compaction needs the piston: set [{}] {} = true "
+                    "and a pressure or force",
+                    enabled_key.table, enabled_key.name));
+  } else if (s.run.until_blocked && !s.piston.enabled && !enabled.failed()) {
+    until_blocked.report(
+        fmt::format("is true but {} is false; the blocked state needs the piston", enabled.name()));
   }
-  if (options.compaction && !s.run.until_blocked && !in.failed("run.until_blocked")) {
-    in.add_issue("run.until_blocked", where(in, "run.until_blocked"),
-                 "is false, but compact always runs until the blocked state (use simulate for a "
-                 "fixed duration)");
+  if (options.compaction && !s.run.until_blocked && !until_blocked.failed()) {
+    until_blocked.report(
+        "is false, but compact always runs until the blocked state (use simulate for a fixed "
+        "duration)",
+        /*in_file=*/false);
+  }
+}
+
+/// The deposit's radius keys: `radius` or the range, not both.
+void check_radius_keys(TableReader& in) {
+  const DepositionConfig defaults;
+  const detail::SceneKey radius = detail::key_of(defaults, defaults.radius_min, /*shorthand=*/true);
+  const detail::SceneKey radius_min = detail::key_of(defaults, defaults.radius_min);
+  const detail::SceneKey radius_max = detail::key_of(defaults, defaults.radius_max);
+  if (in.has(radius.dotted()) && in.has(radius_min.dotted()) && in.has(radius_max.dotted())) {
+    CheckedKey(in, radius.dotted())
+        .report(fmt::format("set together with {} and {}; give either {} or the range",
+                            radius_min.name, radius_max.name, radius.name),
+                /*in_file=*/false);
   }
 }
 
 /// The deposit's radii and capture radius, and one source of spheres.
 void check_deposition(TableReader& in, const Scene& s) {
-  if (in.has("deposition.radius") && in.has("deposition.radius_min") &&
-      in.has("deposition.radius_max")) {
-    in.add_issue("deposition.radius", where(in, "deposition.radius"),
-                 "set together with radius_min and radius_max; give either radius or the range");
+  check_radius_keys(in);
+  const std::string particles(detail::kParticlesTable);
+  if (s.deposition && in.has(particles)) {
+    CheckedKey(in, particles)
+        .report(fmt::format("given together with [{}]; the spheres come from exactly one of them",
+                            detail::kDepositionTable),
+                /*in_file=*/false);
   }
-  if (s.deposition && in.has("particles")) {
-    in.add_issue("particles", where(in, "particles"),
-                 "given together with [deposition]; the spheres come from exactly one of them");
+  if (!s.deposition) return;
+  const DepositionConfig& d = *s.deposition;
+  const CheckedKey radius_min(in, detail::key_of(d, d.radius_min).dotted());
+  const detail::SceneKey radius_max = detail::key_of(d, d.radius_max);
+  const CheckedKey capture(in, detail::key_of(d, d.capture_radius).dotted());
+  if (d.radius_min > d.radius_max && !radius_min.failed() && !in.failed(radius_max.dotted())) {
+    radius_min.report(fmt::format("got {}, expected at most {} = {}", d.radius_min,
+                                  radius_max.dotted(), d.radius_max));
   }
-  if (s.deposition) {
-    const DepositionConfig& d = *s.deposition;
-    if (d.radius_min > d.radius_max && !in.failed("deposition.radius_min") &&
-        !in.failed("deposition.radius_max")) {
-      in.add_issue("deposition.radius_min", where(in, "deposition.radius_min"),
-                   fmt::format("got {}, expected at most deposition.radius_max = {}", d.radius_min,
-                               d.radius_max),
-                   in_file(in, "deposition.radius_min"));
-    }
-    if (d.capture_rule == CaptureRule::CentreDistance && d.capture_gap() < 0.0 &&
-        !in.failed("deposition.capture_radius")) {
-      in.add_issue("deposition.capture_radius", where(in, "deposition.capture_radius"),
-                   fmt::format("got {}, expected ≥ radius_min + radius_max = {} for the "
-                               "centre_distance rule (below it captured spheres would overlap)",
-                               d.capture_radius, d.radius_min + d.radius_max),
-                   in_file(in, "deposition.capture_radius"));
-    }
-    // a capture sphere wider than half the periodic cell reaches a sphere's own images
-    // (measured: capture_radius = 1e10 put the spheres on top of each other)
-    const double half_cell = 0.5 * std::min(s.system.lx, s.system.ly);
-    if (d.capture_radius > half_cell && !in.failed("deposition.capture_radius") &&
-        !in.failed("system.lx") && !in.failed("system.ly")) {
-      in.add_issue("deposition.capture_radius", where(in, "deposition.capture_radius"),
-                   fmt::format("got {}, expected at most half the cell, min(system.lx, "
-                               "system.ly) / 2 = {}",
-                               d.capture_radius, half_cell),
-                   in_file(in, "deposition.capture_radius"));
-    }
+  if (d.capture_rule == CaptureRule::CentreDistance && d.capture_gap() < 0.0 && !capture.failed()) {
+    capture.report(
+        fmt::format("got {}, expected ≥ {} + {} = {} for the centre_distance rule "
+                    "(below it captured spheres would overlap)",
+                    d.capture_radius, detail::key_of(d, d.radius_min).name, radius_max.name,
+                    d.radius_min + d.radius_max));
+  }
+  // a capture sphere wider than half the periodic cell reaches a sphere's own images
+  // (measured: capture_radius = 1e10 put the spheres on top of each other)
+  const CheckedKey lx = checked(in, s, s.system.lx);
+  const CheckedKey ly = checked(in, s, s.system.ly);
+  const double half_cell = 0.5 * std::min(s.system.lx, s.system.ly);
+  if (d.capture_radius > half_cell && !capture.failed() && !lx.failed() && !ly.failed()) {
+    capture.report(fmt::format("got {}, expected at most half the cell, min({}, {}) / 2 = {}",
+                               d.capture_radius, lx.name(), ly.name(), half_cell));
   }
 }
 
-/// Δt against the run's length, the blocked-state window and the adaptive bounds.
-void check_time_step(TableReader& in, const Scene& s) {
+/// Δt against the run's length: at least one step, and not so many that the run never ends.
+void check_step_count(TableReader& in, const Scene& s) {
   const SolverSettings& solver = s.step.solver;
+  const CheckedKey dt = checked(in, s, solver.dt);
   // a first step longer than the whole run would make a run of no step at all
-  const char* budget_key = s.run.until_blocked ? "run.max_duration" : "run.duration";
-  const double budget = s.run.until_blocked ? s.run.max_duration : s.run.duration;
-  if (solver.dt > budget && !in.failed("solver.dt") && !in.failed(budget_key)) {
-    in.add_issue("solver.dt", where(in, "solver.dt"),
-                 fmt::format("got {}, expected at most {} = {} (the run would take no step)",
-                             solver.dt, budget_key, budget),
-                 in_file(in, "solver.dt"));
+  const double& budget = s.run.until_blocked ? s.run.max_duration : s.run.duration;
+  const CheckedKey budget_key = checked(in, s, budget);
+  if (solver.dt > budget && !dt.failed() && !budget_key.failed()) {
+    dt.report(fmt::format("got {}, expected at most {} = {} (the run would take no step)",
+                          solver.dt, budget_key.name(), budget));
   }
   // a step so short that the run could never end (and t + Δt = t below 2^-52 t: measured,
   // solver.dt = 1e-300 "ran" zero steps and exited 0)
   constexpr double kMaxRunSteps = 1e12;
   // (with the adaptive step the controller may go down to dt_min)
-  const bool adaptive = solver.time_step.adaptive;
-  const char* shortest_key = adaptive ? "solver.dt_min" : "solver.dt";
-  const double shortest = adaptive ? solver.time_step.dt_min : solver.dt;
-  if (budget / shortest > kMaxRunSteps && !in.failed(shortest_key) && !in.failed(budget_key)) {
-    in.add_issue(shortest_key, where(in, shortest_key),
-                 fmt::format("got {}, expected at least {} / 1e12 = {} (a run of more than "
-                             "10^12 steps could not end)",
-                             shortest, budget_key, budget / kMaxRunSteps),
-                 in_file(in, shortest_key));
+  const double& shortest = solver.time_step.adaptive ? solver.time_step.dt_min : solver.dt;
+  const CheckedKey shortest_key = checked(in, s, shortest);
+  if (budget / shortest > kMaxRunSteps && !shortest_key.failed() && !budget_key.failed()) {
+    shortest_key.report(
+        fmt::format("got {}, expected at least {} / 1e12 = {} (a run of more "
+                    "than 10^12 steps could not end)",
+                    shortest, budget_key.name(), budget / kMaxRunSteps));
   }
   // the detector keeps the last window of piston heights and imbalances (16 bytes a step)
   constexpr double kMaxWindowSteps = 1e6;
+  const CheckedKey window = checked(in, s, s.run.blocked.window);
   if (s.run.until_blocked && s.run.blocked.window / solver.dt > kMaxWindowSteps &&
-      !in.failed("run.blocked.window") && !in.failed("solver.dt")) {
-    in.add_issue("run.blocked.window", where(in, "run.blocked.window"),
-                 fmt::format("got {}, expected at most 1e6 steps of solver.dt = {}, i.e. {}",
-                             s.run.blocked.window, solver.dt, kMaxWindowSteps * solver.dt),
-                 in_file(in, "run.blocked.window"));
+      !window.failed() && !dt.failed()) {
+    window.report(fmt::format("got {}, expected at most 1e6 steps of {} = {}, i.e. {}",
+                              s.run.blocked.window, dt.name(), solver.dt,
+                              kMaxWindowSteps * solver.dt));
   }
-  // an adaptive Δt starts at solver.dt and stays in [dt_min, dt_max]
+}
+
+/// The adaptive Δt: its bounds around solver.dt, and its opening target below the limit.
+void check_adaptive_step(TableReader& in, const Scene& s) {
+  const SolverSettings& solver = s.step.solver;
   const TimeStepControl& control = solver.time_step;
-  if (control.adaptive && !in.failed("solver.dt") && !in.failed("solver.dt_min") &&
-      !in.failed("solver.dt_max") && (control.dt_min > solver.dt || solver.dt > control.dt_max)) {
-    const char* key = control.dt_min > solver.dt ? "solver.dt_min" : "solver.dt_max";
-    in.add_issue(key, where(in, key),
-                 fmt::format("with solver.adaptive_dt = true, expected solver.dt_min = {} ≤ "
-                             "solver.dt = {} ≤ solver.dt_max = {}",
-                             control.dt_min, solver.dt, control.dt_max),
-                 in_file(in, key));
+  const CheckedKey dt = checked(in, s, solver.dt);
+  const CheckedKey dt_min = checked(in, s, control.dt_min);
+  const CheckedKey dt_max = checked(in, s, control.dt_max);
+  // an adaptive Δt starts at solver.dt and stays in [dt_min, dt_max]
+  if (control.adaptive && !dt.failed() && !dt_min.failed() && !dt_max.failed() &&
+      (control.dt_min > solver.dt || solver.dt > control.dt_max)) {
+    const CheckedKey& key = control.dt_min > solver.dt ? dt_min : dt_max;
+    key.report(fmt::format("with {} = true, expected {} = {} ≤ {} = {} ≤ {} = {}",
+                           detail::key_name(s, control.adaptive), dt_min.name(), control.dt_min,
+                           dt.name(), solver.dt, dt_max.name(), control.dt_max));
   }
-  if (control.opening_per_step > control.max_opening_per_step &&
-      !in.failed("solver.opening_per_step") && !in.failed("solver.max_opening_per_step")) {
-    in.add_issue("solver.opening_per_step", where(in, "solver.opening_per_step"),
-                 fmt::format("got {}, expected at most solver.max_opening_per_step = {}",
-                             control.opening_per_step, control.max_opening_per_step),
-                 in_file(in, "solver.opening_per_step"));
+  const CheckedKey opening = checked(in, s, control.opening_per_step);
+  const CheckedKey max_opening = checked(in, s, control.max_opening_per_step);
+  if (control.opening_per_step > control.max_opening_per_step && !opening.failed() &&
+      !max_opening.failed()) {
+    opening.report(fmt::format("got {}, expected at most {} = {}", control.opening_per_step,
+                               max_opening.name(), control.max_opening_per_step));
   }
 }
 
 void check_solver(TableReader& in, const Scene& s) {
   const SolverSettings& solver = s.step.solver;
+  const CheckedKey threads = checked(in, s, solver.threads);
+  const CheckedKey kernel = checked(in, s, solver.kernel);
   // only the coloured kernel's sweeps are split among threads
-  if (solver.threads > 1 && solver.kernel != SweepKernel::Coloured &&
-      !in.failed("solver.threads") && !in.failed("solver.kernel")) {
-    in.add_issue("solver.threads", where(in, "solver.threads"),
-                 fmt::format("got {}, but solver.kernel = \"scalar\" runs on one thread: "
-                             "expected 1, or solver.kernel = \"coloured\" for 1 to {} threads",
-                             solver.threads, kMaxSweepThreads),
-                 in_file(in, "solver.threads"));
+  if (solver.threads > 1 && solver.kernel != SweepKernel::Coloured && !threads.failed() &&
+      !kernel.failed()) {
+    threads.report(
+        fmt::format("got {}, but {} = \"scalar\" runs on one thread: expected 1, or "
+                    "{} = \"coloured\" for 1 to {} threads",
+                    solver.threads, kernel.name(), kernel.name(), kMaxSweepThreads));
   }
-  if (solver.min_sweeps > solver.max_sweeps && !in.failed("solver.min_sweeps") &&
-      !in.failed("solver.max_sweeps")) {
-    in.add_issue("solver.min_sweeps", where(in, "solver.min_sweeps"),
-                 fmt::format("got {}, expected at most solver.max_sweeps = {}", solver.min_sweeps,
-                             solver.max_sweeps),
-                 in_file(in, "solver.min_sweeps"));
+  const CheckedKey min_sweeps = checked(in, s, solver.min_sweeps);
+  const CheckedKey max_sweeps = checked(in, s, solver.max_sweeps);
+  if (solver.min_sweeps > solver.max_sweeps && !min_sweeps.failed() && !max_sweeps.failed()) {
+    min_sweeps.report(fmt::format("got {}, expected at most {} = {}", solver.min_sweeps,
+                                  max_sweeps.name(), solver.max_sweeps));
   }
 }
 
@@ -306,27 +340,32 @@ void check_solver(TableReader& in, const Scene& s) {
 void check_consistency(TableReader& in, const Scene& s, const SceneReadOptions& options) {
   check_piston(in, s, options);
   check_deposition(in, s);
-  check_time_step(in, s);
+  check_step_count(in, s);
+  check_adaptive_step(in, s);
   check_solver(in, s);
 }
 
 /// The command's demands (SceneReadOptions) as edits of the parsed scene, before it is read.
 void apply_read_options(toml::table& root, const SceneReadOptions& options) {
+  const Scene defaults;
   if (options.particles_file) {
     std::error_code error;
     const std::filesystem::path absolute =
         std::filesystem::absolute(*options.particles_file, error);
-    root.erase("deposition");
+    root.erase(detail::kDepositionTable);
     // the path as given (bytes that are not UTF-8 included); its mistakes are reported under
     // the option (TableReader::set_origin in read_scene_text)
+    const detail::SceneKey file = detail::key_of(defaults, defaults.particles_file);
     root.insert_or_assign(
-        "particles", toml::table{{"file", (error ? *options.particles_file : absolute).string()}});
+        file.table,
+        toml::table{{file.name, (error ? *options.particles_file : absolute).string()}});
   }
   if (options.compaction) {
-    if (!root.contains("run")) root.insert("run", toml::table{});
+    const detail::SceneKey until_blocked = detail::key_of(defaults, defaults.run.until_blocked);
+    if (!root.contains(until_blocked.table)) root.insert(until_blocked.table, toml::table{});
     // an explicit value is kept, so that `false` is reported (check_consistency)
-    if (toml::table* run = root.get("run")->as_table(); run != nullptr) {
-      run->insert("until_blocked", true);
+    if (toml::table* run = root.get(until_blocked.table)->as_table(); run != nullptr) {
+      run->insert(until_blocked.name, true);
     }
   }
 }
@@ -356,10 +395,16 @@ Scene read_scene_text(std::string_view toml_text, std::string_view source_name,
   detail::apply_overrides(root, overrides, issues);
   apply_read_options(root, options);
   TableReader in(root, std::string(source_name), issues);
-  if (options.particles_file) in.set_origin("particles.file", std::string(kParticlesOption));
-  if (options.deposition_required && root.get("deposition") == nullptr) {
-    in.add_issue("deposition", toml::source_region{},
-                 "missing: deposit needs a [deposition] section (docs/config.md)", true);
+  if (options.particles_file) {
+    const Scene defaults;
+    in.set_origin(detail::key_name(defaults, defaults.particles_file),
+                  std::string(kParticlesOption));
+  }
+  if (options.deposition_required && root.get(detail::kDepositionTable) == nullptr) {
+    in.add_issue(detail::kDepositionTable, toml::source_region{},
+                 fmt::format("missing: deposit needs a [{}] section (docs/config.md)",
+                             detail::kDepositionTable),
+                 true);
   }
   Scene scene = read_values(in, base_dir, options);
   in.check_unknown_keys();

@@ -3,6 +3,7 @@
 
 #include "cdpowder/config/config_error.hpp"
 #include "cdpowder/config/input_file.hpp"
+#include "cdpowder/config/scene_keys.hpp"
 
 #include <fmt/format.h>
 #include <toml++/toml.h>
@@ -170,7 +171,10 @@ std::string read_seeds(PlanReader& in, const toml::table& root, const std::strin
 
 /// `seed_keys` (default deposition.seed and solver.seed) and `set`, the fixed overrides.
 void read_seed_keys_and_fixed(PlanReader& in, const toml::table& root, SweepPlan& plan) {
-  plan.seed_keys = {"deposition.seed", "solver.seed"};
+  const Scene defaults;
+  const DepositionConfig deposit;
+  const std::string solver_seed = detail::key_name(defaults, defaults.step.solver.seed);
+  plan.seed_keys = {detail::key_of(deposit, deposit.seed).dotted(), solver_seed};
   if (const auto* keys = root.get("seed_keys")) {
     plan.seed_keys.clear();
     const auto* list = keys->as_array();
@@ -180,7 +184,8 @@ void read_seed_keys_and_fixed(PlanReader& in, const toml::table& root, SweepPlan
       if (const auto* k = item.as_string(); k != nullptr && !k->get().empty()) {
         plan.seed_keys.push_back(k->get());
       } else {
-        in.issue("seed_keys", &item, "expected scene keys such as \"solver.seed\"");
+        in.issue("seed_keys", &item,
+                 fmt::format("expected scene keys such as \"{}\"", solver_seed));
       }
     }
   }
