@@ -7,11 +7,12 @@
     after another source's name (`Bartels et al. §3`, `UK03 §…`, `style.md §…`) is that
     source's and is not checked. Ranges (`§7.2–7.3`) check every section they span;
     chains (`§5.4, §6`) keep the owner of their first member.
-(b) scene keys: every key the scene reader accepts (the string literals passed to in.number,
-    in.integer, in.boolean, in.choice, in.optional_number, in.vector3, in.required_string
-    in src/cdpowder/config/scene_reader.cpp, including the keys of lambdas called with a
-    table name, e.g. read_law("contact.wall")) has a row in a key table of docs/config.md,
-    under a heading that names its section (`[solver]`); and every documented key is read.
+(b) scene keys: the key tables of docs/config.md (first header cell 'key', under a heading that
+    names its section, `[solver]`) are generated from src/cdpowder/config/scene_keys.hpp: each
+    lies in a block `<!-- generated: scene keys [solver] -->` … `<!-- end generated -->` of its
+    heading's section (the test scene_key_docs_check compares the blocks with the table; the
+    C++ table is not read here), and no reader in src/cdpowder/config/ reads a scene key by a
+    literal name (in.number("solver.dt", …)): keys are declared once, in scene_keys.hpp.
 (c) test labels: every label of the docs/testing.md label table and of the ctest presets'
     label filters (CMakePresets.json) is carried by some test of tests/CMakeLists.txt, and
     every label a test carries is in the table.
@@ -165,75 +166,61 @@ def nearby(section, sections):
 # (b) scene keys
 
 READ_METHODS = r"(?:number|integer|boolean|choice|optional_number|vector3|required_string|string)"
-DIRECT_READ = re.compile(r"\bin\." + READ_METHODS + r"\(\s*\"([a-z0-9_.]+)\"")
-PREFIXED_READ = re.compile(r"\bin\." + READ_METHODS + r"\(\s*(\w+)\s*\+\s*\"(\.[a-z0-9_.]+)\"")
-LAMBDA = re.compile(r"\b(?:const\s+)?auto\s+(\w+)\s*=\s*\[[^\]]*\]\s*\(\s*const\s+std::string\s*&\s*(\w+)")
-
-
-def reader_keys(reader_cpp):
-    """Keys the scene reader accepts, and problems understanding it."""
-    keys = set(DIRECT_READ.findall(reader_cpp))
-    problems = []
-    lambdas = {name: param for name, param in LAMBDA.findall(reader_cpp)}
-    for param, suffix in PREFIXED_READ.findall(reader_cpp):
-        owners = [name for name, p in lambdas.items() if p == param]
-        if not owners:
-            problems.append(f"scene_reader.cpp: a key '{param} + \"{suffix}\"' whose table the "
-                            "check cannot resolve (expected a lambda taking "
-                            f"'const std::string& {param}')")
-            continue
-        for name in owners:
-            for table in re.findall(r"\b" + name + r"\(\s*\"([a-z0-9_.]+)\"", reader_cpp):
-                keys.add(table + suffix)
-    return keys, problems
-
-
+DIRECT_READ = re.compile(r"\bin\." + READ_METHODS + r"\(\s*\"([a-z0-9_]+\.[a-z0-9_.]+)\"")
 TABLE_HEADING = re.compile(r"^#{1,6}\s.*?`\[([a-z0-9_.]+)\]`")
+BLOCK_START = re.compile(r"^<!-- generated: scene keys \[([a-z0-9_.]+)\] -->$")
+BLOCK_END = "<!-- end generated -->"
 
 
-def documented_keys(config_md):
-    """Keys of the key tables of docs/config.md: section from the heading, key from the first
-    cell (`a`, `b` in one cell are two keys). Only tables whose first header cell is 'key'."""
-    keys = {}
+def key_table_problems(config_md):
+    """Key tables outside a generated block, blocks under another section's heading, blocks not
+    closed; and the number of blocks."""
+    problems = []
     section = None
-    table_is_keys = False
-    in_table = False
+    block = None  # (section, line) of the open block
+    blocks = 0
+    previous = ""
     for number, line in enumerate(config_md.splitlines(), 1):
-        heading = re.match(r"^#{1,6}\s", line)
-        if heading:
+        if block is None and re.match(r"^#{1,6}\s", line):
             match = TABLE_HEADING.match(line)
             section = match.group(1) if match else None
-            in_table = False
-            continue
-        if not line.startswith("|"):
-            in_table = False
-            continue
-        cells = [c.strip() for c in line.strip().strip("|").split("|")]
-        if not in_table:
-            in_table = True
-            table_is_keys = cells[0].lower() == "key"
-            continue
-        if set(cells[0]) <= set("-: ") or not table_is_keys or section is None:
-            continue
-        for key in re.findall(r"`([a-z0-9_]+)`", cells[0]):
-            keys.setdefault(f"{section}.{key}", number)
-    return keys
+        start = BLOCK_START.match(line)
+        if start and block is None:
+            blocks += 1
+            block = (start.group(1), number)
+            if start.group(1) != section:
+                problems.append(f"docs/config.md:{number}: the generated key table of "
+                                f"`[{start.group(1)}]` is under the heading of "
+                                f"{'`[' + section + ']`' if section else 'no section'}")
+        elif line == BLOCK_END:
+            block = None
+        elif (block is None and line.startswith("|") and not previous.startswith("|")
+              and line.strip().strip("|").split("|")[0].strip().lower() == "key"):
+            problems.append(f"docs/config.md:{number}: a hand-written key table; the key tables "
+                            "are generated from src/cdpowder/config/scene_keys.hpp: put "
+                            f"'<!-- generated: scene keys [{section or '…'}] -->' and "
+                            f"'{BLOCK_END}' in its place and run build/release/app/scene_key_docs "
+                            "docs/config.md")
+        previous = line
+    if block is not None:
+        problems.append(f"docs/config.md:{block[1]}: the generated block of `[{block[0]}]` is "
+                        f"not closed by '{BLOCK_END}'")
+    return problems, blocks
 
 
 def check_scene_keys(root):
-    reader = root / "src" / "cdpowder" / "config" / "scene_reader.cpp"
     config = root / "docs" / "config.md"
-    read, problems = reader_keys(reader.read_text(encoding="utf-8"))
-    if not read:
-        return problems + [f"{reader.relative_to(root)}: no keys found: the key parser is broken"]
-    documented = documented_keys(config.read_text(encoding="utf-8"))
-    for key in sorted(read - documented.keys()):
-        problems.append(f"docs/config.md: scene key '{key}' is accepted by "
-                        f"{reader.relative_to(root)} but has no row in the key table of "
-                        f"`[{key.rsplit('.', 1)[0]}]`")
-    for key in sorted(documented.keys() - read):
-        problems.append(f"docs/config.md:{documented[key]}: documents scene key '{key}', which "
-                        f"{reader.relative_to(root)} does not read")
+    problems, blocks = key_table_problems(config.read_text(encoding="utf-8"))
+    if blocks == 0:
+        problems.append("docs/config.md: no generated key table ('<!-- generated: scene keys "
+                        "[system] -->'): the block parser is broken")
+    for reader in sorted((root / "src" / "cdpowder" / "config").glob("*.cpp")):
+        text = reader.read_text(encoding="utf-8")
+        for match in DIRECT_READ.finditer(text):
+            number = text.count("\n", 0, match.start()) + 1
+            problems.append(f"{reader.relative_to(root)}:{number}: reads scene key "
+                            f"'{match.group(1)}' by name; declare it in "
+                            "src/cdpowder/config/scene_keys.hpp")
     return problems
 
 
@@ -434,18 +421,14 @@ GOOD_TREE = {
     "docs/model.md": "Units (physics.md §2). See [physics.md §5](physics.md).\n",
     "README.md": "nothing cited\n",
     "src/cdpowder/config/scene_reader.cpp":
-        'x = in.number("solver.dt", x, kPositive);\n'
-        'y = static_cast<int>(in.integer(\n      "solver.max_sweeps", y, 1));\n'
-        'const auto read_law = [&in](const std::string& table, const L& d) {\n'
-        '  l.mu = in.number(table + ".mu", d.mu, kNonNegative);\n};\n'
-        'laws.spheres = read_law("contact", laws.spheres);\n'
-        'laws.walls = read_law("contact.wall", laws.spheres);\n'
-        'if (in.has("deposition")) {}\n',
-    "docs/config.md": "# Scene\n\n## `[solver]` — time step\n\n| key | default |\n| --- | --- |\n"
-                      "| `dt`, `max_sweeps` | 0.01 |\n\n## `[contact]` — laws\n\n"
-                      "| key | default |\n| --- | --- |\n| `mu` | 0.3 |\n\n"
-                      "## `[contact.wall]` — walls\n\n| key | default |\n| --- | --- |\n"
-                      "| `mu` | `contact.mu` |\n\n## `[particles]`\n\n| column | meaning |\n"
+        'x = in.number(key.dotted(), x, key.range);\n'
+        'if (in.has(detail::kDepositionTable)) {}\n',
+    "docs/config.md": "# Scene\n\n## `[solver]` — time step\n\n"
+                      "<!-- generated: scene keys [solver] -->\n\n| key | default |\n"
+                      "| --- | --- |\n| `dt` | 0.01 |\n\n<!-- end generated -->\n\n"
+                      "## `[contact]` — laws\n\n<!-- generated: scene keys [contact] -->\n"
+                      "| key | default |\n| --- | --- |\n| `mu` | 0.3 |\n<!-- end generated -->\n\n"
+                      "## `[particles]`\n\n| column | meaning |\n"
                       "| --- | --- |\n| `x`, `y` | centre |\n",
     "tests/CMakeLists.txt": 'cdpowder_add_test(a SOURCE a.cpp LABELS "unit;physics")\n'
                             'function(f name)\n  g(${name} LABELS "${ARG_LABELS}")\nendfunction()\n'
@@ -529,21 +512,30 @@ class SelfTest(unittest.TestCase):
         p = self.problems(docs__physics_DOT_md=lambda t: t.replace("### 5.4 Laws\n", ""))
         self.assert_reported(p, "src/a.hpp:1: cites physics.md §5.4", "cites physics.md §5.4")
 
-    def test_undocumented_scene_key(self):
+    def test_hand_written_key_table(self):
+        p = self.problems(docs__config_DOT_md=lambda t: t.replace(
+            "<!-- generated: scene keys [contact] -->\n", "").replace(
+            "<!-- end generated -->\n\n## `[particles]`", "\n## `[particles]`"))
+        self.assert_reported(p, "docs/config.md:15: a hand-written key table")
+        self.assertEqual(len(p), 1)
+
+    def test_generated_block_under_another_heading(self):
+        p = self.problems(docs__config_DOT_md=lambda t: t.replace(
+            "scene keys [contact]", "scene keys [contact.wall]"))
+        self.assert_reported(p, "the generated key table of `[contact.wall]` is under the "
+                             "heading of `[contact]`")
+        self.assertEqual(len(p), 1)
+
+    def test_generated_block_not_closed(self):
+        p = self.problems(docs__config_DOT_md=lambda t: t.replace(
+            "| `mu` | 0.3 |\n<!-- end generated -->", "| `mu` | 0.3 |"))
+        self.assert_reported(p, "the generated block of `[contact]` is not closed")
+
+    def test_key_read_by_name(self):
         p = self.problems(src__cdpowder__config__scene_reader_DOT_cpp=lambda t: t +
-                          'z = in.boolean("solver.warm_start", z);\n')
-        self.assert_reported(p, "scene key 'solver.warm_start' is accepted")
-
-    def test_undocumented_key_of_a_lambda_table(self):
-        p = self.problems(src__cdpowder__config__scene_reader_DOT_cpp=lambda t: t.replace(
-            'read_law("contact.wall", laws.spheres)', 'read_law("contact.walls", laws.spheres)'))
-        self.assert_reported(p, "scene key 'contact.walls.mu' is accepted",
-                             "documents scene key 'contact.wall.mu'")
-
-    def test_documented_key_the_reader_lacks(self):
-        p = self.problems(docs__config_DOT_md=lambda t: t.replace("| `mu` | 0.3 |",
-                                                                  "| `mu`, `nu` | 0.3 |"))
-        self.assert_reported(p, "documents scene key 'contact.nu'")
+                          'z = in.boolean(\n    "solver.warm_start", z);\n')
+        self.assert_reported(p, "scene_reader.cpp:3: reads scene key 'solver.warm_start' by name")
+        self.assertEqual(len(p), 1)
 
     def test_label_in_docs_carried_by_no_test(self):
         p = self.problems(docs__testing_DOT_md=lambda t: t.replace("| `unit` | x |",

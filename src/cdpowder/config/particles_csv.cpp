@@ -3,6 +3,8 @@
 // spheres are added only when there is none. Also the cell-width check of a scene.
 #include "cdpowder/config/particles_csv.hpp"
 
+#include "cdpowder/config/scene_keys.hpp"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -237,8 +239,9 @@ void check_box_fits(const Scene& scene, const Bodies& bodies) {
   const double r_max = bodies.max_radius();
   const double minimum = 2.0 * (2.0 * r_max + range + scene.step.solver.skin);
   std::vector<ConfigIssue> issues;
-  const std::array<std::pair<const char*, double>, 2> sides = {
-      {{"system.lx", scene.system.lx}, {"system.ly", scene.system.ly}}};
+  const std::array<std::pair<std::string, double>, 2> sides = {
+      {{detail::key_name(scene, scene.system.lx), scene.system.lx},
+       {detail::key_name(scene, scene.system.ly), scene.system.ly}}};
   // R_max comes from the particles file, or from the deposit ([deposition] radii)
   const std::string origin = scene.particles_file.empty()
                                  ? std::string("the deposit")
@@ -247,10 +250,11 @@ void check_box_fits(const Scene& scene, const Bodies& bodies) {
     if (length < minimum) {
       issues.push_back(
           {scene.source.string(), 0, 0, key,
-           fmt::format("got {}, expected ≥ 2 (2 R_max + max(contact.cohesion_range, "
-                       "contact.wall.cohesion_range) + solver.skin) = {} with R_max = {} of "
-                       "{}, so that the periodic minimum image is unique",
-                       length, minimum, r_max, origin)});
+           fmt::format("got {}, expected ≥ 2 (2 R_max + max({}, {}) + {}) = {} with R_max = {} "
+                       "of {}, so that the periodic minimum image is unique",
+                       length, detail::key_name(scene, laws.spheres.cohesion_range),
+                       detail::key_name(scene, laws.walls.cohesion_range),
+                       detail::key_name(scene, scene.step.solver.skin), minimum, r_max, origin)});
     }
   }
   if (!issues.empty()) {

@@ -1,17 +1,24 @@
-// scene_writer.cpp — Scene → TOML text (scene_writer.hpp). toml++'s formatter writes the
-// table; a post-pass then rewrites its 17-digit doubles in fmt's shortest exact form, so the
-// effective config shows 0.3 where the user wrote 0.3 and still reads back bit for bit.
+// scene_writer.cpp — Scene → TOML text (scene_writer.hpp): every key of scene_keys.hpp with
+// its field's value. toml++'s formatter writes the table (its tables keep their keys sorted,
+// so the order of the lists does not matter); a post-pass then rewrites its 17-digit doubles in
+// fmt's shortest exact form, so the effective config shows 0.3 where the user wrote 0.3 and still
+// reads back bit for bit.
 #include "cdpowder/config/scene_writer.hpp"
+
+#include "cdpowder/config/scene_keys.hpp"
 
 #include <fmt/format.h>
 #include <toml++/toml.h>
 
-#include <array>
+#include <algorithm>
 #include <charconv>
 #include <cstdint>
+#include <filesystem>
 #include <optional>
 #include <sstream>
+#include <string_view>
 #include <system_error>
+#include <type_traits>
 #include <utility>
 
 namespace cdpowder::detail {
@@ -47,10 +54,7 @@ std::string shorten_floats(const std::string& text) {
         const auto [ptr, ec] = std::from_chars(token.data(), token.data() + token.size(), value);
         const bool is_float = token.find_first_of(".eE") != std::string::npos;
         if (!token.empty() && is_float && ec == std::errc() && ptr == token.data() + token.size()) {
-          token = fmt::format("{}", value);
-          if (token.find_first_of(".eEn") == std::string::npos) {
-            token += ".0";  // stays a TOML float
-          }
+          token = shortest_float_text(value);
         }
         rewritten += token;
         if (stop < line.size()) {
@@ -65,113 +69,75 @@ std::string shorten_floats(const std::string& text) {
   return result;
 }
 
-toml::table law_table(const ContactLaw& law) {
-  return toml::table{{"mu", law.mu},
-                     {"mu_roll", law.mu_roll},
-                     {"mu_twist", law.mu_twist},
-                     {"cohesion_force", law.cohesion_force},
-                     {"cohesion_range", law.cohesion_range}};
-}
-
-toml::table contact_table(const ContactLaws& laws) {
-  toml::table contact = law_table(laws.spheres);
-  contact.insert_or_assign("cohesion_rule", name_of(laws.cohesion_rule, kCohesionRuleNames));
-  toml::table wall = law_table(laws.walls);
-  wall.insert_or_assign("r_eff_factor", laws.wall_r_eff_factor);
-  contact.insert_or_assign("wall", std::move(wall));
-  return contact;
-}
-
-toml::table piston_table(const PistonConfig& p) {
-  toml::table piston{{"enabled", p.enabled},
-                     {"mass", p.mass},
-                     {"start_gap", p.start_gap},
-                     {"velocity", p.velocity}};
-  // Unset optional keys stay absent: TOML has no null.
-  const std::array<std::pair<const char*, const std::optional<double>*>, 3> optionals = {
-      {{"pressure", &p.pressure}, {"force", &p.force}, {"height", &p.height}}};
-  for (const auto& [key, value] : optionals) {
-    if (value->has_value()) piston.insert_or_assign(key, **value);
+/// The table at a dotted path of `root` ("contact.wall"), created when missing.
+toml::table& table_at(toml::table& root, std::string_view path) {
+  toml::table* table = &root;
+  std::size_t start = 0;
+  while (start <= path.size()) {
+    const std::size_t dot = std::min(path.find('.', start), path.size());
+    const std::string_view name = path.substr(start, dot - start);
+    toml::node* node = table->get(name);
+    if (node == nullptr) node = &table->insert(name, toml::table{}).first->second;
+    table = node->as_table();
+    start = dot + 1;
   }
-  return piston;
+  return *table;
 }
 
-toml::table solver_table(const SolverSettings& solver) {
-  return toml::table{{"dt", solver.dt},
-                     {"adaptive_dt", solver.time_step.adaptive},
-                     {"dt_min", solver.time_step.dt_min},
-                     {"dt_max", solver.time_step.dt_max},
-                     {"opening_per_step", solver.time_step.opening_per_step},
-                     {"max_opening_per_step", solver.time_step.max_opening_per_step},
-                     {"displacement_per_step", solver.time_step.displacement_per_step},
-                     {"dt_growth", solver.time_step.growth},
-                     {"tolerance", solver.tolerance},
-                     {"max_error_amplification", solver.max_error_amplification},
-                     {"kinematic_tolerance", solver.kinematic_tolerance},
-                     {"min_sweeps", solver.min_sweeps},
-                     {"max_sweeps", solver.max_sweeps},
-                     {"stopping_rule", name_of(solver.stopping_rule, kStoppingRuleNames)},
-                     {"visit_order", name_of(solver.visit_order, kVisitOrderNames)},
-                     {"kernel", name_of(solver.kernel, kSweepKernelNames)},
-                     {"threads", solver.threads},
-                     {"acceleration_depth", solver.acceleration_depth},
-                     {"acceleration_interval", solver.acceleration_interval},
-                     {"warm_start", solver.warm_start},
-                     {"skin", solver.skin},
-                     {"verlet_margin", solver.verlet_margin},
-                     {"seed", static_cast<std::int64_t>(solver.seed)}};
-}
+/// Writes one key of the table (scene_keys.hpp) with its field's value into `root`.
+struct KeyWriter {
+  toml::table& root;
 
-toml::table run_table(const RunConfig& run) {
-  const BlockedCriteria& blocked = run.blocked;
-  return toml::table{{"duration", run.duration},
-                     {"until_blocked", run.until_blocked},
-                     {"max_duration", run.max_duration},
-                     {"timeseries_every", run.timeseries_every},
-                     {"snapshot_every", run.snapshot_every},
-                     {"timeseries_interval", run.timeseries_interval},
-                     {"snapshot_interval", run.snapshot_interval},
-                     {"max_overlap", run.max_overlap},
-                     {"vtk_format", name_of(run.vtk_format, kVtkFormatNames)},
-                     {"blocked", toml::table{{"window", blocked.window},
-                                             {"piston_speed", blocked.piston_speed},
-                                             {"sphere_speed", blocked.sphere_speed},
-                                             {"force_balance", blocked.force_balance},
-                                             {"height_change", blocked.height_change},
-                                             {"final_tolerance", blocked.final_tolerance},
-                                             {"final_max_sweeps", blocked.final_max_sweeps}}}};
-}
+  void put(const SceneKey& key, auto&& value) const {
+    table_at(root, key.table).insert_or_assign(key.name, std::forward<decltype(value)>(value));
+  }
 
-/// [deposition], or [particles] file = … when the spheres come from a file.
-std::pair<const char*, toml::table> spheres_table(const Scene& s) {
-  if (!s.deposition) return {"particles", toml::table{{"file", s.particles_file.string()}}};
-  const DepositionConfig& d = *s.deposition;
-  return {"deposition", toml::table{{"spheres", d.spheres},
-                                    {"radius_min", d.radius_min},
-                                    {"radius_max", d.radius_max},
-                                    {"capture_radius", d.capture_radius},
-                                    {"capture_rule", name_of(d.capture_rule, kCaptureRuleNames)},
-                                    {"seed", static_cast<std::int64_t>(d.seed)}}};
-}
+  void operator()(const SceneKey& key, const double& value) const { put(key, value); }
+
+  void operator()(const SceneKey& key, const int& value) const { put(key, value); }
+
+  void operator()(const SceneKey& key, const bool& value) const { put(key, value); }
+
+  void operator()(const SceneKey& key, const std::uint64_t& value) const {
+    put(key, static_cast<std::int64_t>(value));
+  }
+
+  void operator()(const SceneKey& key, const std::optional<double>& value) const {
+    if (value.has_value()) put(key, *value);  // unset keys stay absent: TOML has no null
+  }
+
+  void operator()(const SceneKey& key, const Vec3& value) const {
+    put(key, toml::array{value.x(), value.y(), value.z()});
+  }
+
+  void operator()(const SceneKey& key, const std::filesystem::path& value) const {
+    put(key, value.string());
+  }
+
+  template <typename Enum>
+  requires std::is_enum_v<Enum>
+
+  void operator()(const SceneKey& key, const Enum& value) const {
+    put(key, name_of(value, choices_of(value)));
+  }
+
+  /// deposition.radius: the effective scene has the two it set.
+  void operator()(const SceneKey& /*key*/, SetsBoth<const double> /*both*/) const {}
+};
 
 }  // namespace
 
-std::string write_effective_toml(const Scene& s) {
-  const Vec3& g = s.system.gravity;
-  toml::table root{{"system", toml::table{{"lx", s.system.lx},
-                                          {"ly", s.system.ly},
-                                          {"gravity", toml::array{g.x(), g.y(), g.z()}},
-                                          {"density", s.system.density},
-                                          {"bottom_wall", s.system.bottom_wall}}},
-                   {"contact", contact_table(s.step.laws)},
-                   {"solver", solver_table(s.step.solver)},
-                   {"piston", piston_table(s.piston)},
-                   {"run", run_table(s.run)}};
-  // spheres the caller made (SceneReadOptions::spheres_from_caller) are in no table
-  if (s.deposition || !s.particles_file.empty()) {
-    auto [name, spheres] = spheres_table(s);
-    root.insert(name, std::move(spheres));
+std::string shortest_float_text(double value) {
+  std::string text = fmt::format("{}", value);
+  if (text.find_first_of(".eEn") == std::string::npos) {
+    text += ".0";  // stays a TOML float
   }
+  return text;
+}
+
+std::string write_effective_toml(const Scene& s) {
+  toml::table root;
+  visit_scene_keys(s, KeyWriter{root});
   // Basic single-line strings only, so shorten_floats can tell strings from numbers.
   const toml::format_flags flags =
       toml::toml_formatter::default_flags &

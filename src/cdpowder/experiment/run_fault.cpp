@@ -1,6 +1,8 @@
 // run_fault.cpp — the checks of run_fault.hpp and their one-line messages.
 #include "cdpowder/experiment/run_fault.hpp"
 
+#include "cdpowder/config/scene_keys.hpp"
+
 #include <fmt/format.h>
 
 #include <array>
@@ -91,11 +93,12 @@ RunFault largest_overlap(const World& world, const Contacts& contacts, double bo
     }
   }
   const std::string with = wall != nullptr ? std::string(wall) : fmt::format("sphere {}", f.other);
+  const Scene defaults;
   f.message = fmt::format(
-      "sphere {} overlaps {} by {:.4g} R {}, more than run.max_overlap = {:g} "
+      "sphere {} overlaps {} by {:.4g} R {}, more than {} = {:g} "
       "R: the contacts no longer hold the spheres apart (a load, "
       "pressure or Δt too large for the contact solver?)",
-      f.body, with, f.value, where(f), bound);
+      f.body, with, f.value, where(f), detail::key_name(defaults, defaults.run.max_overlap), bound);
   return f;
 }
 

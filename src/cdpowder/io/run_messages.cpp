@@ -4,6 +4,7 @@
 #include "cdpowder/analysis/porosity.hpp"
 #include "cdpowder/analysis/stress.hpp"
 #include "cdpowder/config/config_error.hpp"
+#include "cdpowder/config/scene_keys.hpp"
 #include "cdpowder/io/state_file.hpp"
 #include "cdpowder/version.hpp"
 
@@ -63,8 +64,9 @@ std::optional<RunEndNotice> run_end_notice(const Scene& scene, const World& worl
   }
   if (scene.run.until_blocked && !result.blocked) {
     return RunEndNotice{RunEnding::NotBlocked,
-                        fmt::format("the packing did not block within run.max_duration = {:g} t0 "
+                        fmt::format("the packing did not block within {} = {:g} t0 "
                                     "(t = {:g} t0); the summary says blocked = false",
+                                    detail::key_name(scene, scene.run.max_duration),
                                     scene.run.max_duration, world.time)};
   }
   return std::nullopt;
