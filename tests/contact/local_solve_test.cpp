@@ -265,8 +265,8 @@ TEST(LocalSolve, TwoIndependentVisitsSideBySideEqualTwoInARow) {
 TEST(ZeroAction, MovesOnlyTheSecondSpheresNegativeZeros) {
   const auto bits_equal = [](const SphereVelocity& u, const SphereVelocity& v) {
     // tells −0.0 from 0.0; SphereVelocity has no padding (its static_assert pins the size)
-    return std::memcmp(&u, &v, sizeof(SphereVelocity)) ==
-           0;  // NOLINT(bugprone-suspicious-memory-comparison)
+    // NOLINTNEXTLINE(bugprone-suspicious-memory-comparison)
+    return std::memcmp(&u, &v, sizeof(SphereVelocity)) == 0;
   };
   const auto plus_zero = [](SphereVelocity s) {
     s.linear += Vec3(0.0, 0.0, 0.0);
