@@ -3,9 +3,11 @@
 #include "cdpowder/contact/local_solve.hpp"
 
 #include "cdpowder/core/rng.hpp"
+#include "cdpowder/solver/build.hpp"
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 #include <numbers>
 #include <utility>
@@ -253,6 +255,55 @@ TEST(LocalSolve, TwoIndependentVisitsSideBySideEqualTwoInARow) {
     // NOLINTEND(bugprone-suspicious-memory-comparison)
     ASSERT_EQ(first.change_sq, first2.change_sq);
     ASSERT_EQ(second.change_sq, second2.change_sq);
+  }
+}
+
+// build_local_problems applies a zero warm-start action (a contact new to the step) by adding
+// +0 to the second sphere's six velocity components alone (solver/build.cpp): bit for bit what
+// apply_pair_action and apply_wall_action do with it, −0 components and normals of either sign
+// included.
+TEST(ZeroAction, MovesOnlyTheSecondSpheresNegativeZeros) {
+  const auto bits_equal = [](const SphereVelocity& u, const SphereVelocity& v) {
+    // tells −0.0 from 0.0; SphereVelocity has no padding (its static_assert pins the size)
+    // NOLINTNEXTLINE(bugprone-suspicious-memory-comparison)
+    return std::memcmp(&u, &v, sizeof(SphereVelocity)) == 0;
+  };
+  const auto plus_zero = [](SphereVelocity s) {
+    s.linear += Vec3(0.0, 0.0, 0.0);
+    s.angular += Vec3(0.0, 0.0, 0.0);
+    return s;
+  };
+  SphereVelocity a = body(1.0);
+  a.linear = Vec3(-0.0, 0.0, -0.25);
+  a.angular = Vec3(0.5, -0.0, -0.0);
+  SphereVelocity b = body(0.7);
+  b.linear = Vec3(-0.0, 0.3, -0.0);
+  b.angular = Vec3(-0.0, 0.0, -1.5);
+  for (const Vec3& n :
+       {Vec3(-0.6, 0.0, 0.8), Vec3(0.6, -0.8, 0.0), Vec3(-0.0, -0.6, -0.8), Vec3(0.0, 0.0, 1.0)}) {
+    VelocityCache v;
+    v.spheres = {a, b};
+    v.piston_velocity = -0.0;
+    PairProblem p = pair(n, 1.0, 0.7, a, b);
+    p.a = 0;
+    p.b = 1;
+    apply_pair_action(p, ContactAction{}, v);
+    EXPECT_TRUE(bits_equal(v.spheres[0], a));
+    EXPECT_TRUE(bits_equal(v.spheres[1], plus_zero(b)));
+  }
+  for (const WallKind kind : {WallKind::Bottom, WallKind::Piston}) {
+    VelocityCache v;
+    v.spheres = {b};
+    v.piston_velocity = -0.0;
+    WallProblem w;
+    w.wall = kind;
+    w.normal = Vec3(0.0, 0.0, kind == WallKind::Bottom ? 1.0 : -1.0);
+    w.radius = 0.7;
+    w.wall_response = kind == WallKind::Piston ? 0.01 : 0.0;
+    w.wall_moves = kind == WallKind::Piston ? 1.0 : 0.0;
+    apply_wall_action(w, ContactAction{}, v);
+    EXPECT_TRUE(bits_equal(v.spheres[0], plus_zero(b)));
+    EXPECT_TRUE(std::signbit(v.piston_velocity));
   }
 }
 

@@ -32,13 +32,26 @@ void build_batches(const Contacts& contacts, const VelocityCache& velocities,
                    ColouredSweep& sweep) {
   const PairColouring& colouring = sweep.colouring;
   const std::size_t colours = colouring.colours();
-  sweep.batches.clear();
+  // A full batch has every field of every lane written below, so the vector keeps last step's
+  // batches and only a colour's last, partly used batch is cleared first (its unused lanes hold
+  // zeros): clearing and value-initialising every 704-byte batch again cost ≈ 40 instructions
+  // per pair on the paper's fronts.
+  std::size_t batch_count = 0;
+  for (std::size_t c = 0; c < colours; ++c) {
+    batch_count +=
+        (colouring.colour_start[c + 1] - colouring.colour_start[c] + kBatchLanes - 1) / kBatchLanes;
+  }
+  sweep.batches.resize(batch_count);
   sweep.colour_batches.assign(colours + 1, 0);
+  std::size_t next = 0;
   for (std::size_t c = 0; c < colours; ++c) {
     for (std::uint32_t m = colouring.colour_start[c]; m < colouring.colour_start[c + 1];
          m += kBatchLanes) {
-      PairBatch& batch = sweep.batches.emplace_back();
-      batch.lanes = std::min<std::uint32_t>(kBatchLanes, colouring.colour_start[c + 1] - m);
+      PairBatch& batch = sweep.batches[next++];
+      const std::uint32_t lanes =
+          std::min<std::uint32_t>(kBatchLanes, colouring.colour_start[c + 1] - m);
+      if (lanes < kBatchLanes) batch = PairBatch{};
+      batch.lanes = lanes;
       for (std::uint32_t l = 0; l < batch.lanes; ++l) {
         const ContactIndex k = colouring.members[m + l];
         const PairProblem& p = contacts.pairs[k];
@@ -69,8 +82,9 @@ void build_batches(const Contacts& contacts, const VelocityCache& velocities,
         batch.inertia_b[l] = b.dt_inverse_inertia;
       }
     }
-    sweep.colour_batches[c + 1] = static_cast<std::uint32_t>(sweep.batches.size());
+    sweep.colour_batches[c + 1] = static_cast<std::uint32_t>(next);
   }
+  CDP_ASSERT(next == batch_count, "every batch filled");
   // part p's sequential group: its overflow pairs, then its wall contacts
   const auto n_pairs = static_cast<ContactIndex>(contacts.pairs.size());
   sweep.sequential.clear();

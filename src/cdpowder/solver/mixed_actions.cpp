@@ -13,10 +13,18 @@ MixedModes mixed_modes(const Contacts& contacts) {
     modes.rolling = modes.rolling || has_threshold(roll_cap) || a.rolling_torque != Vec3::Zero();
     modes.twisting = modes.twisting || has_threshold(twist_cap) || a.twisting_torque != 0.0;
   };
-  for (std::size_t k = 0; k < contacts.pairs.size(); ++k) {
-    look(contacts.pairs[k].roll_cap, contacts.pairs[k].twist_cap, contacts.pair_actions[k]);
+  // Nothing changes once both modes are found (at the first contact where both have
+  // thresholds): the pass stops then, testing between blocks of contacts so that a step with
+  // neither mode (the (0,0) corner, every contact looked at) pays no test per contact.
+  constexpr std::size_t kBlock = 64;
+  const auto both = [&] { return modes.rolling && modes.twisting; };
+  const std::size_t pairs = contacts.pairs.size();
+  for (std::size_t first = 0; first < pairs && !both(); first += kBlock) {
+    for (std::size_t k = first; k < std::min(pairs, first + kBlock); ++k) {
+      look(contacts.pairs[k].roll_cap, contacts.pairs[k].twist_cap, contacts.pair_actions[k]);
+    }
   }
-  for (std::size_t k = 0; k < contacts.walls.size(); ++k) {
+  for (std::size_t k = 0; k < contacts.walls.size() && !both(); ++k) {
     look(contacts.walls[k].roll_cap, contacts.walls[k].twist_cap, contacts.wall_actions[k]);
   }
   return modes;
