@@ -1,11 +1,7 @@
 // progress.cpp — formatting the progress line.
 #include "progress.hpp"
 
-#include "clock_text.hpp"
-
-#include "cdpowder/analysis/porosity.hpp"
-
-#include <fmt/format.h>
+#include "cdpowder/io/run_messages.hpp"
 
 #include <algorithm>
 #include <cstdio>
@@ -45,17 +41,9 @@ void ProgressLine::update(const World& world, const StepReport& report, double f
   if (std::chrono::duration<double>(now - last_).count() < interval_ && fraction < 1.0) return;
   last_ = now;
   const double elapsed = std::chrono::duration<double>(now - start_).count();
-  // the budget is the maximum duration: for until-blocked runs this is an upper bound
-  const std::string remaining =
-      fraction > 0.0 ? clock_text(elapsed * (1.0 - fraction) / fraction) : "?";
   const double sweeps = static_cast<double>(sweeps_since_draw_) /
                         static_cast<double>(std::max<std::int64_t>(1, steps_since_draw_));
-  std::string line = fmt::format("t={:.4g}", world.time);
-  if (world.walls.piston.enabled) {
-    line += fmt::format(" Z_P={:.4g} E={:.4f}", world.walls.piston.height, porosity(world));
-  }
-  line += fmt::format(" sweeps/step={:.1f} contacts={} elapsed {} remaining <= {}", sweeps,
-                      report.diagnostics.contacts, clock_text(elapsed), remaining);
+  std::string line = progress_text(world, report.diagnostics.contacts, sweeps, elapsed, fraction);
   if (columns_ == 0) {  // a log: one plain line per report
     std::fprintf(stderr, "progress: %s\n", line.c_str());
     std::fflush(stderr);

@@ -2,7 +2,6 @@
 // child processes (`cdpowder compact … --quiet`), collect their summaries.
 #include "commands/sweep.hpp"
 
-#include "clock_text.hpp"
 #include "commands/simulate.hpp"
 #include "die_with_parent.hpp"
 #include "folder_lock.hpp"
@@ -13,6 +12,7 @@
 #include "cdpowder/io/atomic_file.hpp"
 #include "cdpowder/io/run_folder.hpp"
 #include "cdpowder/io/state_file.hpp"
+#include "cdpowder/sweep/sweep_messages.hpp"
 #include "cdpowder/sweep/sweep_plan.hpp"
 #include "cdpowder/sweep/sweep_results.hpp"
 #include "cdpowder/sweep/time_limit.hpp"
@@ -296,8 +296,7 @@ SweepState read_sweep_state(const SweepOptions& options) {
     for (const std::filesystem::path& folder : options.reuse) {
       std::map<std::string, std::filesystem::path> found = finished_runs_by_scene(folder);
       if (found.empty() && !options.quiet) {
-        std::fprintf(stderr, "sweep: --reuse %s: no finished runs under %s\n", folder.c_str(),
-                     (folder / "runs").c_str());
+        std::fprintf(stderr, "%s\n", nothing_to_reuse_line(folder).c_str());
       }
       elsewhere.merge(found);
     }
@@ -364,14 +363,13 @@ int run_task(const SweepOptions& options, const SweepState& state, std::size_t t
   const SweepRun& run = plan.runs[task];
   const std::filesystem::path folder = options.out / run.folder;
   const std::string name =
-      fmt::format("run {} ({} seed {})", task, plan.points[run.point].name, run.seed);
+      fmt::format("run {} ({})", task, sweep_run_name(plan.points[run.point].name, run.seed));
   if (state.summaries[task]) {
-    if (!options.quiet) std::fprintf(stderr, "%s: already finished\n", name.c_str());
+    if (!options.quiet) std::fprintf(stderr, "%s\n", already_finished_line(name).c_str());
     return 0;
   }
   if (FolderLock::held(run_lock_file(folder))) {
-    std::fprintf(stderr, "%s: %s is being written by another process\n", name.c_str(),
-                 folder.string().c_str());
+    std::fprintf(stderr, "%s\n", run_folder_busy_line(name, folder, false).c_str());
     return 1;
   }
   std::filesystem::create_directories(folder);
@@ -381,10 +379,10 @@ int run_task(const SweepOptions& options, const SweepState& state, std::size_t t
   std::string why_not;
   const bool resume = has_usable_checkpoint(folder, state.scene_texts[task], why_not);
   if (!why_not.empty() && !options.quiet) {
-    std::fprintf(stderr, "%s: starts again: %s\n", name.c_str(), why_not.c_str());
+    std::fprintf(stderr, "%s\n", starts_again_line(name, why_not).c_str());
   }
   if (resume && !options.quiet) {
-    std::fprintf(stderr, "%s: continues from its checkpoint\n", name.c_str());
+    std::fprintf(stderr, "%s\n", continues_line(name).c_str());
   }
   std::string error;
   const pid_t child =
@@ -403,15 +401,15 @@ int run_task(const SweepOptions& options, const SweepState& state, std::size_t t
   const RunExit end = run_exit(status, summary, state.scene_texts[task]);
   const bool unwritten = end.unwritten;
   if (!end.counts) {
-    std::fprintf(stderr, "%s: %s, see %s\n", name.c_str(),
-                 unfinished_run_text(asked_to_stop, end.fault, unwritten).c_str(),
-                 (folder / "log.txt").string().c_str());
+    std::fprintf(stderr, "%s\n",
+                 unfinished_run_line(name, unfinished_run_text(asked_to_stop, end.fault, unwritten),
+                                     folder / "log.txt")
+                     .c_str());
     // a scheduler's array then sees the machine's failure apart from the run's
     return unwritten ? kExitOutputFailed : 1;
   }
   if (!options.quiet) {
-    std::fprintf(stderr, "%s: %s%s\n", name.c_str(), finished_run_text(*summary).c_str(),
-                 unwritten ? kOutputsMissingNote.data() : "");
+    std::fprintf(stderr, "%s\n", finished_run_line(name, *summary, unwritten).c_str());
   }
   return unwritten ? kExitOutputFailed : 0;
 }
@@ -468,7 +466,7 @@ std::size_t adopt_reused_runs(const SweepOptions& options, SweepState& state) {
       state.summaries[i].reset();
       state.pending.push_back(i);
       if (!options.quiet) {
-        std::fprintf(stderr, "sweep: could not reuse %s; it runs again\n", source.c_str());
+        std::fprintf(stderr, "%s\n", could_not_reuse_line(source).c_str());
       }
     }
   }
@@ -504,39 +502,18 @@ class SweepPool {
 
   /// The last line: how many finished, and why the others did not; the exit code.
   int finish() const {
-    const std::size_t total = state_.plan.runs.size();
-    const std::size_t finished = total - state_.pending.size() + done_now_;
-    std::string what;
-    if (g_signals.load() > 0) {
-      what = " (interrupted: run the same command to resume)";
-    } else if (failed_ > 0) {
-      what = fmt::format(", {} failed (see their log.txt)", failed_);
-    }
-    const std::size_t left = total - finished - failed_;
-    if (held_elsewhere_ > 0) {
-      what += fmt::format(
-          "; {} run{} still written by an earlier process, left for later (run "
-          "the same command again)",
-          held_elsewhere_, held_elsewhere_ == 1 ? "" : "s");
-    }
-    if (g_signals.load() == 0 && (left_for_later_ > 0 || time_up_) && left > 0) {
-      what +=
-          fmt::format("; time limit {}: {} run{} left for later (run the same command to resume)",
-                      clock_text(*options_.time_limit), left, left == 1 ? "" : "s");
-    }
-    if (!write_error_.empty()) {
-      what += fmt::format(
-          "; stopped starting runs after a write error ({}): free space and run the same "
-          "command to go on; the finished runs are kept{}",
-          write_error_,
-          state_.pending.size() > next_
-              ? fmt::format(", {} not started", state_.pending.size() - next_)
-              : "");
-    }
-    std::printf("sweep: %zu of %zu runs finished%s; results in %s\n", finished, total, what.c_str(),
-                (options_.out / "results.csv").string().c_str());
+    SweepTally tally;
+    tally.total = state_.plan.runs.size();
+    tally.finished = tally.total - state_.pending.size() + done_now_;
+    tally.failed = failed_;
+    tally.held_elsewhere = held_elsewhere_;
+    tally.interrupted = g_signals.load() > 0;
+    if (left_for_later_ > 0 || time_up_) tally.time_limit_reached = options_.time_limit;
+    tally.write_error = write_error_;
+    tally.not_started = state_.pending.size() > next_ ? state_.pending.size() - next_ : 0;
+    std::printf("%s\n", sweep_end_line(tally, options_.out / "results.csv").c_str());
     if (!write_error_.empty()) return kExitOutputFailed;
-    return finished == total ? 0 : 1;
+    return tally.finished == tally.total ? 0 : 1;
   }
 
  private:
@@ -546,7 +523,7 @@ class SweepPool {
 
   [[nodiscard]] std::string run_name(std::size_t i) const {
     const SweepRun& run = state_.plan.runs[i];
-    return fmt::format("{} seed {}", state_.plan.points[run.point].name, run.seed);
+    return sweep_run_name(state_.plan.points[run.point].name, run.seed);
   }
 
   /// Past the limit nothing more starts, and runs still going stop as at a first Ctrl-C
@@ -594,8 +571,7 @@ class SweepPool {
     // sweep died, and is finishing its step): left for the next run of this command
     if (FolderLock::held(run_lock_file(folder))) {
       ++held_elsewhere_;
-      std::fprintf(stderr, "%s: %s is still being written by an earlier process; left for later\n",
-                   run_name(i).c_str(), folder.string().c_str());
+      std::fprintf(stderr, "%s\n", run_folder_busy_line(run_name(i), folder, true).c_str());
       return;
     }
     std::error_code made;
@@ -609,14 +585,14 @@ class SweepPool {
     std::string why_not;
     const bool resume = has_usable_checkpoint(folder, state_.scene_texts[i], why_not);
     if (!why_not.empty() && !options_.quiet) {
-      std::fprintf(stderr, "%s: starts again: %s\n", run_name(i).c_str(), why_not.c_str());
+      std::fprintf(stderr, "%s\n", starts_again_line(run_name(i), why_not).c_str());
     }
     std::string error;
     const pid_t child = start_run(
         {state_.plan.scene, folder, run.overrides, options_.checkpoint_every, resume}, error);
     if (child == 0) {
       ++failed_;
-      std::fprintf(stderr, "%s: %s\n", run_name(i).c_str(), error.c_str());
+      std::fprintf(stderr, "%s\n", run_not_started_line(run_name(i), error).c_str());
       return;
     }
     guard_.runs[child] = i;
@@ -664,21 +640,17 @@ class SweepPool {
     const std::size_t left =
         state_.pending.size() - done_now_ - failed_ - left_for_later_ - held_elsewhere_;
     // throughput so far (runs finished per wall second, all jobs together) × runs left
-    const std::string eta =
+    const std::optional<double> eta =
         done_now_ > 0 && !stopped
-            ? fmt::format(", ≈{} left", clock_text(elapsed * static_cast<double>(left) /
-                                                   static_cast<double>(done_now_)))
-            : "";
-    if (end.counts) {
-      const RunSummary& r = *state_.summaries[i];
-      std::fprintf(stderr, "[%zu/%zu] %s: %s (elapsed %s%s)%s\n", finished, total,
-                   run_name(i).c_str(), finished_run_text(r).c_str(), clock_text(elapsed).c_str(),
-                   eta.c_str(), end.unwritten ? kOutputsMissingNote.data() : "");
-    } else {
-      std::fprintf(stderr, "[%zu/%zu] %s: %s, see %s\n", finished, total, run_name(i).c_str(),
-                   unfinished_run_text(stopped, end.fault, end.unwritten).c_str(),
-                   (folder / "log.txt").string().c_str());
-    }
+            ? std::optional(elapsed * static_cast<double>(left) / static_cast<double>(done_now_))
+            : std::nullopt;
+    const std::string line =
+        end.counts ? finished_run_progress(finished, total, run_name(i), *state_.summaries[i],
+                                           elapsed, eta, end.unwritten)
+                   : unfinished_run_progress(finished, total, run_name(i),
+                                             unfinished_run_text(stopped, end.fault, end.unwritten),
+                                             folder / "log.txt");
+    std::fprintf(stderr, "%s\n", line.c_str());
   }
 
   const SweepOptions& options_;
@@ -724,11 +696,10 @@ int run_sweep(const SweepOptions& options) {
                        : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
   if (!options.quiet) {
     const SweepPlan& plan = state.plan;
-    std::fprintf(stderr,
-                 "sweep: %zu runs (%zu points × %zu seeds), %zu already finished (%zu of them "
-                 "reused), %d jobs\n",
-                 plan.runs.size(), plan.points.size(), plan.seeds.size(),
-                 plan.runs.size() - state.pending.size(), reused_count, jobs);
+    std::fprintf(stderr, "%s\n",
+                 sweep_start_line(plan.runs.size(), plan.points.size(), plan.seeds.size(),
+                                  plan.runs.size() - state.pending.size(), reused_count, jobs)
+                     .c_str());
   }
   SweepPool pool(options, state, start);
   pool.run(jobs);

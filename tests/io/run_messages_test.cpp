@@ -6,6 +6,7 @@
 #include "cdpowder/config/scene_reader.hpp"
 #include "cdpowder/experiment/scene_setup.hpp"
 #include "cdpowder/io/run_folder.hpp"
+#include "cdpowder/sweep/sweep_messages.hpp"
 #include "cdpowder/sweep/sweep_results.hpp"
 #include "cdpowder/version.hpp"
 
@@ -151,6 +152,84 @@ TEST(SweepMessages, ARunsLineSaysHowItEnded) {
             "FAILED (a fault stopped it: unphysical state)");
   EXPECT_EQ(unfinished_run_text(false, false, true), "FAILED (could not write its outputs)");
   EXPECT_EQ(unfinished_run_text(false, false, false), "FAILED");
+}
+
+TEST(RunMessages, ClockTextReadsAsMinutesThenHours) {
+  EXPECT_EQ(clock_text(0.4), "00:00");
+  EXPECT_EQ(clock_text(59.5), "01:00");
+  EXPECT_EQ(clock_text(3599.4), "59:59");
+  EXPECT_EQ(clock_text(3600.0), "1:00:00");
+  EXPECT_EQ(clock_text(36000.0 + 61.0), "10:01:01");
+}
+
+TEST(RunMessages, TheProgressTextShowsThePistonAndAnUpperBoundOfTheTimeLeft) {
+  const Scene scene =
+      read_scene(std::filesystem::path(CDPOWDER_SOURCE_DIR) / "examples/quick/scene.toml", {});
+  World world = make_world(scene);
+  world.time = 12.345;
+  EXPECT_EQ(progress_text(world, 120, 35.94, 30.0, 0.25).substr(0, 12), "t=12.35 Z_P=");
+  EXPECT_NE(progress_text(world, 120, 35.94, 30.0, 0.25)
+                .find(" sweeps/step=35.9 contacts=120 elapsed 00:30 remaining <= 01:30"),
+            std::string::npos);
+  EXPECT_NE(progress_text(world, 120, 1.0, 30.0, 0.0).find("remaining <= ?"), std::string::npos);
+  world.walls.piston.enabled = false;
+  EXPECT_EQ(progress_text(world, 7, 2.0, 0.0, 0.5),
+            "t=12.35 sweeps/step=2.0 contacts=7 elapsed 00:00 remaining <= 00:00");
+}
+
+TEST(SweepMessages, ProgressLinesCountTheRunsAndTellTheTimeLeft) {
+  RunSummary summary;
+  summary.porosity = 0.643046;
+  summary.run.blocked = true;
+  summary.run.wall_seconds = 41.23;
+  const std::string name = sweep_run_name("contact.mu_roll=0.0", 2);
+  EXPECT_EQ(name, "contact.mu_roll=0.0 seed 2");
+  EXPECT_EQ(finished_run_progress(7, 80, name, summary, 190.0, 1620.0, false),
+            "[7/80] contact.mu_roll=0.0 seed 2: porosity=0.64305 blocked=yes wall=41.2s "
+            "(elapsed 03:10, ≈27:00 left)");
+  EXPECT_EQ(finished_run_progress(7, 80, name, summary, 190.0, std::nullopt, true),
+            "[7/80] contact.mu_roll=0.0 seed 2: porosity=0.64305 blocked=yes wall=41.2s "
+            "(elapsed 03:10)" +
+                std::string(kOutputsMissingNote));
+  EXPECT_EQ(unfinished_run_progress(8, 80, name, "FAILED", "runs/x/log.txt"),
+            "[8/80] contact.mu_roll=0.0 seed 2: FAILED, see runs/x/log.txt");
+  EXPECT_EQ(finished_run_line(name, summary, false),
+            "contact.mu_roll=0.0 seed 2: porosity=0.64305 blocked=yes wall=41.2s");
+  EXPECT_EQ(
+      sweep_start_line(80, 8, 10, 24, 24, 2),
+      "sweep: 80 runs (8 points × 10 seeds), 24 already finished (24 of them reused), 2 jobs");
+  EXPECT_EQ(run_folder_busy_line(name, "runs/x", true),
+            "contact.mu_roll=0.0 seed 2: runs/x is still being written by an earlier process; "
+            "left for later");
+  EXPECT_EQ(nothing_to_reuse_line("old"), "sweep: --reuse old: no finished runs under old/runs");
+}
+
+TEST(SweepMessages, TheLastLineGivesEveryReasonARunDidNotFinish) {
+  SweepTally tally;
+  tally.total = 80;
+  tally.finished = 80;
+  EXPECT_EQ(sweep_end_line(tally, "out/results.csv"),
+            "sweep: 80 of 80 runs finished; results in out/results.csv");
+  tally.finished = 75;
+  tally.failed = 2;
+  tally.held_elsewhere = 1;
+  tally.time_limit_reached = 9000.0;
+  EXPECT_EQ(sweep_end_line(tally, "out/results.csv"),
+            "sweep: 75 of 80 runs finished, 2 failed (see their log.txt); 1 run still written "
+            "by an earlier process, left for later (run the same command again); time limit "
+            "2:30:00: 3 runs left for later (run the same command to resume); results in "
+            "out/results.csv");
+  tally = SweepTally{};
+  tally.total = 10;
+  tally.finished = 4;
+  tally.interrupted = true;
+  tally.write_error = "cannot write out/points.csv: No space left on device";
+  tally.not_started = 5;
+  EXPECT_EQ(sweep_end_line(tally, "out/results.csv"),
+            "sweep: 4 of 10 runs finished (interrupted: run the same command to resume); "
+            "stopped starting runs after a write error (cannot write out/points.csv: No space "
+            "left on device): free space and run the same command to go on; the finished runs "
+            "are kept, 5 not started; results in out/results.csv");
 }
 
 }  // namespace

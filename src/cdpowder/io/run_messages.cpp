@@ -11,9 +11,29 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 
 namespace cdpowder {
+
+std::string clock_text(double seconds) {
+  const long s = std::lround(seconds);
+  return s >= 3600 ? fmt::format("{}:{:02}:{:02}", s / 3600, (s / 60) % 60, s % 60)
+                   : fmt::format("{:02}:{:02}", s / 60, s % 60);
+}
+
+std::string progress_text(const World& world, std::size_t contacts, double sweeps_per_step,
+                          double elapsed_seconds, double fraction) {
+  const std::string remaining =
+      fraction > 0.0 ? clock_text(elapsed_seconds * (1.0 - fraction) / fraction) : "?";
+  std::string line = fmt::format("t={:.4g}", world.time);
+  if (world.walls.piston.enabled) {
+    line += fmt::format(" Z_P={:.4g} E={:.4f}", world.walls.piston.height, porosity(world));
+  }
+  line += fmt::format(" sweeps/step={:.1f} contacts={} elapsed {} remaining <= {}", sweeps_per_step,
+                      contacts, clock_text(elapsed_seconds), remaining);
+  return line;
+}
 
 std::string run_announcement(std::string_view what, const Scene& scene,
                              const std::filesystem::path& out, std::size_t spheres) {

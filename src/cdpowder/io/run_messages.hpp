@@ -29,6 +29,17 @@ std::string run_announcement(std::string_view what, const Scene& scene,
 std::string result_line(const Scene& scene, const World& world, const Contacts& contacts,
                         const RunResult& result);
 
+/// "MM:SS" below an hour, "H:MM:SS" from an hour on (seconds rounded to the nearest): a
+/// wall-clock duration as progress lines show it.
+std::string clock_text(double seconds);
+
+/// "t=373.7 Z_P=39.16 E=0.8263 sweeps/step=35.9 contacts=1782 elapsed 00:30 remaining <= 26:16":
+/// a long run's progress after `elapsed_seconds`, `fraction` of its maximum duration done (the
+/// remaining time at this pace is an upper bound for a run until blocked; "?" at 0). Z_P and
+/// E only with a piston.
+std::string progress_text(const World& world, std::size_t contacts, double sweeps_per_step,
+                          double elapsed_seconds, double fraction);
+
 /// How a run ended, when not as asked.
 enum class RunEnding {
   Failed,       ///< a fault stopped it (RunResult::fault)
