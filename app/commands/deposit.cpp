@@ -3,13 +3,10 @@
 
 #include "stop_signals.hpp"
 
-#include "cdpowder/analysis/porosity.hpp"
 #include "cdpowder/config/scene_reader.hpp"
-#include "cdpowder/experiment/deposition.hpp"
 #include "cdpowder/experiment/scene_setup.hpp"
 #include "cdpowder/io/run_folder.hpp"
-
-#include <fmt/format.h>
+#include "cdpowder/io/run_messages.hpp"
 
 #include <atomic>
 #include <chrono>
@@ -42,10 +39,7 @@ int run_deposit(const DepositOptions& options) {
 
   write_deposit_outputs(options.out, scene, world);
 
-  std::printf("%s\n", fmt::format("porosity={:.5f} spheres={} height={:.4f} wall={:.3f}s",
-                                  deposit_porosity(world.bodies, world.box), world.bodies.size(),
-                                  deposit_height(world.bodies), seconds)
-                          .c_str());
+  std::printf("%s\n", deposit_line(world, seconds).c_str());
   return 0;
 }
 

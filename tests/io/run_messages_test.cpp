@@ -154,6 +154,14 @@ TEST(SweepMessages, ARunsLineSaysHowItEnded) {
   EXPECT_EQ(unfinished_run_text(false, false, false), "FAILED");
 }
 
+TEST(RunMessages, ADepositsLineHasItsPorosityCountHeightAndTime) {
+  World world;
+  world.box = PeriodicBox{4.0, 4.0};
+  world.bodies.add_sphere(Vec3(1.0, 1.0, 1.0), 1.0, 1.0);
+  // one sphere of volume 4π/3 under height 2 in a 4 × 4 cell: E = 1 − (4π/3)/32
+  EXPECT_EQ(deposit_line(world, 0.0125), "porosity=0.86910 spheres=1 height=2.0000 wall=0.013s");
+}
+
 TEST(RunMessages, ClockTextReadsAsMinutesThenHours) {
   EXPECT_EQ(clock_text(0.4), "00:00");
   EXPECT_EQ(clock_text(59.5), "01:00");

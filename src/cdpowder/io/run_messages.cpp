@@ -5,6 +5,7 @@
 #include "cdpowder/analysis/stress.hpp"
 #include "cdpowder/config/config_error.hpp"
 #include "cdpowder/config/scene_keys.hpp"
+#include "cdpowder/experiment/deposition.hpp"
 #include "cdpowder/io/state_file.hpp"
 #include "cdpowder/version.hpp"
 
@@ -15,6 +16,12 @@
 #include <cstdint>
 
 namespace cdpowder {
+
+std::string deposit_line(const World& world, double seconds) {
+  return fmt::format("porosity={:.5f} spheres={} height={:.4f} wall={:.3f}s",
+                     deposit_porosity(world.bodies, world.box), world.bodies.size(),
+                     deposit_height(world.bodies), seconds);
+}
 
 std::string clock_text(double seconds) {
   const long s = std::lround(seconds);

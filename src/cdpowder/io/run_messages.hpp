@@ -29,6 +29,10 @@ std::string run_announcement(std::string_view what, const Scene& scene,
 std::string result_line(const Scene& scene, const World& world, const Contacts& contacts,
                         const RunResult& result);
 
+/// "porosity=0.92737 spheres=1015 height=93.6608 wall=0.001s": a deposit's result line, its
+/// porosity and height as physics.md §8.2 measures a deposit, after `seconds` of wall time.
+std::string deposit_line(const World& world, double seconds);
+
 /// "MM:SS" below an hour, "H:MM:SS" from an hour on (seconds rounded to the nearest): a
 /// wall-clock duration as progress lines show it.
 std::string clock_text(double seconds);
