@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Keeps the documentation and the code telling the same story. Six checks:
+"""Keeps the documentation and the code telling the same story. Seven checks:
 
 (a) citations: every `physics.md §X` in src/ app/ tests/ bench/ tools/ docs/ and README.md,
     and every unqualified `§X` there, names a section heading X of docs/physics.md. In this
@@ -25,6 +25,12 @@
     absolute path of the machine that wrote it (`/…/examples/paper/scene.toml`): provenance
     names a file as the user named it, or relative to the repository.
 (f) citation: CITATION.cff's `version:` is the project's (CMakeLists.txt) and LICENSE exists.
+(g) stages: the section "## One time step" of docs/architecture.md has a subsection "### N. …"
+    per member of the Stage enum of src/cdpowder/solver/step.hpp, in its order, and every
+    function it names in backticks (`solve_nlgs()`, `solve_nlgs(contacts, …)`,
+    `ActionCache::store()`) and every source file it names (`solver/nlgs.cpp`) exists in
+    src/cdpowder (or, `bench/…`, in the repository): a renamed or removed piece of a stage
+    shows up here.
 
 Debian python3, standard library only. Exit status 0 when all hold, 1 with one line per
 problem otherwise. `--self-test` runs the checks on small synthetic trees, each broken in one
@@ -405,9 +411,53 @@ def check_citation(root):
     return problems
 
 
+def step_section(architecture_md):
+    """The text of "## One time step", up to the next "## " heading ("" when absent)."""
+    m = re.search(r"^## One time step\n(.*?)(?=^## |\Z)", architecture_md, re.MULTILINE | re.DOTALL)
+    return m.group(1) if m else ""
+
+
+def stage_enum(step_hpp):
+    """The members of `enum class Stage { … , Count }`, Count left out."""
+    m = re.search(r"enum class Stage\s*\{([^}]*)\}", step_hpp)
+    names = [n.strip() for n in m.group(1).split(",")] if m else []
+    return [n for n in names if n and n != "Count"]
+
+
+def check_stages(root):
+    architecture = root / "docs" / "architecture.md"
+    step_hpp = root / "src" / "cdpowder" / "solver" / "step.hpp"
+    if not architecture.is_file() or not step_hpp.is_file():
+        return []
+    section = step_section(architecture.read_text(encoding="utf-8"))
+    where = "docs/architecture.md, One time step"
+    if not section:
+        return [f"docs/architecture.md: no section '## One time step'"]
+    problems = []
+    headings = re.findall(r"^### (\d+)\. ", section, re.MULTILINE)
+    stages = stage_enum(step_hpp.read_text(encoding="utf-8"))
+    if [int(h) for h in headings] != list(range(1, len(stages) + 1)):
+        problems.append(f"{where}: subsections {', '.join(headings) or 'none'} for the "
+                        f"{len(stages)} stages of solver/step.hpp ({', '.join(stages)}); "
+                        "expected '### 1.' to " f"'### {len(stages)}.'")
+    sources = "\n".join(p.read_text(encoding="utf-8", errors="replace")
+                        for p in sorted((root / "src" / "cdpowder").rglob("*"))
+                        if p.is_file() and p.suffix in (".hpp", ".cpp", ".inc"))
+    for name in sorted(set(re.findall(r"`((?:\w+::)?\w+)\(", section))):
+        last = name.split("::")[-1]
+        if not re.search(rf"\b{last}\s*\(", sources):
+            problems.append(f"{where}: `{name}()` is named, but src/cdpowder has no such function")
+    for path in sorted(set(re.findall(r"`(\w+/\w+\.(?:cpp|hpp|inc))`", section))):
+        if not (root / "src" / "cdpowder" / path).is_file() and not (root / path).is_file():
+            problems.append(f"{where}: `{path}` is named, but neither src/cdpowder/{path} nor "
+                            f"{path} exists")
+    return problems
+
+
 def run_checks(root):
     return (check_citations(root) + check_scene_keys(root) + check_labels(root) +
-            check_layers(root) + check_machine_paths(root) + check_citation(root))
+            check_layers(root) + check_machine_paths(root) + check_citation(root) +
+            check_stages(root))
 
 
 # ---------------------------------------------------------------------------------------------
@@ -437,7 +487,11 @@ GOOD_TREE = {
                        "| `unit` | x |\n| `physics`, `slow` | y |\n\n## Habits\n\n| `other` | z |\n",
     "docs/architecture.md": "# Architecture\n\n## Folders of the library\n\n"
                             "| folder | responsibility |\n| --- | --- |\n| `core/` | x |\n"
-                            "| `solver/` | y |\n| `config/` | z |\n\n## One time step\n\n| `io/` | not a layer |\n",
+                            "| `solver/` | y |\n| `config/` | z |\n\n## One time step\n\n| `io/` | not a layer |\n"
+                            "### 1. Detect\n\n`detect(world, …)`, `solver/step.cpp`.\n\n"
+                            "### 2. Solve\n\n`Cache::store()`.\n\n## Next\n\n`gone()`\n",
+    "src/cdpowder/solver/step.hpp": "enum class Stage { Detect, Solve, Count };\n"
+                                    "void detect(int world);\nstruct Cache { void store(); };\n",
     "src/cdpowder/core/vec3.hpp": "#include <vector>\n",
     "src/cdpowder/solver/step.cpp": '#include "cdpowder/core/vec3.hpp"\n'
                                     '#include "cdpowder/solver/step.hpp"\n'
@@ -569,6 +623,17 @@ class SelfTest(unittest.TestCase):
             "| `config/` | z |\n", "| `config/` | z |\n| `gone/` | w |\n"))
         self.assert_reported(problems, "names gone/, which src/cdpowder does not have")
 
+    def test_a_stage_without_its_section(self):
+        problems = self.problems(src__cdpowder__solver__step_DOT_hpp=lambda t: t.replace(
+            "Solve, Count", "Solve, Analyse, Count"))
+        self.assert_reported(problems, "subsections 1, 2 for the 3 stages of solver/step.hpp")
+
+    def test_a_stage_naming_a_function_that_is_gone(self):
+        problems = self.problems(docs__architecture_DOT_md=lambda t: t.replace(
+            "`Cache::store()`", "`Cache::store()`, `run_sweep()`, `solver/gone.cpp`"))
+        self.assert_reported(problems, "`run_sweep()` is named, but src/cdpowder has no such",
+                             "`solver/gone.cpp` is named, but neither src/cdpowder/solver/gone.cpp")
+
     def test_layers_without_a_folder_table(self):
         problems = self.problems(docs__architecture_DOT_md=lambda t: "# Architecture\n")
         self.assert_reported(problems, "docs/architecture.md: no folder table")
@@ -593,8 +658,8 @@ def main():
               "docs/testing.md and docs/architecture.md must match the code "
               "(tests/docs/check_docs.py)")
         return 1
-    print("check_docs: citations, scene keys, test labels and layers agree with the docs; "
-          "no machine paths recorded")
+    print("check_docs: citations, scene keys, test labels, layers and the step's stages agree "
+          "with the docs; no machine paths recorded")
     return 0
 
 
