@@ -1,6 +1,8 @@
 // cohesive_opening.cpp — one pass over the cohesion-active contacts.
 #include "cdpowder/analysis/cohesive_opening.hpp"
 
+#include "cdpowder/contact/contact_view.hpp"
+
 #include <algorithm>
 #include <limits>
 
@@ -18,21 +20,19 @@ CohesiveOpening cohesive_opening(const World& world, const Contacts& contacts,
   // d_coh are positive), so its largest value is that of the largest speed: one division per
   // kind instead of one per contact, with the same bits
   constexpr double kNone = -std::numeric_limits<double>::infinity();
-  double pair_speed = kNone;
-  for (std::size_t k = 0; k < contacts.pairs.size(); ++k) {
-    if (contacts.pair_cohesive[k] == 0) continue;
-    const PairProblem& p = contacts.pairs[k];
-    pair_speed = std::max(pair_speed, (end_velocity(p.b) - end_velocity(p.a)).dot(p.normal));
-  }
   const Piston& piston = world.walls.piston;
   const double piston_speed = piston.enabled ? velocities.piston_velocity : piston.velocity;
+  double pair_speed = kNone;
   double wall_speed = kNone;
-  for (std::size_t k = 0; k < contacts.walls.size(); ++k) {
-    if (contacts.wall_cohesive[k] == 0) continue;
-    const WallProblem& w = contacts.walls[k];
-    const double moving = w.wall == WallKind::Piston ? piston_speed : 0.0;
-    wall_speed = std::max(wall_speed, (end_velocity(w.sphere).z() - moving) * w.normal.z());
-  }
+  for_each_contact(contacts, [&](const ContactView& c) {
+    if (!c.cohesive) return;
+    if (c.is_pair()) {
+      pair_speed = std::max(pair_speed, (end_velocity(c.b) - end_velocity(c.a)).dot(c.normal));
+      return;
+    }
+    const double moving = *c.wall == WallKind::Piston ? piston_speed : 0.0;
+    wall_speed = std::max(wall_speed, (end_velocity(c.b).z() - moving) * c.normal.z());
+  });
   CohesiveOpening out;
   const auto track = [&](double opening_speed, double range) {
     out.speed = std::max(out.speed, opening_speed);

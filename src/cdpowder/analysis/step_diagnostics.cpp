@@ -1,6 +1,8 @@
 // step_diagnostics.cpp — overlaps from the new positions, energies, piston balance.
 #include "cdpowder/analysis/step_diagnostics.hpp"
 
+#include "cdpowder/contact/contact_view.hpp"
+
 #include <algorithm>
 #include <cmath>
 
@@ -8,36 +10,32 @@ namespace cdpowder {
 
 void measure_contacts(const World& world, const Contacts& contacts, StepDiagnostics& d) {
   const Bodies& bodies = world.bodies;
+  const Piston& piston = world.walls.piston;
   d.contacts = contacts.size();
   double overlap_sum = 0.0;
-  for (std::size_t k = 0; k < contacts.pairs.size(); ++k) {
-    const PairProblem& p = contacts.pairs[k];
-    const ContactAction& action = contacts.pair_actions[k];
-    const Vec3 d_ab = world.box.minimum_image(bodies.position[p.b] - bodies.position[p.a]);
-    const double overlap = std::max(0.0, bodies.radius[p.a] + bodies.radius[p.b] - d_ab.norm());
-    d.max_overlap = std::max(d.max_overlap, overlap);
-    if (contacts.pair_cohesive[k] != 0) ++d.cohesive_contacts;
-    if (is_closed(action.normal_force, p.cohesion)) {
-      ++d.closed_contacts;
-      overlap_sum += overlap;
+  // pairs, then walls: overlap_sum and the piston's force add up in Contacts' order
+  for_each_contact(contacts, [&](const ContactView& c) {
+    // the overlap from the new positions (c.gap is the step's start)
+    double overlap = 0.0;
+    if (c.is_pair()) {
+      const Vec3 d_ab = world.box.minimum_image(bodies.position[c.b] - bodies.position[c.a]);
+      overlap = std::max(0.0, bodies.radius[c.a] + bodies.radius[c.b] - d_ab.norm());
+    } else {
+      // detect_contacts gives a wall contact its sphere's radius
+      const double z = bodies.position[c.b].z();
+      const double r = bodies.radius[c.b];
+      const double gap = *c.wall == WallKind::Bottom ? z - r : piston.height - z - r;
+      overlap = std::max(0.0, -gap);
     }
-  }
-  const Piston& piston = world.walls.piston;
-  for (std::size_t k = 0; k < contacts.walls.size(); ++k) {
-    const WallProblem& w = contacts.walls[k];
-    const ContactAction& action = contacts.wall_actions[k];
-    const double z = bodies.position[w.sphere].z();
-    const double gap = w.wall == WallKind::Bottom ? z - w.radius : piston.height - z - w.radius;
-    const double overlap = std::max(0.0, -gap);
     d.max_overlap = std::max(d.max_overlap, overlap);
-    if (contacts.wall_cohesive[k] != 0) ++d.cohesive_contacts;
-    if (is_closed(action.normal_force, w.cohesion)) {
+    if (c.cohesive) ++d.cohesive_contacts;
+    if (c.closed()) {
       ++d.closed_contacts;
       overlap_sum += overlap;
     }
     // n = −e_z at the piston: the force on the piston is −R, its z part +R_n
-    if (w.wall == WallKind::Piston) d.piston_contact_force += action.normal_force;
-  }
+    if (c.wall == WallKind::Piston) d.piston_contact_force += c.action->normal_force;
+  });
   d.mean_overlap =
       d.closed_contacts > 0 ? overlap_sum / static_cast<double>(d.closed_contacts) : 0.0;
 }

@@ -2,6 +2,7 @@
 #include "cdpowder/experiment/run_fault.hpp"
 
 #include "cdpowder/config/scene_keys.hpp"
+#include "cdpowder/contact/contact_view.hpp"
 
 #include <fmt/format.h>
 
@@ -71,27 +72,25 @@ RunFault largest_overlap(const World& world, const Contacts& contacts, double bo
   const Bodies& bodies = world.bodies;
   RunFault f = fault(world, "overlap", -1, 0.0);
   const char* wall = nullptr;
-  for (const PairProblem& p : contacts.pairs) {
-    const Vec3 d = world.box.minimum_image(bodies.position[p.b] - bodies.position[p.a]);
-    const double overlap = bodies.radius[p.a] + bodies.radius[p.b] - d.norm();
+  // the first contact of the largest overlap in Contacts' order, pairs then walls
+  for_each_contact(contacts, [&](const ContactView& c) {
+    const bool bottom = c.wall == WallKind::Bottom;
+    double overlap = 0.0;
+    if (c.is_pair()) {
+      const Vec3 d = world.box.minimum_image(bodies.position[c.b] - bodies.position[c.a]);
+      overlap = bodies.radius[c.a] + bodies.radius[c.b] - d.norm();
+    } else {
+      const double z = bodies.position[c.b].z();
+      const double r = bodies.radius[c.b];  // a wall contact's radius (detect_contacts)
+      overlap = bottom ? r - z : z + r - world.walls.piston.height;
+    }
     if (overlap > f.value) {
       f.value = overlap;
-      f.body = static_cast<std::int64_t>(p.a);
-      f.other = static_cast<std::int64_t>(p.b);
-      wall = nullptr;
+      f.body = static_cast<std::int64_t>(c.is_pair() ? c.a : c.b);
+      f.other = c.is_pair() ? static_cast<std::int64_t>(c.b) : -1;
+      wall = c.is_pair() ? nullptr : bottom ? "the bottom wall" : "the piston";
     }
-  }
-  for (const WallProblem& w : contacts.walls) {
-    const double z = bodies.position[w.sphere].z();
-    const bool bottom = w.wall == WallKind::Bottom;
-    const double overlap = bottom ? w.radius - z : z + w.radius - world.walls.piston.height;
-    if (overlap > f.value) {
-      f.value = overlap;
-      f.body = static_cast<std::int64_t>(w.sphere);
-      f.other = -1;
-      wall = bottom ? "the bottom wall" : "the piston";
-    }
-  }
+  });
   const std::string with = wall != nullptr ? std::string(wall) : fmt::format("sphere {}", f.other);
   const Scene defaults;
   f.message = fmt::format(
