@@ -9,5 +9,6 @@ bash tools/install_deps.sh
 cmake --preset release >/dev/null
 cmake --build build/release --target cdpowder
 build/release/app/cdpowder compact examples/quick/scene.toml --out runs/quick "$@"
-echo "outputs in runs/quick: summary.json, particles.csv, contacts.csv, timeseries.csv,"
-echo "particles.vtp and contacts.vtp (ParaView)"
+echo "outputs in runs/quick: summary.json, scene.toml, initial_particles.csv, particles.csv,"
+echo "contacts.csv, timeseries.csv; particles.vtp, contacts.vtp and walls.vtp (the bottom wall,"
+echo "piston and cell) for ParaView (docs/outputs.md)"
