@@ -282,7 +282,7 @@ std::shared_ptr<Engine> world_from_arrays(const PyScene& scene, const py::object
   if (!r || r.ndim() != 1) throw py::value_error("radii: expected a vector of n numbers");
   const py::ssize_t n = r.shape(0);
   const Doubles x = checked_array("positions", positions, n, 3);
-  checked_array("radii", radii, n, 0, 0.0, /*above=*/true);
+  checked_array("radii", r, n, 0, 0.0, /*above=*/true);  // r: converted once
   SceneReadOptions how;
   how.spheres_from_caller = true;
   const Scene resolved = scene.with({}, how).scene;

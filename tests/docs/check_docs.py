@@ -432,7 +432,7 @@ def check_stages(root):
     section = step_section(architecture.read_text(encoding="utf-8"))
     where = "docs/architecture.md, One time step"
     if not section:
-        return [f"docs/architecture.md: no section '## One time step'"]
+        return ["docs/architecture.md: no section '## One time step'"]
     problems = []
     headings = re.findall(r"^### (\d+)\. ", section, re.MULTILINE)
     stages = stage_enum(step_hpp.read_text(encoding="utf-8"))

@@ -118,7 +118,7 @@ Allocations allocations_of_steps(int steps, const std::vector<SceneOverride>& ov
 // vectors then grow geometrically, a few times in a run (2 of these 3000 steps of the quick
 // example compacted without torques, 7 allocations, when this test was written). A step that
 // allocated every time would show here as thousands.
-TEST(StepAllocation, StepsAfterTheFirstAllocateOnlyWhenTheContactsOutgrowTheWorkspace) {
+TEST(StepAllocation, StepsAfterTheFirstAllocateInAFewOfThreeThousandStepsOnOneAndTwoThreads) {
   for (const std::string threads : {"1", "2"}) {
     const Allocations found = allocations_of_steps(
         3000, {SceneOverride("contact.mu_roll=0"), SceneOverride("contact.mu_twist=0"),
