@@ -41,7 +41,7 @@ TEST(SlabThreads, RunsEveryPieceOnce) {
     for (std::uint32_t run = 0; run < 2000; ++run) {
       const std::uint32_t pieces = 1 + run % 5;
       std::array<std::atomic<int>, 5> count{};
-      team.run(pieces, [&](std::uint32_t p) { count[p].fetch_add(1); });
+      run_pieces(&team, pieces, [&](std::uint32_t p) { count[p].fetch_add(1); });
       for (std::uint32_t p = 0; p < 5; ++p) ASSERT_EQ(count[p].load(), p < pieces ? 1 : 0);
       if (run % 500 == 499) team.park();
     }
@@ -212,6 +212,87 @@ TEST(SlabThreads, ASolveGivesTheBitsOfOneThread) {
   }
 }
 
+/// The SmallPacking after a few steps (so that the warm start has actions and the history
+/// rule bonds), piston and walls included, with its spheres pushed so that some leave the
+/// cell and the candidate list must be rebuilt.
+SmallPacking stepped_packing() {
+  SmallPacking packing(0.1);
+  packing.scene.settings.solver.kinematic_tolerance = 1e-3;
+  packing.scene.run(3);
+  return packing;
+}
+
+// Detection in two pieces (the spheres' and the candidate list's halves side by side, the
+// second half's contacts joined after the first's) gives the contacts of one piece, bit for
+// bit, over steps that reuse the list and steps that rebuild it.
+TEST(StagesInPieces, DetectionGivesTheContactsOfOnePiece) {
+  SmallPacking packing = stepped_packing();
+  World one = packing.scene.world;
+  World two = one;
+  const DetectionSettings settings = packing.scene.settings.detection();
+  CellGrid grid_one;
+  CellGrid grid_two;
+  CandidateList list_one;
+  CandidateList list_two;
+  Contacts contacts_one;
+  Contacts contacts_two;
+  DetectionScratch scratch;
+  SlabThreads threads(2);
+  for (int step = 0; step < 40; ++step) {
+    detect_contacts(one, settings, grid_one, contacts_one, &list_one);
+    detect_contacts(two, settings, grid_two, contacts_two, &list_two, &threads, &scratch);
+    ASSERT_TRUE(same_bits(contacts_two.pairs, contacts_one.pairs)) << step;
+    ASSERT_TRUE(same_bits(contacts_two.walls, contacts_one.walls)) << step;
+    ASSERT_TRUE(same_bits(two.bodies.position, one.bodies.position)) << step;  // the wrap
+    // a drift across the cell's sides and up to the piston
+    for (World* world : {&one, &two}) {
+      for (std::size_t i = 0; i < world->bodies.size(); ++i) {
+        world->bodies.position[i] += Vec3(0.13, -0.07, 0.002 * static_cast<double>(i % 3));
+      }
+    }
+  }
+  EXPECT_GT(list_two.builds(), 5);  // the search after a failed cover check ran too
+  EXPECT_EQ(list_two.builds(), list_one.builds());
+  EXPECT_FALSE(contacts_one.walls.empty());
+}
+
+// Building the local problems in two pieces (predicted velocities and records a half each,
+// then the warm start's velocity changes by sphere owner) gives the bits of one piece.
+TEST(StagesInPieces, BuildGivesTheProblemsOfOnePiece) {
+  for (const bool warm_start : {true, false}) {
+    SmallPacking packing = stepped_packing();
+    TinyScene& scene = packing.scene;
+    scene.settings.solver.warm_start = warm_start;
+    detect_contacts(scene.world, scene.settings.detection(), scene.work.grid, scene.work.contacts);
+    ASSERT_GT(scene.work.action_cache.pair_entries().size(), 100U);
+    Contacts contacts_one = scene.work.contacts;
+    Contacts contacts_two = scene.work.contacts;
+    ActionCache cache_one = scene.work.action_cache;
+    ActionCache cache_two = scene.work.action_cache;
+    VelocityCache velocities_one;
+    VelocityCache velocities_two;
+    SlabThreads threads(2);
+    build_local_problems(scene.world, scene.settings, cache_one, contacts_one, velocities_one);
+    build_local_problems(scene.world, scene.settings, cache_two, contacts_two, velocities_two,
+                         &threads);
+    EXPECT_TRUE(same_bits(contacts_two.pairs, contacts_one.pairs));
+    EXPECT_TRUE(same_bits(contacts_two.pair_actions, contacts_one.pair_actions));
+    EXPECT_TRUE(same_bits(contacts_two.pair_cohesive, contacts_one.pair_cohesive));
+    EXPECT_TRUE(same_bits(contacts_two.walls, contacts_one.walls));
+    EXPECT_TRUE(same_bits(contacts_two.wall_actions, contacts_one.wall_actions));
+    EXPECT_TRUE(same_bits(contacts_two.wall_cohesive, contacts_one.wall_cohesive));
+    EXPECT_TRUE(same_bits(velocities_two.spheres, velocities_one.spheres));
+    EXPECT_TRUE(same_bits(velocities_two.piston_velocity, velocities_one.piston_velocity));
+    // the warm start moved the spheres away from v + Δt g
+    if (warm_start) {
+      const auto moved =
+          std::count_if(velocities_one.spheres.begin(), velocities_one.spheres.end(),
+                        [&](const SphereVelocity& s) { return s.angular.squaredNorm() > 0.0; });
+      EXPECT_GT(moved, 100);
+    }
+  }
+}
+
 // Whole steps (mixing and stopping rules included) with solver.threads = 1, 2, 3: one state hash.
 TEST(SlabThreads, StepsGiveTheSameStateHashForAnyThreadCount) {
   std::vector<std::string> hashes;
@@ -253,6 +334,7 @@ TEST(SlabThreads, AThreadedStepsDiagnosticsHaveTheBitsOfOneThread) {
     RunState run;
     restore_run(std::move(saved), saved_scene.run, saved_scene.step.solver.dt, world, work, run);
     std::vector<StepReport> out;
+    out.reserve(3);
     for (int k = 0; k < 3; ++k) out.push_back(step(world, work, scene.step));
     return out;
   };

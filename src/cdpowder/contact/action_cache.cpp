@@ -3,6 +3,7 @@
 
 #include "cdpowder/core/assert.hpp"
 
+#include <algorithm>
 #include <utility>
 
 namespace cdpowder {
@@ -54,6 +55,13 @@ const CachedAction* ActionCache::find(const std::vector<CachedAction>& entries, 
   while (cursor < entries.size() && entries[cursor].key < key) ++cursor;
   if (cursor < entries.size() && entries[cursor].key == key) return &entries[cursor];
   return nullptr;
+}
+
+std::size_t ActionCache::cursor_at(const std::vector<CachedAction>& entries, std::uint64_t key) {
+  return static_cast<std::size_t>(
+      std::lower_bound(entries.begin(), entries.end(), key,
+                       [](const CachedAction& entry, std::uint64_t k) { return entry.key < k; }) -
+      entries.begin());
 }
 
 }  // namespace cdpowder

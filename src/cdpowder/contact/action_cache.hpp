@@ -40,6 +40,25 @@ class ActionCache {
   /// Rewinds the merge cursors before a new step's lookups.
   void rewind() { pair_cursor_ = wall_cursor_ = 0; }
 
+  /// Lookups with a cursor of the caller's, for contacts looked up in pieces side by side:
+  /// a piece starts its cursor at the first entry of its first key (pair_cursor_at) and calls
+  /// with ascending keys. The cache is only read.
+  [[nodiscard]] std::size_t pair_cursor_at(std::uint64_t key) const {
+    return cursor_at(pairs_, key);
+  }
+
+  [[nodiscard]] std::size_t wall_cursor_at(std::uint64_t key) const {
+    return cursor_at(walls_, key);
+  }
+
+  const CachedAction* find_pair(std::size_t& cursor, std::uint64_t key) const {
+    return find(pairs_, cursor, key);
+  }
+
+  const CachedAction* find_wall(std::size_t& cursor, std::uint64_t key) const {
+    return find(walls_, cursor, key);
+  }
+
   /// The stored entries, each family sorted by key (what a state file saves).
   [[nodiscard]] const std::vector<CachedAction>& pair_entries() const { return pairs_; }
 
@@ -52,6 +71,8 @@ class ActionCache {
  private:
   static const CachedAction* find(const std::vector<CachedAction>& entries, std::size_t& cursor,
                                   std::uint64_t key);
+  /// The first entry whose key is not below `key`.
+  static std::size_t cursor_at(const std::vector<CachedAction>& entries, std::uint64_t key);
 
   std::vector<CachedAction> pairs_;
   std::vector<CachedAction> walls_;

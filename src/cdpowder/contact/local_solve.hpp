@@ -41,6 +41,22 @@ inline void apply_pair_delta(const PairProblem& p, const Vec3& dR, const Vec3& d
   b.angular += b.dt_inverse_inertia * (dT - p.lever_b * n_cross_dR);
 }
 
+/// apply_pair_delta's change to sphere a alone, and to sphere b alone: the same operations,
+/// for a caller that updates the two spheres on different threads (solver/build.cpp).
+inline void apply_pair_delta_to_a(const PairProblem& p, const Vec3& dR, const Vec3& dT,
+                                  SphereVelocity& a) {
+  const Vec3 n_cross_dR = p.normal.cross(dR);
+  a.linear -= a.dt_inverse_mass * dR;
+  a.angular -= a.dt_inverse_inertia * (p.lever_a * n_cross_dR + dT);
+}
+
+inline void apply_pair_delta_to_b(const PairProblem& p, const Vec3& dR, const Vec3& dT,
+                                  SphereVelocity& b) {
+  const Vec3 n_cross_dR = p.normal.cross(dR);
+  b.linear += b.dt_inverse_mass * dR;
+  b.angular += b.dt_inverse_inertia * (dT - p.lever_b * n_cross_dR);
+}
+
 /// Velocity change of a sphere (body b, lever −R n) and of the wall (body a: only the
 /// piston moves, along z) from a change (ΔR, ΔT) of the action on the sphere. A bottom-wall
 /// contact leaves V_P alone (not even adding 0): it neither reads (solve_wall) nor writes V_P,
@@ -49,6 +65,17 @@ inline void apply_wall_delta(const WallProblem& w, const Vec3& dR, const Vec3& d
                              SphereVelocity& s, double& wall_velocity) {
   s.linear += s.dt_inverse_mass * dR;
   s.angular += s.dt_inverse_inertia * (dT - w.radius * w.normal.cross(dR));
+  if (w.wall_moves != 0.0) wall_velocity -= w.wall_response * dR.z();
+}
+
+/// apply_wall_delta's change to the sphere alone, and to the wall alone (the same operations).
+inline void apply_wall_delta_to_sphere(const WallProblem& w, const Vec3& dR, const Vec3& dT,
+                                       SphereVelocity& s) {
+  s.linear += s.dt_inverse_mass * dR;
+  s.angular += s.dt_inverse_inertia * (dT - w.radius * w.normal.cross(dR));
+}
+
+inline void apply_wall_delta_to_wall(const WallProblem& w, const Vec3& dR, double& wall_velocity) {
   if (w.wall_moves != 0.0) wall_velocity -= w.wall_response * dR.z();
 }
 

@@ -6,17 +6,15 @@
 
 namespace cdpowder {
 
-bool CandidateList::covers(const Bodies& bodies, const PeriodicBox& box, double gap) const {
-  if (built_gap_ < 0.0 || anchor_.size() != bodies.size() || box.lx != box_.lx ||
-      box.ly != box_.ly) {
-    return false;
-  }
-  // two spheres approach each other by at most the sum of their displacements
-  // (less a part in 1e9, so that round-off in the displacements never admits a miss)
-  const double slack = 0.5 * (built_gap_ - gap) * (1.0 - 1e-9);
-  if (slack < 0.0) return false;
-  const double slack_sq = slack * slack;
-  for (std::size_t i = 0; i < anchor_.size(); ++i) {
+bool CandidateList::may_cover(const Bodies& bodies, const PeriodicBox& box, double gap) const {
+  return built_gap_ >= 0.0 && anchor_.size() == bodies.size() && box.lx == box_.lx &&
+         box.ly == box_.ly && slack(gap) >= 0.0;
+}
+
+bool CandidateList::covers_spheres(const Bodies& bodies, const PeriodicBox& box, double gap,
+                                   std::size_t first, std::size_t last) const {
+  const double slack_sq = slack(gap) * slack(gap);
+  for (std::size_t i = first; i < last; ++i) {
     if (box.minimum_image(bodies.position[i] - anchor_[i]).squaredNorm() > slack_sq) return false;
   }
   return true;

@@ -7,44 +7,39 @@
 #include "cdpowder/model/finite.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace cdpowder {
 
-double candidate_gap(const World& world, const DetectionSettings& settings) {
-  const Bodies& bodies = world.bodies;
+namespace {
+
+/// The largest surface speed |v| + R |ω| of spheres [first, last) [R/t0].
+double largest_surface_speed(const Bodies& bodies, std::size_t first, std::size_t last) {
   double v_max = 0.0;
-  for (std::size_t i = 0; i < bodies.size(); ++i) {
+  for (std::size_t i = first; i < last; ++i) {
     const double surface_speed =
         bodies.velocity[i].norm() + bodies.radius[i] * bodies.angular_velocity[i].norm();
     v_max = std::max(v_max, surface_speed);
   }
+  return v_max;
+}
+
+/// max(d_coh, 2 v_max Δt) + skin, v_max the spheres' largest surface speed and the piston's.
+double gap_for_speed(double sphere_speed, const World& world, const DetectionSettings& settings) {
+  double v_max = sphere_speed;
   if (world.walls.piston.enabled) v_max = std::max(v_max, std::abs(world.walls.piston.velocity));
   return std::max(settings.cohesion_range, 2.0 * v_max * settings.dt) + settings.skin;
 }
 
-void detect_contacts(World& world, const DetectionSettings& settings, CellGrid& grid,
-                     Contacts& contacts, CandidateList* reuse) {
-  // stage 1 is the start of a step: its inputs must be finite (debug builds only)
-  CDP_ASSERT(all_finite(world) && std::isfinite(settings.dt), "non-finite step input");
-  Bodies& bodies = world.bodies;
-  const PeriodicBox& box = world.box;
-  for (Vec3& p : bodies.position) box.wrap(p);
-
-  const double cutoff = candidate_gap(world, settings);
-  contacts.clear();
-
-  // sphere–sphere: centre distance < R_a + R_b + cutoff, among the pairs of the candidate
-  // list (sorted by (a, b), the order of the warm-start cache), rebuilt when it no longer
-  // covers this step's cutoff
-  CandidateList fresh;
-  CandidateList& list = reuse != nullptr ? *reuse : fresh;
-  if (!list.covers(bodies, box, cutoff)) {
-    list.rebuild(bodies, box, grid, cutoff, settings.verlet_margin);
-  }
-  for (const CandidateList::Pair& pair : list.pairs()) {
-    const BodyIndex a = pair.a;
-    const BodyIndex b = pair.b;
+/// Appends to `out` the geometry of every pair of list[first, last) whose centre distance is
+/// below R_a + R_b + cutoff, in list order.
+void find_pairs(const Bodies& bodies, const PeriodicBox& box, double cutoff,
+                const std::vector<CandidateList::Pair>& list, std::size_t first, std::size_t last,
+                std::vector<PairProblem>& out) {
+  for (std::size_t k = first; k < last; ++k) {
+    const BodyIndex a = list[k].a;
+    const BodyIndex b = list[k].b;
     const Vec3 d = box.minimum_image(bodies.position[b] - bodies.position[a]);
     const double reach = bodies.radius[a] + bodies.radius[b] + cutoff;
     const double distance_squared = d.squaredNorm();
@@ -62,12 +57,16 @@ void detect_contacts(World& world, const DetectionSettings& settings, CellGrid& 
     p.r_eff = effective_radius(bodies.radius[a], bodies.radius[b]);
     // the kernels assume a unit normal (d/|d| is one to a few ulp) and a finite gap
     CDP_ASSERT(std::abs(p.normal.norm() - 1.0) < 1e-12 && std::isfinite(p.gap), "n or g");
-    contacts.pairs.push_back(p);
+    out.push_back(p);
   }
-  const auto sphere_count = static_cast<BodyIndex>(bodies.size());
+}
 
-  // sphere–wall, bottom first then piston, each in sphere order (the cache's key order)
-  const auto add_wall = [&](WallKind kind, BodyIndex i, double gap, double normal_z) {
+/// Appends to `out` the contacts of every sphere (in sphere order) with the wall `kind`: the
+/// bottom (z = 0, never for a fixed sphere) or the piston, within the cutoff.
+void find_walls(const World& world, WallKind kind, double cutoff, std::vector<WallProblem>& out) {
+  const Bodies& bodies = world.bodies;
+  const auto sphere_count = static_cast<BodyIndex>(bodies.size());
+  const auto add_wall = [&](BodyIndex i, double gap, double normal_z) {
     WallProblem w;
     w.sphere = i;
     w.wall = kind;
@@ -75,21 +74,116 @@ void detect_contacts(World& world, const DetectionSettings& settings, CellGrid& 
     w.gap = gap;
     w.radius = bodies.radius[i];
     CDP_ASSERT(std::isfinite(gap), "non-finite wall gap");
-    contacts.walls.push_back(w);
+    out.push_back(w);
   };
-  if (world.walls.bottom.enabled) {
+  if (kind == WallKind::Bottom) {
+    if (!world.walls.bottom.enabled) return;
     for (BodyIndex i = 0; i < sphere_count; ++i) {
       const double gap = bodies.position[i].z() - bodies.radius[i];
-      if (gap < cutoff && bodies.fixed[i] == 0) add_wall(WallKind::Bottom, i, gap, 1.0);
+      if (gap < cutoff && bodies.fixed[i] == 0) add_wall(i, gap, 1.0);
     }
+    return;
   }
-  if (world.walls.piston.enabled) {
-    const double z_piston = world.walls.piston.height;
-    for (BodyIndex i = 0; i < sphere_count; ++i) {
-      const double gap = z_piston - bodies.position[i].z() - bodies.radius[i];
-      if (gap < cutoff) add_wall(WallKind::Piston, i, gap, -1.0);
-    }
+  if (!world.walls.piston.enabled) return;
+  const double z_piston = world.walls.piston.height;
+  for (BodyIndex i = 0; i < sphere_count; ++i) {
+    const double gap = z_piston - bodies.position[i].z() - bodies.radius[i];
+    if (gap < cutoff) add_wall(i, gap, -1.0);
   }
+}
+
+/// A value of one piece on a cache line of its own (the pieces write theirs side by side).
+template <typename T>
+struct alignas(64) OnItsLine {
+  T value{};
+};
+
+/// detect_contacts in two pieces: each half of the spheres wrapped and its largest speed
+/// found, then each half of the candidate list searched (piece 0 into `contacts`, piece 1
+/// into `scratch`, joined after), with the bottom wall's contacts in piece 0 and the
+/// piston's in piece 1. The search assumes that the list covers the step, which the same
+/// pass checks on each piece's half of the spheres; where it does not, the list is rebuilt
+/// and the search run again.
+void detect_in_pieces(World& world, const DetectionSettings& settings, CellGrid& grid,
+                      Contacts& contacts, CandidateList& list, PieceRunner* pieces,
+                      DetectionScratch& scratch) {
+  Bodies& bodies = world.bodies;
+  const PeriodicBox& box = world.box;
+  std::array<OnItsLine<double>, 2> speed{};
+  run_pieces(pieces, 2, [&](std::uint32_t piece) {
+    const IndexRange half = half_of(bodies.size(), piece);
+    for (std::size_t i = half.first; i < half.last; ++i) box.wrap(bodies.position[i]);
+    speed[piece].value = largest_surface_speed(bodies, half.first, half.last);
+  });
+  // max is exact: the halves' maxima give candidate_gap's value
+  const double cutoff = gap_for_speed(std::max(speed[0].value, speed[1].value), world, settings);
+  contacts.clear();
+  scratch.pairs.clear();
+  scratch.walls.clear();
+
+  const auto search = [&](bool check_cover) {
+    std::array<OnItsLine<bool>, 2> covered{};
+    run_pieces(pieces, 2, [&](std::uint32_t piece) {
+      if (check_cover) {
+        const IndexRange spheres = half_of(bodies.size(), piece);
+        covered[piece].value =
+            list.covers_spheres(bodies, box, cutoff, spheres.first, spheres.last);
+        if (!covered[piece].value) return;
+      }
+      const IndexRange listed = half_of(list.pairs().size(), piece);
+      find_pairs(bodies, box, cutoff, list.pairs(), listed.first, listed.last,
+                 piece == 0 ? contacts.pairs : scratch.pairs);
+      find_walls(world, piece == 0 ? WallKind::Bottom : WallKind::Piston, cutoff,
+                 piece == 0 ? contacts.walls : scratch.walls);
+    });
+    return !check_cover || (covered[0].value && covered[1].value);
+  };
+  if (!list.may_cover(bodies, box, cutoff) || !search(true)) {
+    contacts.clear();
+    scratch.pairs.clear();
+    scratch.walls.clear();
+    list.rebuild(bodies, box, grid, cutoff, settings.verlet_margin);
+    search(false);
+  }
+  contacts.pairs.insert(contacts.pairs.end(), scratch.pairs.begin(), scratch.pairs.end());
+  contacts.walls.insert(contacts.walls.end(), scratch.walls.begin(), scratch.walls.end());
+}
+
+}  // namespace
+
+double candidate_gap(const World& world, const DetectionSettings& settings) {
+  return gap_for_speed(largest_surface_speed(world.bodies, 0, world.bodies.size()), world,
+                       settings);
+}
+
+void detect_contacts(World& world, const DetectionSettings& settings, CellGrid& grid,
+                     Contacts& contacts, CandidateList* reuse, PieceRunner* pieces,
+                     DetectionScratch* scratch) {
+  // stage 1 is the start of a step: its inputs must be finite (debug builds only)
+  CDP_ASSERT(all_finite(world) && std::isfinite(settings.dt), "non-finite step input");
+  if (pieces != nullptr && scratch != nullptr && reuse != nullptr) {
+    detect_in_pieces(world, settings, grid, contacts, *reuse, pieces, *scratch);
+    return;
+  }
+  Bodies& bodies = world.bodies;
+  const PeriodicBox& box = world.box;
+  for (Vec3& p : bodies.position) box.wrap(p);
+
+  const double cutoff = candidate_gap(world, settings);
+  contacts.clear();
+
+  // sphere–sphere: centre distance < R_a + R_b + cutoff, among the pairs of the candidate
+  // list (sorted by (a, b), the order of the warm-start cache), rebuilt when it no longer
+  // covers this step's cutoff
+  CandidateList fresh;
+  CandidateList& list = reuse != nullptr ? *reuse : fresh;
+  if (!list.covers(bodies, box, cutoff)) {
+    list.rebuild(bodies, box, grid, cutoff, settings.verlet_margin);
+  }
+  find_pairs(bodies, box, cutoff, list.pairs(), 0, list.pairs().size(), contacts.pairs);
+  // sphere–wall, bottom first then piston, each in sphere order (the cache's key order)
+  find_walls(world, WallKind::Bottom, cutoff, contacts.walls);
+  find_walls(world, WallKind::Piston, cutoff, contacts.walls);
 }
 
 }  // namespace cdpowder

@@ -69,10 +69,23 @@ void apply_zero_action(SphereVelocity& s) {
   s.angular += Vec3(0.0, 0.0, 0.0);
 }
 
-void predict_velocities(const World& world, double dt, VelocityCache& velocities) {
+/// Δt/m and Δt/I of sphere i as the velocity cache holds them (predict_spheres): zero for a
+/// fixed sphere, which never moves and absorbs any action.
+struct StepResponse {
+  double dt_inverse_mass = 0.0;
+  double dt_inverse_inertia = 0.0;
+};
+
+StepResponse step_response(const Bodies& bodies, BodyIndex i, double dt) {
+  if (bodies.fixed[i] != 0) return {};
+  return {dt * bodies.inverse_mass[i], dt * bodies.inverse_inertia[i]};
+}
+
+/// v* = v + Δt (F_ext/m + g), ω* = ω + Δt T_ext/I of spheres [first, last).
+void predict_spheres(const World& world, double dt, std::size_t first, std::size_t last,
+                     VelocityCache& velocities) {
   const Bodies& bodies = world.bodies;
-  velocities.spheres.resize(bodies.size());
-  for (std::size_t i = 0; i < bodies.size(); ++i) {
+  for (std::size_t i = first; i < last; ++i) {
     SphereVelocity& s = velocities.spheres[i];
     if (bodies.fixed[i] != 0) {
       s = SphereVelocity{};  // fixed: never moves, absorbs any action
@@ -84,28 +97,52 @@ void predict_velocities(const World& world, double dt, VelocityCache& velocities
         bodies.velocity[i] + s.dt_inverse_mass * bodies.external_force[i] + dt * world.gravity;
     s.angular = bodies.angular_velocity[i] + s.dt_inverse_inertia * bodies.external_torque[i];
   }
-  const Piston& piston = world.walls.piston;
-  velocities.piston_velocity =
-      piston.enabled
-          ? piston.velocity + dt * (-piston.force * piston.inverse_mass() + world.gravity.z())
-          : 0.0;
 }
 
-}  // namespace
+double predicted_piston_velocity(const World& world, double dt) {
+  const Piston& piston = world.walls.piston;
+  return piston.enabled
+             ? piston.velocity + dt * (-piston.force * piston.inverse_mass() + world.gravity.z())
+             : 0.0;
+}
 
-void build_local_problems(const World& world, const StepSettings& settings, ActionCache& cache,
-                          Contacts& contacts, VelocityCache& velocities) {
+/// Whether the step reads last step's actions: for the warm start, or for the history rule.
+bool reads_cache(const StepSettings& settings) {
+  return settings.solver.warm_start || settings.laws.cohesion_rule == CohesionRule::History;
+}
+
+/// Where build_pairs and build_walls take a sphere's Δt/m and Δt/I, and what they do with the
+/// warm-start action: on one thread (kApply), from the velocity cache, which predict_spheres
+/// has filled, and the action is applied at once; in pieces, from the bodies (the other piece
+/// may be predicting the sphere), and the actions are applied by apply_warm_start after.
+template <bool kApply>
+StepResponse response_of(const World& world, const VelocityCache& velocities, BodyIndex i,
+                         double dt) {
+  if constexpr (kApply) {
+    const SphereVelocity& s = velocities.spheres[i];
+    return {s.dt_inverse_mass, s.dt_inverse_inertia};
+  } else {
+    return step_response(world.bodies, i, dt);
+  }
+}
+
+/// The constants, cohesion activity and warm-start action of pairs [first, last); with
+/// kApply also the action's velocity change (apply_warm_start otherwise).
+template <bool kApply>
+void build_pairs(const World& world, const StepSettings& settings, const ActionCache& cache,
+                 std::size_t first, std::size_t last, Contacts& contacts,
+                 VelocityCache& velocities) {
   const double dt = settings.solver.dt;
   const ContactLaws& laws = settings.laws;
-  predict_velocities(world, dt, velocities);
-  cache.rewind();
-
-  contacts.pair_actions.resize(contacts.pairs.size());
-  contacts.pair_cohesive.resize(contacts.pairs.size());
-  for (std::size_t k = 0; k < contacts.pairs.size(); ++k) {
+  const bool lookup = reads_cache(settings);
+  std::size_t cursor =
+      lookup && first < last
+          ? cache.pair_cursor_at(pair_key(contacts.pairs[first].a, contacts.pairs[first].b))
+          : 0;
+  for (std::size_t k = first; k < last; ++k) {
     PairProblem& p = contacts.pairs[k];
-    const SphereVelocity& a = velocities.spheres[p.a];
-    const SphereVelocity& b = velocities.spheres[p.b];
+    const StepResponse a = response_of<kApply>(world, velocities, p.a, dt);
+    const StepResponse b = response_of<kApply>(world, velocities, p.b, dt);
     // W blocks of physics.md §5.2, times Δt, with the levers to the common contact point:
     // w_n = 1/m_a + 1/m_b, w_t = w_n + l_a²/I_a + l_b²/I_b, w_r = 1/I_a + 1/I_b
     const double dt_w_n = a.dt_inverse_mass + b.dt_inverse_mass;
@@ -119,32 +156,38 @@ void build_local_problems(const World& world, const StepSettings& settings, Acti
     p.mu = laws.spheres.mu;
     p.roll_cap = laws.spheres.mu_roll * p.r_eff;
     p.twist_cap = laws.spheres.mu_twist * p.r_eff;
-    const CachedAction* last =
-        settings.solver.warm_start || laws.cohesion_rule == CohesionRule::History
-            ? cache.find_pair(pair_key(p.a, p.b))
-            : nullptr;
-    const bool cohesive = is_cohesive(laws.spheres, laws.cohesion_rule, p.gap, last);
+    const CachedAction* last_step = lookup ? cache.find_pair(cursor, pair_key(p.a, p.b)) : nullptr;
+    const bool cohesive = is_cohesive(laws.spheres, laws.cohesion_rule, p.gap, last_step);
     p.cohesion = cohesive ? laws.spheres.cohesion_force : 0.0;
     contacts.pair_cohesive[k] = cohesive ? 1 : 0;
     ContactAction& action = contacts.pair_actions[k];
-    if (settings.solver.warm_start && last != nullptr) {
-      warm_start(*last, p.normal, p.cohesion, action);
-      apply_pair_delta(p, action.normal_force * p.normal + action.tangential_force,
-                       action.rolling_torque + action.twisting_torque * p.normal,
-                       velocities.spheres[p.a], velocities.spheres[p.b]);
+    if (settings.solver.warm_start && last_step != nullptr) {
+      warm_start(*last_step, p.normal, p.cohesion, action);
+      if constexpr (kApply) {
+        apply_pair_delta(p, action.normal_force * p.normal + action.tangential_force,
+                         action.rolling_torque + action.twisting_torque * p.normal,
+                         velocities.spheres[p.a], velocities.spheres[p.b]);
+      }
     } else {
       action = ContactAction{};
-      apply_zero_action(velocities.spheres[p.b]);
+      if constexpr (kApply) apply_zero_action(velocities.spheres[p.b]);
     }
   }
+}
 
+/// build_pairs for every wall contact.
+template <bool kApply>
+void build_walls(const World& world, const StepSettings& settings, const ActionCache& cache,
+                 Contacts& contacts, VelocityCache& velocities) {
+  const double dt = settings.solver.dt;
+  const ContactLaws& laws = settings.laws;
+  const bool lookup = reads_cache(settings);
+  std::size_t cursor = 0;
   const double piston_response =
       world.walls.piston.enabled ? dt * world.walls.piston.inverse_mass() : 0.0;
-  contacts.wall_actions.resize(contacts.walls.size());
-  contacts.wall_cohesive.resize(contacts.walls.size());
   for (std::size_t k = 0; k < contacts.walls.size(); ++k) {
     WallProblem& w = contacts.walls[k];
-    const SphereVelocity& s = velocities.spheres[w.sphere];
+    const StepResponse s = response_of<kApply>(world, velocities, w.sphere, dt);
     w.wall_response = w.wall == WallKind::Piston ? piston_response : 0.0;
     w.wall_moves = w.wall == WallKind::Piston ? 1.0 : 0.0;
     // the wall is immobile tangentially and does not rotate; the piston moves along n
@@ -159,21 +202,105 @@ void build_local_problems(const World& world, const StepSettings& settings, Acti
     w.mu = laws.walls.mu;
     w.roll_cap = laws.walls.mu_roll * r_eff;
     w.twist_cap = laws.walls.mu_twist * r_eff;
-    const CachedAction* last =
-        settings.solver.warm_start || laws.cohesion_rule == CohesionRule::History
-            ? cache.find_wall(wall_key(w.wall, w.sphere))
-            : nullptr;
-    const bool cohesive = is_cohesive(laws.walls, laws.cohesion_rule, w.gap, last);
+    const CachedAction* last_step =
+        lookup ? cache.find_wall(cursor, wall_key(w.wall, w.sphere)) : nullptr;
+    const bool cohesive = is_cohesive(laws.walls, laws.cohesion_rule, w.gap, last_step);
     w.cohesion = cohesive ? laws.walls.cohesion_force : 0.0;
     contacts.wall_cohesive[k] = cohesive ? 1 : 0;
     ContactAction& action = contacts.wall_actions[k];
-    if (settings.solver.warm_start && last != nullptr) {
-      warm_start(*last, w.normal, w.cohesion, action);
-      apply_wall_action(w, action, velocities);
+    if (settings.solver.warm_start && last_step != nullptr) {
+      warm_start(*last_step, w.normal, w.cohesion, action);
+      if constexpr (kApply) apply_wall_action(w, action, velocities);
     } else {
       action = ContactAction{};
-      apply_zero_action(velocities.spheres[w.sphere]);
+      if constexpr (kApply) apply_zero_action(velocities.spheres[w.sphere]);
     }
+  }
+}
+
+/// The velocity changes of the warm-start actions (§5.3) on spheres [first_owned,
+/// last_owned) and, with `piston`, on the piston: every contact's change in contact order
+/// (pairs, then walls), so each body gets its changes in the order of a pass over all
+/// contacts, whichever of its contacts' other bodies another piece owns. A contact without a
+/// warm start has a zero action, whose change adds +0 (local_solve_test, ZeroAction).
+void apply_warm_start(const Contacts& contacts, BodyIndex first_owned, BodyIndex last_owned,
+                      bool piston, VelocityCache& velocities) {
+  const auto owned = [&](BodyIndex i) { return first_owned <= i && i < last_owned; };
+  for (std::size_t k = 0; k < contacts.pairs.size(); ++k) {
+    const PairProblem& p = contacts.pairs[k];
+    if (p.a >= last_owned) break;  // sorted by a, and b > a: no later pair is owned
+    const bool owns_a = owned(p.a);
+    const bool owns_b = owned(p.b);
+    if (!owns_a && !owns_b) continue;
+    const ContactAction& action = contacts.pair_actions[k];
+    const Vec3 dR = action.normal_force * p.normal + action.tangential_force;
+    const Vec3 dT = action.rolling_torque + action.twisting_torque * p.normal;
+    if (owns_a) apply_pair_delta_to_a(p, dR, dT, velocities.spheres[p.a]);
+    if (owns_b) apply_pair_delta_to_b(p, dR, dT, velocities.spheres[p.b]);
+  }
+  for (std::size_t k = 0; k < contacts.walls.size(); ++k) {
+    const WallProblem& w = contacts.walls[k];
+    const bool owns_sphere = owned(w.sphere);
+    if (!owns_sphere && !(piston && w.wall_moves != 0.0)) continue;
+    const ContactAction& action = contacts.wall_actions[k];
+    const Vec3 dR = action.normal_force * w.normal + action.tangential_force;
+    const Vec3 dT = action.rolling_torque + action.twisting_torque * w.normal;
+    if (owns_sphere) apply_wall_delta_to_sphere(w, dR, dT, velocities.spheres[w.sphere]);
+    if (piston) apply_wall_delta_to_wall(w, dR, velocities.piston_velocity);
+  }
+}
+
+/// The sphere at which the warm start's changes are shared between two pieces: the first
+/// sphere of the middle pair, so that each piece applies about half of the pairs.
+BodyIndex owner_split(const Contacts& contacts, std::size_t sphere_count) {
+  if (contacts.pairs.empty()) return static_cast<BodyIndex>(sphere_count / 2);
+  return contacts.pairs[contacts.pairs.size() / 2].a;
+}
+
+}  // namespace
+
+void build_local_problems(const World& world, const StepSettings& settings, ActionCache& cache,
+                          Contacts& contacts, VelocityCache& velocities, PieceRunner* pieces) {
+  const double dt = settings.solver.dt;
+  const std::size_t sphere_count = world.bodies.size();
+  velocities.spheres.resize(sphere_count);
+  velocities.piston_velocity = predicted_piston_velocity(world, dt);
+  contacts.pair_actions.resize(contacts.pairs.size());
+  contacts.pair_cohesive.resize(contacts.pairs.size());
+  contacts.wall_actions.resize(contacts.walls.size());
+  contacts.wall_cohesive.resize(contacts.walls.size());
+  cache.rewind();
+
+  const std::size_t pair_count = contacts.pairs.size();
+  if (pieces == nullptr) {
+    // one pass: each contact's record, and its warm start applied at once
+    predict_spheres(world, dt, 0, sphere_count, velocities);
+    build_pairs<true>(world, settings, cache, 0, pair_count, contacts, velocities);
+    build_walls<true>(world, settings, cache, contacts, velocities);
+  } else {
+    // two passes of two pieces: (1) the predicted velocities, a half of the spheres each, and
+    // the contacts' records and warm-start actions, a half of the pairs each (the walls with
+    // the second); (2) the warm start's velocity changes, each piece those of its own spheres
+    const std::size_t middle_pair = std::min(pair_count, (pair_count + contacts.walls.size()) / 2);
+    run_pieces(pieces, 2, [&](std::uint32_t piece) {
+      const IndexRange spheres = half_of(sphere_count, piece);
+      predict_spheres(world, dt, spheres.first, spheres.last, velocities);
+      if (piece == 0) {
+        build_pairs<false>(world, settings, cache, 0, middle_pair, contacts, velocities);
+      } else {
+        build_pairs<false>(world, settings, cache, middle_pair, pair_count, contacts, velocities);
+        build_walls<false>(world, settings, cache, contacts, velocities);
+      }
+    });
+    const auto all = static_cast<BodyIndex>(sphere_count);
+    const BodyIndex split = owner_split(contacts, sphere_count);
+    run_pieces(pieces, 2, [&](std::uint32_t piece) {
+      if (piece == 0) {
+        apply_warm_start(contacts, 0, split, false, velocities);
+      } else {
+        apply_warm_start(contacts, split, all, true, velocities);
+      }
+    });
   }
   // the sweeps assume finite v*, ω* (debug builds only; one pass over the spheres)
   CDP_ASSERT(std::isfinite(velocities.piston_velocity) &&

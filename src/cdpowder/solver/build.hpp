@@ -6,6 +6,7 @@
 #include "cdpowder/contact/action_cache.hpp"
 #include "cdpowder/contact/local_problem.hpp"
 #include "cdpowder/contact/velocity_cache.hpp"
+#include "cdpowder/core/pieces.hpp"
 #include "cdpowder/model/world.hpp"
 #include "cdpowder/solver/settings.hpp"
 
@@ -13,8 +14,12 @@ namespace cdpowder {
 
 /// Completes the records that detect_contacts started and fills the velocity cache.
 /// Reads last step's actions from `cache` (merge join; contacts must be sorted by key).
+/// With `pieces`, in two halves side by side on the runner's threads: the predicted
+/// velocities and the contacts' records a half each, then the warm start's velocity changes,
+/// each half those of its own spheres in contact order. The same bits as on one thread.
 void build_local_problems(const World& world, const StepSettings& settings, ActionCache& cache,
-                          Contacts& contacts, VelocityCache& velocities);
+                          Contacts& contacts, VelocityCache& velocities,
+                          PieceRunner* pieces = nullptr);
 
 /// Adds the velocity change that an action on a contact causes to both of its bodies
 /// (physics.md §5.5 "apply Δ"). Used for the warm start and by the kernels.

@@ -40,7 +40,7 @@ void SlabThreads::work(void* self, int /*thread*/) {
   static_cast<SlabThreads*>(self)->solve_claimed();
 }
 
-void SlabThreads::run_pieces(std::uint32_t pieces, PieceTask task, const void* context) {
+void SlabThreads::run_pieces(std::uint32_t pieces, Task task, const void* context) {
   if (size() == 1 || pieces <= 1 || pieces > kIndexMask) {
     for (std::uint32_t p = 0; p < pieces; ++p) task(context, p);
     return;

@@ -9,6 +9,7 @@
 // in piece order by the caller, so the results are the same bits on one thread or two.
 #pragma once
 
+#include "cdpowder/core/pieces.hpp"
 #include "cdpowder/solver/sweep_threads.hpp"
 
 #include <array>
@@ -18,33 +19,21 @@
 
 namespace cdpowder {
 
-class SlabThreads {
+class SlabThreads final : public PieceRunner {
  public:
   /// Starts threads − 1 workers (threads ≥ 1).
   explicit SlabThreads(int threads) : pool_(threads) {}
 
   [[nodiscard]] int size() const { return pool_.size(); }
 
-  /// Runs task(piece) for piece = 0 … pieces − 1, each exactly once, on whichever thread
-  /// claims it first, and returns when all are done. Pieces must not write common memory.
-  template <typename Task>
-  void run(std::uint32_t pieces, const Task& task) {
-    run_pieces(
-        pieces,
-        [](const void* t, std::uint32_t piece) noexcept { (*static_cast<const Task*>(t))(piece); },
-        &task);
-  }
+  /// Runs task(context, piece) for piece = 0 … pieces − 1, each exactly once, on whichever
+  /// thread claims it first, and returns when all are done.
+  void run_pieces(std::uint32_t pieces, Task task, const void* context) override;
 
   /// Lets the workers sleep until the next run (between steps).
   void park() { pool_.park(); }
 
  private:
-  /// noexcept: a piece that threw would leave the other thread writing into the frame of a
-  /// run that is gone, so a throw ends the program instead (no piece throws: the stop request
-  /// is asked between sweeps, on the caller)
-  using PieceTask = void (*)(const void* context, std::uint32_t piece) noexcept;
-
-  void run_pieces(std::uint32_t pieces, PieceTask task, const void* context);
   static void work(void* self, int thread);
   bool claim(std::uint32_t& piece);
   void solve_claimed();
@@ -55,22 +44,11 @@ class SlabThreads {
   alignas(64) std::atomic<std::uint32_t> done_{0};  ///< pieces done in this run
   alignas(64) std::uint32_t run_id_ = 0;
   // the run's task, written before claim_ publishes it and read by a thread after a claim
-  PieceTask task_ = nullptr;
+  Task task_ = nullptr;
   const void* context_ = nullptr;
   /// last member: its workers are stopped before the state above is destroyed
   SweepThreads pool_;
 };
-
-/// Runs task(0) … task(pieces − 1) on `threads`, or one after the other on the caller when
-/// `threads` is null.
-template <typename Task>
-void run_pieces(SlabThreads* threads, std::uint32_t pieces, Task&& task) {
-  if (threads != nullptr) {
-    threads->run(pieces, task);
-    return;
-  }
-  for (std::uint32_t p = 0; p < pieces; ++p) task(p);
-}
 
 /// Whether a step's solve runs on the threads or on the caller alone. The bits are the same
 /// either way (the cut does not depend on it), so the choice is made on time alone: on a
@@ -84,7 +62,7 @@ void run_pieces(SlabThreads* threads, std::uint32_t pieces, Task&& task) {
 class ThreadChoice {
  public:
   static constexpr std::uint64_t kBlockSteps = 16;
-  static constexpr std::uint64_t kTryEvery = 8;
+  static constexpr std::uint64_t kTryEvery = 32;
 
   /// Whether this step should run on the threads.
   [[nodiscard]] bool threaded() const { return threaded_; }

@@ -40,11 +40,19 @@ StepReport begin_step(World& world, StepWorkspace& work, const StepSettings& set
   StepReport report;
   report.dt = settings.solver.dt;
   StageClock clock;
+  // on the threads where the last step's solve was (a step too small to cut, or one the
+  // ThreadChoice keeps on one thread, keeps these stages there too); parked after them, as a
+  // caller of begin_step alone may never solve
+  SlabThreads* const threads = work.threaded && settings.solver.threads >= 2
+                                   ? work.solver.threads.get(std::min(settings.solver.threads, 2))
+                                   : nullptr;
 
-  detect_contacts(world, settings.detection(), work.grid, work.contacts, &work.candidates);
+  detect_contacts(world, settings.detection(), work.grid, work.contacts, &work.candidates, threads,
+                  &work.detection);
   clock.lap(Stage::DetectContacts, report.times);
 
-  build_local_problems(world, settings, work.action_cache, work.contacts, work.velocities);
+  build_local_problems(world, settings, work.action_cache, work.contacts, work.velocities, threads);
+  if (threads != nullptr) threads->park();
   clock.lap(Stage::BuildLocalProblems, report.times);
   return report;
 }
@@ -90,6 +98,7 @@ void solve_step(const World& world, StepWorkspace& work, const StepSettings& set
   cut_into_slabs(world.bodies.position, work.contacts, solver.slab, solver.slab_scratch);
   report.solver = solve_nlgs(work.contacts, work.velocities, settings.solver, reference_force,
                              solver, solver.slab);
+  work.threaded = report.solver.threaded;
   clock.lap(Stage::SolveNlgs, report.times);
 
   // the opening gauge, and the net force while `world` still holds the old velocities: both

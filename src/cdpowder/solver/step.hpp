@@ -8,6 +8,7 @@
 #include "cdpowder/core/rng.hpp"
 #include "cdpowder/detect/candidate_list.hpp"
 #include "cdpowder/detect/cell_grid.hpp"
+#include "cdpowder/detect/detect_contacts.hpp"
 #include "cdpowder/model/world.hpp"
 #include "cdpowder/solver/nlgs.hpp"
 #include "cdpowder/solver/settings.hpp"
@@ -36,10 +37,14 @@ struct StepWorkspace {
 
   CellGrid grid;
   CandidateList candidates;  ///< sphere pairs reused across steps (detect/candidate_list.hpp)
+  DetectionScratch detection;
   Contacts contacts;
   VelocityCache velocities;
   ActionCache action_cache;
   NlgsWorkspace solver;
+  /// The last step's solve ran on the threads (StepReport::solver.threaded): the next step's
+  /// detection and build run on them too.
+  bool threaded = false;
 };
 
 /// Advances `world` by one step of Δt = settings.solver.dt: begin_step, then finish_step.
@@ -48,6 +53,8 @@ StepReport step(World& world, StepWorkspace& work, const StepSettings& settings)
 /// Stages 1–2 (detect, build): leaves the step's contact problem in work.contacts (with the
 /// warm-start actions) and work.velocities (v*, ω*, V_P* with those actions applied, §5.3).
 /// For tools that read or solve the problem themselves; step() is the two halves in a row.
+/// After a step whose solve ran on two threads, both stages run in halves on them too (the
+/// same bits).
 StepReport begin_step(World& world, StepWorkspace& work, const StepSettings& settings);
 
 /// Stages 3–5 (solve, integrate, analyse) on the problem begin_step left in `work`; adds

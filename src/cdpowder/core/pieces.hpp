@@ -1,0 +1,59 @@
+// pieces.hpp — work cut into a few pieces that write no common memory, run side by side on
+// whatever threads the caller has (solver/slab_threads.hpp) or one after the other. The
+// stages of a step take a PieceRunner, so a lower layer (detection) runs on the solver's
+// threads without knowing them. The pieces are fixed by the work, never by the thread count:
+// every result that combines pieces is combined in piece order by the caller, so it has the
+// same bits on one thread or two.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+namespace cdpowder {
+
+class PieceRunner {
+ public:
+  /// noexcept: a piece that threw would leave another thread writing into the frame of a run
+  /// that is gone, so a throw ends the program instead (no piece may throw)
+  using Task = void (*)(const void* context, std::uint32_t piece) noexcept;
+
+  /// Runs task(context, piece) for piece = 0 … pieces − 1, each exactly once, and returns
+  /// when all are done. Pieces must not write common memory.
+  virtual void run_pieces(std::uint32_t pieces, Task task, const void* context) = 0;
+
+ protected:
+  PieceRunner() = default;
+  ~PieceRunner() = default;
+  PieceRunner(const PieceRunner&) = default;
+  PieceRunner(PieceRunner&&) = default;
+  PieceRunner& operator=(const PieceRunner&) = default;
+  PieceRunner& operator=(PieceRunner&&) = default;
+};
+
+/// Runs task(0) … task(pieces − 1) on `runner`, or one after the other on the caller when
+/// `runner` is null.
+template <typename Task>
+void run_pieces(PieceRunner* runner, std::uint32_t pieces, const Task& task) {
+  if (runner == nullptr) {
+    for (std::uint32_t p = 0; p < pieces; ++p) task(p);
+    return;
+  }
+  runner->run_pieces(
+      pieces,
+      [](const void* t, std::uint32_t piece) noexcept { (*static_cast<const Task*>(t))(piece); },
+      &task);
+}
+
+/// The half [first, last) of [0, count) that piece `piece` (0 or 1) of two takes; the first
+/// half is the shorter by one when count is odd.
+struct IndexRange {
+  std::size_t first = 0;
+  std::size_t last = 0;
+};
+
+inline IndexRange half_of(std::size_t count, std::uint32_t piece) {
+  const std::size_t middle = count / 2;
+  return piece == 0 ? IndexRange{0, middle} : IndexRange{middle, count};
+}
+
+}  // namespace cdpowder
