@@ -42,7 +42,8 @@ BENCHMARK(BM_NlgsSweep)
 // contacts per colouring chunk (0 = the solver's kColourChunk, 1 = one chunk); the pairs are
 // stored in colour order, as in the solver. Counters:
 // colours, the share of contacts in the sequential group (overflow and walls), the share of
-// unused lanes. CDPOWDER_KERNEL_ISA=sse2 keeps the SSE2 kernel on an AVX2 machine.
+// unused lanes. CDPOWDER_KERNEL_ISA=sse2 (or avx2) keeps the SSE2 (or AVX2) kernel on a machine
+// with wider vectors.
 void BM_NlgsSweepColoured(benchmark::State& state) {
   Packing packing = fcc_packing_with_vacancies(static_cast<int>(state.range(0)));
   StepWorkspace work(1);

@@ -6,6 +6,7 @@
 
 #include "cdpowder/detect/detect_contacts.hpp"
 #include "cdpowder/solver/build.hpp"
+#include "cdpowder/solver/lanes.hpp"
 #include "cdpowder/solver/nlgs.hpp"
 #include "support/small_packing.hpp"
 
@@ -19,6 +20,10 @@
 
 namespace cdpowder::testing {
 namespace {
+
+/// Every instruction set of the kernel, each where the CPU has it: they give the same bits.
+constexpr std::array<lanes::Isa, 3> kIsas = {lanes::Isa::Sse2, lanes::Isa::Avx2,
+                                             lanes::Isa::Avx512};
 
 template <typename T>
 bool same_bits(const std::vector<T>& x, const std::vector<T>& y) {
@@ -118,9 +123,8 @@ TEST(Colouring, EveryContactOnceAndNoSharedSphereWithinAColour) {
 // One contact per colour, colours in storage order, the wall group last: the scalar sweep's
 // storage order, so the batched kernel (one lane in use) must give the scalar bits.
 TEST(ColouredSweep, OneContactPerColourEqualsTheScalarSweepBitForBit) {
-  for (const bool avx2 : {false, true}) {
-    if (avx2 && !allow_avx2_kernel(true)) continue;  // no AVX2 here
-    allow_avx2_kernel(avx2);
+  for (const lanes::Isa isa : kIsas) {
+    if (!allow_kernel_isa(isa)) continue;  // not on this CPU
     for (const double mu_roll : {0.0, 0.1}) {
       SmallPacking packing(mu_roll);
       Contacts scalar = packing.scene.work.contacts;
@@ -142,7 +146,7 @@ TEST(ColouredSweep, OneContactPerColourEqualsTheScalarSweepBitForBit) {
       }
     }
   }
-  allow_avx2_kernel(true);
+  allow_kernel_isa(lanes::Isa::Avx512);
 }
 
 // Which branches of the kernel a sweep took: open contacts, sliding ones (on the rim of the
@@ -178,9 +182,8 @@ TEST(ColouredSweep, FullBatchesEqualTheScalarSweepInTheSameSequence) {
     double mu_roll, mu_twist;
   };
 
-  for (const bool avx2 : {false, true}) {
-    if (avx2 && !allow_avx2_kernel(true)) continue;  // no AVX2 here
-    allow_avx2_kernel(avx2);
+  for (const lanes::Isa isa : kIsas) {
+    if (!allow_kernel_isa(isa)) continue;  // not on this CPU
     for (const Case friction : {Case{0.0, 0.2}, Case{0.1, 0.2}, Case{0.0, 0.0}}) {
       const double mu_roll = friction.mu_roll;
       SmallPacking packing(mu_roll, friction.mu_twist);
@@ -235,15 +238,14 @@ TEST(ColouredSweep, FullBatchesEqualTheScalarSweepInTheSameSequence) {
       }
     }
   }
-  allow_avx2_kernel(true);
+  allow_kernel_isa(lanes::Isa::Avx512);
 }
 
 // The mixing's velocity update batch by batch (apply_pair_deltas) gives the bits of
 // apply_pair_action over the pairs in storage order, with and without torques.
 TEST(ColouredSweep, BatchedActionChangesMoveTheVelocitiesAsOneByOne) {
-  for (const bool avx2 : {false, true}) {
-    if (avx2 && !allow_avx2_kernel(true)) continue;  // no AVX2 here
-    allow_avx2_kernel(avx2);
+  for (const lanes::Isa isa : kIsas) {
+    if (!allow_kernel_isa(isa)) continue;  // not on this CPU
     for (const bool torques : {true, false}) {
       SmallPacking packing(0.1);
       Contacts contacts = packing.scene.work.contacts;
@@ -270,7 +272,7 @@ TEST(ColouredSweep, BatchedActionChangesMoveTheVelocitiesAsOneByOne) {
       EXPECT_TRUE(same_bits(one_by_one.spheres, batched.spheres));
     }
   }
-  allow_avx2_kernel(true);
+  allow_kernel_isa(lanes::Isa::Avx512);
 }
 
 // The solver stores the pairs in colour order during a step: the same sweeps as on the

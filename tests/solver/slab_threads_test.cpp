@@ -4,6 +4,7 @@
 #include "cdpowder/solver/slab_threads.hpp"
 
 #include "cdpowder/io/state_hash.hpp"
+#include "cdpowder/solver/lanes.hpp"
 #include "cdpowder/solver/slabs.hpp"
 #include "cdpowder/solver/step.hpp"
 #include "support/fixture_hash.hpp"
@@ -173,8 +174,8 @@ struct CutSolve {
   SolverStats stats;
 };
 
-CutSolve cut_solve(int threads, bool avx2) {
-  allow_avx2_kernel(avx2);
+CutSolve cut_solve(int threads, lanes::Isa isa) {
+  allow_kernel_isa(isa);
   SmallPacking packing(0.1);
   CutSolve out{packing.scene.work.contacts, packing.scene.work.velocities, {}};
   std::vector<std::uint8_t> slab;
@@ -187,19 +188,19 @@ CutSolve cut_solve(int threads, bool avx2) {
   settings.max_sweeps = 40;
   NlgsWorkspace work(5);
   out.stats = solve_nlgs(out.contacts, out.velocities, settings, 1.0, work, slab);
-  allow_avx2_kernel(true);
+  allow_kernel_isa(lanes::Isa::Avx512);
   return out;
 }
 
 // A cut step's solve (sweeps, kinematic rule, mixing) on two and three threads leaves the bits
 // of one thread, with both instruction sets.
 TEST(SlabThreads, ASolveGivesTheBitsOfOneThread) {
-  for (const bool avx2 : {false, true}) {
-    if (avx2 && !allow_avx2_kernel(true)) continue;  // no AVX2 here
-    const CutSolve one = cut_solve(1, avx2);
+  for (const lanes::Isa isa : {lanes::Isa::Sse2, lanes::Isa::Avx2, lanes::Isa::Avx512}) {
+    if (!allow_kernel_isa(isa)) continue;  // not on this CPU
+    const CutSolve one = cut_solve(1, isa);
     EXPECT_EQ(one.stats.sweeps, 40);
     for (const int n : {2, 3}) {
-      const CutSolve many = cut_solve(n, avx2);
+      const CutSolve many = cut_solve(n, isa);
       EXPECT_EQ(many.stats.sweeps, one.stats.sweeps);
       EXPECT_TRUE(same_bits(many.stats.residual, one.stats.residual));
       EXPECT_TRUE(same_bits(many.stats.kinematic_error, one.stats.kinematic_error));

@@ -23,10 +23,31 @@
 
 namespace cdpowder {
 
-// The kernel for SSE2 (the x86-64 baseline, 2 lanes per register) and AVX2 (4 lanes, chosen
-// at run time): the same IEEE operations on the same operands, so the same bits.
+// The kernel for SSE2 (the x86-64 baseline, 2 lanes per register), AVX2 (4 lanes) and
+// AVX-512 (8 lanes: two batches per call), chosen at run time: the same IEEE operations on the
+// same operands, so the same bits.
 #define CDP_LANE_CODE "cdpowder/solver/coloured_kernel.inc"
 #include "cdpowder/solver/lanes_instantiate.inc"
+
+#if defined(CDP_HAVE_AVX512)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wpsabi"
+// GCC 12 warns of the intrinsics' own _mm512_undefined_pd() operands once they are inlined
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#pragma GCC push_options
+#pragma GCC target("avx2,avx512f,avx512dq,avx512vl")
+
+namespace avx512 {
+namespace {
+namespace isa = lanes::avx512;
+using namespace isa;  // NOLINT(google-build-using-namespace)
+#include "cdpowder/solver/coloured_kernel.inc"
+}  // namespace
+}  // namespace avx512
+
+#pragma GCC pop_options
+#pragma GCC diagnostic pop
+#endif
 
 void build_batches(const Contacts& contacts, const VelocityCache& velocities,
                    ColouredSweep& sweep) {
@@ -241,8 +262,8 @@ void order_groups(ColouredSweep& sweep, VisitOrder policy, Rng& rng) {
   sweep.part_groups[kSweepParts] = static_cast<std::uint32_t>(sweep.group_order.size());
 }
 
-bool allow_avx2_kernel(bool allowed) {
-  return lanes::allow_avx2(allowed);
+bool allow_kernel_isa(lanes::Isa widest) {
+  return lanes::allow_isa(widest);
 }
 
 namespace {
@@ -254,27 +275,35 @@ using ApplyBatches = void (*)(const PairBatch*, std::uint32_t, std::uint32_t, Sp
 
 /// The kernel for this CPU, with torques or without (ColouredSweep::torques).
 SolveBatches batch_kernel(bool torques) {
+#if defined(CDP_HAVE_AVX512)
+  if (lanes::use_avx512()) {
+    return torques ? avx512::solve_batches<true> : avx512::solve_batches<false>;
+  }
+#endif
   return torques ? CDP_LANES_FOR_CPU(solve_batches<true>) : CDP_LANES_FOR_CPU(solve_batches<false>);
 }
 
 ApplyBatches apply_kernel(bool torques) {
+#if defined(CDP_HAVE_AVX512)
+  if (lanes::use_avx512()) {
+    return torques ? avx512::apply_batches<true> : avx512::apply_batches<false>;
+  }
+#endif
   return torques ? CDP_LANES_FOR_CPU(apply_batches<true>) : CDP_LANES_FOR_CPU(apply_batches<false>);
-}
-
-/// The batches of part p: its colours are consecutive (colour_parts appends part by part).
-std::pair<std::uint32_t, std::uint32_t> part_batches(const ColouredSweep& sweep, std::size_t p) {
-  const PairColouring& colouring = sweep.colouring;
-  return {sweep.colour_batches[colouring.first_colour(p)],
-          sweep.colour_batches[colouring.first_colour(p + 1)]};
 }
 
 }  // namespace
 
 void apply_part_deltas(const ColouredSweep& sweep, std::size_t part,
                        const std::vector<ContactAction>& deltas, VelocityCache& velocities) {
-  const auto [first, last] = part_batches(sweep, part);
-  apply_kernel(sweep.torques)(sweep.batches.data(), first, last, velocities.spheres.data(),
-                              deltas.data());
+  // colour by colour: the AVX-512 kernel takes two batches at a time, which must not share a
+  // sphere (two colours may)
+  const ApplyBatches apply = apply_kernel(sweep.torques);
+  const PairColouring& colouring = sweep.colouring;
+  for (std::size_t c = colouring.first_colour(part); c < colouring.first_colour(part + 1); ++c) {
+    apply(sweep.batches.data(), sweep.colour_batches[c], sweep.colour_batches[c + 1],
+          velocities.spheres.data(), deltas.data());
+  }
 }
 
 void apply_overflow_deltas(const ColouredSweep& sweep, const std::vector<ContactAction>& deltas,

@@ -28,6 +28,10 @@
 
 namespace cdpowder {
 
+namespace lanes {
+enum class Isa : std::uint8_t;  // lanes.hpp
+}  // namespace lanes
+
 inline constexpr int kBatchLanes = 4;
 
 /// kBatchLanes pair contacts of one colour, the frozen data of PairProblem lane by lane.
@@ -103,10 +107,10 @@ void build_batches(const Contacts& contacts, const VelocityCache& velocities, Co
 /// order.
 void order_groups(ColouredSweep& sweep, VisitOrder policy, Rng& rng);
 
-/// Lets the sweep use the AVX2 kernel where the CPU has it (default, unless the environment
-/// says CDPOWDER_KERNEL_ISA=sse2), or keeps it on SSE2; both give the same bits. Returns
-/// whether AVX2 is used.
-bool allow_avx2_kernel(bool allowed);
+/// Lets the sweep use kernels up to `widest` where the CPU has them (default: AVX-512, two
+/// batches per register; unless the environment says CDPOWDER_KERNEL_ISA=avx2 or sse2): all
+/// give the same bits. Returns whether the kernel now runs on `widest`.
+bool allow_kernel_isa(lanes::Isa widest);
 
 /// Moves the velocity cache by the pair action changes deltas[k] (pairs stored in colour order,
 /// as during the solve), as apply_pair_action over the pairs in storage order would: the

@@ -1,10 +1,10 @@
 // lanes.hpp — SIMD lanes for the solver's hot loops over spheres and contacts, once per
 // instruction set: SSE2 (2 doubles per register, the x86-64 baseline) and AVX2 (4 doubles,
-// chosen at run time where the CPU has it, use_avx2()). A file that vectorises a loop
-// includes its lane code once in each namespace, so both see the same source.
-// Neither set uses fused multiply-add (no "fma" target, and -ffp-contract=off), and every
-// loop built on these gives the same bits on either: the results do not depend on the
-// machine.
+// chosen at run time where the CPU has it, use_avx2()), and for the coloured kernel alone
+// AVX-512 (8 doubles, use_avx512()). A file that vectorises a loop includes its lane code once
+// in each namespace, so all see the same source. No set uses fused multiply-add (no FMA
+// intrinsics, and -ffp-contract=off), and every loop built on these gives the same bits on any
+// of them: the results do not depend on the machine.
 #pragma once
 
 #include <array>
@@ -29,6 +29,18 @@ bool use_avx2();
 /// Lets the loops use AVX2 where the CPU has it (default), or keeps them on SSE2; returns
 /// use_avx2().
 bool allow_avx2(bool allowed);
+
+/// Whether the coloured kernel runs on AVX-512: use_avx2(), the CPU has AVX-512 F, DQ and VL,
+/// and neither CDPOWDER_KERNEL_ISA=avx2 (or sse2) nor allow_isa keeps it on AVX2.
+bool use_avx512();
+
+/// The instruction sets of the lane loops, narrowest first.
+enum class Isa : std::uint8_t { Sse2, Avx2, Avx512 };
+
+/// Lets the loops use instruction sets up to `widest` where the CPU has them (the default:
+/// Avx512, unless CDPOWDER_KERNEL_ISA says sse2 or avx2); returns whether `widest` is the one
+/// the coloured kernel now uses (false where the CPU lacks it). Every set gives the same bits.
+bool allow_isa(Isa widest);
 
 // A record is a 64-byte line of 8 doubles (a SphereVelocity, a ContactAction); load_rows and
 // store_rows move fields [kFirst, kFirst + kCount) of kLanes records to and from kCount
@@ -153,6 +165,87 @@ CDP_INLINE void store_rows(double* const* rows, const std::array<P, kCount>& in)
   }
 }
 }  // namespace avx2
+
+#pragma GCC pop_options
+#endif
+
+// AVX-512 (8 doubles), for the coloured kernel alone: one register holds two batches of four
+// contacts (coloured_kernel.inc), which doubles the independent work in flight. (GCC only, as
+// AVX2; compiled with avx512f, dq and vl, run where the CPU has all three: use_avx512().)
+#if defined(CDP_HAVE_AVX2)
+#define CDP_HAVE_AVX512 1
+#pragma GCC push_options
+#pragma GCC target("avx2,avx512f,avx512dq,avx512vl")
+
+namespace avx512 {
+using P = double __attribute__((vector_size(64)));
+using M = std::int64_t __attribute__((vector_size(64)));
+constexpr int kLanes = 8;
+
+#include "cdpowder/solver/lane_ops.inc"
+
+CDP_INLINE P vsqrt(P x) {
+  return reinterpret_cast<P>(_mm512_sqrt_pd(reinterpret_cast<__m512d>(x)));
+}
+
+/// every lane of a comparison true
+CDP_INLINE bool all_lanes(M mask) {
+  return _mm512_movepi64_mask(reinterpret_cast<__m512i>(mask)) == 0xFF;
+}
+
+/// lanes 0–3 from lo[0..3], lanes 4–7 from hi[0..3]
+CDP_INLINE P load_halves(const double* lo, const double* hi) {
+  return reinterpret_cast<P>(
+      _mm512_insertf64x4(_mm512_castpd256_pd512(_mm256_loadu_pd(lo)), _mm256_loadu_pd(hi), 1));
+}
+
+/// fields f, f + 1 of records r[0], r[2], r[4], r[6] (or r[1], r[3], …) in the 128-bit lanes
+/// of one register
+CDP_INLINE __m512d four_records(const double* r0, const double* r1, const double* r2,
+                                const double* r3) {
+  __m512d v = _mm512_castpd128_pd512(_mm_load_pd(r0));
+  v = _mm512_insertf64x2(v, _mm_load_pd(r1), 1);
+  v = _mm512_insertf64x2(v, _mm_load_pd(r2), 2);
+  return _mm512_insertf64x2(v, _mm_load_pd(r3), 3);
+}
+
+/// lane l of field f = rows[l][kFirst + f] for f < kCount: fields of eight 64-byte records
+/// side by side, two at a time (kFirst, kCount even; the records 16-byte aligned).
+template <int kFirst, int kCount>
+CDP_INLINE std::array<P, kCount> load_rows(const double* const* rows) {
+  std::array<P, kCount> out{};
+  static_assert(kFirst % 2 == 0 && kCount % 2 == 0);
+  for (int f = 0; f < kCount; f += 2) {
+    const int at = kFirst + f;
+    const __m512d even = four_records(rows[0] + at, rows[2] + at, rows[4] + at, rows[6] + at);
+    const __m512d odd = four_records(rows[1] + at, rows[3] + at, rows[5] + at, rows[7] + at);
+    out[f] = reinterpret_cast<P>(_mm512_unpacklo_pd(even, odd));
+    out[f + 1] = reinterpret_cast<P>(_mm512_unpackhi_pd(even, odd));
+  }
+  return out;
+}
+
+/// rows[l][kFirst + f] = in[f] lane l for f < kCount (load_rows reversed)
+template <int kFirst, int kCount>
+CDP_INLINE void store_rows(double* const* rows, const std::array<P, kCount>& in) {
+  static_assert(kFirst % 2 == 0 && kCount % 2 == 0);
+  for (int f = 0; f < kCount; f += 2) {
+    const int at = kFirst + f;
+    const auto f0 = reinterpret_cast<__m512d>(in[f]);
+    const auto f1 = reinterpret_cast<__m512d>(in[f + 1]);
+    const __m512d even = _mm512_unpacklo_pd(f0, f1);  // records 0, 2, 4, 6
+    const __m512d odd = _mm512_unpackhi_pd(f0, f1);   // records 1, 3, 5, 7
+    _mm_store_pd(rows[0] + at, _mm512_castpd512_pd128(even));
+    _mm_store_pd(rows[2] + at, _mm512_extractf64x2_pd(even, 1));
+    _mm_store_pd(rows[4] + at, _mm512_extractf64x2_pd(even, 2));
+    _mm_store_pd(rows[6] + at, _mm512_extractf64x2_pd(even, 3));
+    _mm_store_pd(rows[1] + at, _mm512_castpd512_pd128(odd));
+    _mm_store_pd(rows[3] + at, _mm512_extractf64x2_pd(odd, 1));
+    _mm_store_pd(rows[5] + at, _mm512_extractf64x2_pd(odd, 2));
+    _mm_store_pd(rows[7] + at, _mm512_extractf64x2_pd(odd, 3));
+  }
+}
+}  // namespace avx512
 
 #pragma GCC pop_options
 #endif
