@@ -120,9 +120,11 @@ inline constexpr std::string_view kThreadsMeaning =
     "same bits for any count; only 2 threads have pieces to share, and a larger count uses 2. "
     "Since the bits do not depend on it, steps go in blocks of 16 on the threads or on the "
     "calling thread alone, whichever took less time per contact update in its last block "
-    "(every 8th block tries the other): when the second core is busy with other work, a run "
-    "falls back to about one thread's speed. The workers spin during a step and for 1 ms after "
-    "it, then sleep (docs/performance.md, \"Two slabs\")";
+    "(every 32nd block tries the other): when the second core is busy with other work, a run "
+    "falls back to about one thread's speed. After a step solved on the threads, the next "
+    "step's detection and building of the local problems run in two halves on them too. The "
+    "workers spin during a step and for 1 ms after it, then sleep (docs/performance.md, \"Two "
+    "slabs\")";
 inline constexpr std::string_view kCaptureRuleMeaning =
     "centre_distance: r_capt is the centre-to-centre distance of two mean spheres, capture at a "
     "surface gap r_capt − (radius_min + radius_max) (needs r_capt ≥ radius_min + radius_max; "

@@ -47,10 +47,6 @@ class ActionCache {
     return cursor_at(pairs_, key);
   }
 
-  [[nodiscard]] std::size_t wall_cursor_at(std::uint64_t key) const {
-    return cursor_at(walls_, key);
-  }
-
   const CachedAction* find_pair(std::size_t& cursor, std::uint64_t key) const {
     return find(pairs_, cursor, key);
   }

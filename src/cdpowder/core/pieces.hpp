@@ -14,7 +14,8 @@ namespace cdpowder {
 class PieceRunner {
  public:
   /// noexcept: a piece that threw would leave another thread writing into the frame of a run
-  /// that is gone, so a throw ends the program instead (no piece may throw)
+  /// that is gone, so a throw ends the program instead (pieces throw nothing but a failed
+  /// allocation of a scratch vector, which keeps its capacity from step to step)
   using Task = void (*)(const void* context, std::uint32_t piece) noexcept;
 
   /// Runs task(context, piece) for piece = 0 … pieces − 1, each exactly once, and returns

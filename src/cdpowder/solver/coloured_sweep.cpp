@@ -2,10 +2,10 @@
 // (coloured_sweep.hpp). The lane arithmetic is solve_pair's, operation for operation
 // (Eigen's 3-vector dot products sum left to right, its cross products are the textbook
 // formula), with the kernel's two branches computed in every lane and selected: the same
-// bits as solve_pair, contact by contact (coloured_kernel.inc). The kernel is compiled twice:
-// for SSE2 (2 lanes per register, the x86-64 baseline without -march flags) and for AVX2
-// (4 lanes), chosen at run time. Neither uses fused multiply-add (-ffp-contract=off), so
-// the results do not depend on the machine.
+// bits as solve_pair, contact by contact (coloured_kernel.inc). The kernel is compiled three
+// times: for SSE2 (2 lanes per register, the x86-64 baseline without -march flags), for AVX2
+// (4 lanes) and for AVX-512 (8 lanes: two batches of a colour), chosen at run time. None uses
+// fused multiply-add (-ffp-contract=off), so the results do not depend on the machine.
 #include "cdpowder/solver/coloured_sweep.hpp"
 
 #include "cdpowder/core/assert.hpp"

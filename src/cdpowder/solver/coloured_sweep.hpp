@@ -114,7 +114,8 @@ bool allow_kernel_isa(lanes::Isa widest);
 
 /// Moves the velocity cache by the pair action changes deltas[k] (pairs stored in colour order,
 /// as during the solve), as apply_pair_action over the pairs in storage order would: the
-/// batches 4 lanes at a time, then the overflow pairs. The same bits.
+/// batches colour by colour, a register of lanes at a time, then the overflow pairs. The same
+/// bits.
 void apply_pair_deltas(const ColouredSweep& sweep, const std::vector<ContactAction>& deltas,
                        const Contacts& contacts, VelocityCache& velocities);
 

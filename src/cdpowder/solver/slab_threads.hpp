@@ -1,4 +1,6 @@
-// slab_threads.hpp — the two slabs of a step (slabs.hpp) on two threads (solver.threads = 2).
+// slab_threads.hpp — the two slabs of a step (slabs.hpp) on two threads (solver.threads = 2),
+// and the PieceRunner (core/pieces.hpp) of the stages around the solve: the halves of the
+// next step's detection and build, and of the commit's measures.
 // A sweep hands out its work in a few pieces that touch no common memory they write: the
 // contacts inside each slab, the two halves of the kinematic rule's pass over the spheres, the
 // two halves of the mixing's passes. Any thread may take any piece (the caller as well as the
