@@ -64,34 +64,45 @@ TEST(ActionCache, AscendingLookupsReturnExactlyTheStoredEntries) {
   EXPECT_EQ(cache.pair_entries().size() + cache.wall_entries().size(), 7U);
 
   // every key of a larger set, ascending: missing keys interleaved, before and after all
-  EXPECT_EQ(cache.find_pair(pair_key(0, 0)), nullptr);
-  expect_entry(cache.find_pair(pair_key(0, 1)), pair_key(0, 1), action_with(1.0), false);
-  EXPECT_EQ(cache.find_pair(pair_key(0, 2)), nullptr);
-  EXPECT_EQ(cache.find_pair(pair_key(0, 5)), nullptr);
-  expect_entry(cache.find_pair(pair_key(0, 7)), pair_key(0, 7), ContactAction{}, true);
-  EXPECT_EQ(cache.find_pair(pair_key(1, 2)), nullptr);
-  expect_entry(cache.find_pair(pair_key(2, 3)), pair_key(2, 3), action_with(-0.5), true);
-  expect_entry(cache.find_pair(pair_key(7, 9)), pair_key(7, 9), action_with(2.0), false);
-  EXPECT_EQ(cache.find_pair(pair_key(7, 10)), nullptr);
-  EXPECT_EQ(cache.find_pair(pair_key(9, 11)), nullptr);
+  std::size_t pairs = 0;
+  std::size_t walls = 0;
+  EXPECT_EQ(cache.find_pair(pairs, pair_key(0, 0)), nullptr);
+  expect_entry(cache.find_pair(pairs, pair_key(0, 1)), pair_key(0, 1), action_with(1.0), false);
+  EXPECT_EQ(cache.find_pair(pairs, pair_key(0, 2)), nullptr);
+  EXPECT_EQ(cache.find_pair(pairs, pair_key(0, 5)), nullptr);
+  expect_entry(cache.find_pair(pairs, pair_key(0, 7)), pair_key(0, 7), ContactAction{}, true);
+  EXPECT_EQ(cache.find_pair(pairs, pair_key(1, 2)), nullptr);
+  expect_entry(cache.find_pair(pairs, pair_key(2, 3)), pair_key(2, 3), action_with(-0.5), true);
+  expect_entry(cache.find_pair(pairs, pair_key(7, 9)), pair_key(7, 9), action_with(2.0), false);
+  EXPECT_EQ(cache.find_pair(pairs, pair_key(7, 10)), nullptr);
+  EXPECT_EQ(cache.find_pair(pairs, pair_key(9, 11)), nullptr);
 
   // walls have their own cursor: unaffected by the pair lookups above
-  expect_entry(cache.find_wall(wall_key(WallKind::Bottom, 1)), wall_key(WallKind::Bottom, 1),
+  expect_entry(cache.find_wall(walls, wall_key(WallKind::Bottom, 1)), wall_key(WallKind::Bottom, 1),
                action_with(3.0), false);
-  EXPECT_EQ(cache.find_wall(wall_key(WallKind::Bottom, 4)), nullptr);
-  EXPECT_EQ(cache.find_wall(wall_key(WallKind::Bottom, 9)), nullptr);
-  expect_entry(cache.find_wall(wall_key(WallKind::Piston, 0)), wall_key(WallKind::Piston, 0),
+  EXPECT_EQ(cache.find_wall(walls, wall_key(WallKind::Bottom, 4)), nullptr);
+  EXPECT_EQ(cache.find_wall(walls, wall_key(WallKind::Bottom, 9)), nullptr);
+  expect_entry(cache.find_wall(walls, wall_key(WallKind::Piston, 0)), wall_key(WallKind::Piston, 0),
                action_with(4.0), true);
-  EXPECT_EQ(cache.find_wall(wall_key(WallKind::Piston, 3)), nullptr);
-  expect_entry(cache.find_wall(wall_key(WallKind::Piston, 4)), wall_key(WallKind::Piston, 4),
+  EXPECT_EQ(cache.find_wall(walls, wall_key(WallKind::Piston, 3)), nullptr);
+  expect_entry(cache.find_wall(walls, wall_key(WallKind::Piston, 4)), wall_key(WallKind::Piston, 4),
                action_with(5.0), false);
 
-  // skipping keys and rewinding: a sparse ascending walk finds the later entries too
-  cache.rewind();
-  expect_entry(cache.find_pair(pair_key(7, 9)), pair_key(7, 9), action_with(2.0), false);
-  EXPECT_EQ(cache.find_wall(wall_key(WallKind::Piston, 1)), nullptr);
-  expect_entry(cache.find_wall(wall_key(WallKind::Piston, 4)), wall_key(WallKind::Piston, 4),
+  // skipping keys with fresh cursors: a sparse ascending walk finds the later entries too
+  pairs = 0;
+  walls = 0;
+  expect_entry(cache.find_pair(pairs, pair_key(7, 9)), pair_key(7, 9), action_with(2.0), false);
+  EXPECT_EQ(cache.find_wall(walls, wall_key(WallKind::Piston, 1)), nullptr);
+  expect_entry(cache.find_wall(walls, wall_key(WallKind::Piston, 4)), wall_key(WallKind::Piston, 4),
                action_with(5.0), false);
+
+  // a cursor started at a key (a second piece's first lookup) finds what one from 0 finds
+  std::size_t from = cache.pair_cursor_at(pair_key(1, 2));
+  EXPECT_EQ(cache.find_pair(from, pair_key(1, 2)), nullptr);
+  expect_entry(cache.find_pair(from, pair_key(2, 3)), pair_key(2, 3), action_with(-0.5), true);
+  from = cache.pair_cursor_at(pair_key(2, 3));
+  expect_entry(cache.find_pair(from, pair_key(2, 3)), pair_key(2, 3), action_with(-0.5), true);
+  EXPECT_EQ(cache.pair_cursor_at(pair_key(9, 11)), cache.pair_entries().size());
 }
 
 TEST(ActionCache, KeysOrderPairsByFirstThenSecondSphereAndWallsByKindThenSphere) {
@@ -171,6 +182,8 @@ TEST(ActionCache, ContactListsOfRealStepsAreSortedAsTheMergeRequires) {
     // linear search finds
     ActionCache cache;
     cache.store(previous);
+    std::size_t pair_cursor = 0;
+    std::size_t wall_cursor = 0;
     for (const PairProblem& p : now.pairs) {
       const ContactAction* stored = nullptr;
       for (std::size_t k = 0; k < previous.pairs.size(); ++k) {
@@ -180,7 +193,7 @@ TEST(ActionCache, ContactListsOfRealStepsAreSortedAsTheMergeRequires) {
           stored = &previous.pair_actions[k];
         }
       }
-      warm_pairs += expect_same(cache.find_pair(pair_key(p.a, p.b)), stored, step);
+      warm_pairs += expect_same(cache.find_pair(pair_cursor, pair_key(p.a, p.b)), stored, step);
     }
     for (const WallProblem& w : now.walls) {
       const ContactAction* stored = nullptr;
@@ -191,7 +204,8 @@ TEST(ActionCache, ContactListsOfRealStepsAreSortedAsTheMergeRequires) {
           stored = &previous.wall_actions[k];
         }
       }
-      warm_walls += expect_same(cache.find_wall(wall_key(w.wall, w.sphere)), stored, step);
+      warm_walls +=
+          expect_same(cache.find_wall(wall_cursor, wall_key(w.wall, w.sphere)), stored, step);
     }
   }
   EXPECT_GT(pairs_seen, 0U);
@@ -222,9 +236,10 @@ TEST(ActionCacheDeathTest, ALookupBelowThePassedEntriesAbortsInDebugBuilds) {
   add_pair(c, 2, 3, action_with(1.0), false);
   ActionCache cache;
   cache.store(c);
-  EXPECT_NE(cache.find_pair(pair_key(2, 3)), nullptr);
+  std::size_t cursor = 0;
+  EXPECT_NE(cache.find_pair(cursor, pair_key(2, 3)), nullptr);
   // (0, 1) is stored but the cursor has passed it: the merge would answer nullptr
-  EXPECT_DEATH(cache.find_pair(pair_key(0, 1)), "lookups not in ascending key order");
+  EXPECT_DEATH(cache.find_pair(cursor, pair_key(0, 1)), "lookups not in ascending key order");
 #endif
 }
 

@@ -80,9 +80,9 @@ TEST(KinematicChange, AFixedSphereCountsOnlyItsTranslation) {
 // loop over the spheres (Eigen's squaredNorm, std::max, the sum in index order).
 TEST(KinematicChange, TheLanesGiveTheBitsOfOneSphereAtATime) {
   const double dt = 0.013;
-  for (const bool avx2 : {false, true}) {
-    if (avx2 && !lanes::allow_avx2(true)) continue;  // no AVX2 here
-    lanes::allow_avx2(avx2);
+  for (const lanes::Isa isa : {lanes::Isa::Sse2, lanes::Isa::Avx2}) {
+    if (!lanes::allow_isa(isa)) continue;  // no AVX2 here
+    const bool avx2 = isa == lanes::Isa::Avx2;
     for (std::size_t n = 1; n <= 9; ++n) {
       VelocityCache cache;
       for (std::size_t i = 0; i < n; ++i) {
@@ -121,7 +121,7 @@ TEST(KinematicChange, TheLanesGiveTheBitsOfOneSphereAtATime) {
           << n << " spheres, avx2 " << avx2;
     }
   }
-  lanes::allow_avx2(true);
+  lanes::allow_isa(lanes::Isa::Avx512);
 }
 
 /// Solves the contact problem of the step after the saved (0,0) compaction front

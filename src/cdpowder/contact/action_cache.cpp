@@ -39,13 +39,11 @@ void ActionCache::store(const Contacts& contacts) {
     if (!cohesive && !is_nonzero(contacts.wall_actions[k])) continue;
     walls_.push_back({wall_key(w.wall, w.sphere), contacts.wall_actions[k], cohesive});
   }
-  rewind();
 }
 
 void ActionCache::restore(std::vector<CachedAction> pairs, std::vector<CachedAction> walls) {
   pairs_ = std::move(pairs);
   walls_ = std::move(walls);
-  rewind();
 }
 
 const CachedAction* ActionCache::find(const std::vector<CachedAction>& entries, std::size_t& cursor,

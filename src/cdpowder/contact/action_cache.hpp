@@ -31,28 +31,21 @@ class ActionCache {
   /// Replaces the cache with the actions of a solved step (pairs and walls, each sorted by key).
   void store(const Contacts& contacts);
 
-  /// Merge-join lookups: call with keys in ascending order within each family.
-  /// Returns nullptr if the contact did not exist in the previous step.
-  const CachedAction* find_pair(std::uint64_t key) { return find(pairs_, pair_cursor_, key); }
-
-  const CachedAction* find_wall(std::uint64_t key) { return find(walls_, wall_cursor_, key); }
-
-  /// Rewinds the merge cursors before a new step's lookups.
-  void rewind() { pair_cursor_ = wall_cursor_ = 0; }
-
-  /// Lookups with a cursor of the caller's, for contacts looked up in pieces side by side:
-  /// a piece starts its cursor at the first entry of its first key (pair_cursor_at) and calls
-  /// with ascending keys. The cache is only read.
-  [[nodiscard]] std::size_t pair_cursor_at(std::uint64_t key) const {
-    return cursor_at(pairs_, key);
-  }
-
+  /// Merge-join lookups: from a cursor of the caller's (0 before a step's first lookup of
+  /// the family), with keys in ascending order within each family; each call moves the
+  /// cursor on. Returns nullptr if the contact did not exist in the previous step. The cache
+  /// is only read, so pieces side by side look up with cursors of their own.
   const CachedAction* find_pair(std::size_t& cursor, std::uint64_t key) const {
     return find(pairs_, cursor, key);
   }
 
   const CachedAction* find_wall(std::size_t& cursor, std::uint64_t key) const {
     return find(walls_, cursor, key);
+  }
+
+  /// The cursor of a piece whose first lookup is `key`: the first entry not below it.
+  [[nodiscard]] std::size_t pair_cursor_at(std::uint64_t key) const {
+    return cursor_at(pairs_, key);
   }
 
   /// The stored entries, each family sorted by key (what a state file saves).
@@ -72,8 +65,6 @@ class ActionCache {
 
   std::vector<CachedAction> pairs_;
   std::vector<CachedAction> walls_;
-  std::size_t pair_cursor_ = 0;
-  std::size_t wall_cursor_ = 0;
 };
 
 }  // namespace cdpowder

@@ -91,8 +91,9 @@ void predict_spheres(const World& world, double dt, std::size_t first, std::size
       s = SphereVelocity{};  // fixed: never moves, absorbs any action
       continue;
     }
-    s.dt_inverse_mass = dt * bodies.inverse_mass[i];
-    s.dt_inverse_inertia = dt * bodies.inverse_inertia[i];
+    const StepResponse response = step_response(bodies, static_cast<BodyIndex>(i), dt);
+    s.dt_inverse_mass = response.dt_inverse_mass;
+    s.dt_inverse_inertia = response.dt_inverse_inertia;
     s.linear =
         bodies.velocity[i] + s.dt_inverse_mass * bodies.external_force[i] + dt * world.gravity;
     s.angular = bodies.angular_velocity[i] + s.dt_inverse_inertia * bodies.external_torque[i];
@@ -235,8 +236,9 @@ void apply_warm_start(const Contacts& contacts, BodyIndex first_owned, BodyIndex
     const ContactAction& action = contacts.pair_actions[k];
     const Vec3 dR = action.normal_force * p.normal + action.tangential_force;
     const Vec3 dT = action.rolling_torque + action.twisting_torque * p.normal;
-    if (owns_a) apply_pair_delta_to_a(p, dR, dT, velocities.spheres[p.a]);
-    if (owns_b) apply_pair_delta_to_b(p, dR, dT, velocities.spheres[p.b]);
+    const Vec3 n_cross_dR = p.normal.cross(dR);
+    if (owns_a) apply_pair_delta_to_a(p, dR, dT, n_cross_dR, velocities.spheres[p.a]);
+    if (owns_b) apply_pair_delta_to_b(p, dR, dT, n_cross_dR, velocities.spheres[p.b]);
   }
   for (std::size_t k = 0; k < contacts.walls.size(); ++k) {
     const WallProblem& w = contacts.walls[k];
@@ -259,8 +261,9 @@ BodyIndex owner_split(const Contacts& contacts, std::size_t sphere_count) {
 
 }  // namespace
 
-void build_local_problems(const World& world, const StepSettings& settings, ActionCache& cache,
-                          Contacts& contacts, VelocityCache& velocities, PieceRunner* pieces) {
+void build_local_problems(const World& world, const StepSettings& settings,
+                          const ActionCache& cache, Contacts& contacts, VelocityCache& velocities,
+                          PieceRunner* pieces) {
   const double dt = settings.solver.dt;
   const std::size_t sphere_count = world.bodies.size();
   velocities.spheres.resize(sphere_count);
@@ -269,7 +272,6 @@ void build_local_problems(const World& world, const StepSettings& settings, Acti
   contacts.pair_cohesive.resize(contacts.pairs.size());
   contacts.wall_actions.resize(contacts.walls.size());
   contacts.wall_cohesive.resize(contacts.walls.size());
-  cache.rewind();
 
   const std::size_t pair_count = contacts.pairs.size();
   if (pieces == nullptr) {

@@ -17,8 +17,8 @@ namespace cdpowder {
 /// With `pieces`, in two halves side by side on the runner's threads: the predicted
 /// velocities and the contacts' records a half each, then the warm start's velocity changes,
 /// each half those of its own spheres in contact order. The same bits as on one thread.
-void build_local_problems(const World& world, const StepSettings& settings, ActionCache& cache,
-                          Contacts& contacts, VelocityCache& velocities,
+void build_local_problems(const World& world, const StepSettings& settings,
+                          const ActionCache& cache, Contacts& contacts, VelocityCache& velocities,
                           PieceRunner* pieces = nullptr);
 
 /// Adds the velocity change that an action on a contact causes to both of its bodies

@@ -273,23 +273,22 @@ using SolveBatches = void (*)(const PairBatch*, std::uint32_t, std::uint32_t, Sp
 using ApplyBatches = void (*)(const PairBatch*, std::uint32_t, std::uint32_t, SphereVelocity*,
                               const ContactAction*);
 
+/// The kernel code `name` for this CPU: AVX-512 where lanes::use_avx512(), else AVX2 or SSE2.
+#if defined(CDP_HAVE_AVX512)
+#define CDP_KERNEL_FOR_CPU(name) (lanes::use_avx512() ? avx512::name : CDP_LANES_FOR_CPU(name))
+#else
+#define CDP_KERNEL_FOR_CPU(name) CDP_LANES_FOR_CPU(name)
+#endif
+
 /// The kernel for this CPU, with torques or without (ColouredSweep::torques).
 SolveBatches batch_kernel(bool torques) {
-#if defined(CDP_HAVE_AVX512)
-  if (lanes::use_avx512()) {
-    return torques ? avx512::solve_batches<true> : avx512::solve_batches<false>;
-  }
-#endif
-  return torques ? CDP_LANES_FOR_CPU(solve_batches<true>) : CDP_LANES_FOR_CPU(solve_batches<false>);
+  return torques ? CDP_KERNEL_FOR_CPU(solve_batches<true>)
+                 : CDP_KERNEL_FOR_CPU(solve_batches<false>);
 }
 
 ApplyBatches apply_kernel(bool torques) {
-#if defined(CDP_HAVE_AVX512)
-  if (lanes::use_avx512()) {
-    return torques ? avx512::apply_batches<true> : avx512::apply_batches<false>;
-  }
-#endif
-  return torques ? CDP_LANES_FOR_CPU(apply_batches<true>) : CDP_LANES_FOR_CPU(apply_batches<false>);
+  return torques ? CDP_KERNEL_FOR_CPU(apply_batches<true>)
+                 : CDP_KERNEL_FOR_CPU(apply_batches<false>);
 }
 
 }  // namespace

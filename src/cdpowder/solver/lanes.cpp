@@ -27,36 +27,28 @@ bool cpu_has_avx512() {
 #endif
 }
 
-/// CDPOWDER_KERNEL_ISA=sse2 in the environment keeps the SSE2 loops on an AVX2 machine, and
-/// =avx2 the AVX2 kernel on an AVX-512 machine
-bool avx2_allowed = [] {
+/// The widest set the loops may use: CDPOWDER_KERNEL_ISA=sse2 (or avx2) in the environment
+/// keeps the loops on SSE2 (or the coloured kernel on AVX2) on a machine with wider vectors.
+Isa widest_allowed = [] {
   const char* isa = std::getenv("CDPOWDER_KERNEL_ISA");
-  return isa == nullptr || std::string_view(isa) != "sse2";
-}();
-
-bool avx512_allowed = [] {
-  const char* isa = std::getenv("CDPOWDER_KERNEL_ISA");
-  return isa == nullptr || (std::string_view(isa) != "sse2" && std::string_view(isa) != "avx2");
+  if (isa == nullptr) return Isa::Avx512;
+  if (std::string_view(isa) == "sse2") return Isa::Sse2;
+  if (std::string_view(isa) == "avx2") return Isa::Avx2;
+  return Isa::Avx512;
 }();
 
 }  // namespace
 
 bool use_avx2() {
-  return avx2_allowed && cpu_has_avx2();
-}
-
-bool allow_avx2(bool allowed) {
-  avx2_allowed = allowed;
-  return use_avx2();
+  return widest_allowed >= Isa::Avx2 && cpu_has_avx2();
 }
 
 bool use_avx512() {
-  return avx512_allowed && use_avx2() && cpu_has_avx512();
+  return widest_allowed == Isa::Avx512 && use_avx2() && cpu_has_avx512();
 }
 
 bool allow_isa(Isa widest) {
-  avx2_allowed = widest != Isa::Sse2;
-  avx512_allowed = widest == Isa::Avx512;
+  widest_allowed = widest;
   switch (widest) {
     case Isa::Sse2:
       return true;

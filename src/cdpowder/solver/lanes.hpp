@@ -22,20 +22,16 @@
 
 namespace cdpowder::lanes {
 
-/// Whether the AVX2 loops run: the CPU has AVX2, and neither CDPOWDER_KERNEL_ISA=sse2 in the
-/// environment nor allow_avx2(false) keeps them on SSE2 (to compare the two).
-bool use_avx2();
+/// The instruction sets of the lane loops, narrowest first.
+enum class Isa : std::uint8_t { Sse2, Avx2, Avx512 };
 
-/// Lets the loops use AVX2 where the CPU has it (default), or keeps them on SSE2; returns
-/// use_avx2().
-bool allow_avx2(bool allowed);
+/// Whether the AVX2 loops run: the CPU has AVX2, and neither CDPOWDER_KERNEL_ISA=sse2 in the
+/// environment nor allow_isa(Isa::Sse2) keeps them on SSE2 (to compare the two).
+bool use_avx2();
 
 /// Whether the coloured kernel runs on AVX-512: use_avx2(), the CPU has AVX-512 F, DQ and VL,
 /// and neither CDPOWDER_KERNEL_ISA=avx2 (or sse2) nor allow_isa keeps it on AVX2.
 bool use_avx512();
-
-/// The instruction sets of the lane loops, narrowest first.
-enum class Isa : std::uint8_t { Sse2, Avx2, Avx512 };
 
 /// Lets the loops use instruction sets up to `widest` where the CPU has them (the default:
 /// Avx512, unless CDPOWDER_KERNEL_ISA says sse2 or avx2); returns whether `widest` is the one
