@@ -152,7 +152,8 @@ TEST(Slabs, TheTwoSlabsShareNoSphere) {
       for (std::uint32_t b = sweep.colour_batches[group]; b < sweep.colour_batches[group + 1];
            ++b) {
         for (std::uint32_t l = 0; l < sweep.batches[b].lanes; ++l) {
-          spheres[p].insert({sweep.batches[b].a[l], sweep.batches[b].b[l]});
+          spheres[p].insert({sweep.batches[b].a_row[l] / kRecordDoubles,
+                             sweep.batches[b].b_row[l] / kRecordDoubles});
           ++visits;
         }
       }

@@ -53,34 +53,40 @@ void build_batches(const Contacts& contacts, const VelocityCache& velocities,
                    ColouredSweep& sweep) {
   const PairColouring& colouring = sweep.colouring;
   const std::size_t colours = colouring.colours();
-  // A full batch has every field of every lane written below, so the vector keeps last step's
-  // batches and only a colour's last, partly used batch is cleared first (its unused lanes hold
-  // zeros): clearing and value-initialising every 704-byte batch again cost ≈ 40 instructions
-  // per pair on the paper's fronts.
+  // Every field of every lane is written below, so the vector keeps last step's batches
+  // (clearing and value-initialising every batch again cost ≈ 40 instructions per pair on the
+  // paper's fronts). A colour's last batch may have unused lanes: each repeats a used lane of
+  // the same register pair (lanes 0–1, 2–3; lane 0 where its pair has none), so the kernel
+  // solves that lane's contact twice side by side from the same records and stores the same
+  // bits twice, with neither spare records nor a test per lane. (On SSE2, a register pair with
+  // no used lane is not solved: a repeat there would follow the first solve.)
   std::size_t batch_count = 0;
   for (std::size_t c = 0; c < colours; ++c) {
     batch_count +=
         (colouring.colour_start[c + 1] - colouring.colour_start[c] + kBatchLanes - 1) / kBatchLanes;
   }
   sweep.batches.resize(batch_count);
+  // the records' offsets in PairBatch are 32-bit
+  CDP_ASSERT(contacts.pairs.size() <= UINT32_MAX / kRecordDoubles &&
+                 velocities.spheres.size() <= UINT32_MAX / kRecordDoubles,
+             "records addressable by 32-bit offsets");
   sweep.colour_batches.assign(colours + 1, 0);
   std::size_t next = 0;
   for (std::size_t c = 0; c < colours; ++c) {
     for (std::uint32_t m = colouring.colour_start[c]; m < colouring.colour_start[c + 1];
          m += kBatchLanes) {
       PairBatch& batch = sweep.batches[next++];
-      const std::uint32_t lanes =
-          std::min<std::uint32_t>(kBatchLanes, colouring.colour_start[c + 1] - m);
-      if (lanes < kBatchLanes) batch = PairBatch{};
-      batch.lanes = lanes;
-      for (std::uint32_t l = 0; l < batch.lanes; ++l) {
-        const ContactIndex k = colouring.members[m + l];
+      batch.lanes = std::min<std::uint32_t>(kBatchLanes, colouring.colour_start[c + 1] - m);
+      for (std::uint32_t l = 0; l < kBatchLanes; ++l) {
+        const std::uint32_t pair_first = l & ~std::uint32_t{1};
+        const std::uint32_t lane = l < batch.lanes ? l : (pair_first < batch.lanes ? pair_first : 0);
+        const ContactIndex k = colouring.members[m + lane];
         const PairProblem& p = contacts.pairs[k];
         const SphereVelocity& a = velocities.spheres[p.a];
         const SphereVelocity& b = velocities.spheres[p.b];
-        batch.pair[l] = k;
-        batch.a[l] = p.a;
-        batch.b[l] = p.b;
+        batch.x_row[l] = k * kRecordDoubles;
+        batch.a_row[l] = p.a * kRecordDoubles;
+        batch.b_row[l] = p.b * kRecordDoubles;
         batch.nx[l] = p.normal.x();
         batch.ny[l] = p.normal.y();
         batch.nz[l] = p.normal.z();

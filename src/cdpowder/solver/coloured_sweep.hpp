@@ -33,9 +33,14 @@ enum class Isa : std::uint8_t;  // lanes.hpp
 }  // namespace lanes
 
 inline constexpr int kBatchLanes = 4;
+/// A SphereVelocity and a ContactAction are 8 doubles each (one 64-byte line).
+inline constexpr std::uint32_t kRecordDoubles = 8;
 
 /// kBatchLanes pair contacts of one colour, the frozen data of PairProblem lane by lane.
-/// Unused lanes (the last batch of a colour) hold zeros and touch no sphere.
+/// Unused lanes (of a colour's last batch) repeat a used lane of the same register pair (lanes
+/// 0–1 or 2–3; lane 0 where the pair has none): the kernel then solves that contact twice side
+/// by side from the same records into the same records, the same bits (a repeated store), and
+/// leaves the repeats out of its sums.
 struct alignas(64) PairBatch {
   using Lanes = std::array<double, kBatchLanes>;
   Lanes nx{}, ny{}, nz{};
@@ -45,8 +50,10 @@ struct alignas(64) PairBatch {
   Lanes coupling{};                                    ///< Δt c of pair_mode_block
   Lanes inv_r_sq{};                                    ///< 1/r_eff²
   Lanes mass_a{}, inertia_a{}, mass_b{}, inertia_b{};  ///< Δt/m and Δt/I of both spheres
-  std::array<ContactIndex, kBatchLanes> pair{};
-  std::array<BodyIndex, kBatchLanes> a{}, b{};
+  /// the lanes' records as offsets in doubles (index × kRecordDoubles): action x_row of
+  /// pair_actions, spheres a_row and b_row of the velocity cache (one load and an
+  /// addressing mode per record in the kernel)
+  std::array<std::uint32_t, kBatchLanes> x_row{}, a_row{}, b_row{};
   std::uint32_t lanes = 0;  ///< lanes in use, 1..kBatchLanes
 };
 

@@ -40,7 +40,8 @@ bool allow_isa(Isa widest);
 
 // A record is a 64-byte line of 8 doubles (a SphereVelocity, a ContactAction); load_rows and
 // store_rows move fields [kFirst, kFirst + kCount) of kLanes records to and from kCount
-// registers, lane l holding record l.
+// registers, lane l holding record rows[l] (`rows`: an array of record pointers, or anything
+// that gives lane l's record by rows[l]).
 
 namespace sse2 {
 using P = double __attribute__((vector_size(16)));
@@ -64,8 +65,8 @@ CDP_INLINE bool all_lanes(M mask) {
 
 /// lane l of field f = rows[l][kFirst + f] for f < kCount: fields of two 64-byte records side by
 /// side, read two at a time (kFirst, kCount even; the records 16-byte aligned).
-template <int kFirst, int kCount>
-CDP_INLINE std::array<P, kCount> load_rows(const double* const* rows) {
+template <int kFirst, int kCount, typename Rows>
+CDP_INLINE std::array<P, kCount> load_rows(const Rows& rows) {
   std::array<P, kCount> out{};
   static_assert(kFirst % 2 == 0 && kCount % 2 == 0);
   for (int f = 0; f < kCount; f += 2) {
@@ -83,8 +84,8 @@ CDP_INLINE std::array<P, kCount> load_rows(const double* const* rows) {
 }
 
 /// rows[l][kFirst + f] = in[f] lane l for f < kCount (load_rows reversed)
-template <int kFirst, int kCount>
-CDP_INLINE void store_rows(double* const* rows, const std::array<P, kCount>& in) {
+template <int kFirst, int kCount, typename Rows>
+CDP_INLINE void store_rows(const Rows& rows, const std::array<P, kCount>& in) {
   static_assert(kFirst % 2 == 0 && kCount % 2 == 0);
   for (int f = 0; f < kCount; f += 2) {
 #if defined(__SSE2__)
@@ -128,8 +129,8 @@ CDP_INLINE bool all_lanes(M mask) {
 /// lane l of field f = rows[l][kFirst + f] for f < kCount: fields of four 64-byte records side
 /// by side, two at a time: records 0 and 2 in one register, 1 and 3 in another, interleaved
 /// (kFirst, kCount even; the records 16-byte aligned).
-template <int kFirst, int kCount>
-CDP_INLINE std::array<P, kCount> load_rows(const double* const* rows) {
+template <int kFirst, int kCount, typename Rows>
+CDP_INLINE std::array<P, kCount> load_rows(const Rows& rows) {
   std::array<P, kCount> out{};
   static_assert(kFirst % 2 == 0 && kCount % 2 == 0);
   for (int f = 0; f < kCount; f += 2) {
@@ -146,8 +147,8 @@ CDP_INLINE std::array<P, kCount> load_rows(const double* const* rows) {
 }
 
 /// rows[l][kFirst + f] = in[f] lane l for f < kCount (load_rows reversed)
-template <int kFirst, int kCount>
-CDP_INLINE void store_rows(double* const* rows, const std::array<P, kCount>& in) {
+template <int kFirst, int kCount, typename Rows>
+CDP_INLINE void store_rows(const Rows& rows, const std::array<P, kCount>& in) {
   static_assert(kFirst % 2 == 0 && kCount % 2 == 0);
   for (int f = 0; f < kCount; f += 2) {
     const auto f0 = reinterpret_cast<__m256d>(in[f]);
@@ -207,8 +208,8 @@ CDP_INLINE __m512d four_records(const double* r0, const double* r1, const double
 
 /// lane l of field f = rows[l][kFirst + f] for f < kCount: fields of eight 64-byte records
 /// side by side, two at a time (kFirst, kCount even; the records 16-byte aligned).
-template <int kFirst, int kCount>
-CDP_INLINE std::array<P, kCount> load_rows(const double* const* rows) {
+template <int kFirst, int kCount, typename Rows>
+CDP_INLINE std::array<P, kCount> load_rows(const Rows& rows) {
   std::array<P, kCount> out{};
   static_assert(kFirst % 2 == 0 && kCount % 2 == 0);
   for (int f = 0; f < kCount; f += 2) {
@@ -222,8 +223,8 @@ CDP_INLINE std::array<P, kCount> load_rows(const double* const* rows) {
 }
 
 /// rows[l][kFirst + f] = in[f] lane l for f < kCount (load_rows reversed)
-template <int kFirst, int kCount>
-CDP_INLINE void store_rows(double* const* rows, const std::array<P, kCount>& in) {
+template <int kFirst, int kCount, typename Rows>
+CDP_INLINE void store_rows(const Rows& rows, const std::array<P, kCount>& in) {
   static_assert(kFirst % 2 == 0 && kCount % 2 == 0);
   for (int f = 0; f < kCount; f += 2) {
     const int at = kFirst + f;
