@@ -79,7 +79,8 @@ void build_batches(const Contacts& contacts, const VelocityCache& velocities,
       batch.lanes = std::min<std::uint32_t>(kBatchLanes, colouring.colour_start[c + 1] - m);
       for (std::uint32_t l = 0; l < kBatchLanes; ++l) {
         const std::uint32_t pair_first = l & ~std::uint32_t{1};
-        const std::uint32_t lane = l < batch.lanes ? l : (pair_first < batch.lanes ? pair_first : 0);
+        const std::uint32_t lane =
+            l < batch.lanes ? l : (pair_first < batch.lanes ? pair_first : 0);
         const ContactIndex k = colouring.members[m + lane];
         const PairProblem& p = contacts.pairs[k];
         const SphereVelocity& a = velocities.spheres[p.a];
