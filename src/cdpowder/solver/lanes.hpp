@@ -206,13 +206,63 @@ CDP_INLINE __m512d four_records(const double* r0, const double* r1, const double
   return _mm512_insertf64x2(v, _mm_load_pd(r3), 3);
 }
 
+/// lanes 0–7 of t0, t2 (or t1, t3) in the order of the records: [a0 a1 b0 b1 a4 a5 b4 b5]
+/// (kSecond false) or [a2 a3 b2 b3 a6 a7 b6 b7]
+template <bool kSecond>
+CDP_INLINE __m512d pick_pairs(__m512d a, __m512d b) {
+  const __m512i index = kSecond ? _mm512_setr_epi64(2, 3, 10, 11, 6, 7, 14, 15)
+                                : _mm512_setr_epi64(0, 1, 8, 9, 4, 5, 12, 13);
+  return _mm512_permutex2var_pd(a, index, b);
+}
+
+/// Fields [at, at + 4) of the eight records: a 4 × 4 transpose in each half of four registers
+/// that hold records j and j + 4 (twelve shuffles for four fields, against sixteen two fields
+/// at a time).
+template <typename Rows>
+CDP_INLINE void load_four_fields(const Rows& rows, int at, P* out) {
+  std::array<__m512d, 4> r{};  // r[j]: record j's four fields, then record j + 4's
+  for (int j = 0; j < 4; ++j) {
+    r[j] = _mm512_insertf64x4(_mm512_castpd256_pd512(_mm256_loadu_pd(rows[j] + at)),
+                              _mm256_loadu_pd(rows[j + 4] + at), 1);
+  }
+  const __m512d t0 = _mm512_unpacklo_pd(r[0], r[1]);  // fields 0, 2 of records 0, 1, 4, 5
+  const __m512d t1 = _mm512_unpackhi_pd(r[0], r[1]);  // fields 1, 3
+  const __m512d t2 = _mm512_unpacklo_pd(r[2], r[3]);  // fields 0, 2 of records 2, 3, 6, 7
+  const __m512d t3 = _mm512_unpackhi_pd(r[2], r[3]);
+  out[0] = reinterpret_cast<P>(pick_pairs<false>(t0, t2));
+  out[1] = reinterpret_cast<P>(pick_pairs<false>(t1, t3));
+  out[2] = reinterpret_cast<P>(pick_pairs<true>(t0, t2));
+  out[3] = reinterpret_cast<P>(pick_pairs<true>(t1, t3));
+}
+
+/// load_four_fields reversed
+template <typename Rows>
+CDP_INLINE void store_four_fields(const Rows& rows, int at, const P* in) {
+  const auto f0 = reinterpret_cast<__m512d>(in[0]);
+  const auto f1 = reinterpret_cast<__m512d>(in[1]);
+  const auto f2 = reinterpret_cast<__m512d>(in[2]);
+  const auto f3 = reinterpret_cast<__m512d>(in[3]);
+  const __m512d t0 = pick_pairs<false>(f0, f2);  // fields 0, 2 of records 0, 1, 4, 5
+  const __m512d t1 = pick_pairs<false>(f1, f3);  // fields 1, 3
+  const __m512d t2 = pick_pairs<true>(f0, f2);   // fields 0, 2 of records 2, 3, 6, 7
+  const __m512d t3 = pick_pairs<true>(f1, f3);
+  const std::array<__m512d, 4> r = {_mm512_unpacklo_pd(t0, t1), _mm512_unpackhi_pd(t0, t1),
+                                    _mm512_unpacklo_pd(t2, t3), _mm512_unpackhi_pd(t2, t3)};
+  for (int j = 0; j < 4; ++j) {
+    _mm256_storeu_pd(rows[j] + at, _mm512_castpd512_pd256(r[j]));
+    _mm256_storeu_pd(rows[j + 4] + at, _mm512_extractf64x4_pd(r[j], 1));
+  }
+}
+
 /// lane l of field f = rows[l][kFirst + f] for f < kCount: fields of eight 64-byte records
-/// side by side, two at a time (kFirst, kCount even; the records 16-byte aligned).
+/// side by side, four at a time, then two (kFirst, kCount even; the records 16-byte aligned).
 template <int kFirst, int kCount, typename Rows>
 CDP_INLINE std::array<P, kCount> load_rows(const Rows& rows) {
   std::array<P, kCount> out{};
   static_assert(kFirst % 2 == 0 && kCount % 2 == 0);
-  for (int f = 0; f < kCount; f += 2) {
+  int f = 0;
+  for (; f + 4 <= kCount; f += 4) load_four_fields(rows, kFirst + f, out.data() + f);
+  for (; f < kCount; f += 2) {
     const int at = kFirst + f;
     const __m512d even = four_records(rows[0] + at, rows[2] + at, rows[4] + at, rows[6] + at);
     const __m512d odd = four_records(rows[1] + at, rows[3] + at, rows[5] + at, rows[7] + at);
@@ -226,7 +276,9 @@ CDP_INLINE std::array<P, kCount> load_rows(const Rows& rows) {
 template <int kFirst, int kCount, typename Rows>
 CDP_INLINE void store_rows(const Rows& rows, const std::array<P, kCount>& in) {
   static_assert(kFirst % 2 == 0 && kCount % 2 == 0);
-  for (int f = 0; f < kCount; f += 2) {
+  int f = 0;
+  for (; f + 4 <= kCount; f += 4) store_four_fields(rows, kFirst + f, in.data() + f);
+  for (; f < kCount; f += 2) {
     const int at = kFirst + f;
     const auto f0 = reinterpret_cast<__m512d>(in[f]);
     const auto f1 = reinterpret_cast<__m512d>(in[f + 1]);
