@@ -125,7 +125,7 @@ int main(int argc, char** argv) {
     const ColouredSweep& coloured = work.solver.coloured;
     if (scene.step.solver.kernel == SweepKernel::Coloured) {
       fmt::print("last step: contacts={} colours={} batches={} sequential={} (walls {})\n",
-                 work.contacts.size(), coloured.colours(), coloured.batches.size(),
+                 work.contacts.size(), coloured.colours(), coloured.batches(),
                  coloured.sequential.size(), work.contacts.walls.size());
       // the parts of a step cut into slabs (slabs.hpp): batched pairs + sequential contacts
       const PairColouring& colouring = coloured.colouring;

@@ -64,7 +64,7 @@ void BM_NlgsSweepColoured(benchmark::State& state) {
       static_cast<double>(sweep.sequential.size()) / static_cast<double>(contacts.size());
   state.counters["idle_lanes"] =
       1.0 - static_cast<double>(contacts.pairs.size() - sweep.colouring.overflow.size()) /
-                (static_cast<double>(kBatchLanes) * static_cast<double>(sweep.batches.size()));
+                (static_cast<double>(kBatchLanes) * static_cast<double>(sweep.batches()));
   state.counters["ns_per_update"] = benchmark::Counter(
       static_cast<double>(state.iterations()) * static_cast<double>(contacts.size()),
       benchmark::Counter::kIsRate | benchmark::Counter::kInvert);

@@ -151,9 +151,10 @@ TEST(Slabs, TheTwoSlabsShareNoSphere) {
       }
       for (std::uint32_t b = sweep.colour_batches[group]; b < sweep.colour_batches[group + 1];
            ++b) {
-        for (std::uint32_t l = 0; l < sweep.batches[b].lanes; ++l) {
-          spheres[p].insert({sweep.batches[b].a_row[l] / kRecordDoubles,
-                             sweep.batches[b].b_row[l] / kRecordDoubles});
+        const BatchPair& pair = sweep.batch_pairs[b / 2];
+        for (std::uint32_t l = 0; l < pair.lanes[b % 2]; ++l) {
+          const std::size_t lane = (b % 2) * kBatchLanes + l;
+          spheres[p].insert({pair.a_row[lane] / kRecordDoubles, pair.b_row[lane] / kRecordDoubles});
           ++visits;
         }
       }

@@ -49,65 +49,83 @@ using namespace isa;  // NOLINT(google-build-using-namespace)
 #pragma GCC diagnostic pop
 #endif
 
+namespace {
+
+/// Lane `lane` of `pair`: pair contact k (in colour order) of the step.
+void fill_lane(const Contacts& contacts, const VelocityCache& velocities, ContactIndex k,
+               std::size_t lane, BatchPair& pair) {
+  const PairProblem& p = contacts.pairs[k];
+  const SphereVelocity& a = velocities.spheres[p.a];
+  const SphereVelocity& b = velocities.spheres[p.b];
+  pair.x_row[lane] = k * kRecordDoubles;
+  pair.a_row[lane] = p.a * kRecordDoubles;
+  pair.b_row[lane] = p.b * kRecordDoubles;
+  pair.nx[lane] = p.normal.x();
+  pair.ny[lane] = p.normal.y();
+  pair.nz[lane] = p.normal.z();
+  pair.gap_rate[lane] = p.gap_rate;
+  pair.lever_a[lane] = p.lever_a;
+  pair.lever_b[lane] = p.lever_b;
+  pair.inv_dt_w_n[lane] = p.inv_dt_w_n;
+  pair.inv_dt_w_t[lane] = p.inv_dt_w_t;
+  pair.inv_dt_w_r[lane] = p.inv_dt_w_r;
+  pair.cohesion[lane] = p.cohesion;
+  pair.mu[lane] = p.mu;
+  pair.roll_cap[lane] = p.roll_cap;
+  pair.twist_cap[lane] = p.twist_cap;
+  const detail::ModeBlock block = pair_mode_block(p, a, b);
+  pair.coupling[lane] = block.coupling;
+  pair.inv_r_sq[lane] = block.inv_r_sq;
+  pair.mass_a[lane] = a.dt_inverse_mass;
+  pair.inertia_a[lane] = a.dt_inverse_inertia;
+  pair.mass_b[lane] = b.dt_inverse_mass;
+  pair.inertia_b[lane] = b.dt_inverse_inertia;
+}
+
+}  // namespace
+
 void build_batches(const Contacts& contacts, const VelocityCache& velocities,
                    ColouredSweep& sweep) {
   const PairColouring& colouring = sweep.colouring;
   const std::size_t colours = colouring.colours();
-  // Every field of every lane is written below, so the vector keeps last step's batches
-  // (clearing and value-initialising every batch again cost ≈ 40 instructions per pair on the
-  // paper's fronts). A colour's last batch may have unused lanes: each repeats a used lane of
-  // the same register pair (lanes 0–1, 2–3; lane 0 where its pair has none), so the kernel
-  // solves that lane's contact twice side by side from the same records and stores the same
-  // bits twice, with neither spare records nor a test per lane. (On SSE2, a register pair with
-  // no used lane is not solved: a repeat there would follow the first solve.)
+  // Every field of every lane is written below, so the vector keeps last step's pairs of
+  // batches (clearing and value-initialising them again cost ≈ 40 instructions per pair on the
+  // paper's fronts). Unused lanes and padding batches repeat used lanes (BatchPair); on SSE2 a
+  // register pair of lanes with none in use is not solved, as a repeat there would follow the
+  // first solve.
   std::size_t batch_count = 0;
   for (std::size_t c = 0; c < colours; ++c) {
-    batch_count +=
+    const std::size_t batches =
         (colouring.colour_start[c + 1] - colouring.colour_start[c] + kBatchLanes - 1) / kBatchLanes;
+    batch_count += batches + batches % 2;
   }
-  sweep.batches.resize(batch_count);
-  // the records' offsets in PairBatch are 32-bit
+  sweep.batch_pairs.resize(batch_count / 2);
+  // the records' offsets in BatchPair are 32-bit
   CDP_ASSERT(contacts.pairs.size() <= UINT32_MAX / kRecordDoubles &&
                  velocities.spheres.size() <= UINT32_MAX / kRecordDoubles,
              "records addressable by 32-bit offsets");
   sweep.colour_batches.assign(colours + 1, 0);
   std::size_t next = 0;
   for (std::size_t c = 0; c < colours; ++c) {
-    for (std::uint32_t m = colouring.colour_start[c]; m < colouring.colour_start[c + 1];
-         m += kBatchLanes) {
-      PairBatch& batch = sweep.batches[next++];
-      batch.lanes = std::min<std::uint32_t>(kBatchLanes, colouring.colour_start[c + 1] - m);
+    const std::uint32_t end = colouring.colour_start[c + 1];
+    for (std::uint32_t m = colouring.colour_start[c]; m < end; m += kBatchLanes) {
+      BatchPair& pair = sweep.batch_pairs[next / 2];
+      const std::size_t half = next % 2;
+      ++next;
+      const std::uint32_t lanes = std::min<std::uint32_t>(kBatchLanes, end - m);
+      pair.lanes[half] = lanes;
       for (std::uint32_t l = 0; l < kBatchLanes; ++l) {
         const std::uint32_t pair_first = l & ~std::uint32_t{1};
-        const std::uint32_t lane =
-            l < batch.lanes ? l : (pair_first < batch.lanes ? pair_first : 0);
-        const ContactIndex k = colouring.members[m + lane];
-        const PairProblem& p = contacts.pairs[k];
-        const SphereVelocity& a = velocities.spheres[p.a];
-        const SphereVelocity& b = velocities.spheres[p.b];
-        batch.x_row[l] = k * kRecordDoubles;
-        batch.a_row[l] = p.a * kRecordDoubles;
-        batch.b_row[l] = p.b * kRecordDoubles;
-        batch.nx[l] = p.normal.x();
-        batch.ny[l] = p.normal.y();
-        batch.nz[l] = p.normal.z();
-        batch.gap_rate[l] = p.gap_rate;
-        batch.lever_a[l] = p.lever_a;
-        batch.lever_b[l] = p.lever_b;
-        batch.inv_dt_w_n[l] = p.inv_dt_w_n;
-        batch.inv_dt_w_t[l] = p.inv_dt_w_t;
-        batch.inv_dt_w_r[l] = p.inv_dt_w_r;
-        batch.cohesion[l] = p.cohesion;
-        batch.mu[l] = p.mu;
-        batch.roll_cap[l] = p.roll_cap;
-        batch.twist_cap[l] = p.twist_cap;
-        const detail::ModeBlock block = pair_mode_block(p, a, b);
-        batch.coupling[l] = block.coupling;
-        batch.inv_r_sq[l] = block.inv_r_sq;
-        batch.mass_a[l] = a.dt_inverse_mass;
-        batch.inertia_a[l] = a.dt_inverse_inertia;
-        batch.mass_b[l] = b.dt_inverse_mass;
-        batch.inertia_b[l] = b.dt_inverse_inertia;
+        const std::uint32_t lane = l < lanes ? l : (pair_first < lanes ? pair_first : 0);
+        fill_lane(contacts, velocities, colouring.members[m + lane], half * kBatchLanes + l, pair);
+      }
+    }
+    if (next % 2 != 0) {  // padding: the first batch again, no lane in use
+      BatchPair& pair = sweep.batch_pairs[next / 2];
+      ++next;
+      pair.lanes[1] = 0;
+      for (std::uint32_t l = 0; l < kBatchLanes; ++l) {
+        fill_lane(contacts, velocities, pair.x_row[l] / kRecordDoubles, kBatchLanes + l, pair);
       }
     }
     sweep.colour_batches[c + 1] = static_cast<std::uint32_t>(next);
@@ -275,9 +293,9 @@ bool allow_kernel_isa(lanes::Isa widest) {
 
 namespace {
 
-using SolveBatches = void (*)(const PairBatch*, std::uint32_t, std::uint32_t, SphereVelocity*,
+using SolveBatches = void (*)(const BatchPair*, std::uint32_t, std::uint32_t, SphereVelocity*,
                               ContactAction*, SweepSums&);
-using ApplyBatches = void (*)(const PairBatch*, std::uint32_t, std::uint32_t, SphereVelocity*,
+using ApplyBatches = void (*)(const BatchPair*, std::uint32_t, std::uint32_t, SphereVelocity*,
                               const ContactAction*);
 
 /// The kernel code `name` for this CPU: AVX-512 where lanes::use_avx512(), else AVX2 or SSE2.
@@ -307,7 +325,7 @@ void apply_part_deltas(const ColouredSweep& sweep, std::size_t part,
   const ApplyBatches apply = apply_kernel(sweep.torques);
   const PairColouring& colouring = sweep.colouring;
   for (std::size_t c = colouring.first_colour(part); c < colouring.first_colour(part + 1); ++c) {
-    apply(sweep.batches.data(), sweep.colour_batches[c], sweep.colour_batches[c + 1],
+    apply(sweep.batch_pairs.data(), sweep.colour_batches[c], sweep.colour_batches[c + 1],
           velocities.spheres.data(), deltas.data());
   }
 }
@@ -343,7 +361,7 @@ SweepSums run_coloured_part(Contacts& contacts, VelocityCache& velocities,
       }
       continue;
     }
-    solve(sweep.batches.data(), sweep.colour_batches[group], sweep.colour_batches[group + 1],
+    solve(sweep.batch_pairs.data(), sweep.colour_batches[group], sweep.colour_batches[group + 1],
           spheres, actions, sums);
   }
   return sums;

@@ -32,17 +32,24 @@ namespace lanes {
 enum class Isa : std::uint8_t;  // lanes.hpp
 }  // namespace lanes
 
+/// Contacts in a batch: the unit the colours are cut into, whatever the lane width.
 inline constexpr int kBatchLanes = 4;
+/// Lanes of a BatchPair: two batches.
+inline constexpr int kPairLanes = 2 * kBatchLanes;
 /// A SphereVelocity and a ContactAction are 8 doubles each (one 64-byte line).
 inline constexpr std::uint32_t kRecordDoubles = 8;
 
-/// kBatchLanes pair contacts of one colour, the frozen data of PairProblem lane by lane.
-/// Unused lanes (of a colour's last batch) repeat a used lane of the same register pair (lanes
-/// 0–1 or 2–3; lane 0 where the pair has none): the kernel then solves that contact twice side
-/// by side from the same records into the same records, the same bits (a repeated store), and
-/// leaves the repeats out of its sums.
-struct alignas(64) PairBatch {
-  using Lanes = std::array<double, kBatchLanes>;
+/// Two consecutive batches of kBatchLanes pair contacts of one colour side by side (lanes 0–3
+/// batch 2i, lanes 4–7 batch 2i + 1), the frozen data of PairProblem lane by lane: a field of
+/// both is one register of eight on AVX-512, and a batch's is half of it on SSE2 and AVX2.
+/// A colour starts at a new pair; with an odd number of batches its last pair's second batch
+/// is padding (no lane in use) that repeats the first, lane for lane. Unused lanes of a batch
+/// (a colour's last) repeat a used lane of the same register pair (lanes 0–1 or 2–3; lane 0
+/// where the pair has none). Either way the kernel solves a contact twice side by side from
+/// the same records into the same records, the same bits (a repeated store), and leaves the
+/// repeats out of its sums.
+struct alignas(64) BatchPair {
+  using Lanes = std::array<double, kPairLanes>;
   Lanes nx{}, ny{}, nz{};
   Lanes gap_rate{}, lever_a{}, lever_b{};
   Lanes inv_dt_w_n{}, inv_dt_w_t{}, inv_dt_w_r{};
@@ -53,16 +60,18 @@ struct alignas(64) PairBatch {
   /// the lanes' records as offsets in doubles (index × kRecordDoubles): action x_row of
   /// pair_actions, spheres a_row and b_row of the velocity cache (one load and an
   /// addressing mode per record in the kernel)
-  std::array<std::uint32_t, kBatchLanes> x_row{}, a_row{}, b_row{};
-  std::uint32_t lanes = 0;  ///< lanes in use, 1..kBatchLanes
+  std::array<std::uint32_t, kPairLanes> x_row{}, a_row{}, b_row{};
+  std::array<std::uint32_t, 2> lanes{};  ///< lanes in use of each batch, 0..kBatchLanes
 };
 
 /// The step's colours, batches and group order; reused from step to step.
 struct ColouredSweep {
   PairColouring colouring;
-  std::vector<std::uint64_t> masks;           ///< scratch of the colouring
-  std::vector<PairBatch> batches;             ///< colour by colour
-  std::vector<std::uint32_t> colour_batches;  ///< colour c: batches [cb[c], cb[c + 1])
+  std::vector<std::uint64_t> masks;  ///< scratch of the colouring
+  /// colour by colour; batch i is half i % 2 of batch_pairs[i / 2]
+  std::vector<BatchPair> batch_pairs;
+  /// colour c: batches [cb[c], cb[c + 1]), cb[c] even (with its padding batch, if any)
+  std::vector<std::uint32_t> colour_batches;
   /// part p's overflow pairs, then its walls (n_pairs + w): sequential[ps[p], ps[p + 1])
   std::vector<ContactIndex> sequential;
   std::array<std::uint32_t, kSweepParts + 1> part_sequential{};
@@ -82,6 +91,14 @@ struct ColouredSweep {
   /// non-zero: the kernels then leave the torques alone (they stay +0, the bits are the same)
   bool torques = true;
   std::vector<ContactAction> deltas;  ///< scratch of the mixing: pair action changes
+
+  /// batches with a lane in use (the padding of colours with an odd number left out)
+  [[nodiscard]] std::size_t batches() const {
+    std::size_t count = 0;
+    for (const BatchPair& pair : batch_pairs)
+      count += (pair.lanes[0] > 0 ? 1 : 0) + (pair.lanes[1] > 0 ? 1 : 0);
+    return count;
+  }
 
   [[nodiscard]] std::size_t colours() const {
     return colour_batches.empty() ? 0 : colour_batches.size() - 1;
