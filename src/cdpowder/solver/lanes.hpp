@@ -220,15 +220,19 @@ CDP_INLINE __m512d pick_pairs(__m512d a, __m512d b) {
 /// at a time).
 template <typename Rows>
 CDP_INLINE void load_four_fields(const Rows& rows, int at, P* out) {
-  std::array<__m512d, 4> r{};  // r[j]: record j's four fields, then record j + 4's
-  for (int j = 0; j < 4; ++j) {
-    r[j] = _mm512_insertf64x4(_mm512_castpd256_pd512(_mm256_loadu_pd(rows[j] + at)),
+  // r(j): record j's four fields, then record j + 4's
+  const auto r = [&](int j) {
+    return _mm512_insertf64x4(_mm512_castpd256_pd512(_mm256_loadu_pd(rows[j] + at)),
                               _mm256_loadu_pd(rows[j + 4] + at), 1);
-  }
-  const __m512d t0 = _mm512_unpacklo_pd(r[0], r[1]);  // fields 0, 2 of records 0, 1, 4, 5
-  const __m512d t1 = _mm512_unpackhi_pd(r[0], r[1]);  // fields 1, 3
-  const __m512d t2 = _mm512_unpacklo_pd(r[2], r[3]);  // fields 0, 2 of records 2, 3, 6, 7
-  const __m512d t3 = _mm512_unpackhi_pd(r[2], r[3]);
+  };
+  const __m512d r0 = r(0);
+  const __m512d r1 = r(1);
+  const __m512d r2 = r(2);
+  const __m512d r3 = r(3);
+  const __m512d t0 = _mm512_unpacklo_pd(r0, r1);  // fields 0, 2 of records 0, 1, 4, 5
+  const __m512d t1 = _mm512_unpackhi_pd(r0, r1);  // fields 1, 3
+  const __m512d t2 = _mm512_unpacklo_pd(r2, r3);  // fields 0, 2 of records 2, 3, 6, 7
+  const __m512d t3 = _mm512_unpackhi_pd(r2, r3);
   out[0] = reinterpret_cast<P>(pick_pairs<false>(t0, t2));
   out[1] = reinterpret_cast<P>(pick_pairs<false>(t1, t3));
   out[2] = reinterpret_cast<P>(pick_pairs<true>(t0, t2));
@@ -246,12 +250,15 @@ CDP_INLINE void store_four_fields(const Rows& rows, int at, const P* in) {
   const __m512d t1 = pick_pairs<false>(f1, f3);  // fields 1, 3
   const __m512d t2 = pick_pairs<true>(f0, f2);   // fields 0, 2 of records 2, 3, 6, 7
   const __m512d t3 = pick_pairs<true>(f1, f3);
-  const std::array<__m512d, 4> r = {_mm512_unpacklo_pd(t0, t1), _mm512_unpackhi_pd(t0, t1),
-                                    _mm512_unpacklo_pd(t2, t3), _mm512_unpackhi_pd(t2, t3)};
-  for (int j = 0; j < 4; ++j) {
-    _mm256_storeu_pd(rows[j] + at, _mm512_castpd512_pd256(r[j]));
-    _mm256_storeu_pd(rows[j + 4] + at, _mm512_extractf64x4_pd(r[j], 1));
-  }
+  // record j's four fields, then record j + 4's
+  const auto store_records = [&](int j, __m512d r) {
+    _mm256_storeu_pd(rows[j] + at, _mm512_castpd512_pd256(r));
+    _mm256_storeu_pd(rows[j + 4] + at, _mm512_extractf64x4_pd(r, 1));
+  };
+  store_records(0, _mm512_unpacklo_pd(t0, t1));
+  store_records(1, _mm512_unpackhi_pd(t0, t1));
+  store_records(2, _mm512_unpacklo_pd(t2, t3));
+  store_records(3, _mm512_unpackhi_pd(t2, t3));
 }
 
 /// lane l of field f = rows[l][kFirst + f] for f < kCount: fields of eight 64-byte records
