@@ -19,6 +19,8 @@
 #endif
 
 #define CDP_INLINE [[gnu::always_inline]] inline
+/// a lambda's body inlined where it is called: [&](…) CDP_LAMBDA_INLINE { … }
+#define CDP_LAMBDA_INLINE __attribute__((always_inline))
 
 namespace cdpowder::lanes {
 
