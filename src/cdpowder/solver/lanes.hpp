@@ -192,12 +192,6 @@ CDP_INLINE bool all_lanes(M mask) {
   return _mm512_movepi64_mask(reinterpret_cast<__m512i>(mask)) == 0xFF;
 }
 
-/// lanes 0–3 from lo[0..3], lanes 4–7 from hi[0..3]
-CDP_INLINE P load_halves(const double* lo, const double* hi) {
-  return reinterpret_cast<P>(
-      _mm512_insertf64x4(_mm512_castpd256_pd512(_mm256_loadu_pd(lo)), _mm256_loadu_pd(hi), 1));
-}
-
 /// fields f, f + 1 of records r[0], r[2], r[4], r[6] (or r[1], r[3], …) in the 128-bit lanes
 /// of one register
 CDP_INLINE __m512d four_records(const double* r0, const double* r1, const double* r2,
@@ -208,8 +202,8 @@ CDP_INLINE __m512d four_records(const double* r0, const double* r1, const double
   return _mm512_insertf64x2(v, _mm_load_pd(r3), 3);
 }
 
-/// lanes 0–7 of t0, t2 (or t1, t3) in the order of the records: [a0 a1 b0 b1 a4 a5 b4 b5]
-/// (kSecond false) or [a2 a3 b2 b3 a6 a7 b6 b7]
+/// Pairs of lanes of a and b, interleaved: [a0 a1 b0 b1 a4 a5 b4 b5] (kSecond false) or
+/// [a2 a3 b2 b3 a6 a7 b6 b7], one step of the 4 × 4 transposes below
 template <bool kSecond>
 CDP_INLINE __m512d pick_pairs(__m512d a, __m512d b) {
   const __m512i index = kSecond ? _mm512_setr_epi64(2, 3, 10, 11, 6, 7, 14, 15)
