@@ -175,8 +175,9 @@ Branches branches(const Contacts& c) {
 
 // The greedy colouring (chunks of 256 contacts) in a random order: batches of 4 independent
 // contacts give the bits of the scalar sweep visiting the same contacts one by one in the same
-// sequence. Also without rolling and torsion friction (the (0,0) corner), where the kernel
-// leaves the torques alone (ColouredSweep::torques = false) and the scalar one keeps them +0.
+// sequence, and so do the bottom-wall contacts in their batches. Also without rolling and
+// torsion friction (the (0,0) corner), where the kernel leaves the pairs' torques alone
+// (ColouredSweep::torques = false) and the scalar one keeps them +0.
 TEST(ColouredSweep, FullBatchesEqualTheScalarSweepInTheSameSequence) {
   struct Case {
     double mu_roll, mu_twist;
@@ -188,6 +189,12 @@ TEST(ColouredSweep, FullBatchesEqualTheScalarSweepInTheSameSequence) {
       const double mu_roll = friction.mu_roll;
       SmallPacking packing(mu_roll, friction.mu_twist);
       Contacts scalar = packing.scene.work.contacts;
+      // wall torques of −0, as warm-start caches may hold them: solve_wall writes +0 over them
+      // (and the bottom-wall batches must too, even without the pairs' torques)
+      for (ContactAction& x : scalar.wall_actions) {
+        x.rolling_torque = Vec3(-0.0, -0.0, -0.0);
+        x.twisting_torque = -0.0;
+      }
       VelocityCache scalar_v = packing.scene.work.velocities;
       Contacts coloured = scalar;
       VelocityCache coloured_v = scalar_v;
@@ -196,6 +203,11 @@ TEST(ColouredSweep, FullBatchesEqualTheScalarSweepInTheSameSequence) {
                    sweep.masks);
       build_batches(coloured, coloured_v, sweep);
       sweep.torques = friction.mu_roll > 0.0 || friction.mu_twist > 0.0;
+      // the bottom-wall contacts are solved side by side, in batches of their own
+      const auto [bottom_first, bottom_last] = sweep.bottom_walls[0];
+      ASSERT_GT(bottom_last - bottom_first, 2U * kBatchLanes);
+      ASSERT_EQ(sweep.part_wall_batches[1] - sweep.part_wall_batches[0],
+                2 * sweep.wall_batch_pairs.size());
       ASSERT_GT(sweep.colouring.chunk_colours.size(), 3U);
       ASSERT_GT(sweep.colours(), 6U);
       Rng rng = make_rng(3, RngStream::SweepOrder);

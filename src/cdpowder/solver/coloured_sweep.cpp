@@ -82,6 +82,67 @@ void fill_lane(const Contacts& contacts, const VelocityCache& velocities, Contac
   pair.inertia_b[lane] = b.dt_inverse_inertia;
 }
 
+/// Lane `lane` of `pair`: wall contact w of the step (a bottom-wall contact), with solve_wall's
+/// mode constants.
+void fill_wall_lane(const Contacts& contacts, const VelocityCache& velocities, ContactIndex w,
+                    std::size_t lane, WallBatchPair& pair) {
+  const WallProblem& p = contacts.walls[w];
+  const SphereVelocity& s = velocities.spheres[p.sphere];
+  pair.x_row[lane] = w * kRecordDoubles;
+  pair.s_row[lane] = p.sphere * kRecordDoubles;
+  pair.nx[lane] = p.normal.x();
+  pair.ny[lane] = p.normal.y();
+  pair.nz[lane] = p.normal.z();
+  pair.gap_rate[lane] = p.gap_rate;
+  pair.radius[lane] = p.radius;
+  pair.inv_dt_w_n[lane] = p.inv_dt_w_n;
+  pair.inv_dt_w_t[lane] = p.inv_dt_w_t;
+  pair.inv_dt_w_r[lane] = p.inv_dt_w_r;
+  pair.cohesion[lane] = p.cohesion;
+  pair.mu[lane] = p.mu;
+  pair.roll_cap[lane] = p.roll_cap;
+  pair.twist_cap[lane] = p.twist_cap;
+  pair.coupling[lane] = -p.radius * s.dt_inverse_inertia;
+  pair.inv_r_sq[lane] = detail::torque_scale_sq(p.radius);
+  pair.mass[lane] = s.dt_inverse_mass;
+  pair.inertia[lane] = s.dt_inverse_inertia;
+}
+
+/// Batches (BatchPair or WallBatchPair) in use for `count` contacts, with the padding batch.
+std::size_t batches_for(std::size_t count) {
+  const std::size_t batches = (count + kBatchLanes - 1) / kBatchLanes;
+  return batches + batches % 2;
+}
+
+/// Fills batches next, next + 1, … of `pairs` with contacts member(begin) … member(end − 1),
+/// fill(contact, lane, pair) writing one lane: unused lanes repeat a used lane of their
+/// register pair (lane 0 where it has none), and a padding batch (no lane in use) repeats the
+/// first batch of its pair when the batches are odd in number (BatchPair).
+template <typename Pair, typename Member, typename Fill>
+void fill_batches(std::uint32_t begin, std::uint32_t end, const Member& member, const Fill& fill,
+                  std::vector<Pair>& pairs, std::size_t& next) {
+  for (std::uint32_t m = begin; m < end; m += kBatchLanes) {
+    Pair& pair = pairs[next / 2];
+    const std::size_t half = next % 2;
+    ++next;
+    const std::uint32_t lanes = std::min<std::uint32_t>(kBatchLanes, end - m);
+    pair.lanes[half] = lanes;
+    for (std::uint32_t l = 0; l < kBatchLanes; ++l) {
+      const std::uint32_t pair_first = l & ~std::uint32_t{1};
+      const std::uint32_t lane = l < lanes ? l : (pair_first < lanes ? pair_first : 0);
+      fill(member(m + lane), half * kBatchLanes + l, pair);
+    }
+  }
+  if (next % 2 != 0) {  // padding: the first batch again, no lane in use
+    Pair& pair = pairs[next / 2];
+    ++next;
+    pair.lanes[1] = 0;
+    for (std::uint32_t l = 0; l < kBatchLanes; ++l) {
+      fill(static_cast<ContactIndex>(pair.x_row[l] / kRecordDoubles), kBatchLanes + l, pair);
+    }
+  }
+}
+
 }  // namespace
 
 void build_batches(const Contacts& contacts, const VelocityCache& velocities,
@@ -95,9 +156,7 @@ void build_batches(const Contacts& contacts, const VelocityCache& velocities,
   // first solve.
   std::size_t batch_count = 0;
   for (std::size_t c = 0; c < colours; ++c) {
-    const std::size_t batches =
-        (colouring.colour_start[c + 1] - colouring.colour_start[c] + kBatchLanes - 1) / kBatchLanes;
-    batch_count += batches + batches % 2;
+    batch_count += batches_for(colouring.colour_start[c + 1] - colouring.colour_start[c]);
   }
   sweep.batch_pairs.resize(batch_count / 2);
   // the records' offsets in BatchPair are 32-bit
@@ -106,44 +165,40 @@ void build_batches(const Contacts& contacts, const VelocityCache& velocities,
              "records addressable by 32-bit offsets");
   sweep.colour_batches.assign(colours + 1, 0);
   std::size_t next = 0;
+  const auto fill_pair = [&](ContactIndex k, std::size_t lane, BatchPair& pair) {
+    fill_lane(contacts, velocities, k, lane, pair);
+  };
   for (std::size_t c = 0; c < colours; ++c) {
-    const std::uint32_t end = colouring.colour_start[c + 1];
-    for (std::uint32_t m = colouring.colour_start[c]; m < end; m += kBatchLanes) {
-      BatchPair& pair = sweep.batch_pairs[next / 2];
-      const std::size_t half = next % 2;
-      ++next;
-      const std::uint32_t lanes = std::min<std::uint32_t>(kBatchLanes, end - m);
-      pair.lanes[half] = lanes;
-      for (std::uint32_t l = 0; l < kBatchLanes; ++l) {
-        const std::uint32_t pair_first = l & ~std::uint32_t{1};
-        const std::uint32_t lane = l < lanes ? l : (pair_first < lanes ? pair_first : 0);
-        fill_lane(contacts, velocities, colouring.members[m + lane], half * kBatchLanes + l, pair);
-      }
-    }
-    if (next % 2 != 0) {  // padding: the first batch again, no lane in use
-      BatchPair& pair = sweep.batch_pairs[next / 2];
-      ++next;
-      pair.lanes[1] = 0;
-      for (std::uint32_t l = 0; l < kBatchLanes; ++l) {
-        fill_lane(contacts, velocities, pair.x_row[l] / kRecordDoubles, kBatchLanes + l, pair);
-      }
-    }
+    fill_batches(
+        colouring.colour_start[c], colouring.colour_start[c + 1],
+        [&](std::uint32_t m) { return colouring.members[m]; }, fill_pair, sweep.batch_pairs, next);
     sweep.colour_batches[c + 1] = static_cast<std::uint32_t>(next);
   }
   CDP_ASSERT(next == batch_count, "every batch filled");
-  // part p's sequential group: its overflow pairs, then its wall contacts
+  // part p's sequential group: its overflow pairs, then its wall contacts; of these, the
+  // bottom-wall contacts before the first piston contact go into wall batches
   const auto n_pairs = static_cast<ContactIndex>(contacts.pairs.size());
   sweep.sequential.clear();
   sweep.group_order.clear();
+  std::size_t wall_batch_count = 0;
   for (std::size_t p = 0; p < kSweepParts; ++p) {
     sweep.part_sequential[p] = static_cast<std::uint32_t>(sweep.sequential.size());
     sweep.sequential.insert(sweep.sequential.end(),
                             colouring.overflow.begin() + colouring.part_overflow[p],
                             colouring.overflow.begin() + colouring.part_overflow[p + 1]);
+    const auto bottom_first = static_cast<std::uint32_t>(sweep.sequential.size());
+    std::uint32_t bottom_last = bottom_first;
     for (std::size_t w = 0; w < contacts.walls.size(); ++w) {
       const std::size_t part = sweep.wall_part.empty() ? 0 : sweep.wall_part[w];
-      if (part == p) sweep.sequential.push_back(n_pairs + static_cast<ContactIndex>(w));
+      if (part != p) continue;
+      if (contacts.walls[w].wall == WallKind::Bottom &&
+          bottom_last == static_cast<std::uint32_t>(sweep.sequential.size())) {
+        ++bottom_last;
+      }
+      sweep.sequential.push_back(n_pairs + static_cast<ContactIndex>(w));
     }
+    sweep.bottom_walls[p] = {bottom_first, bottom_last};
+    wall_batch_count += batches_for(bottom_last - bottom_first);
     // the part's colours in storage order, then its sequential group
     sweep.part_groups[p] = static_cast<std::uint32_t>(sweep.group_order.size());
     for (std::uint32_t c = colouring.first_colour(p); c < colouring.first_colour(p + 1); ++c) {
@@ -153,6 +208,21 @@ void build_batches(const Contacts& contacts, const VelocityCache& velocities,
   }
   sweep.part_sequential[kSweepParts] = static_cast<std::uint32_t>(sweep.sequential.size());
   sweep.part_groups[kSweepParts] = static_cast<std::uint32_t>(sweep.group_order.size());
+  // the bottom-wall batches, part by part
+  sweep.wall_batch_pairs.resize(wall_batch_count / 2);
+  const auto fill_wall = [&](ContactIndex w, std::size_t lane, WallBatchPair& pair) {
+    fill_wall_lane(contacts, velocities, w, lane, pair);
+  };
+  std::size_t next_wall = 0;
+  for (std::size_t p = 0; p < kSweepParts; ++p) {
+    sweep.part_wall_batches[p] = static_cast<std::uint32_t>(next_wall);
+    fill_batches(
+        sweep.bottom_walls[p].first, sweep.bottom_walls[p].second,
+        [&](std::uint32_t j) { return sweep.sequential[j] - n_pairs; }, fill_wall,
+        sweep.wall_batch_pairs, next_wall);
+  }
+  sweep.part_wall_batches[kSweepParts] = static_cast<std::uint32_t>(next_wall);
+  CDP_ASSERT(next_wall == wall_batch_count, "every wall batch filled");
 }
 
 namespace {
@@ -297,6 +367,8 @@ using SolveBatches = void (*)(const BatchPair*, std::uint32_t, std::uint32_t, Sp
                               ContactAction*, SweepSums&);
 using ApplyBatches = void (*)(const BatchPair*, std::uint32_t, std::uint32_t, SphereVelocity*,
                               const ContactAction*);
+using SolveWallBatches = void (*)(const WallBatchPair*, std::uint32_t, std::uint32_t,
+                                  SphereVelocity*, ContactAction*, SweepSums&);
 
 /// The kernel code `name` for this CPU: AVX-512 where lanes::use_avx512(), else AVX2 or SSE2.
 #if defined(CDP_HAVE_AVX512)
@@ -309,6 +381,10 @@ using ApplyBatches = void (*)(const BatchPair*, std::uint32_t, std::uint32_t, Sp
 SolveBatches batch_kernel(bool torques) {
   return torques ? CDP_KERNEL_FOR_CPU(solve_batches<true>)
                  : CDP_KERNEL_FOR_CPU(solve_batches<false>);
+}
+
+SolveWallBatches wall_kernel() {
+  return CDP_KERNEL_FOR_CPU(solve_wall_batches);
 }
 
 ApplyBatches apply_kernel(bool torques) {
@@ -355,8 +431,17 @@ SweepSums run_coloured_part(Contacts& contacts, VelocityCache& velocities,
   for (std::uint32_t i = sweep.part_groups[part]; i < sweep.part_groups[part + 1]; ++i) {
     const std::uint32_t group = sweep.group_order[i];
     if (group >= colours) {
+      // overflow pairs, bottom-wall batches, the other wall contacts: in the group's order
       const std::size_t p = group - colours;
-      for (std::uint32_t j = sweep.part_sequential[p]; j < sweep.part_sequential[p + 1]; ++j) {
+      const auto [bottom_first, bottom_last] = sweep.bottom_walls[p];
+      for (std::uint32_t j = sweep.part_sequential[p]; j < bottom_first; ++j) {
+        visit_contact(sweep.sequential[j], contacts, velocities, sums);
+      }
+      if (bottom_first < bottom_last) {
+        wall_kernel()(sweep.wall_batch_pairs.data(), sweep.part_wall_batches[p],
+                      sweep.part_wall_batches[p + 1], spheres, contacts.wall_actions.data(), sums);
+      }
+      for (std::uint32_t j = bottom_last; j < sweep.part_sequential[p + 1]; ++j) {
         visit_contact(sweep.sequential[j], contacts, velocities, sums);
       }
       continue;

@@ -4,7 +4,9 @@
 // in structure-of-arrays form, solved side by side with the same arithmetic per contact as
 // solve_pair: a coloured sweep is an exact reordering of a scalar sweep. Overflow pairs and
 // wall contacts (the piston couples its contacts through one velocity) form one more group,
-// solved one by one with the scalar kernels. A sweep visits the groups in an order drawn from
+// solved one by one with the scalar kernels, except its bottom-wall contacts: no two share a
+// sphere, so they are batched too (WallBatchPair) and solved side by side with solve_wall's
+// arithmetic, in their place in the group. A sweep visits the groups in an order drawn from
 // the sweep-order stream (physics.md §7.1, at the level of colours).
 // When the step is cut into two slabs (slabs.hpp) the contacts come in three parts (inside
 // slab 0, inside slab 1, across the cut), each with its own colours and sequential group; a
@@ -24,6 +26,7 @@
 #include <array>
 #include <cstdint>
 #include <span>
+#include <utility>
 #include <vector>
 
 namespace cdpowder {
@@ -64,6 +67,25 @@ struct alignas(64) BatchPair {
   std::array<std::uint32_t, 2> lanes{};  ///< lanes in use of each batch, 0..kBatchLanes
 };
 
+/// Bottom-wall contacts side by side, as BatchPair holds pairs: WallProblem's frozen data and
+/// its sphere's Δt/m and Δt/I lane by lane, two batches of kBatchLanes, with BatchPair's rules
+/// for unused lanes and padding batches. No two bottom-wall contacts share a sphere (a sphere
+/// has one at most) and the wall does not move, so any of them may be solved side by side. The
+/// fields the modes read have ModeBlock's (and BatchPair's) names.
+struct alignas(64) WallBatchPair {
+  using Lanes = std::array<double, kPairLanes>;
+  Lanes nx{}, ny{}, nz{};
+  Lanes gap_rate{}, radius{};
+  Lanes inv_dt_w_n{}, inv_dt_w_t{}, inv_dt_w_r{};
+  Lanes cohesion{}, mu{}, roll_cap{}, twist_cap{};
+  Lanes coupling{};         ///< −R Δt/I, solve_wall's Δt c
+  Lanes inv_r_sq{};         ///< 1/R²
+  Lanes mass{}, inertia{};  ///< Δt/m and Δt/I of the sphere
+  /// offsets in doubles: action x_row of wall_actions, sphere s_row of the velocity cache
+  std::array<std::uint32_t, kPairLanes> x_row{}, s_row{};
+  std::array<std::uint32_t, 2> lanes{};  ///< lanes in use of each batch, 0..kBatchLanes
+};
+
 /// The step's colours, batches and group order; reused from step to step.
 struct ColouredSweep {
   PairColouring colouring;
@@ -75,6 +97,13 @@ struct ColouredSweep {
   /// part p's overflow pairs, then its walls (n_pairs + w): sequential[ps[p], ps[p + 1])
   std::vector<ContactIndex> sequential;
   std::array<std::uint32_t, kSweepParts + 1> part_sequential{};
+  /// part p's sequential group holds its bottom-wall contacts at sequential[bottom_walls[p].first,
+  /// bottom_walls[p].second), right after its overflow pairs: they are solved side by side as
+  /// wall batches [part_wall_batches[p], part_wall_batches[p + 1]) of wall_batch_pairs (even,
+  /// with padding), the others of the group one by one
+  std::array<std::pair<std::uint32_t, std::uint32_t>, kSweepParts> bottom_walls{};
+  std::vector<WallBatchPair> wall_batch_pairs;
+  std::array<std::uint32_t, kSweepParts + 1> part_wall_batches{};
   /// colours 0..C−1, and C + p = part p's sequential group; part p's groups are
   /// group_order[part_groups[p], part_groups[p + 1])
   std::vector<std::uint32_t> group_order;
