@@ -44,10 +44,12 @@ void flatten_range(const Contacts& contacts, MixedModes modes, std::size_t first
         if (carried<kRolling, kTwisting>(f)) *o++ = a[f];
       }
     };
-    for (std::size_t k = first; k < std::min(last, pairs); ++k) put(contacts.pair_actions[k]);
-    for (std::size_t k = std::max(first, pairs); k < last; ++k) {
-      put(contacts.wall_actions[k - pairs]);
-    }
+    // the actions through pointers held in locals: the vectors' own pointers would be
+    // reloaded after every store through `o`
+    const ContactAction* const pair_actions = contacts.pair_actions.data();
+    const ContactAction* const wall_actions = contacts.wall_actions.data();
+    for (std::size_t k = first; k < std::min(last, pairs); ++k) put(pair_actions[k]);
+    for (std::size_t k = std::max(first, pairs); k < last; ++k) put(wall_actions[k - pairs]);
   });
 }
 

@@ -82,12 +82,15 @@ bool mix_cut_step(const AlignedVector<double>& start, AlignedVector<double>& swe
     constexpr bool kRolling = decltype(rolling)::value;
     constexpr bool kTwisting = decltype(twisting)::value;
     constexpr std::size_t kStride = MixedModes{kRolling, kTwisting}.doubles_per_action();
-    // the mixed actions of contacts [first, last), their pair changes into `deltas`
+    // the mixed actions of contacts [first, last), their pair changes into `deltas` (through
+    // pointers held in locals: the vectors' own pointers would be reloaded after every store)
     const auto take_pairs = [&](std::size_t first, std::size_t last) {
       accelerator.mix(swept.data(), mixed.data(), first * kStride, last * kStride);
+      const double* const mixed_values = mixed.data();
+      ContactAction* const actions = contacts.pair_actions.data();
+      ContactAction* const changes = deltas.data();
       for (std::size_t k = first; k < std::min(last, pairs); ++k) {
-        deltas[k] =
-            take_mixed<kRolling, kTwisting>(mixed.data() + k * kStride, contacts.pair_actions[k]);
+        changes[k] = take_mixed<kRolling, kTwisting>(mixed_values + k * kStride, actions[k]);
       }
     };
     // the rest first, on the caller: it touches spheres of both slabs
