@@ -85,8 +85,11 @@ StepResponse step_response(const Bodies& bodies, BodyIndex i, double dt) {
 void predict_spheres(const World& world, double dt, std::size_t first, std::size_t last,
                      VelocityCache& velocities) {
   const Bodies& bodies = world.bodies;
+  // through a pointer held in a local: the stores into the cache could alias the vectors'
+  // own pointers, which would then be reloaded for every sphere
+  SphereVelocity* const spheres = velocities.spheres.data();
   for (std::size_t i = first; i < last; ++i) {
-    SphereVelocity& s = velocities.spheres[i];
+    SphereVelocity& s = spheres[i];
     if (bodies.fixed[i] != 0) {
       s = SphereVelocity{};  // fixed: never moves, absorbs any action
       continue;
