@@ -390,9 +390,10 @@ void visit_sweep_keys(auto& solver, auto&& visit) {
                  .meaning =
                      "sweep kernel. \"coloured\": the sphere–sphere contacts graph-coloured each "
                      "step and solved in batches of 4 per colour, colours in a random order per "
-                     "step (`visit_order` applies to colours, physics.md §7.1), wall and overflow "
-                     "contacts one by one; \"scalar\": one contact after the other in a "
-                     "permutation of blocks of contacts. Different visiting orders, so different "
+                     "step (`visit_order` applies to colours, physics.md §7.1), bottom-wall "
+                     "contacts in batches of 4 too, overflow and piston contacts one by one; "
+                     "\"scalar\": one contact after the other in a permutation of blocks of "
+                     "contacts. Different visiting orders, so different "
                      "(equally converged) results; \"coloured\" is ≈ 1.2–1.3× faster per sweep "
                      "(docs/performance.md, \"Coloured kernel\")"},
         solver.kernel);

@@ -1,11 +1,11 @@
-// coloured_sweep.cpp — batches of independent pair contacts solved side by side
-// (coloured_sweep.hpp). The lane arithmetic is solve_pair's, operation for operation
-// (Eigen's 3-vector dot products sum left to right, its cross products are the textbook
-// formula), with the kernel's two branches computed in every lane and selected: the same
-// bits as solve_pair, contact by contact (coloured_kernel.inc). The kernel is compiled three
-// times: for SSE2 (2 lanes per register, the x86-64 baseline without -march flags), for AVX2
-// (4 lanes) and for AVX-512 (8 lanes: two batches of a colour), chosen at run time. None uses
-// fused multiply-add (-ffp-contract=off), so the results do not depend on the machine.
+// coloured_sweep.cpp — batches of independent pair contacts, and of bottom-wall contacts,
+// solved side by side (coloured_sweep.hpp). The lane arithmetic is solve_pair's (solve_wall's
+// for the walls), operation for operation (Eigen's 3-vector dot products sum left to right, its
+// cross products are the textbook formula), with the kernel's two branches computed in every
+// lane and selected: the same bits, contact by contact (coloured_kernel.inc). The kernel is
+// compiled three times: for SSE2 (2 lanes per register, the x86-64 baseline without -march flags),
+// for AVX2 (4 lanes) and for AVX-512 (8 lanes: two batches of a colour), chosen at run time. None
+// uses fused multiply-add (-ffp-contract=off), so the results do not depend on the machine.
 #include "cdpowder/solver/coloured_sweep.hpp"
 
 #include "cdpowder/core/assert.hpp"
@@ -161,6 +161,7 @@ void build_batches(const Contacts& contacts, const VelocityCache& velocities,
   sweep.batch_pairs.resize(batch_count / 2);
   // the records' offsets in BatchPair are 32-bit
   CDP_ASSERT(contacts.pairs.size() <= UINT32_MAX / kRecordDoubles &&
+                 contacts.walls.size() <= UINT32_MAX / kRecordDoubles &&
                  velocities.spheres.size() <= UINT32_MAX / kRecordDoubles,
              "records addressable by 32-bit offsets");
   sweep.colour_batches.assign(colours + 1, 0);
@@ -198,6 +199,15 @@ void build_batches(const Contacts& contacts, const VelocityCache& velocities,
       sweep.sequential.push_back(n_pairs + static_cast<ContactIndex>(w));
     }
     sweep.bottom_walls[p] = {bottom_first, bottom_last};
+    // side by side only if no two share a sphere: detection lists them in sphere order, one
+    // per sphere at most (debug builds check it)
+    CDP_ASSERT(std::adjacent_find(sweep.sequential.begin() + bottom_first,
+                                  sweep.sequential.begin() + bottom_last,
+                                  [&](ContactIndex k, ContactIndex next) {
+                                    return contacts.walls[k - n_pairs].sphere >=
+                                           contacts.walls[next - n_pairs].sphere;
+                                  }) == sweep.sequential.begin() + bottom_last,
+               "bottom-wall contacts in increasing sphere order");
     wall_batch_count += batches_for(bottom_last - bottom_first);
     // the part's colours in storage order, then its sequential group
     sweep.part_groups[p] = static_cast<std::uint32_t>(sweep.group_order.size());

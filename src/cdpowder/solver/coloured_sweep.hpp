@@ -117,7 +117,8 @@ struct ColouredSweep {
   std::vector<PairProblem> stored_pairs;
   std::vector<ContactAction> action_scratch;
   /// false when no contact of the step has a rolling or torsion threshold and no torque is
-  /// non-zero: the kernels then leave the torques alone (they stay +0, the bits are the same)
+  /// non-zero: the pair kernels then leave the torques alone (they stay +0, the bits are the
+  /// same); the bottom-wall batches always solve them, as solve_wall does
   bool torques = true;
   std::vector<ContactAction> deltas;  ///< scratch of the mixing: pair action changes
 

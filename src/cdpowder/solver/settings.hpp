@@ -43,10 +43,11 @@ enum class SweepKernel {
   /// the order is a permutation of blocks of contacts.
   Scalar,
   /// Default. Sphere–sphere contacts graph-coloured each step, each colour solved in
-  /// batches of 4 side by side (the same arithmetic per contact); overflow and wall contacts
-  /// one by one; the colours visited in a random order per step (per sweep with
-  /// random_each_sweep, storage order with fixed). Converges differently from "scalar"
-  /// (equally well: the accuracy gate of docs/performance.md) and ≈ 1.3× faster per sweep.
+  /// batches of 4 side by side (the same arithmetic per contact), bottom-wall contacts too;
+  /// overflow and piston contacts one by one; the colours visited in a random order per step
+  /// (per sweep with random_each_sweep, storage order with fixed). Converges differently from
+  /// "scalar" (equally well: the accuracy gate of docs/performance.md) and ≈ 1.3× faster per
+  /// sweep.
   Coloured,
 };
 
