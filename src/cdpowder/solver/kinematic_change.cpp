@@ -1,5 +1,5 @@
 // kinematic_change.cpp — one pass over the spheres after a sweep, in lanes
-// (kinematic_lanes.inc, compiled for SSE2, AVX2 and AVX-512 like the coloured kernel).
+// (kinematic_lanes.inc, compiled for SSE2 and for AVX2 like the coloured kernel).
 #include "cdpowder/solver/kinematic_change.hpp"
 
 #include "cdpowder/solver/lanes.hpp"
@@ -12,30 +12,6 @@ namespace cdpowder {
 
 #define CDP_LANE_CODE "cdpowder/solver/kinematic_lanes.inc"
 #include "cdpowder/solver/lanes_instantiate.inc"
-
-#if defined(CDP_HAVE_AVX512)
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wpsabi"
-// GCC 12 warns of the intrinsics' own _mm512_undefined_pd() operands once they are inlined
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
-#pragma GCC push_options
-#pragma GCC target("avx2,avx512f,avx512dq,avx512vl")
-
-namespace avx512 {
-namespace {
-namespace isa = lanes::avx512;
-using namespace isa;  // NOLINT(google-build-using-namespace)
-#include "cdpowder/solver/kinematic_lanes.inc"
-}  // namespace
-}  // namespace avx512
-
-#pragma GCC pop_options
-#pragma GCC diagnostic pop
-/// The lane code `name` for this CPU: AVX-512 where lanes::use_avx512(), else AVX2 or SSE2.
-#define CDP_PASS_FOR_CPU(name) (lanes::use_avx512() ? avx512::name : CDP_LANES_FOR_CPU(name))
-#else
-#define CDP_PASS_FOR_CPU(name) CDP_LANES_FOR_CPU(name)
-#endif
 
 void KinematicChange::begin_step(const VelocityCache& velocities,
                                  std::span<const std::uint8_t> slab) {
@@ -75,7 +51,7 @@ std::pair<std::size_t, std::size_t> KinematicChange::blocks_of_piece(std::uint32
 
 void KinematicChange::copy_piece(const VelocityCache& velocities, std::uint32_t piece) {
   const auto [first, last] = blocks_of_piece(piece);  // start_ sized by velocities_changed
-  CDP_PASS_FOR_CPU(copy_into)
+  CDP_LANES_FOR_CPU(copy_into)
   (velocities.spheres.data(), velocities.spheres.size(), order_.empty() ? nullptr : order_.data(),
    first, last, start_.data());
 }
@@ -89,7 +65,7 @@ void KinematicChange::velocities_changed(const VelocityCache& velocities) {
 KinematicChange::PieceMotion KinematicChange::measure_piece(const VelocityCache& velocities,
                                                             std::uint32_t piece, bool with_speed) {
   const auto measure =
-      with_speed ? CDP_PASS_FOR_CPU(measure<true>) : CDP_PASS_FOR_CPU(measure<false>);
+      with_speed ? CDP_LANES_FOR_CPU(measure<true>) : CDP_LANES_FOR_CPU(measure<false>);
   const auto [first, last] = blocks_of_piece(piece);
   PieceMotion out;
   measure(velocities.spheres.data(), velocities.spheres.size(),

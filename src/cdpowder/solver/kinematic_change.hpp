@@ -66,17 +66,17 @@ class KinematicChange {
   /// After copy_piece of every piece: V_P* too.
   void copied(const VelocityCache& velocities) { piston_start_ = velocities.piston_velocity; }
 
-  /// Spheres side by side: a block holds eight, field by field (lane l = sphere 8b + l), so
-  /// the pass runs 2 (SSE2), 4 (AVX2) or 8 (AVX-512) lanes at a time (lanes.hpp).
-  static constexpr std::size_t kBlock = 8;
+  /// Spheres side by side: a block holds four, field by field (lane l = sphere 4b + l), so
+  /// the pass runs 2 (SSE2) or 4 (AVX2) lanes at a time (lanes.hpp).
+  static constexpr std::size_t kBlock = 4;
 
   /// Blocks that hold `spheres` spheres.
   static constexpr std::size_t blocks_of(std::size_t spheres) {
     return (spheres + kBlock - 1) / kBlock;
   }
 
-  /// The snapshot of spheres 8b .. 8b + 7 (zeros past the last sphere).
-  struct alignas(64) Block {
+  /// The snapshot of spheres 4b .. 4b + 3 (zeros past the last sphere).
+  struct alignas(32) Block {
     std::array<std::array<double, kBlock>, 3> linear;
     std::array<std::array<double, kBlock>, 3> angular;
   };

@@ -1,8 +1,8 @@
 // lanes.hpp — SIMD lanes for the solver's hot loops over spheres and contacts, once per
 // instruction set: SSE2 (2 doubles per register, the x86-64 baseline) and AVX2 (4 doubles,
-// chosen at run time where the CPU has it, use_avx2()), and for the coloured kernel and the
-// kinematic pass AVX-512 (8 doubles, use_avx512()). A file that vectorises a loop includes its lane
-// code once in each namespace, so all see the same source. No set uses fused multiply-add (no FMA
+// chosen at run time where the CPU has it, use_avx2()), and for the coloured kernel alone
+// AVX-512 (8 doubles, use_avx512()). A file that vectorises a loop includes its lane code once
+// in each namespace, so all see the same source. No set uses fused multiply-add (no FMA
 // intrinsics, and -ffp-contract=off), and every loop built on these gives the same bits on any
 // of them: the results do not depend on the machine.
 #pragma once
@@ -31,9 +31,8 @@ enum class Isa : std::uint8_t { Sse2, Avx2, Avx512 };
 /// environment nor allow_isa(Isa::Sse2) keeps them on SSE2 (to compare the two).
 bool use_avx2();
 
-/// Whether the coloured kernel and the kinematic pass run on AVX-512: use_avx2(), the CPU has
-/// AVX-512 F, DQ and VL, and neither CDPOWDER_KERNEL_ISA=avx2 (or sse2) nor allow_isa keeps
-/// them on AVX2.
+/// Whether the coloured kernel runs on AVX-512: use_avx2(), the CPU has AVX-512 F, DQ and VL,
+/// and neither CDPOWDER_KERNEL_ISA=avx2 (or sse2) nor allow_isa keeps it on AVX2.
 bool use_avx512();
 
 /// Lets the loops use instruction sets up to `widest` where the CPU has them (the default:
@@ -169,9 +168,8 @@ CDP_INLINE void store_rows(const Rows& rows, const std::array<P, kCount>& in) {
 #pragma GCC pop_options
 #endif
 
-// AVX-512 (8 doubles), for the coloured kernel, where one register holds two batches of four
-// contacts (coloured_kernel.inc), which doubles the independent work in flight, and for the
-// kinematic pass over the spheres (kinematic_lanes.inc). (GCC only, as
+// AVX-512 (8 doubles), for the coloured kernel alone: one register holds two batches of four
+// contacts (coloured_kernel.inc), which doubles the independent work in flight. (GCC only, as
 // AVX2; compiled with avx512f, dq and vl, run where the CPU has all three: use_avx512().)
 #if defined(CDP_HAVE_AVX2)
 #define CDP_HAVE_AVX512 1
