@@ -203,9 +203,9 @@ void build_batches(const Contacts& contacts, const VelocityCache& velocities,
     // per sphere at most (debug builds check it)
     CDP_ASSERT(std::adjacent_find(sweep.sequential.begin() + bottom_first,
                                   sweep.sequential.begin() + bottom_last,
-                                  [&](ContactIndex k, ContactIndex next) {
+                                  [&](ContactIndex k, ContactIndex after) {
                                     return contacts.walls[k - n_pairs].sphere >=
-                                           contacts.walls[next - n_pairs].sphere;
+                                           contacts.walls[after - n_pairs].sphere;
                                   }) == sweep.sequential.begin() + bottom_last,
                "bottom-wall contacts in increasing sphere order");
     wall_batch_count += batches_for(bottom_last - bottom_first);
