@@ -135,6 +135,11 @@ int main(int argc, char** argv) {
                              coloured.part_sequential[p + 1] - coloured.part_sequential[p]);
       }
       fmt::print("last step: parts (inside slab 0, inside slab 1, across){}\n", parts);
+      const std::vector<std::uint8_t>& slab = work.solver.slab;
+      if (!slab.empty()) {
+        const auto above = static_cast<std::size_t>(std::count(slab.begin(), slab.end(), 1));
+        fmt::print("last step: spheres in slab 0, slab 1: {}, {}\n", slab.size() - above, above);
+      }
     }
     fmt::print(
         "per step [us]: detect {:.0f}, build {:.0f}, solve {:.0f}, integrate {:.0f}, "

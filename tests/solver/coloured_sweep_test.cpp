@@ -12,6 +12,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstring>
@@ -315,6 +316,91 @@ TEST(ColouredSweep, StoringThePairsInColourOrderChangesNoBit) {
   EXPECT_TRUE(same_bits(in_place.pairs, moved.pairs));
   EXPECT_TRUE(same_bits(in_place.pair_cohesive, moved.pair_cohesive));
   expect_same_state(in_place, in_place_v, moved, moved_v);
+}
+
+/// Each sphere's slab: 1 at or above the median height of the packing, else 0.
+std::vector<std::uint8_t> slabs_at_median(const World& world) {
+  std::vector<double> z;
+  for (const Vec3& p : world.bodies.position) z.push_back(p.z());
+  std::vector<double> sorted = z;
+  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+  const double cut = sorted[sorted.size() / 2];
+  std::vector<std::uint8_t> slab;
+  for (const double h : z) slab.push_back(h >= cut ? 1 : 0);
+  return slab;
+}
+
+// A step with the pairs, walls and slabs of the last keeps its colouring and the batches' rows
+// and fills in only the values: the batches, groups and sweeps of a fresh preparation, bit for
+// bit. A step whose contacts or slabs differ colours afresh.
+TEST(ColouredSweep, AStepWithTheLastStepsContactsReusesItsColouring) {
+  for (const bool cut : {false, true}) {
+    SmallPacking packing(0.1);
+    Contacts contacts = packing.scene.work.contacts;
+    VelocityCache velocities = packing.scene.work.velocities;
+    const std::vector<std::uint8_t> slab =
+        cut ? slabs_at_median(packing.scene.world) : std::vector<std::uint8_t>{};
+    ColouredSweep reused;
+    prepare_coloured_sweep(contacts, velocities, reused, 256, slab);
+    restore_storage_order(contacts, reused);
+    ASSERT_TRUE(reused.built_from.match(contacts.pairs, contacts.walls, slab, 256,
+                                        velocities.spheres.size()));
+    // the next step: the same contacts with other values
+    Rng rng = make_rng(3, RngStream::Deposition);
+    for (PairProblem& p : contacts.pairs) {
+      p.gap_rate = 0.01 * uniform01(rng);
+      p.inv_dt_w_t *= 1.0 + 0.1 * uniform01(rng);
+    }
+    for (WallProblem& w : contacts.walls) w.gap_rate = 0.01 * uniform01(rng);
+    for (SphereVelocity& v : velocities.spheres) {
+      v.linear += Vec3::Constant(0.01 * uniform01(rng));
+      v.dt_inverse_mass *= 0.5;
+    }
+    Contacts fresh_contacts = contacts;
+    VelocityCache fresh_velocities = velocities;
+    ColouredSweep fresh;
+    prepare_coloured_sweep(fresh_contacts, fresh_velocities, fresh, 256, slab);
+    prepare_coloured_sweep(contacts, velocities, reused, 256, slab);
+    ASSERT_EQ(reused.colours(), fresh.colours());
+    EXPECT_TRUE(same_bits(reused.batch_pairs, fresh.batch_pairs));
+    EXPECT_TRUE(same_bits(reused.wall_batch_pairs, fresh.wall_batch_pairs));
+    EXPECT_EQ(reused.colour_batches, fresh.colour_batches);
+    EXPECT_EQ(reused.sequential, fresh.sequential);
+    EXPECT_EQ(reused.storage_index, fresh.storage_index);
+    EXPECT_EQ(reused.cut(), cut);
+    Rng order_a = make_rng(5, RngStream::SweepOrder);
+    Rng order_b = make_rng(5, RngStream::SweepOrder);
+    order_groups(reused, VisitOrder::RandomEachStep, order_a);
+    order_groups(fresh, VisitOrder::RandomEachStep, order_b);
+    ASSERT_EQ(reused.group_order, fresh.group_order);
+    for (int s = 0; s < 3; ++s) {
+      expect_same_sums(run_coloured_sweep(contacts, velocities, reused),
+                       run_coloured_sweep(fresh_contacts, fresh_velocities, fresh));
+    }
+    restore_storage_order(contacts, reused);
+    restore_storage_order(fresh_contacts, fresh);
+    expect_same_state(contacts, velocities, fresh_contacts, fresh_velocities);
+
+    // other slabs, a pair fewer, another wall: not the inputs of the last build
+    const std::size_t spheres = velocities.spheres.size();
+    std::vector<std::uint8_t> other_slab(spheres, 1);
+    EXPECT_FALSE(reused.built_from.match(contacts.pairs, contacts.walls, other_slab, 256, spheres));
+    std::vector<PairProblem> fewer(contacts.pairs.begin(), contacts.pairs.end() - 1);
+    EXPECT_FALSE(reused.built_from.match(fewer, contacts.walls, slab, 256, spheres));
+    std::vector<PairProblem> swapped = contacts.pairs;
+    std::swap(swapped.front().b, swapped.back().b);
+    EXPECT_FALSE(reused.built_from.match(swapped, contacts.walls, slab, 256, spheres));
+    ASSERT_FALSE(contacts.walls.empty());
+    std::vector<WallProblem> walls = contacts.walls;
+    walls.front().wall =
+        walls.front().wall == WallKind::Piston ? WallKind::Bottom : WallKind::Piston;
+    EXPECT_FALSE(reused.built_from.match(contacts.pairs, walls, slab, 256, spheres));
+    EXPECT_FALSE(reused.built_from.match(contacts.pairs, contacts.walls, slab, 512, spheres));
+    EXPECT_TRUE(reused.built_from.match(contacts.pairs, contacts.walls, slab, 256, spheres));
+    // a build by other means (the tests' colourings) is not reused
+    build_batches(contacts, velocities, reused);
+    EXPECT_FALSE(reused.built_from.match(contacts.pairs, contacts.walls, slab, 256, spheres));
+  }
 }
 
 // Whole steps with the coloured kernel converge to forces within the contact laws, with

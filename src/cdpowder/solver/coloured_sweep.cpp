@@ -145,8 +145,70 @@ void fill_batches(std::uint32_t begin, std::uint32_t end, const Member& member, 
 
 }  // namespace
 
+namespace {
+
+std::uint64_t pair_key_of(const PairProblem& p) {
+  return static_cast<std::uint64_t>(p.a) << 32 | p.b;
+}
+
+std::uint64_t wall_key_of(const WallProblem& w) {
+  return static_cast<std::uint64_t>(w.sphere) << 1 | (w.wall == WallKind::Piston ? 1 : 0);
+}
+
+/// The batches' values filled again lane by lane from the step's contacts, each lane from the
+/// contact its row names: what build_batches writes, when the colouring and the rows are those
+/// of its last call.
+void refill_batches(const Contacts& contacts, const VelocityCache& velocities,
+                    ColouredSweep& sweep) {
+  for (BatchPair& pair : sweep.batch_pairs) {
+    for (std::size_t lane = 0; lane < kPairLanes; ++lane) {
+      fill_lane(contacts, velocities, pair.x_row[lane] / kRecordDoubles, lane, pair);
+    }
+  }
+  for (WallBatchPair& pair : sweep.wall_batch_pairs) {
+    for (std::size_t lane = 0; lane < kPairLanes; ++lane) {
+      fill_wall_lane(contacts, velocities, pair.x_row[lane] / kRecordDoubles, lane, pair);
+    }
+  }
+}
+
+}  // namespace
+
+bool ColouringInputs::match(const std::vector<PairProblem>& pairs,
+                            const std::vector<WallProblem>& walls,
+                            std::span<const std::uint8_t> slab, std::size_t chunk,
+                            std::size_t spheres) const {
+  if (!recorded_ || chunk != chunk_ || spheres != spheres_ || pairs.size() != pairs_.size() ||
+      walls.size() != walls_.size() ||
+      !std::equal(slab.begin(), slab.end(), slab_.begin(), slab_.end())) {
+    return false;
+  }
+  for (std::size_t k = 0; k < pairs_.size(); ++k) {
+    if (pair_key_of(pairs[k]) != pairs_[k]) return false;
+  }
+  for (std::size_t w = 0; w < walls_.size(); ++w) {
+    if (wall_key_of(walls[w]) != walls_[w]) return false;
+  }
+  return true;
+}
+
+void ColouringInputs::record(const std::vector<PairProblem>& pairs,
+                             const std::vector<WallProblem>& walls,
+                             std::span<const std::uint8_t> slab, std::size_t chunk,
+                             std::size_t spheres) {
+  pairs_.resize(pairs.size());
+  for (std::size_t k = 0; k < pairs_.size(); ++k) pairs_[k] = pair_key_of(pairs[k]);
+  walls_.resize(walls.size());
+  for (std::size_t w = 0; w < walls_.size(); ++w) walls_[w] = wall_key_of(walls[w]);
+  slab_.assign(slab.begin(), slab.end());
+  chunk_ = chunk;
+  spheres_ = spheres;
+  recorded_ = true;
+}
+
 void build_batches(const Contacts& contacts, const VelocityCache& velocities,
                    ColouredSweep& sweep) {
+  sweep.built_from.forget();
   const PairColouring& colouring = sweep.colouring;
   const std::size_t colours = colouring.colours();
   // Every field of every lane is written below, so the vector keeps last step's pairs of
@@ -288,38 +350,51 @@ void assign_wall_parts(const Contacts& contacts, std::span<const std::uint8_t> s
 void prepare_coloured_sweep(Contacts& contacts, const VelocityCache& velocities,
                             ColouredSweep& sweep, std::size_t chunk,
                             std::span<const std::uint8_t> slab) {
-  // the pairs part by part, each part in storage order (a counting sort)
-  std::array<std::uint32_t, kSweepParts + 1> part_start{};
-  for (const PairProblem& p : contacts.pairs) ++part_start[part_of(p, slab) + 1];
-  for (std::size_t p = 0; p < kSweepParts; ++p) part_start[p + 1] += part_start[p];
-  std::vector<ContactIndex>& order = sweep.part_order;
-  order.resize(contacts.pairs.size());
-  std::array<std::uint32_t, kSweepParts + 1> next = part_start;
-  for (std::size_t k = 0; k < contacts.pairs.size(); ++k) {
-    order[next[part_of(contacts.pairs[k], slab)]++] = static_cast<ContactIndex>(k);
-  }
+  const std::size_t spheres = velocities.spheres.size();
+  const bool same_inputs =
+      sweep.built_from.match(contacts.pairs, contacts.walls, slab, chunk, spheres);
   PairColouring& colouring = sweep.colouring;
-  colour_parts(contacts.pairs, order, part_start, velocities.spheres.size(), kMaxColours, chunk,
-               colouring, sweep.masks);
-  assign_wall_parts(contacts, slab, sweep.wall_part);
-  // store the pairs in the order the batches visit them, overflow last
   std::vector<ContactIndex>& from = sweep.storage_index;
-  from.assign(colouring.members.begin(), colouring.members.end());
-  from.insert(from.end(), colouring.overflow.begin(), colouring.overflow.end());
+  if (!same_inputs) {
+    // the pairs part by part, each part in storage order (a counting sort)
+    std::array<std::uint32_t, kSweepParts + 1> part_start{};
+    for (const PairProblem& p : contacts.pairs) ++part_start[part_of(p, slab) + 1];
+    for (std::size_t p = 0; p < kSweepParts; ++p) part_start[p + 1] += part_start[p];
+    std::vector<ContactIndex>& order = sweep.part_order;
+    order.resize(contacts.pairs.size());
+    std::array<std::uint32_t, kSweepParts + 1> next = part_start;
+    for (std::size_t k = 0; k < contacts.pairs.size(); ++k) {
+      order[next[part_of(contacts.pairs[k], slab)]++] = static_cast<ContactIndex>(k);
+    }
+    colour_parts(contacts.pairs, order, part_start, spheres, kMaxColours, chunk, colouring,
+                 sweep.masks);
+    assign_wall_parts(contacts, slab, sweep.wall_part);
+    // store the pairs in the order the batches visit them, overflow last
+    from.assign(colouring.members.begin(), colouring.members.end());
+    from.insert(from.end(), colouring.overflow.begin(), colouring.overflow.end());
+  }
   // the pairs are only read while they are in colour order: their storage order stays in
   // stored_pairs and comes back by a swap; the cohesion flags are not read by the sweeps and
   // stay in storage order
   gather_into(contacts.pairs, from, sweep.stored_pairs);
   gather_into(contacts.pair_actions, from, sweep.action_scratch);
+  sweep.in_colour_order = true;
+  if (same_inputs) {
+    // the members are colour-order indices already (set below by the build from these inputs)
+    refill_batches(contacts, velocities, sweep);
+    return;
+  }
   std::iota(colouring.members.begin(), colouring.members.end(), ContactIndex{0});
   std::iota(colouring.overflow.begin(), colouring.overflow.end(),
             static_cast<ContactIndex>(colouring.members.size()));
   build_batches(contacts, velocities, sweep);
+  // (the pairs in storage order are in stored_pairs now)
+  sweep.built_from.record(sweep.stored_pairs, contacts.walls, slab, chunk, spheres);
 }
 
 void restore_storage_order(Contacts& contacts, ColouredSweep& sweep) {
+  if (!sweep.in_colour_order) return;  // not prepared
   const std::vector<ContactIndex>& from = sweep.storage_index;
-  if (from.size() != contacts.pairs.size()) return;  // not prepared
   // unchanged by the sweeps, so stored_pairs is still their storage order (debug builds check
   // that the two hold the same pairs)
   CDP_ASSERT(sweep.stored_pairs.size() == from.size() &&
@@ -331,7 +406,7 @@ void restore_storage_order(Contacts& contacts, ColouredSweep& sweep) {
              "the pairs in colour order are the stored pairs");
   contacts.pairs.swap(sweep.stored_pairs);
   scatter_back(contacts.pair_actions, from, sweep.action_scratch);
-  sweep.storage_index.clear();
+  sweep.in_colour_order = false;  // storage_index is kept for the next step's prepare
 }
 
 void order_groups(ColouredSweep& sweep, VisitOrder policy, Rng& rng) {

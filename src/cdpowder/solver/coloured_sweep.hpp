@@ -86,6 +86,35 @@ struct alignas(64) WallBatchPair {
   std::array<std::uint32_t, 2> lanes{};  ///< lanes in use of each batch, 0..kBatchLanes
 };
 
+/// What a step's colouring, storage order and batch rows are built from: the pairs' spheres and
+/// the wall contacts (sphere and wall) in storage order, each sphere's slab, the colouring chunk
+/// and the sphere count. They are a function of these alone, so a step whose inputs match the
+/// last build's (most steps: the candidate lists are reused and contacts seldom open or close
+/// from one step to the next) keeps them and only refills the batches' values: the same bits.
+class ColouringInputs {
+ public:
+  /// Whether the pairs and walls (in storage order), `slab`, `chunk` and `spheres` are those
+  /// recorded.
+  [[nodiscard]] bool match(const std::vector<PairProblem>& pairs,
+                           const std::vector<WallProblem>& walls,
+                           std::span<const std::uint8_t> slab, std::size_t chunk,
+                           std::size_t spheres) const;
+  /// Records them, after a build from them.
+  void record(const std::vector<PairProblem>& pairs, const std::vector<WallProblem>& walls,
+              std::span<const std::uint8_t> slab, std::size_t chunk, std::size_t spheres);
+
+  /// After the colouring or the batches were changed by other means.
+  void forget() { recorded_ = false; }
+
+ private:
+  std::vector<std::uint64_t> pairs_;  ///< a << 32 | b
+  std::vector<std::uint64_t> walls_;  ///< sphere << 1 | 1 for the piston
+  std::vector<std::uint8_t> slab_;
+  std::size_t chunk_ = 0;
+  std::size_t spheres_ = 0;
+  bool recorded_ = false;
+};
+
 /// The step's colours, batches and group order; reused from step to step.
 struct ColouredSweep {
   PairColouring colouring;
@@ -112,6 +141,11 @@ struct ColouredSweep {
   std::vector<std::uint32_t> chunk_order;   ///< scratch of order_groups
   std::vector<ContactIndex> part_order;     ///< scratch: the pairs part by part
   std::vector<ContactIndex> storage_index;  ///< pair i is stored pair storage_index[i] of the step
+  /// whether Contacts holds the pairs in colour order (from prepare_coloured_sweep to
+  /// restore_storage_order)
+  bool in_colour_order = false;
+  /// the inputs of the last build of the colouring, storage_index and the batches' rows
+  ColouringInputs built_from;
   /// the step's pairs in storage order while Contacts holds them in colour order (the sweeps
   /// only read them; restore_storage_order swaps them back)
   std::vector<PairProblem> stored_pairs;
@@ -143,7 +177,9 @@ struct ColouredSweep {
 /// `slab` gives each sphere's slab (slabs.hpp; empty: one part), stores the pairs and their
 /// actions in the order the sweep visits them (so a sweep streams through them;
 /// restore_storage_order undoes it) and builds the batches. The cohesion flags stay in storage
-/// order: nothing reads them until the pairs are back.
+/// order: nothing reads them until the pairs are back. When the pairs, walls and slabs are the
+/// last build's (ColouringInputs), the colouring and the batches' rows are kept and only the
+/// batches' values are filled again.
 void prepare_coloured_sweep(Contacts& contacts, const VelocityCache& velocities,
                             ColouredSweep& sweep, std::size_t chunk = kColourChunk,
                             std::span<const std::uint8_t> slab = {});
@@ -153,7 +189,7 @@ void prepare_coloured_sweep(Contacts& contacts, const VelocityCache& velocities,
 void restore_storage_order(Contacts& contacts, ColouredSweep& sweep);
 
 /// Builds the batches and the sequential groups from sweep.colouring and sweep.wall_part (set
-/// by the caller).
+/// by the caller). The next prepare_coloured_sweep colours afresh.
 void build_batches(const Contacts& contacts, const VelocityCache& velocities, ColouredSweep& sweep);
 
 /// Group order, part by part: storage order for VisitOrder::Fixed, else the part's chunks (and
