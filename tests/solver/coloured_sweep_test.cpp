@@ -8,6 +8,7 @@
 #include "cdpowder/solver/build.hpp"
 #include "cdpowder/solver/lanes.hpp"
 #include "cdpowder/solver/nlgs.hpp"
+#include "cdpowder/solver/slab_threads.hpp"
 #include "support/small_packing.hpp"
 
 #include <gtest/gtest.h>
@@ -331,8 +332,9 @@ std::vector<std::uint8_t> slabs_at_median(const World& world) {
 }
 
 // A step with the pairs, walls and slabs of the last keeps its colouring and the batches' rows
-// and fills in only the values: the batches, groups and sweeps of a fresh preparation, bit for
-// bit. A step whose contacts or slabs differ colours afresh.
+// and fills in only the values (part by part, on two threads for a cut step): the batches,
+// groups and sweeps of a fresh preparation, bit for bit. A step whose contacts or slabs differ
+// colours afresh.
 TEST(ColouredSweep, AStepWithTheLastStepsContactsReusesItsColouring) {
   for (const bool cut : {false, true}) {
     SmallPacking packing(0.1);
@@ -360,7 +362,9 @@ TEST(ColouredSweep, AStepWithTheLastStepsContactsReusesItsColouring) {
     VelocityCache fresh_velocities = velocities;
     ColouredSweep fresh;
     prepare_coloured_sweep(fresh_contacts, fresh_velocities, fresh, 256, slab);
-    prepare_coloured_sweep(contacts, velocities, reused, 256, slab);
+    // a cut step's parts refilled on two threads
+    SlabThreads threads(2);
+    prepare_coloured_sweep(contacts, velocities, reused, 256, slab, cut ? &threads : nullptr);
     ASSERT_EQ(reused.colours(), fresh.colours());
     EXPECT_TRUE(same_bits(reused.batch_pairs, fresh.batch_pairs));
     EXPECT_TRUE(same_bits(reused.wall_batch_pairs, fresh.wall_batch_pairs));

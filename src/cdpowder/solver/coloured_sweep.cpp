@@ -9,6 +9,7 @@
 #include "cdpowder/solver/coloured_sweep.hpp"
 
 #include "cdpowder/core/assert.hpp"
+#include "cdpowder/core/pieces.hpp"
 #include "cdpowder/solver/build.hpp"
 #include "cdpowder/solver/lanes.hpp"
 #include "cdpowder/solver/visit_contact.hpp"
@@ -51,10 +52,10 @@ using namespace isa;  // NOLINT(google-build-using-namespace)
 
 namespace {
 
-/// Lane `lane` of `pair`: pair contact k (in colour order) of the step.
-void fill_lane(const Contacts& contacts, const VelocityCache& velocities, ContactIndex k,
-               std::size_t lane, BatchPair& pair) {
-  const PairProblem& p = contacts.pairs[k];
+/// Lane `lane` of `pair`: pair contact k (in colour order) of the step, pairs[k].
+void fill_lane(const std::vector<PairProblem>& pairs, const VelocityCache& velocities,
+               ContactIndex k, std::size_t lane, BatchPair& pair) {
+  const PairProblem& p = pairs[k];
   const SphereVelocity& a = velocities.spheres[p.a];
   const SphereVelocity& b = velocities.spheres[p.b];
   pair.x_row[lane] = k * kRecordDoubles;
@@ -155,17 +156,23 @@ std::uint64_t wall_key_of(const WallProblem& w) {
   return static_cast<std::uint64_t>(w.sphere) << 1 | (w.wall == WallKind::Piston ? 1 : 0);
 }
 
-/// The batches' values filled again lane by lane from the step's contacts, each lane from the
-/// contact its row names: what build_batches writes, when the colouring and the rows are those
-/// of its last call.
-void refill_batches(const Contacts& contacts, const VelocityCache& velocities,
-                    ColouredSweep& sweep) {
-  for (BatchPair& pair : sweep.batch_pairs) {
+/// The values of part p's batches and wall batches filled again lane by lane, each lane from
+/// the contact its row names (pairs in colour order, `pairs`): what build_batches writes, when
+/// the colouring and the rows are those of its last call.
+void refill_part(const std::vector<PairProblem>& pairs, const Contacts& contacts,
+                 const VelocityCache& velocities, std::size_t part, ColouredSweep& sweep) {
+  const PairColouring& colouring = sweep.colouring;
+  const std::uint32_t first = sweep.colour_batches[colouring.first_colour(part)] / 2;
+  const std::uint32_t last = sweep.colour_batches[colouring.first_colour(part + 1)] / 2;
+  for (std::uint32_t i = first; i < last; ++i) {
+    BatchPair& pair = sweep.batch_pairs[i];
     for (std::size_t lane = 0; lane < kPairLanes; ++lane) {
-      fill_lane(contacts, velocities, pair.x_row[lane] / kRecordDoubles, lane, pair);
+      fill_lane(pairs, velocities, pair.x_row[lane] / kRecordDoubles, lane, pair);
     }
   }
-  for (WallBatchPair& pair : sweep.wall_batch_pairs) {
+  for (std::uint32_t i = sweep.part_wall_batches[part] / 2;
+       i < sweep.part_wall_batches[part + 1] / 2; ++i) {
+    WallBatchPair& pair = sweep.wall_batch_pairs[i];
     for (std::size_t lane = 0; lane < kPairLanes; ++lane) {
       fill_wall_lane(contacts, velocities, pair.x_row[lane] / kRecordDoubles, lane, pair);
     }
@@ -229,7 +236,7 @@ void build_batches(const Contacts& contacts, const VelocityCache& velocities,
   sweep.colour_batches.assign(colours + 1, 0);
   std::size_t next = 0;
   const auto fill_pair = [&](ContactIndex k, std::size_t lane, BatchPair& pair) {
-    fill_lane(contacts, velocities, k, lane, pair);
+    fill_lane(contacts.pairs, velocities, k, lane, pair);
   };
   for (std::size_t c = 0; c < colours; ++c) {
     fill_batches(
@@ -349,7 +356,7 @@ void assign_wall_parts(const Contacts& contacts, std::span<const std::uint8_t> s
 
 void prepare_coloured_sweep(Contacts& contacts, const VelocityCache& velocities,
                             ColouredSweep& sweep, std::size_t chunk,
-                            std::span<const std::uint8_t> slab) {
+                            std::span<const std::uint8_t> slab, PieceRunner* pieces) {
   const std::size_t spheres = velocities.spheres.size();
   const bool same_inputs =
       sweep.built_from.match(contacts.pairs, contacts.walls, slab, chunk, spheres);
@@ -376,14 +383,32 @@ void prepare_coloured_sweep(Contacts& contacts, const VelocityCache& velocities,
   // the pairs are only read while they are in colour order: their storage order stays in
   // stored_pairs and comes back by a swap; the cohesion flags are not read by the sweeps and
   // stay in storage order
-  gather_into(contacts.pairs, from, sweep.stored_pairs);
-  gather_into(contacts.pair_actions, from, sweep.action_scratch);
   sweep.in_colour_order = true;
   if (same_inputs) {
-    // the members are colour-order indices already (set below by the build from these inputs)
-    refill_batches(contacts, velocities, sweep);
+    // part by part (on two threads when `pieces` has them): the part's pairs and actions into
+    // colour order (its members, and for the part across the cut also the overflow pairs, are a
+    // range of it), then its batches' values from them; the members are colour-order indices
+    // already (set below by the build from these inputs)
+    std::vector<PairProblem>& pairs = sweep.stored_pairs;
+    std::vector<ContactAction>& actions = sweep.action_scratch;
+    pairs.resize(contacts.pairs.size());
+    actions.resize(contacts.pair_actions.size());
+    run_pieces(pieces, kSweepParts, [&](std::uint32_t part) {
+      const std::size_t first = colouring.first_member(part);
+      const std::size_t last =
+          part + 1 < kSweepParts ? colouring.first_member(part + 1) : contacts.pairs.size();
+      for (std::size_t i = first; i < last; ++i) {
+        pairs[i] = contacts.pairs[from[i]];
+        actions[i] = contacts.pair_actions[from[i]];
+      }
+      refill_part(pairs, contacts, velocities, part, sweep);
+    });
+    contacts.pairs.swap(pairs);
+    contacts.pair_actions.swap(actions);
     return;
   }
+  gather_into(contacts.pairs, from, sweep.stored_pairs);
+  gather_into(contacts.pair_actions, from, sweep.action_scratch);
   std::iota(colouring.members.begin(), colouring.members.end(), ContactIndex{0});
   std::iota(colouring.overflow.begin(), colouring.overflow.end(),
             static_cast<ContactIndex>(colouring.members.size()));

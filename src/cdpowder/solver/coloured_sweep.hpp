@@ -17,6 +17,7 @@
 
 #include "cdpowder/contact/local_problem.hpp"
 #include "cdpowder/contact/velocity_cache.hpp"
+#include "cdpowder/core/pieces.hpp"
 #include "cdpowder/core/rng.hpp"
 #include "cdpowder/solver/colouring.hpp"
 #include "cdpowder/solver/settings.hpp"
@@ -179,10 +180,10 @@ struct ColouredSweep {
 /// restore_storage_order undoes it) and builds the batches. The cohesion flags stay in storage
 /// order: nothing reads them until the pairs are back. When the pairs, walls and slabs are the
 /// last build's (ColouringInputs), the colouring and the batches' rows are kept and only the
-/// batches' values are filled again.
+/// batches' values are filled again, part by part, on the threads of `pieces` if given.
 void prepare_coloured_sweep(Contacts& contacts, const VelocityCache& velocities,
                             ColouredSweep& sweep, std::size_t chunk = kColourChunk,
-                            std::span<const std::uint8_t> slab = {});
+                            std::span<const std::uint8_t> slab = {}, PieceRunner* pieces = nullptr);
 
 /// Puts the pairs and their actions back in storage order (sorted by sphere pair), as the rest
 /// of the step expects them.

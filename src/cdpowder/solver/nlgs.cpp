@@ -212,12 +212,14 @@ SolverStats solve_nlgs(Contacts& contacts, VelocityCache& velocities,
     SlabThreads* threads;
   } park_at_end(pool);
 
-  // the pairs are stored in colour order during the sweeps (and the mixing)
-  prepare_coloured_sweep(contacts, velocities, work.coloured, kColourChunk, slab);
+  // the pairs are stored in colour order during the sweeps (and the mixing); a cut step on the
+  // threads or on this one alone, whichever was faster lately: the same bits
+  const bool threaded_prepare = pool != nullptr && !slab.empty() && work.thread_choice.threaded();
+  prepare_coloured_sweep(contacts, velocities, work.coloured, kColourChunk, slab,
+                         threaded_prepare ? pool : nullptr);
   const MixedModes modes = mixed_modes(contacts);
   work.coloured.torques = modes.rolling || modes.twisting;
   order_groups(work.coloured, settings.visit_order, work.rng);
-  // a cut step on the threads or on this one alone, whichever was faster lately: the same bits
   const bool choose = pool != nullptr && work.coloured.cut();
   const bool threaded = choose && work.thread_choice.threaded();
   const auto start = std::chrono::steady_clock::now();
