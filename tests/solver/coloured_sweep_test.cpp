@@ -47,6 +47,20 @@ void expect_same_sums(const SweepSums& s, const SweepSums& t) {
   EXPECT_EQ(s.closed, t.closed);
 }
 
+/// Both sweeps' groups in the order of one draw, then `sweeps` sweeps of each, their sums
+/// compared sweep by sweep.
+void expect_same_sweeps(Contacts& c, VelocityCache& v, ColouredSweep& a, Contacts& d,
+                        VelocityCache& u, ColouredSweep& b, int sweeps) {
+  Rng rng_a = make_rng(5, RngStream::SweepOrder);
+  Rng rng_b = make_rng(5, RngStream::SweepOrder);
+  order_groups(a, VisitOrder::RandomEachStep, rng_a);
+  order_groups(b, VisitOrder::RandomEachStep, rng_b);
+  ASSERT_EQ(a.group_order, b.group_order);
+  for (int s = 0; s < sweeps; ++s) {
+    expect_same_sums(run_coloured_sweep(c, v, a), run_coloured_sweep(d, u, b));
+  }
+}
+
 void expect_valid_colouring(const PairColouring& colouring, const std::vector<PairProblem>& pairs,
                             int max_colours) {
   ASSERT_FALSE(colouring.chunk_colours.empty());
@@ -304,15 +318,7 @@ TEST(ColouredSweep, StoringThePairsInColourOrderChangesNoBit) {
   prepare_coloured_sweep(moved, moved_v, b, 256);
   ASSERT_EQ(a.colours(), b.colours());
   ASSERT_GT(b.colouring.chunk_colours.size(), 3U);
-  Rng rng_a = make_rng(5, RngStream::SweepOrder);
-  Rng rng_b = make_rng(5, RngStream::SweepOrder);
-  order_groups(a, VisitOrder::RandomEachStep, rng_a);
-  order_groups(b, VisitOrder::RandomEachStep, rng_b);
-  ASSERT_EQ(a.group_order, b.group_order);
-  for (int s = 0; s < 5; ++s) {
-    expect_same_sums(run_coloured_sweep(in_place, in_place_v, a),
-                     run_coloured_sweep(moved, moved_v, b));
-  }
+  expect_same_sweeps(in_place, in_place_v, a, moved, moved_v, b, 5);
   restore_storage_order(moved, b);
   EXPECT_TRUE(same_bits(in_place.pairs, moved.pairs));
   EXPECT_TRUE(same_bits(in_place.pair_cohesive, moved.pair_cohesive));
@@ -372,15 +378,7 @@ TEST(ColouredSweep, AStepWithTheLastStepsContactsReusesItsColouring) {
     EXPECT_EQ(reused.sequential, fresh.sequential);
     EXPECT_EQ(reused.storage_index, fresh.storage_index);
     EXPECT_EQ(reused.cut(), cut);
-    Rng order_a = make_rng(5, RngStream::SweepOrder);
-    Rng order_b = make_rng(5, RngStream::SweepOrder);
-    order_groups(reused, VisitOrder::RandomEachStep, order_a);
-    order_groups(fresh, VisitOrder::RandomEachStep, order_b);
-    ASSERT_EQ(reused.group_order, fresh.group_order);
-    for (int s = 0; s < 3; ++s) {
-      expect_same_sums(run_coloured_sweep(contacts, velocities, reused),
-                       run_coloured_sweep(fresh_contacts, fresh_velocities, fresh));
-    }
+    expect_same_sweeps(contacts, velocities, reused, fresh_contacts, fresh_velocities, fresh, 3);
     restore_storage_order(contacts, reused);
     restore_storage_order(fresh_contacts, fresh);
     expect_same_state(contacts, velocities, fresh_contacts, fresh_velocities);
