@@ -16,10 +16,12 @@ void cut_into_slabs(const std::vector<Vec3>& positions, const Contacts& contacts
   for (std::size_t k = 0; k < pairs.size(); ++k) {
     scratch[k] = 0.5 * (positions[pairs[k].a].z() + positions[pairs[k].b].z());
   }
-  // pairs below the cut p0 so that p0 + w·bottom = (P − p0) + w·piston
-  double walls_above = 0.0;  // piston contacts less bottom-wall contacts
-  for (const WallProblem& w : contacts.walls) walls_above += w.wall == WallKind::Piston ? 1 : -1;
-  const double below = 0.5 * (static_cast<double>(pairs.size()) + kWallVisitCost * walls_above);
+  // pairs below the cut p0 so that p0 + w_b·bottom = (P − p0) + w_p·piston
+  double walls_above = 0.0;  // the piston contacts' visits less the bottom-wall contacts'
+  for (const WallProblem& w : contacts.walls) {
+    walls_above += w.wall == WallKind::Piston ? kPistonVisitCost : -kBottomWallVisitCost;
+  }
+  const double below = 0.5 * (static_cast<double>(pairs.size()) + walls_above);
   const auto rank =
       static_cast<std::ptrdiff_t>(std::clamp(below, 0.0, static_cast<double>(pairs.size() - 1)));
   const auto at = scratch.begin() + rank;

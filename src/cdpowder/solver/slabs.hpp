@@ -20,18 +20,19 @@ namespace cdpowder {
 /// slab_solve.hpp).
 inline constexpr std::size_t kMinPairsToCut = 256;
 
-/// What a wall contact costs a sweep, in pair visits: measured on the paper's (0,0) front at ≈ 3
-/// when every wall contact was solved one at a time by the scalar kernel and the pairs four at
-/// a time. Bottom-wall contacts are now batched too (coloured_sweep.hpp) and cost about one;
-/// the weight stays, since changing it moves the cut and with it the results (the accuracy gate
-/// of docs/performance.md applies).
-inline constexpr double kWallVisitCost = 3.0;
+/// What a wall contact costs a cut step, in pair visits (its visits in the sweeps and its share
+/// of the mixing), timed slab by slab on the paper's fixtures (docs/performance.md, "Colourings
+/// kept from step to step, and the cut retuned"): a bottom-wall contact is batched like the pairs
+/// (coloured_sweep.hpp) and costs about one; the piston's are solved one at a time along the
+/// piston's velocity and cost about three.
+inline constexpr double kBottomWallVisitCost = 1.0;
+inline constexpr double kPistonVisitCost = 3.0;
 
 /// Sets slab[i] ∈ {0, 1} for every sphere: 1 when its height z is at or above the cut, a
 /// mid-height (z_a + z_b)/2 of a pair contact chosen so that the two slabs hold about the same
-/// work: as many pairs below it as above, less kWallVisitCost per bottom-wall contact (slab 0)
-/// and more per piston contact (slab 1). Leaves `slab` empty (one slab, no cut) below
-/// kMinPairsToCut pairs. `scratch` is reused.
+/// work: as many pairs below it as above, less kBottomWallVisitCost per bottom-wall contact
+/// (slab 0) and more kPistonVisitCost per piston contact (slab 1). Leaves `slab` empty (one
+/// slab, no cut) below kMinPairsToCut pairs. `scratch` is reused.
 void cut_into_slabs(const std::vector<Vec3>& positions, const Contacts& contacts,
                     std::vector<std::uint8_t>& slab, std::vector<double>& scratch);
 
