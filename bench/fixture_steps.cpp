@@ -5,7 +5,10 @@
 // With --run-loop the steps go through run_simulation (experiment/run_loop.hpp), so the
 // overhead includes what the loop adds to a step (the undo copy of an adaptive Δt, the
 // blocked-state test); step() alone does not see it.
-//   fixture_steps FILE.cdps --steps N [--run-loop] [--set section.key=value ...]
+// --always-threaded keeps every cut step on the threads with solver.threads = 2, so that a
+// measurement of the threads is not mixed with the blocks the timed choice runs on one thread.
+//   fixture_steps FILE.cdps --steps N [--run-loop] [--always-threaded] [--set section.key=value
+//   ...]
 #include "cdpowder/analysis/porosity.hpp"
 #include "cdpowder/config/scene_reader.hpp"
 #include "cdpowder/experiment/run_loop.hpp"
@@ -93,6 +96,9 @@ int main(int argc, char** argv) {
   cli.add_option("state", file, "state file (.cdps)")->required()->check(CLI::ExistingFile);
   cli.add_option("--steps", steps, "steps to run")->check(CLI::PositiveNumber);
   cli.add_flag("--run-loop", run_loop, "step through run_simulation (adaptive dt, undo copies)");
+  bool always_threaded = false;
+  cli.add_flag("--always-threaded", always_threaded,
+               "with solver.threads = 2, every cut step on the threads (no timed choice)");
   cli.add_option("--set", overrides, "section.key=value override of the saved scene");
   CLI11_PARSE(cli, argc, argv);
   try {
@@ -103,6 +109,7 @@ int main(int argc, char** argv) {
         read_scene_text(saved.scene_toml, file.string(), command_line_overrides(overrides), ".");
     World world;
     StepWorkspace work(scene.step.solver.seed);
+    if (always_threaded) work.solver.thread_choice.always_threaded();
     RunState restored;
     restore_run(std::move(saved), saved_scene.run, saved_scene.step.solver.dt, world, work,
                 restored);

@@ -80,6 +80,16 @@ TEST(ThreadChoice, RunsTheFasterWayAndTriesTheOtherNowAndThen) {
   EXPECT_EQ(threaded_late, 2U);  // only the tries, once the threads' last block was slower
 }
 
+// A choice told to stay on the threads stays there, however slow their blocks.
+TEST(ThreadChoice, AlwaysThreadedIgnoresTheTimes) {
+  ThreadChoice choice;
+  choice.always_threaded();
+  for (std::uint64_t k = 0; k < 4 * ThreadChoice::kTryEvery * ThreadChoice::kBlockSteps; ++k) {
+    EXPECT_TRUE(choice.threaded());
+    choice.record(1.0, 1.0);
+  }
+}
+
 // The cut balances the work of the two slabs (pairs, and wall contacts at kBottomWallVisitCost
 // or kPistonVisitCost each) up to the pairs across it; every sphere on its side of the cut; too few
 // contacts: no cut.

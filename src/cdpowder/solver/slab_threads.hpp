@@ -69,9 +69,18 @@ class ThreadChoice {
   /// Whether this step should run on the threads.
   [[nodiscard]] bool threaded() const { return threaded_; }
 
+  /// Every cut step on the threads from now on, whatever their times: for measurements of the
+  /// threads alone (`fixture_steps --always-threaded`), which the choice would otherwise mix
+  /// with blocks on one thread.
+  void always_threaded() {
+    always_ = true;
+    threaded_ = true;
+  }
+
   /// The time this step took [s] for its contact updates (sweeps × contacts); at the end of a
   /// block, chooses the way of the next.
   void record(double seconds, double updates) {
+    if (always_) return;
     if (updates > 0.0 && seconds >= 0.0) {
       seconds_ += seconds;
       updates_ += updates;
@@ -90,6 +99,7 @@ class ThreadChoice {
 
  private:
   bool threaded_ = true;                ///< the way of the current block
+  bool always_ = false;                 ///< always_threaded()
   std::array<double, 2> per_update_{};  ///< [alone, threads] s per update of its last block
   double seconds_ = 0.0;                ///< of the current block
   double updates_ = 0.0;
