@@ -337,69 +337,109 @@ std::vector<std::uint8_t> slabs_at_median(const World& world) {
   return slab;
 }
 
+/// Prepares a step as the solver does with `reused` (its colouring kept when the inputs are
+/// those of its last build; the parts refilled on `pieces`) and afresh, and expects the same
+/// structure, batches, sweeps and end state; the step's contacts and velocities end restored.
+void expect_same_preparation(Contacts& contacts, VelocityCache& velocities,
+                             const std::vector<std::uint8_t>& slab, ColouredSweep& reused,
+                             PieceRunner* pieces) {
+  Contacts fresh_contacts = contacts;
+  VelocityCache fresh_velocities = velocities;
+  ColouredSweep fresh;
+  prepare_coloured_sweep(fresh_contacts, fresh_velocities, fresh, 256, slab);
+  prepare_coloured_sweep(contacts, velocities, reused, 256, slab, pieces);
+  ASSERT_EQ(reused.colours(), fresh.colours());
+  EXPECT_EQ(reused.colouring.members, fresh.colouring.members);
+  EXPECT_EQ(reused.colouring.colour_start, fresh.colouring.colour_start);
+  EXPECT_EQ(reused.colouring.overflow, fresh.colouring.overflow);
+  EXPECT_EQ(reused.colouring.part_overflow, fresh.colouring.part_overflow);
+  EXPECT_TRUE(same_bits(reused.batch_pairs, fresh.batch_pairs));
+  EXPECT_TRUE(same_bits(reused.wall_batch_pairs, fresh.wall_batch_pairs));
+  EXPECT_EQ(reused.colour_batches, fresh.colour_batches);
+  EXPECT_EQ(reused.sequential, fresh.sequential);
+  EXPECT_EQ(reused.bottom_walls, fresh.bottom_walls);
+  EXPECT_EQ(reused.part_wall_batches, fresh.part_wall_batches);
+  EXPECT_EQ(reused.wall_part, fresh.wall_part);
+  EXPECT_EQ(reused.storage_index, fresh.storage_index);
+  EXPECT_TRUE(same_bits(contacts.pairs, fresh_contacts.pairs));
+  EXPECT_TRUE(same_bits(contacts.pair_actions, fresh_contacts.pair_actions));
+  expect_same_sweeps(contacts, velocities, reused, fresh_contacts, fresh_velocities, fresh, 3);
+  restore_storage_order(contacts, reused);
+  restore_storage_order(fresh_contacts, fresh);
+  expect_same_state(contacts, velocities, fresh_contacts, fresh_velocities);
+}
+
+/// New values for the same contacts: the next step of a packing that moved a little.
+void move_a_little(Contacts& contacts, VelocityCache& velocities, Rng& rng) {
+  for (PairProblem& p : contacts.pairs) {
+    p.normal =
+        (p.normal + 0.01 * Vec3(uniform01(rng), uniform01(rng), uniform01(rng))).normalized();
+    p.gap_rate = 0.01 * uniform01(rng);
+    p.inv_dt_w_t *= 1.0 + 0.1 * uniform01(rng);
+  }
+  for (WallProblem& w : contacts.walls) w.gap_rate = 0.01 * uniform01(rng);
+  for (SphereVelocity& v : velocities.spheres) {
+    v.linear += Vec3::Constant(0.01 * uniform01(rng));
+    v.dt_inverse_mass *= 0.5;
+  }
+}
+
 // A step with the pairs, walls and slabs of the last keeps its colouring and the batches' rows
-// and fills in only the values (part by part, on two threads for a cut step): the batches,
-// groups and sweeps of a fresh preparation, bit for bit. A step whose contacts or slabs differ
-// colours afresh.
+// and fills in only the values (part by part, on two threads for a cut step): the structure,
+// batches, sweeps and end state of a fresh preparation, bit for bit; a step whose pairs, slabs or
+// walls differ is coloured afresh, again as a fresh preparation. With a sphere of many contacts,
+// so that there are overflow pairs.
 TEST(ColouredSweep, AStepWithTheLastStepsContactsReusesItsColouring) {
   for (const bool cut : {false, true}) {
     SmallPacking packing(0.1);
     Contacts contacts = packing.scene.work.contacts;
     VelocityCache velocities = packing.scene.work.velocities;
-    const std::vector<std::uint8_t> slab =
-        cut ? slabs_at_median(packing.scene.world) : std::vector<std::uint8_t>{};
-    ColouredSweep reused;
-    prepare_coloured_sweep(contacts, velocities, reused, 256, slab);
-    restore_storage_order(contacts, reused);
-    ASSERT_TRUE(reused.built_from.match(contacts.pairs, contacts.walls, slab, 256,
-                                        velocities.spheres.size()));
-    // the next step: the same contacts with other values
-    Rng rng = make_rng(3, RngStream::Deposition);
-    for (PairProblem& p : contacts.pairs) {
-      p.gap_rate = 0.01 * uniform01(rng);
-      p.inv_dt_w_t *= 1.0 + 0.1 * uniform01(rng);
-    }
-    for (WallProblem& w : contacts.walls) w.gap_rate = 0.01 * uniform01(rng);
-    for (SphereVelocity& v : velocities.spheres) {
-      v.linear += Vec3::Constant(0.01 * uniform01(rng));
-      v.dt_inverse_mass *= 0.5;
-    }
-    Contacts fresh_contacts = contacts;
-    VelocityCache fresh_velocities = velocities;
-    ColouredSweep fresh;
-    prepare_coloured_sweep(fresh_contacts, fresh_velocities, fresh, 256, slab);
-    // a cut step's parts refilled on two threads
-    SlabThreads threads(2);
-    prepare_coloured_sweep(contacts, velocities, reused, 256, slab, cut ? &threads : nullptr);
-    ASSERT_EQ(reused.colours(), fresh.colours());
-    EXPECT_TRUE(same_bits(reused.batch_pairs, fresh.batch_pairs));
-    EXPECT_TRUE(same_bits(reused.wall_batch_pairs, fresh.wall_batch_pairs));
-    EXPECT_EQ(reused.colour_batches, fresh.colour_batches);
-    EXPECT_EQ(reused.sequential, fresh.sequential);
-    EXPECT_EQ(reused.storage_index, fresh.storage_index);
-    EXPECT_EQ(reused.cut(), cut);
-    expect_same_sweeps(contacts, velocities, reused, fresh_contacts, fresh_velocities, fresh, 3);
-    restore_storage_order(contacts, reused);
-    restore_storage_order(fresh_contacts, fresh);
-    expect_same_state(contacts, velocities, fresh_contacts, fresh_velocities);
-
-    // other slabs, a pair fewer, another wall: not the inputs of the last build
+    // sphere 0 in 40 more (made-up) pairs: more than kMaxColours contacts, so some overflow
     const std::size_t spheres = velocities.spheres.size();
-    std::vector<std::uint8_t> other_slab(spheres, 1);
-    EXPECT_FALSE(reused.built_from.match(contacts.pairs, contacts.walls, other_slab, 256, spheres));
-    std::vector<PairProblem> fewer(contacts.pairs.begin(), contacts.pairs.end() - 1);
-    EXPECT_FALSE(reused.built_from.match(fewer, contacts.walls, slab, 256, spheres));
-    std::vector<PairProblem> swapped = contacts.pairs;
-    std::swap(swapped.front().b, swapped.back().b);
-    EXPECT_FALSE(reused.built_from.match(swapped, contacts.walls, slab, 256, spheres));
+    ASSERT_GT(spheres, 41U);
+    const PairProblem model = contacts.pairs.front();
+    for (BodyIndex b = 1; b <= 40; ++b) {
+      PairProblem p = model;
+      p.a = 0;
+      p.b = b;
+      contacts.pairs.push_back(p);
+      contacts.pair_actions.push_back(contacts.pair_actions.front());
+      contacts.pair_cohesive.push_back(0);
+    }
+    std::vector<std::uint8_t> slab =
+        cut ? slabs_at_median(packing.scene.world) : std::vector<std::uint8_t>{};
+    SlabThreads threads(2);
+    PieceRunner* const pieces = cut ? &threads : nullptr;
+    ColouredSweep reused;
+    expect_same_preparation(contacts, velocities, slab, reused, pieces);
+    EXPECT_FALSE(reused.colouring.overflow.empty());
+    EXPECT_EQ(reused.cut(), cut);
+    ASSERT_TRUE(reused.built_from.match(contacts.pairs, contacts.walls, slab, 256, spheres));
+    Rng rng = make_rng(3, RngStream::Deposition);
+    // the same contacts with other values: the colouring is kept
+    move_a_little(contacts, velocities, rng);
+    expect_same_preparation(contacts, velocities, slab, reused, pieces);
+    // a pair fewer, a wall of another kind, a sphere in the other slab: coloured afresh
+    contacts.pairs.erase(contacts.pairs.begin() + 3);
+    contacts.pair_actions.erase(contacts.pair_actions.begin() + 3);
+    contacts.pair_cohesive.erase(contacts.pair_cohesive.begin() + 3);
+    EXPECT_FALSE(reused.built_from.match(contacts.pairs, contacts.walls, slab, 256, spheres));
+    expect_same_preparation(contacts, velocities, slab, reused, pieces);
     ASSERT_FALSE(contacts.walls.empty());
-    std::vector<WallProblem> walls = contacts.walls;
-    walls.front().wall =
-        walls.front().wall == WallKind::Piston ? WallKind::Bottom : WallKind::Piston;
-    EXPECT_FALSE(reused.built_from.match(contacts.pairs, walls, slab, 256, spheres));
+    WallProblem& wall = contacts.walls.back();
+    wall.wall = wall.wall == WallKind::Piston ? WallKind::Bottom : WallKind::Piston;
+    EXPECT_FALSE(reused.built_from.match(contacts.pairs, contacts.walls, slab, 256, spheres));
+    expect_same_preparation(contacts, velocities, slab, reused, pieces);
+    if (cut) {
+      slab[contacts.pairs[5].a] ^= 1;
+      EXPECT_FALSE(reused.built_from.match(contacts.pairs, contacts.walls, slab, 256, spheres));
+      expect_same_preparation(contacts, velocities, slab, reused, pieces);
+    }
+    move_a_little(contacts, velocities, rng);
+    expect_same_preparation(contacts, velocities, slab, reused, pieces);
+    // another chunk, or a build by other means (the tests' colourings): not the last build
     EXPECT_FALSE(reused.built_from.match(contacts.pairs, contacts.walls, slab, 512, spheres));
     EXPECT_TRUE(reused.built_from.match(contacts.pairs, contacts.walls, slab, 256, spheres));
-    // a build by other means (the tests' colourings) is not reused
     build_batches(contacts, velocities, reused);
     EXPECT_FALSE(reused.built_from.match(contacts.pairs, contacts.walls, slab, 256, spheres));
   }

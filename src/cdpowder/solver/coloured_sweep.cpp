@@ -148,12 +148,14 @@ void fill_batches(std::uint32_t begin, std::uint32_t end, const Member& member, 
 
 namespace {
 
+static_assert(sizeof(BodyIndex) == 4, "a pair's two spheres in one 64-bit key");
+
 std::uint64_t pair_key_of(const PairProblem& p) {
   return static_cast<std::uint64_t>(p.a) << 32 | p.b;
 }
 
 std::uint64_t wall_key_of(const WallProblem& w) {
-  return static_cast<std::uint64_t>(w.sphere) << 1 | (w.wall == WallKind::Piston ? 1 : 0);
+  return static_cast<std::uint64_t>(w.sphere) << 32 | static_cast<std::uint64_t>(w.wall);
 }
 
 /// The values of part p's batches and wall batches filled again lane by lane, each lane from
@@ -363,6 +365,8 @@ void prepare_coloured_sweep(Contacts& contacts, const VelocityCache& velocities,
   PairColouring& colouring = sweep.colouring;
   std::vector<ContactIndex>& from = sweep.storage_index;
   if (!same_inputs) {
+    // whatever the record described is overwritten from here on
+    sweep.built_from.forget();
     // the pairs part by part, each part in storage order (a counting sort)
     std::array<std::uint32_t, kSweepParts + 1> part_start{};
     for (const PairProblem& p : contacts.pairs) ++part_start[part_of(p, slab) + 1];
@@ -383,7 +387,6 @@ void prepare_coloured_sweep(Contacts& contacts, const VelocityCache& velocities,
   // the pairs are only read while they are in colour order: their storage order stays in
   // stored_pairs and comes back by a swap; the cohesion flags are not read by the sweeps and
   // stay in storage order
-  sweep.in_colour_order = true;
   if (same_inputs) {
     // part by part (on two threads when `pieces` has them): the part's pairs and actions into
     // colour order (its members, and for the part across the cut also the overflow pairs, are a
@@ -405,10 +408,12 @@ void prepare_coloured_sweep(Contacts& contacts, const VelocityCache& velocities,
     });
     contacts.pairs.swap(pairs);
     contacts.pair_actions.swap(actions);
+    sweep.in_colour_order = true;
     return;
   }
   gather_into(contacts.pairs, from, sweep.stored_pairs);
   gather_into(contacts.pair_actions, from, sweep.action_scratch);
+  sweep.in_colour_order = true;
   std::iota(colouring.members.begin(), colouring.members.end(), ContactIndex{0});
   std::iota(colouring.overflow.begin(), colouring.overflow.end(),
             static_cast<ContactIndex>(colouring.members.size()));
@@ -420,6 +425,7 @@ void prepare_coloured_sweep(Contacts& contacts, const VelocityCache& velocities,
 void restore_storage_order(Contacts& contacts, ColouredSweep& sweep) {
   if (!sweep.in_colour_order) return;  // not prepared
   const std::vector<ContactIndex>& from = sweep.storage_index;
+  CDP_ASSERT(from.size() == contacts.pairs.size(), "a storage index per pair");
   // unchanged by the sweeps, so stored_pairs is still their storage order (debug builds check
   // that the two hold the same pairs)
   CDP_ASSERT(sweep.stored_pairs.size() == from.size() &&

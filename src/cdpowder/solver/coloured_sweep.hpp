@@ -109,7 +109,7 @@ class ColouringInputs {
 
  private:
   std::vector<std::uint64_t> pairs_;  ///< a << 32 | b
-  std::vector<std::uint64_t> walls_;  ///< sphere << 1 | 1 for the piston
+  std::vector<std::uint64_t> walls_;  ///< sphere << 32 | wall kind
   std::vector<std::uint8_t> slab_;
   std::size_t chunk_ = 0;
   std::size_t spheres_ = 0;
