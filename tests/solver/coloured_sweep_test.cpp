@@ -414,7 +414,7 @@ TEST(ColouredSweep, AStepWithTheLastStepsContactsReusesItsColouring) {
     expect_same_preparation(contacts, velocities, slab, reused, pieces);
     EXPECT_FALSE(reused.colouring.overflow.empty());
     EXPECT_EQ(reused.cut(), cut);
-    ASSERT_TRUE(reused.built_from.match(contacts.pairs, contacts.walls, slab, 256, spheres));
+    ASSERT_TRUE(reused.built_from.match(contacts.pairs, contacts.walls, slab, 256));
     Rng rng = make_rng(3, RngStream::Deposition);
     // the same contacts with other values: the colouring is kept
     move_a_little(contacts, velocities, rng);
@@ -423,25 +423,25 @@ TEST(ColouredSweep, AStepWithTheLastStepsContactsReusesItsColouring) {
     contacts.pairs.erase(contacts.pairs.begin() + 3);
     contacts.pair_actions.erase(contacts.pair_actions.begin() + 3);
     contacts.pair_cohesive.erase(contacts.pair_cohesive.begin() + 3);
-    EXPECT_FALSE(reused.built_from.match(contacts.pairs, contacts.walls, slab, 256, spheres));
+    EXPECT_FALSE(reused.built_from.match(contacts.pairs, contacts.walls, slab, 256));
     expect_same_preparation(contacts, velocities, slab, reused, pieces);
     ASSERT_FALSE(contacts.walls.empty());
     WallProblem& wall = contacts.walls.back();
     wall.wall = wall.wall == WallKind::Piston ? WallKind::Bottom : WallKind::Piston;
-    EXPECT_FALSE(reused.built_from.match(contacts.pairs, contacts.walls, slab, 256, spheres));
+    EXPECT_FALSE(reused.built_from.match(contacts.pairs, contacts.walls, slab, 256));
     expect_same_preparation(contacts, velocities, slab, reused, pieces);
     if (cut) {
       slab[contacts.pairs[5].a] ^= 1;
-      EXPECT_FALSE(reused.built_from.match(contacts.pairs, contacts.walls, slab, 256, spheres));
+      EXPECT_FALSE(reused.built_from.match(contacts.pairs, contacts.walls, slab, 256));
       expect_same_preparation(contacts, velocities, slab, reused, pieces);
     }
     move_a_little(contacts, velocities, rng);
     expect_same_preparation(contacts, velocities, slab, reused, pieces);
     // another chunk, or a build by other means (the tests' colourings): not the last build
-    EXPECT_FALSE(reused.built_from.match(contacts.pairs, contacts.walls, slab, 512, spheres));
-    EXPECT_TRUE(reused.built_from.match(contacts.pairs, contacts.walls, slab, 256, spheres));
+    EXPECT_FALSE(reused.built_from.match(contacts.pairs, contacts.walls, slab, 512));
+    EXPECT_TRUE(reused.built_from.match(contacts.pairs, contacts.walls, slab, 256));
     build_batches(contacts, velocities, reused);
-    EXPECT_FALSE(reused.built_from.match(contacts.pairs, contacts.walls, slab, 256, spheres));
+    EXPECT_FALSE(reused.built_from.match(contacts.pairs, contacts.walls, slab, 256));
   }
 }
 

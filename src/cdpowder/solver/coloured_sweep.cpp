@@ -185,9 +185,8 @@ void refill_part(const std::vector<PairProblem>& pairs, const Contacts& contacts
 
 bool ColouringInputs::match(const std::vector<PairProblem>& pairs,
                             const std::vector<WallProblem>& walls,
-                            std::span<const std::uint8_t> slab, std::size_t chunk,
-                            std::size_t spheres) const {
-  if (!recorded_ || chunk != chunk_ || spheres != spheres_ || pairs.size() != pairs_.size() ||
+                            std::span<const std::uint8_t> slab, std::size_t chunk) const {
+  if (!recorded_ || chunk != chunk_ || pairs.size() != pairs_.size() ||
       walls.size() != walls_.size() ||
       !std::equal(slab.begin(), slab.end(), slab_.begin(), slab_.end())) {
     return false;
@@ -203,15 +202,13 @@ bool ColouringInputs::match(const std::vector<PairProblem>& pairs,
 
 void ColouringInputs::record(const std::vector<PairProblem>& pairs,
                              const std::vector<WallProblem>& walls,
-                             std::span<const std::uint8_t> slab, std::size_t chunk,
-                             std::size_t spheres) {
+                             std::span<const std::uint8_t> slab, std::size_t chunk) {
   pairs_.resize(pairs.size());
   for (std::size_t k = 0; k < pairs_.size(); ++k) pairs_[k] = pair_key_of(pairs[k]);
   walls_.resize(walls.size());
   for (std::size_t w = 0; w < walls_.size(); ++w) walls_[w] = wall_key_of(walls[w]);
   slab_.assign(slab.begin(), slab.end());
   chunk_ = chunk;
-  spheres_ = spheres;
   recorded_ = true;
 }
 
@@ -308,12 +305,19 @@ void build_batches(const Contacts& contacts, const VelocityCache& velocities,
 
 namespace {
 
+/// out[i] = v[from[i]] for i in [first, last) (`out` sized by the caller)
+template <typename T>
+void gather_range(const std::vector<T>& v, const std::vector<ContactIndex>& from, std::size_t first,
+                  std::size_t last, std::vector<T>& out) {
+  for (std::size_t i = first; i < last; ++i) out[i] = v[from[i]];
+}
+
 /// v[i] = old v[from[i]]
 template <typename T>
 void gather_into(std::vector<T>& v, const std::vector<ContactIndex>& from,
                  std::vector<T>& scratch) {
   scratch.resize(v.size());
-  for (std::size_t i = 0; i < from.size(); ++i) scratch[i] = v[from[i]];
+  gather_range(v, from, 0, from.size(), scratch);
   v.swap(scratch);
 }
 
@@ -356,61 +360,65 @@ void assign_wall_parts(const Contacts& contacts, std::span<const std::uint8_t> s
 
 }  // namespace
 
+namespace {
+
+/// A step whose colouring is kept (ColouringInputs): part by part (on two threads when `pieces`
+/// has them), the part's pairs and actions into colour order (its members, and for the part
+/// across the cut also the overflow pairs, are a range of it), then its batches' values from
+/// them. The members are colour-order indices already (set by the build from these inputs).
+void refill_kept_colouring(Contacts& contacts, const VelocityCache& velocities,
+                           ColouredSweep& sweep, PieceRunner* pieces) {
+  const PairColouring& colouring = sweep.colouring;
+  const std::vector<ContactIndex>& from = sweep.storage_index;
+  std::vector<PairProblem>& pairs = sweep.stored_pairs;
+  std::vector<ContactAction>& actions = sweep.action_scratch;
+  pairs.resize(contacts.pairs.size());
+  actions.resize(contacts.pair_actions.size());
+  run_pieces(pieces, kSweepParts, [&](std::uint32_t part) {
+    const std::size_t first = colouring.first_member(part);
+    const std::size_t last =
+        part + 1 < kSweepParts ? colouring.first_member(part + 1) : contacts.pairs.size();
+    gather_range(contacts.pairs, from, first, last, pairs);
+    gather_range(contacts.pair_actions, from, first, last, actions);
+    refill_part(pairs, contacts, velocities, part, sweep);
+  });
+  contacts.pairs.swap(pairs);
+  contacts.pair_actions.swap(actions);
+}
+
+}  // namespace
+
 void prepare_coloured_sweep(Contacts& contacts, const VelocityCache& velocities,
                             ColouredSweep& sweep, std::size_t chunk,
                             std::span<const std::uint8_t> slab, PieceRunner* pieces) {
-  const std::size_t spheres = velocities.spheres.size();
-  const bool same_inputs =
-      sweep.built_from.match(contacts.pairs, contacts.walls, slab, chunk, spheres);
-  PairColouring& colouring = sweep.colouring;
-  std::vector<ContactIndex>& from = sweep.storage_index;
-  if (!same_inputs) {
-    // whatever the record described is overwritten from here on
-    sweep.built_from.forget();
-    // the pairs part by part, each part in storage order (a counting sort)
-    std::array<std::uint32_t, kSweepParts + 1> part_start{};
-    for (const PairProblem& p : contacts.pairs) ++part_start[part_of(p, slab) + 1];
-    for (std::size_t p = 0; p < kSweepParts; ++p) part_start[p + 1] += part_start[p];
-    std::vector<ContactIndex>& order = sweep.part_order;
-    order.resize(contacts.pairs.size());
-    std::array<std::uint32_t, kSweepParts + 1> next = part_start;
-    for (std::size_t k = 0; k < contacts.pairs.size(); ++k) {
-      order[next[part_of(contacts.pairs[k], slab)]++] = static_cast<ContactIndex>(k);
-    }
-    colour_parts(contacts.pairs, order, part_start, spheres, kMaxColours, chunk, colouring,
-                 sweep.masks);
-    assign_wall_parts(contacts, slab, sweep.wall_part);
-    // store the pairs in the order the batches visit them, overflow last
-    from.assign(colouring.members.begin(), colouring.members.end());
-    from.insert(from.end(), colouring.overflow.begin(), colouring.overflow.end());
-  }
   // the pairs are only read while they are in colour order: their storage order stays in
   // stored_pairs and comes back by a swap; the cohesion flags are not read by the sweeps and
   // stay in storage order
-  if (same_inputs) {
-    // part by part (on two threads when `pieces` has them): the part's pairs and actions into
-    // colour order (its members, and for the part across the cut also the overflow pairs, are a
-    // range of it), then its batches' values from them; the members are colour-order indices
-    // already (set below by the build from these inputs)
-    std::vector<PairProblem>& pairs = sweep.stored_pairs;
-    std::vector<ContactAction>& actions = sweep.action_scratch;
-    pairs.resize(contacts.pairs.size());
-    actions.resize(contacts.pair_actions.size());
-    run_pieces(pieces, kSweepParts, [&](std::uint32_t part) {
-      const std::size_t first = colouring.first_member(part);
-      const std::size_t last =
-          part + 1 < kSweepParts ? colouring.first_member(part + 1) : contacts.pairs.size();
-      for (std::size_t i = first; i < last; ++i) {
-        pairs[i] = contacts.pairs[from[i]];
-        actions[i] = contacts.pair_actions[from[i]];
-      }
-      refill_part(pairs, contacts, velocities, part, sweep);
-    });
-    contacts.pairs.swap(pairs);
-    contacts.pair_actions.swap(actions);
+  if (sweep.built_from.match(contacts.pairs, contacts.walls, slab, chunk)) {
+    refill_kept_colouring(contacts, velocities, sweep, pieces);
     sweep.in_colour_order = true;
     return;
   }
+  // whatever the record described is overwritten from here on
+  sweep.built_from.forget();
+  // the pairs part by part, each part in storage order (a counting sort)
+  std::array<std::uint32_t, kSweepParts + 1> part_start{};
+  for (const PairProblem& p : contacts.pairs) ++part_start[part_of(p, slab) + 1];
+  for (std::size_t p = 0; p < kSweepParts; ++p) part_start[p + 1] += part_start[p];
+  std::vector<ContactIndex>& order = sweep.part_order;
+  order.resize(contacts.pairs.size());
+  std::array<std::uint32_t, kSweepParts + 1> next = part_start;
+  for (std::size_t k = 0; k < contacts.pairs.size(); ++k) {
+    order[next[part_of(contacts.pairs[k], slab)]++] = static_cast<ContactIndex>(k);
+  }
+  PairColouring& colouring = sweep.colouring;
+  colour_parts(contacts.pairs, order, part_start, velocities.spheres.size(), kMaxColours, chunk,
+               colouring, sweep.masks);
+  assign_wall_parts(contacts, slab, sweep.wall_part);
+  // store the pairs in the order the batches visit them, overflow last
+  std::vector<ContactIndex>& from = sweep.storage_index;
+  from.assign(colouring.members.begin(), colouring.members.end());
+  from.insert(from.end(), colouring.overflow.begin(), colouring.overflow.end());
   gather_into(contacts.pairs, from, sweep.stored_pairs);
   gather_into(contacts.pair_actions, from, sweep.action_scratch);
   sweep.in_colour_order = true;
@@ -419,7 +427,7 @@ void prepare_coloured_sweep(Contacts& contacts, const VelocityCache& velocities,
             static_cast<ContactIndex>(colouring.members.size()));
   build_batches(contacts, velocities, sweep);
   // (the pairs in storage order are in stored_pairs now)
-  sweep.built_from.record(sweep.stored_pairs, contacts.walls, slab, chunk, spheres);
+  sweep.built_from.record(sweep.stored_pairs, contacts.walls, slab, chunk);
 }
 
 void restore_storage_order(Contacts& contacts, ColouredSweep& sweep) {

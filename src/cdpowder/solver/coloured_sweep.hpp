@@ -88,21 +88,19 @@ struct alignas(64) WallBatchPair {
 };
 
 /// What a step's colouring, storage order and batch rows are built from: the pairs' spheres and
-/// the wall contacts (sphere and wall) in storage order, each sphere's slab, the colouring chunk
-/// and the sphere count. They are a function of these alone, so a step whose inputs match the
+/// the wall contacts (sphere and wall) in storage order, each sphere's slab and the colouring
+/// chunk. They are a function of these alone, so a step whose inputs match the
 /// last build's (most steps: the candidate lists are reused and contacts seldom open or close
 /// from one step to the next) keeps them and only refills the batches' values: the same bits.
 class ColouringInputs {
  public:
-  /// Whether the pairs and walls (in storage order), `slab`, `chunk` and `spheres` are those
-  /// recorded.
+  /// Whether the pairs and walls (in storage order), `slab` and `chunk` are those recorded.
   [[nodiscard]] bool match(const std::vector<PairProblem>& pairs,
                            const std::vector<WallProblem>& walls,
-                           std::span<const std::uint8_t> slab, std::size_t chunk,
-                           std::size_t spheres) const;
+                           std::span<const std::uint8_t> slab, std::size_t chunk) const;
   /// Records them, after a build from them.
   void record(const std::vector<PairProblem>& pairs, const std::vector<WallProblem>& walls,
-              std::span<const std::uint8_t> slab, std::size_t chunk, std::size_t spheres);
+              std::span<const std::uint8_t> slab, std::size_t chunk);
 
   /// After the colouring or the batches were changed by other means.
   void forget() { recorded_ = false; }
@@ -112,7 +110,6 @@ class ColouringInputs {
   std::vector<std::uint64_t> walls_;  ///< sphere << 32 | wall kind
   std::vector<std::uint8_t> slab_;
   std::size_t chunk_ = 0;
-  std::size_t spheres_ = 0;
   bool recorded_ = false;
 };
 
