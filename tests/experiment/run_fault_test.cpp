@@ -59,9 +59,11 @@ TEST(RunFault, ANonFiniteVelocityNamesTheSphereAndTheStep) {
 }
 
 // A value turned non-finite by a step ends the run after that step. (A step is never given
-// a non-finite input: debug builds assert on it, detect_contacts.cpp; so the test spoils
-// sphere 0's velocity after step 3, where a failing step would have left it, through the
-// observer, which runs before the check.)
+// a non-finite input: debug builds assert on it, detect_contacts.cpp; so the test spoils the
+// piston's velocity after step 3, where a failing step would have left it, through the
+// observer, which runs before the check. The spheres' finiteness is measured by integrate()
+// on its pass and trusted by the check: integrate_test covers it, and the next test the
+// search for the sphere when the step has not vouched for them.)
 TEST(RunFault, ANonFiniteValueStopsTheRunAfterItsStep) {
   TinyScene s = two_under_a_piston();
   RunConfig run;
@@ -69,16 +71,30 @@ TEST(RunFault, ANonFiniteValueStopsTheRunAfterItsStep) {
   const RunResult result = run_simulation(
       s.world, s.work, s.settings, run, [&s](const World& world, const StepReport&, double) {
         if (world.step == 3) {
-          s.world.bodies.velocity[0].z() = std::numeric_limits<double>::infinity();
+          s.world.walls.piston.velocity = std::numeric_limits<double>::infinity();
         }
       });
   ASSERT_TRUE(result.fault.has_value());
   EXPECT_EQ(result.steps, 3);
   EXPECT_EQ(result.fault->step, 3);
-  EXPECT_EQ(result.fault->body, 0);
-  EXPECT_EQ(result.fault->quantity, "velocity");
+  EXPECT_EQ(result.fault->body, -1);
+  EXPECT_EQ(result.fault->quantity, "piston");
   EXPECT_FALSE(result.blocked);
   EXPECT_FALSE(result.interrupted);
+}
+
+// The spheres are searched unless the step's diagnostics vouch for them.
+TEST(RunFault, SpheresAreSearchedUnlessTheStepFoundThemFinite) {
+  TinyScene s = two_under_a_piston();
+  StepReport report = s.run(3);
+  EXPECT_TRUE(report.diagnostics.spheres_finite);
+  s.world.bodies.angular_velocity[0].x() = std::numeric_limits<double>::quiet_NaN();
+  report.diagnostics.spheres_finite = false;
+  const std::optional<RunFault> f =
+      find_fault(s.world, s.work.contacts, report.diagnostics, limits_of(s.world));
+  ASSERT_TRUE(f.has_value());
+  EXPECT_EQ(f->quantity, "angular velocity");
+  EXPECT_EQ(f->body, 0);
 }
 
 // Just below the overlap bound nothing happens; just above, the pair is named.

@@ -370,9 +370,11 @@ TEST(SlabThreads, AThreadedStepsDiagnosticsHaveTheBitsOfOneThread) {
                              &StepDiagnostics::rms_speed, &StepDiagnostics::piston_contact_force,
                              &StepDiagnostics::piston_imbalance, &StepDiagnostics::max_net_force,
                              &StepDiagnostics::max_cohesive_opening_speed,
-                             &StepDiagnostics::max_cohesive_opening_per_range}) {
+                             &StepDiagnostics::max_cohesive_opening_per_range,
+                             &StepDiagnostics::largest_surface_speed}) {
       EXPECT_TRUE(same_bits(a.*field, b.*field)) << "step " << k;
     }
+    EXPECT_TRUE(a.spheres_finite && b.spheres_finite);
     EXPECT_GT(a.kinetic_energy, 0.0);
     EXPECT_GT(a.closed_contacts, 0U);
   }

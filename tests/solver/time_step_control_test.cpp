@@ -23,7 +23,7 @@ struct OneSphere {
   TimeStepControl control;
 
   [[nodiscard]] double next(double dt, double opening_speed) const {
-    return next_time_step(control, dt, world, opening_speed, laws, kSkin);
+    return next_time_step(control, dt, surface_motion(world), opening_speed, laws, kSkin);
   }
 };
 

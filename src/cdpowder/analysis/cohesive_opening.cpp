@@ -4,42 +4,75 @@
 #include "cdpowder/contact/contact_view.hpp"
 
 #include <algorithm>
+#include <array>
+#include <cstddef>
+#include <cstdint>
 #include <limits>
 
 namespace cdpowder {
 
-CohesiveOpening cohesive_opening(const World& world, const Contacts& contacts,
-                                 const VelocityCache& velocities, const ContactLaws& laws,
-                                 double dt) {
+namespace {
+
+/// The largest opening speed of each kind over a range of contacts; −∞ where it has none.
+struct OpeningSpeeds {
+  double pair = -std::numeric_limits<double>::infinity();
+  double wall = -std::numeric_limits<double>::infinity();
+};
+
+/// A piece's result on a cache line of its own (the two pieces write theirs side by side).
+struct alignas(64) PieceSpeeds {
+  OpeningSpeeds value;
+};
+
+OpeningSpeeds opening_speeds(const World& world, const Contacts& contacts,
+                             const VelocityCache& velocities, std::size_t first, std::size_t last) {
   const Bodies& bodies = world.bodies;
   // what integrate() leaves in bodies.velocity: v* unless the sphere is fixed
   const auto end_velocity = [&](BodyIndex i) -> const Vec3& {
     return bodies.fixed[i] != 0 ? bodies.velocity[i] : velocities.spheres[i].linear;
   };
-  // the largest opening speed of each kind; s ↦ s Δt / d_coh rounds monotonically (Δt and
-  // d_coh are positive), so its largest value is that of the largest speed: one division per
-  // kind instead of one per contact, with the same bits
-  constexpr double kNone = -std::numeric_limits<double>::infinity();
   const Piston& piston = world.walls.piston;
   const double piston_speed = piston.enabled ? velocities.piston_velocity : piston.velocity;
-  double pair_speed = kNone;
-  double wall_speed = kNone;
-  for_each_contact(contacts, [&](const ContactView& c) {
+  OpeningSpeeds out;
+  for_each_contact_in(contacts, first, last, [&](const ContactView& c) {
     if (!c.cohesive) return;
     if (c.is_pair()) {
-      pair_speed = std::max(pair_speed, (end_velocity(c.b) - end_velocity(c.a)).dot(c.normal));
+      out.pair = std::max(out.pair, (end_velocity(c.b) - end_velocity(c.a)).dot(c.normal));
       return;
     }
     const double moving = *c.wall == WallKind::Piston ? piston_speed : 0.0;
-    wall_speed = std::max(wall_speed, (end_velocity(c.b).z() - moving) * c.normal.z());
+    out.wall = std::max(out.wall, (end_velocity(c.b).z() - moving) * c.normal.z());
   });
+  return out;
+}
+
+}  // namespace
+
+CohesiveOpening cohesive_opening(const World& world, const Contacts& contacts,
+                                 const VelocityCache& velocities, const ContactLaws& laws,
+                                 double dt, PieceRunner* pieces) {
+  // the largest opening speed of each kind; s ↦ s Δt / d_coh rounds monotonically (Δt and
+  // d_coh are positive), so its largest value is that of the largest speed: one division per
+  // kind instead of one per contact, with the same bits
+  OpeningSpeeds speeds;
+  if (pieces == nullptr) {
+    speeds = opening_speeds(world, contacts, velocities, 0, contacts.size());
+  } else {
+    std::array<PieceSpeeds, 2> halves{};
+    run_pieces(pieces, 2, [&](std::uint32_t piece) {
+      const IndexRange half = half_of(contacts.size(), piece);
+      halves[piece].value = opening_speeds(world, contacts, velocities, half.first, half.last);
+    });
+    speeds.pair = std::max(halves[0].value.pair, halves[1].value.pair);
+    speeds.wall = std::max(halves[0].value.wall, halves[1].value.wall);
+  }
   CohesiveOpening out;
   const auto track = [&](double opening_speed, double range) {
     out.speed = std::max(out.speed, opening_speed);
     if (range > 0.0) out.per_range = std::max(out.per_range, opening_speed * dt / range);
   };
-  track(pair_speed, laws.spheres.cohesion_range);
-  track(wall_speed, laws.walls.cohesion_range);
+  track(speeds.pair, laws.spheres.cohesion_range);
+  track(speeds.wall, laws.walls.cohesion_range);
   return out;
 }
 

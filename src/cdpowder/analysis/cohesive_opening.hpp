@@ -7,6 +7,7 @@
 #include "cdpowder/contact/contact_law.hpp"
 #include "cdpowder/contact/local_problem.hpp"
 #include "cdpowder/contact/velocity_cache.hpp"
+#include "cdpowder/core/pieces.hpp"
 #include "cdpowder/model/world.hpp"
 
 namespace cdpowder {
@@ -24,8 +25,10 @@ struct CohesiveOpening {
 /// v*, ω*, V_P* of `velocities` for free spheres and an enabled piston, the World's own for
 /// fixed spheres (integrate leaves those). Call after the solve and before integrate(); the
 /// result is what the same measure gives on the World after integrate(), to the last bit.
+/// With `pieces`, each half of the contacts is measured on a piece of its own (a maximum
+/// does not depend on the order, so the result is the same).
 CohesiveOpening cohesive_opening(const World& world, const Contacts& contacts,
                                  const VelocityCache& velocities, const ContactLaws& laws,
-                                 double dt);
+                                 double dt, PieceRunner* pieces = nullptr);
 
 }  // namespace cdpowder

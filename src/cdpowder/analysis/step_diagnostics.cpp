@@ -1,4 +1,5 @@
-// step_diagnostics.cpp — overlaps from the new positions, energies, piston balance.
+// step_diagnostics.cpp — overlaps from the new positions, the piston balance, and the
+// spheres' measures joined in.
 #include "cdpowder/analysis/step_diagnostics.hpp"
 
 #include "cdpowder/contact/contact_view.hpp"
@@ -40,36 +41,15 @@ void measure_contacts(const World& world, const Contacts& contacts, StepDiagnost
       d.closed_contacts > 0 ? overlap_sum / static_cast<double>(d.closed_contacts) : 0.0;
 }
 
-void measure_spheres(const World& world, StepDiagnostics& d) {
-  const Bodies& bodies = world.bodies;
-  double moving_mass = 0.0;
-  double mass_v2 = 0.0;
-  // the sums in locals for the pass (a store to `d` would make every iteration reload the
-  // vectors' pointers and redo mass(i)'s division); the largest |v|² and one square root:
-  // √ rounds monotonically, so √(max |v|²) is the largest √|v|², bit for bit
-  double kinetic_energy = d.kinetic_energy;
-  double largest_v2 = 0.0;
-  for (std::size_t i = 0; i < bodies.size(); ++i) {
-    if (bodies.fixed[i] != 0) continue;
-    const double v2 = bodies.velocity[i].squaredNorm();
-    largest_v2 = std::max(largest_v2, v2);
-    const double mass = bodies.mass(i);
-    moving_mass += mass;
-    mass_v2 += mass * v2;
-    kinetic_energy +=
-        0.5 * mass * v2 + 0.5 * bodies.inertia(i) * bodies.angular_velocity[i].squaredNorm();
-  }
-  d.max_speed = std::max(d.max_speed, std::sqrt(largest_v2));
-  d.kinetic_energy = kinetic_energy;
-  d.rms_speed = moving_mass > 0.0 ? std::sqrt(mass_v2 / moving_mass) : 0.0;
-}
-
 StepDiagnostics join_measures(const World& world, const StepDiagnostics& of_contacts,
-                              const StepDiagnostics& of_spheres) {
+                              const SphereMeasures& of_spheres) {
   StepDiagnostics d = of_contacts;
   d.kinetic_energy = of_spheres.kinetic_energy;
   d.max_speed = of_spheres.max_speed;
   d.rms_speed = of_spheres.rms_speed;
+  d.max_net_force = of_spheres.max_net_force;
+  d.largest_surface_speed = of_spheres.largest_surface_speed;
+  d.spheres_finite = of_spheres.finite;
   const Piston& piston = world.walls.piston;
   if (piston.enabled) {
     d.kinetic_energy += 0.5 * piston.mass * piston.velocity * piston.velocity;
@@ -78,19 +58,6 @@ StepDiagnostics join_measures(const World& world, const StepDiagnostics& of_cont
     if (load > 0.0) d.piston_imbalance = std::abs(d.piston_contact_force - load) / load;
   }
   return d;
-}
-
-double net_force_of_step(const Bodies& bodies, const VelocityCache& velocities) {
-  double largest = 0.0;
-  for (std::size_t i = 0; i < bodies.size(); ++i) {
-    const SphereVelocity& next = velocities.spheres[i];
-    if (bodies.fixed[i] != 0 || next.dt_inverse_mass <= 0.0) continue;
-    const double force = (next.linear - bodies.velocity[i]).norm() / next.dt_inverse_mass;
-    const double torque = (next.angular - bodies.angular_velocity[i]).norm() /
-                          next.dt_inverse_inertia / bodies.radius[i];
-    largest = std::max(largest, force + torque);
-  }
-  return largest;
 }
 
 }  // namespace cdpowder

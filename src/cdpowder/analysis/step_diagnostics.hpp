@@ -2,6 +2,7 @@
 // (overlaps, piston force balance) and the state measures every step reports.
 #pragma once
 
+#include "cdpowder/analysis/sphere_measures.hpp"
 #include "cdpowder/contact/local_problem.hpp"
 #include "cdpowder/contact/velocity_cache.hpp"
 #include "cdpowder/model/world.hpp"
@@ -35,23 +36,21 @@ struct StepDiagnostics {
   /// max over cohesion-active contacts of V_n Δt / d_coh, each with its own d_coh (sphere
   /// pairs and walls may differ); §6.4 asks for ≤ 0.1 [-]
   double max_cohesive_opening_per_range = 0.0;
+  /// max over the spheres of |v| + r|ω| after the step (SphereMeasures) [R/t0]
+  double largest_surface_speed = 0.0;
+  /// integrate() found every sphere's position and velocities finite; false when not
+  /// measured, so that find_fault (experiment/run_fault.hpp) looks for itself
+  bool spheres_finite = false;
 };
 
-/// Stage 5: measures the state after integrate(), where `contacts` still holds the step's
-/// forces, in two halves that read and write nothing in common (each its own StepDiagnostics),
-/// so they may run side by side: the contacts' overlaps, counts and the piston's contact force,
-/// and the spheres' speeds and kinetic energy. join_measures takes the fields of each and adds
-/// the piston's share. It leaves max_net_force to net_force_of_step (it needs the velocities
-/// before the step) and the two opening gauges to cohesive_opening (measured before
-/// integrate(), where an adaptive Δt decides whether to keep the step).
+/// Stage 5: the contacts' overlaps from the positions after integrate(), their counts and
+/// the piston's contact force, where `contacts` still holds the step's forces.
+/// join_measures adds the spheres' measures, which integrate() took on its pass
+/// (SphereMeasures), and the piston's share. The two opening gauges come from
+/// cohesive_opening (measured before integrate(), where an adaptive Δt decides whether to
+/// keep the step).
 void measure_contacts(const World& world, const Contacts& contacts, StepDiagnostics& d);
-void measure_spheres(const World& world, StepDiagnostics& d);
 StepDiagnostics join_measures(const World& world, const StepDiagnostics& of_contacts,
-                              const StepDiagnostics& of_spheres);
-
-/// max_i of m_i|v*_i − v_i|/Δt + I_i|ω*_i − ω_i|/(Δt r_i) over free spheres: the largest
-/// net force (and torque / radius) the step's contact forces and loads leave on a sphere.
-/// Call after the solve and before integrate(), while `bodies` holds the old velocities.
-double net_force_of_step(const Bodies& bodies, const VelocityCache& velocities);
+                              const SphereMeasures& of_spheres);
 
 }  // namespace cdpowder

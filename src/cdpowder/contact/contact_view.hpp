@@ -9,6 +9,7 @@
 #include "cdpowder/core/index.hpp"
 #include "cdpowder/core/vec3.hpp"
 
+#include <algorithm>
 #include <cstddef>
 #include <optional>
 
@@ -34,25 +35,34 @@ struct ContactView {
   [[nodiscard]] bool closed() const { return is_closed(action->normal_force, cohesion); }
 };
 
-/// Calls visit(const ContactView&) for every contact, pairs first, then walls.
-/// Contacts keeps its arrays of one kind equally long (checked in the debug build).
+/// Calls visit(const ContactView&) for the contacts of combined indices [first, last), pairs
+/// first, then walls. Contacts keeps its arrays of one kind equally long (checked in the
+/// debug build).
 template <typename Visit>
-void for_each_contact(const Contacts& contacts, Visit&& visit) {
+void for_each_contact_in(const Contacts& contacts, std::size_t first, std::size_t last,
+                         Visit&& visit) {
   const std::size_t pairs = contacts.pairs.size();
   CDP_ASSERT(contacts.pair_actions.size() == pairs && contacts.pair_cohesive.size() == pairs &&
                  contacts.wall_actions.size() == contacts.walls.size() &&
-                 contacts.wall_cohesive.size() == contacts.walls.size(),
+                 contacts.wall_cohesive.size() == contacts.walls.size() && first <= last &&
+                 last <= contacts.size(),
              "every pair and wall contact has its action and cohesion flag");
-  for (std::size_t k = 0; k < pairs; ++k) {
+  for (std::size_t k = first; k < std::min(last, pairs); ++k) {
     const PairProblem& p = contacts.pairs[k];
     visit(ContactView{k, std::nullopt, p.a, p.b, p.normal, p.gap, p.lever_a + p.lever_b, p.cohesion,
                       contacts.pair_cohesive[k] != 0, &contacts.pair_actions[k]});
   }
-  for (std::size_t k = 0; k < contacts.walls.size(); ++k) {
+  for (std::size_t k = std::max(first, pairs) - pairs; k + pairs < last; ++k) {
     const WallProblem& w = contacts.walls[k];
     visit(ContactView{pairs + k, w.wall, w.sphere, w.sphere, w.normal, w.gap, w.radius + w.gap,
                       w.cohesion, contacts.wall_cohesive[k] != 0, &contacts.wall_actions[k]});
   }
+}
+
+/// Calls visit(const ContactView&) for every contact, pairs first, then walls.
+template <typename Visit>
+void for_each_contact(const Contacts& contacts, Visit&& visit) {
+  for_each_contact_in(contacts, 0, contacts.size(), visit);
 }
 
 }  // namespace cdpowder

@@ -14,17 +14,6 @@ namespace cdpowder {
 
 namespace {
 
-/// The largest surface speed |v| + R |ω| of spheres [first, last) [R/t0].
-double largest_surface_speed(const Bodies& bodies, std::size_t first, std::size_t last) {
-  double v_max = 0.0;
-  for (std::size_t i = first; i < last; ++i) {
-    const double surface_speed =
-        bodies.velocity[i].norm() + bodies.radius[i] * bodies.angular_velocity[i].norm();
-    v_max = std::max(v_max, surface_speed);
-  }
-  return v_max;
-}
-
 /// max(d_coh, 2 v_max Δt) + skin, v_max the spheres' largest surface speed and the piston's.
 double gap_for_speed(double sphere_speed, const World& world, const DetectionSettings& settings) {
   double v_max = sphere_speed;
@@ -150,6 +139,16 @@ void detect_in_pieces(World& world, const DetectionSettings& settings, CellGrid&
 }
 
 }  // namespace
+
+double largest_surface_speed(const Bodies& bodies, std::size_t first, std::size_t last) {
+  double v_max = 0.0;
+  for (std::size_t i = first; i < last; ++i) {
+    const double surface_speed =
+        bodies.velocity[i].norm() + bodies.radius[i] * bodies.angular_velocity[i].norm();
+    v_max = std::max(v_max, surface_speed);
+  }
+  return v_max;
+}
 
 double candidate_gap(const World& world, const DetectionSettings& settings) {
   return gap_for_speed(largest_surface_speed(world.bodies, 0, world.bodies.size()), world,

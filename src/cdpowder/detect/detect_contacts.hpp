@@ -13,6 +13,9 @@
 
 namespace cdpowder {
 
+/// The largest surface speed |v| + R |ω| of spheres [first, last) [R/t0].
+double largest_surface_speed(const Bodies& bodies, std::size_t first, std::size_t last);
+
 /// Largest gap at which a pair is a candidate this step:
 /// max(d_coh, 2 v_max Δt) + skin (physics.md §4.3), v_max the largest surface speed.
 double candidate_gap(const World& world, const DetectionSettings& settings);

@@ -137,7 +137,8 @@ class RunLoop {
         current_(settings),
         load_(piston_load(world)),
         // the grain volume is constant: computed once for the porosity check of every step
-        fault_limits_{run.max_overlap, grain_volume(world.bodies)} {
+        fault_limits_{run.max_overlap, grain_volume(world.bodies)},
+        smallest_radius_(smallest_radius(world.bodies)) {
     if (!state.started) {
       state.started = true;
       state.start_time = world.time;
@@ -208,7 +209,12 @@ class RunLoop {
     // the next Δt before the static solves: they leave the World as it is unless they end
     // the run, so it is the same either way, and a run stopped inside one has it already
     if (adaptive_) {
-      state_.dt = next_time_step(settings_.solver.time_step, current_.solver.dt, world_,
+      // the spheres' fastest surface as integrate() measured it, and the piston's
+      const Piston& piston = world_.walls.piston;
+      const SurfaceMotion motion{std::max(std::abs(piston.enabled ? piston.velocity : 0.0),
+                                          result_.last.diagnostics.largest_surface_speed),
+                                 smallest_radius_};
+      state_.dt = next_time_step(settings_.solver.time_step, current_.solver.dt, motion,
                                  result_.last.diagnostics.max_cohesive_opening_speed,
                                  settings_.laws, settings_.solver.skin);
     }
@@ -340,6 +346,7 @@ class RunLoop {
   StepSettings current_;  ///< with the Δt of the step about to run
   double load_;
   FaultLimits fault_limits_;
+  double smallest_radius_;  ///< the radii are constant: the next Δt's length, found once
 };
 
 }  // namespace

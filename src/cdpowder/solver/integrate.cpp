@@ -1,29 +1,70 @@
-// integrate.cpp — velocity commit and position update.
+// integrate.cpp — velocity commit and position update, and the spheres' measures on the same
+// pass, in lanes (integrate_lanes.inc, compiled for SSE2 and for AVX2 like the coloured kernel).
 #include "cdpowder/solver/integrate.hpp"
 
+#include "cdpowder/solver/lanes.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 
 namespace cdpowder {
 
-void integrate(const VelocityCache& velocities, double dt, World& world) {
+namespace {
+
+/// What the pass reads and writes, through pointers held in locals: the stores into the World
+/// could alias the vectors' own pointers and the box, which would then be reloaded for every
+/// sphere.
+struct IntegrateInputs {
+  std::size_t n = 0;
+  const std::uint8_t* fixed = nullptr;
+  const double* radius = nullptr;
+  const double* inverse_mass = nullptr;
+  const double* inverse_inertia = nullptr;
+  const SphereVelocity* next = nullptr;
+  Vec3* velocity = nullptr;
+  Vec3* angular_velocity = nullptr;
+  Vec3* position = nullptr;
+  PeriodicBox box;
+  double dt = 0.0;
+};
+
+/// The pass's sums and maxima, from which SphereMeasures is formed.
+struct SpherePassSums {
+  double kinetic_energy = 0.0;
+  double moving_mass = 0.0;
+  double mass_v2 = 0.0;
+  double largest_v2 = 0.0;
+  double net_force = 0.0;
+  double surface_speed = 0.0;
+  bool finite = true;
+};
+
+}  // namespace
+
+#define CDP_LANE_CODE "cdpowder/solver/integrate_lanes.inc"
+#include "cdpowder/solver/lanes_instantiate.inc"
+
+SphereMeasures integrate(const VelocityCache& velocities, double dt, World& world) {
   Bodies& bodies = world.bodies;
-  // through pointers and a box held in locals: the stores below could alias the vectors'
-  // own pointers and the box, which would then be reloaded for every sphere
-  const std::size_t n = bodies.size();
-  const std::uint8_t* const fixed = bodies.fixed.data();
-  const SphereVelocity* const next = velocities.spheres.data();
-  Vec3* const velocity = bodies.velocity.data();
-  Vec3* const angular_velocity = bodies.angular_velocity.data();
-  Vec3* const position = bodies.position.data();
-  const PeriodicBox box = world.box;
-  for (std::size_t i = 0; i < n; ++i) {
-    if (fixed[i] != 0) continue;
-    velocity[i] = next[i].linear;
-    angular_velocity[i] = next[i].angular;
-    position[i] += dt * velocity[i];
-    box.wrap(position[i]);
-  }
+  IntegrateInputs in;
+  in.n = bodies.size();
+  in.fixed = bodies.fixed.data();
+  in.radius = bodies.radius.data();
+  in.inverse_mass = bodies.inverse_mass.data();
+  in.inverse_inertia = bodies.inverse_inertia.data();
+  in.next = velocities.spheres.data();
+  in.velocity = bodies.velocity.data();
+  in.angular_velocity = bodies.angular_velocity.data();
+  in.position = bodies.position.data();
+  in.box = world.box;
+  in.dt = dt;
+  SpherePassSums sums;
+  CDP_LANES_FOR_CPU(integrate_spheres)(in, sums);
+
   Piston& piston = world.walls.piston;
   if (piston.enabled) {
     piston.velocity = velocities.piston_velocity;
@@ -31,6 +72,16 @@ void integrate(const VelocityCache& velocities, double dt, World& world) {
   }
   world.time += dt;
   ++world.step;
+
+  SphereMeasures m;
+  m.kinetic_energy = sums.kinetic_energy;
+  // √ rounds monotonically, so √(max |v|²) is the largest √|v|², bit for bit
+  m.max_speed = std::max(0.0, std::sqrt(sums.largest_v2));
+  m.rms_speed = sums.moving_mass > 0.0 ? std::sqrt(sums.mass_v2 / sums.moving_mass) : 0.0;
+  m.max_net_force = sums.net_force;
+  m.largest_surface_speed = sums.surface_speed;
+  m.finite = sums.finite;
+  return m;
 }
 
 }  // namespace cdpowder

@@ -101,20 +101,13 @@ void solve_step(const World& world, StepWorkspace& work, const StepSettings& set
   work.threaded = report.solver.threaded;
   clock.lap(Stage::SolveNlgs, report.times);
 
-  // the opening gauge, and the net force while `world` still holds the old velocities: both
-  // only read, so side by side on a threaded step
-  CohesiveOpening opening;
-  double net_force = 0.0;
-  side_by_side(
-      stage_threads(work, settings, report),
-      [&] {
-        opening = cohesive_opening(world, work.contacts, work.velocities, settings.laws,
-                                   settings.solver.dt);
-      },
-      [&] { net_force = net_force_of_step(world.bodies, work.velocities); });
+  // the opening gauge, on both threads of a threaded step
+  SlabThreads* const threads = stage_threads(work, settings, report);
+  const CohesiveOpening opening = cohesive_opening(world, work.contacts, work.velocities,
+                                                   settings.laws, settings.solver.dt, threads);
+  if (threads != nullptr) threads->park();
   report.diagnostics.max_cohesive_opening_speed = opening.speed;
   report.diagnostics.max_cohesive_opening_per_range = opening.per_range;
-  report.diagnostics.max_net_force = net_force;
   clock.lap(Stage::Analyse, report.times);
 }
 
@@ -122,27 +115,28 @@ void commit_step(World& world, StepWorkspace& work, const StepSettings& settings
                  StepReport& report) {
   StageClock clock;
   SlabThreads* const threads = stage_threads(work, settings, report);
-  // the warm start of the next step (§7.4) reads the contacts, integration the velocities
-  // and writes the World: side by side on a threaded step, where the store's time counts as
-  // integration's
+  // the warm start of the next step (§7.4) reads the contacts; integration reads the
+  // velocities, writes the World and measures the spheres on its pass (SphereMeasures), and
+  // the contacts' overlaps need its new positions: the store side by side with the other two
+  // on a threaded step, where all three count as integration's time
+  SphereMeasures of_spheres;
+  StepDiagnostics of_contacts;
   if (threads == nullptr) {
     work.action_cache.store(work.contacts);
     clock.lap(Stage::SolveNlgs, report.times);
-    integrate(work.velocities, settings.solver.dt, world);
+    of_spheres = integrate(work.velocities, settings.solver.dt, world);
+    clock.lap(Stage::Integrate, report.times);
+    measure_contacts(world, work.contacts, of_contacts);
   } else {
     side_by_side(
         threads, [&] { work.action_cache.store(work.contacts); },
-        [&] { integrate(work.velocities, settings.solver.dt, world); });
+        [&] {
+          of_spheres = integrate(work.velocities, settings.solver.dt, world);
+          measure_contacts(world, work.contacts, of_contacts);
+        });
+    clock.lap(Stage::Integrate, report.times);
   }
-  clock.lap(Stage::Integrate, report.times);
-
-  StepDiagnostics of_contacts;
-  StepDiagnostics of_spheres;
-  side_by_side(
-      threads, [&] { measure_contacts(world, work.contacts, of_contacts); },
-      [&] { measure_spheres(world, of_spheres); });
   StepDiagnostics diagnostics = join_measures(world, of_contacts, of_spheres);
-  diagnostics.max_net_force = report.diagnostics.max_net_force;
   diagnostics.max_cohesive_opening_speed = report.diagnostics.max_cohesive_opening_speed;
   diagnostics.max_cohesive_opening_per_range = report.diagnostics.max_cohesive_opening_per_range;
   report.diagnostics = diagnostics;

@@ -1,23 +1,30 @@
 // time_step_control.cpp — the two bounds of the next Δt, growth-limited and clamped.
 #include "cdpowder/solver/time_step_control.hpp"
 
+#include "cdpowder/detect/detect_contacts.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
 namespace cdpowder {
 
-double next_time_step(const TimeStepControl& control, double dt, const World& world,
-                      double max_cohesive_opening_speed, const ContactLaws& laws, double skin) {
+double smallest_radius(const Bodies& bodies) {
+  double smallest = std::numeric_limits<double>::infinity();
+  for (const double r : bodies.radius) smallest = std::min(smallest, r);
+  return smallest;
+}
+
+SurfaceMotion surface_motion(const World& world) {
   const Bodies& bodies = world.bodies;
-  double surface_speed = std::abs(world.walls.piston.enabled ? world.walls.piston.velocity : 0.0);
-  double smallest_radius = std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i < bodies.size(); ++i) {
-    surface_speed =
-        std::max(surface_speed,
-                 bodies.velocity[i].norm() + bodies.radius[i] * bodies.angular_velocity[i].norm());
-    smallest_radius = std::min(smallest_radius, bodies.radius[i]);
-  }
+  const Piston& piston = world.walls.piston;
+  return {std::max(std::abs(piston.enabled ? piston.velocity : 0.0),
+                   largest_surface_speed(bodies, 0, bodies.size())),
+          smallest_radius(bodies)};
+}
+
+double next_time_step(const TimeStepControl& control, double dt, const SurfaceMotion& motion,
+                      double max_cohesive_opening_speed, const ContactLaws& laws, double skin) {
   double next = std::min(control.dt_max, control.growth * dt);
   // the smaller cohesion range of the two laws bounds the opening (walls may differ)
   double range = std::numeric_limits<double>::infinity();
@@ -29,9 +36,10 @@ double next_time_step(const TimeStepControl& control, double dt, const World& wo
   if (max_cohesive_opening_speed > 0.0 && std::isfinite(range)) {
     next = std::min(next, control.opening_per_step * range / max_cohesive_opening_speed);
   }
-  const double length = std::min(smallest_radius, skin > 0.0 ? skin : smallest_radius);
-  if (surface_speed > 0.0 && std::isfinite(length)) {
-    next = std::min(next, control.displacement_per_step * length / surface_speed);
+  const double length =
+      std::min(motion.smallest_radius, skin > 0.0 ? skin : motion.smallest_radius);
+  if (motion.speed > 0.0 && std::isfinite(length)) {
+    next = std::min(next, control.displacement_per_step * length / motion.speed);
   }
   return std::clamp(next, control.dt_min, control.dt_max);
 }

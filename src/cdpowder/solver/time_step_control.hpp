@@ -14,9 +14,23 @@
 
 namespace cdpowder {
 
-/// Δt of the next step after a step of length `dt`, from the world after it and that step's
-/// largest cohesive opening speed (StepDiagnostics::max_cohesive_opening_speed) [t0].
-double next_time_step(const TimeStepControl& control, double dt, const World& world,
+/// How fast the surfaces move after a step, and the length that motion is measured in.
+struct SurfaceMotion {
+  /// max of |V_P| and, over the spheres, |v| + r|ω| [R/t0]
+  double speed = 0.0;
+  double smallest_radius = 0.0;  ///< [R]
+};
+
+/// The surface motion of `world` in a pass of its own over the spheres, for a caller without
+/// the step's measures (a run takes the speed from integrate()'s, SphereMeasures).
+SurfaceMotion surface_motion(const World& world);
+
+/// The smallest sphere radius of `bodies` (∞ without spheres) [R].
+double smallest_radius(const Bodies& bodies);
+
+/// Δt of the next step after a step of length `dt`, from the surface motion after it and that
+/// step's largest cohesive opening speed (StepDiagnostics::max_cohesive_opening_speed) [t0].
+double next_time_step(const TimeStepControl& control, double dt, const SurfaceMotion& motion,
                       double max_cohesive_opening_speed, const ContactLaws& laws, double skin);
 
 /// Δt for repeating a step of length `dt` that opened a contact by `opening_per_range` × d_coh

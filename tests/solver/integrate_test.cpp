@@ -1,0 +1,172 @@
+// Tests for src/cdpowder/solver/integrate.cpp: the step's commit, and the measures its pass
+// over the spheres takes, each against a pass of its own written out here (the definitions
+// of analysis/sphere_measures.hpp) to the last bit.
+#include "cdpowder/solver/integrate.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <random>
+
+namespace cdpowder {
+namespace {
+
+bool same_bits(double a, double b) {
+  return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b);
+}
+
+Vec3 random_vec(std::mt19937_64& rng, double scale) {
+  std::uniform_real_distribution<double> u(-scale, scale);
+  return {u(rng), u(rng), u(rng)};
+}
+
+/// 40 spheres of three radii in a 10 × 10 cell, every fifth fixed (with a velocity of its
+/// own, which integrate leaves), random velocities before and after the step, some spheres
+/// about to leave the cell.
+struct Scene {
+  Scene() {
+    std::mt19937_64 rng(7);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    world.box = PeriodicBox{10.0, 10.0};
+    for (int i = 0; i < 40; ++i) {
+      const double r = 0.5 + 0.25 * (i % 3);
+      const Vec3 centre(10.0 * unit(rng), i % 7 == 0 ? 9.999 : 10.0 * unit(rng),
+                        1.0 + 5.0 * unit(rng));
+      world.bodies.add_sphere(centre, r, 1.0, i % 5 == 0);
+      world.bodies.velocity[i] = random_vec(rng, 0.3);
+      world.bodies.angular_velocity[i] = random_vec(rng, 0.2);
+    }
+    world.walls.piston.enabled = true;
+    world.walls.piston.velocity = -0.01;
+    world.walls.piston.height = 8.0;
+    velocities.spheres.resize(world.bodies.size());
+    for (std::size_t i = 0; i < world.bodies.size(); ++i) {
+      SphereVelocity& s = velocities.spheres[i];
+      if (world.bodies.fixed[i] != 0) continue;  // v* of a fixed sphere is zero
+      s.linear = random_vec(rng, 0.3);
+      s.angular = random_vec(rng, 0.2);
+      s.dt_inverse_mass = kDt * world.bodies.inverse_mass[i];
+      s.dt_inverse_inertia = kDt * world.bodies.inverse_inertia[i];
+    }
+    velocities.piston_velocity = -0.02;
+  }
+
+  static constexpr double kDt = 0.01;
+  World world;
+  VelocityCache velocities;
+};
+
+TEST(Integrate, CommitsTheVelocitiesAndMovesTheSpheres) {
+  Scene s;
+  const World before = s.world;
+  (void)integrate(s.velocities, Scene::kDt, s.world);
+  for (std::size_t i = 0; i < before.bodies.size(); ++i) {
+    if (before.bodies.fixed[i] != 0) {
+      EXPECT_EQ(s.world.bodies.velocity[i], before.bodies.velocity[i]);
+      EXPECT_EQ(s.world.bodies.position[i], before.bodies.position[i]);
+      continue;
+    }
+    EXPECT_EQ(s.world.bodies.velocity[i], s.velocities.spheres[i].linear);
+    EXPECT_EQ(s.world.bodies.angular_velocity[i], s.velocities.spheres[i].angular);
+    Vec3 moved = before.bodies.position[i] + Scene::kDt * s.velocities.spheres[i].linear;
+    before.box.wrap(moved);
+    EXPECT_EQ(s.world.bodies.position[i], moved);
+    EXPECT_GE(moved.y(), 0.0);
+    EXPECT_LT(moved.y(), 10.0);
+  }
+  EXPECT_DOUBLE_EQ(s.world.walls.piston.height, 8.0 - 0.02 * Scene::kDt);
+  EXPECT_EQ(s.world.walls.piston.velocity, -0.02);
+  EXPECT_EQ(s.world.step, before.step + 1);
+  EXPECT_DOUBLE_EQ(s.world.time, before.time + Scene::kDt);
+}
+
+TEST(Integrate, ItsMeasuresAreThoseOfPassesOfTheirOwnToTheLastBit) {
+  Scene s;
+  const World before = s.world;
+  const SphereMeasures m = integrate(s.velocities, Scene::kDt, s.world);
+  const Bodies& old_bodies = before.bodies;
+  const Bodies& bodies = s.world.bodies;
+
+  // the spheres' speeds and energy on the World after the step, free spheres in index order
+  double kinetic_energy = 0.0;
+  double moving_mass = 0.0;
+  double mass_v2 = 0.0;
+  double max_speed = 0.0;
+  double net_force = 0.0;
+  double surface_speed = 0.0;
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    surface_speed =
+        std::max(surface_speed,
+                 bodies.velocity[i].norm() + bodies.radius[i] * bodies.angular_velocity[i].norm());
+    if (bodies.fixed[i] != 0) continue;
+    const double v2 = bodies.velocity[i].squaredNorm();
+    max_speed = std::max(max_speed, std::sqrt(v2));
+    moving_mass += bodies.mass(i);
+    mass_v2 += bodies.mass(i) * v2;
+    kinetic_energy += 0.5 * bodies.mass(i) * v2 +
+                      0.5 * bodies.inertia(i) * bodies.angular_velocity[i].squaredNorm();
+    // m|Δv|/Δt + I|Δω|/(Δt r), with Δt/m and Δt/I as the velocity cache holds them
+    const SphereVelocity& next = s.velocities.spheres[i];
+    const double force = (next.linear - old_bodies.velocity[i]).norm() / next.dt_inverse_mass;
+    const double torque = (next.angular - old_bodies.angular_velocity[i]).norm() /
+                          next.dt_inverse_inertia / bodies.radius[i];
+    net_force = std::max(net_force, force + torque);
+  }
+  EXPECT_TRUE(same_bits(m.kinetic_energy, kinetic_energy));
+  EXPECT_TRUE(same_bits(m.max_speed, max_speed));
+  EXPECT_TRUE(same_bits(m.rms_speed, std::sqrt(mass_v2 / moving_mass)));
+  EXPECT_TRUE(same_bits(m.max_net_force, net_force));
+  EXPECT_TRUE(same_bits(m.largest_surface_speed, surface_speed));
+  EXPECT_TRUE(m.finite);
+  EXPECT_GT(m.kinetic_energy, 0.0);
+  EXPECT_GT(m.max_net_force, 0.0);
+}
+
+TEST(Integrate, NetForceIsTheMassTimesTheVelocityChangeOverTheStep) {
+  World world;
+  world.box = PeriodicBox{10.0, 10.0};
+  world.bodies.add_sphere(Vec3(5.0, 5.0, 5.0), 1.0, 1.0);
+  const double mass = world.bodies.mass(0);
+  const double inertia = world.bodies.inertia(0);
+  VelocityCache velocities;
+  velocities.spheres.resize(1);
+  SphereVelocity& s = velocities.spheres[0];
+  s.dt_inverse_mass = 0.1 / mass;
+  s.dt_inverse_inertia = 0.1 / inertia;
+  s.linear = Vec3(0.0, 0.3, 0.4);   // |Δv| = 0.5 from rest in Δt = 0.1: F = 5 m
+  s.angular = Vec3(0.2, 0.0, 0.0);  // |Δω| = 0.2: T / r = 2 I
+  const SphereMeasures m = integrate(velocities, 0.1, world);
+  EXPECT_NEAR(m.max_net_force, 5.0 * mass + 2.0 * inertia, 1e-12);
+  EXPECT_NEAR(m.kinetic_energy, 0.5 * mass * 0.25 + 0.5 * inertia * 0.04, 1e-14);
+  EXPECT_NEAR(m.largest_surface_speed, 0.5 + 0.2, 1e-15);
+  EXPECT_NEAR(m.rms_speed, 0.5, 1e-15);
+}
+
+TEST(Integrate, ANonFiniteSphereIsFoundOnThePass) {
+  const std::array<double, 3> bad_values{std::numeric_limits<double>::quiet_NaN(),
+                                         std::numeric_limits<double>::infinity(),
+                                         -std::numeric_limits<double>::infinity()};
+  for (const double bad : bad_values) {
+    for (int where = 0; where < 3; ++where) {
+      Scene s;
+      const std::size_t i = 13;  // a free sphere
+      ASSERT_EQ(s.world.bodies.fixed[i], 0);
+      if (where == 0) s.velocities.spheres[i].linear.y() = bad;
+      if (where == 1) s.velocities.spheres[i].angular.z() = bad;
+      if (where == 2) s.world.bodies.position[i].z() = bad;
+      EXPECT_FALSE(integrate(s.velocities, Scene::kDt, s.world).finite) << bad << " " << where;
+    }
+  }
+  // a fixed sphere's own velocity counts too
+  Scene fixed;
+  fixed.world.bodies.angular_velocity[0].x() = std::numeric_limits<double>::infinity();
+  EXPECT_FALSE(integrate(fixed.velocities, Scene::kDt, fixed.world).finite);
+}
+
+}  // namespace
+}  // namespace cdpowder
