@@ -3,6 +3,8 @@
 // of analysis/sphere_measures.hpp) to the last bit.
 #include "cdpowder/solver/integrate.hpp"
 
+#include "cdpowder/solver/lanes.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -25,22 +27,24 @@ Vec3 random_vec(std::mt19937_64& rng, double scale) {
   return {u(rng), u(rng), u(rng)};
 }
 
-/// 40 spheres of three radii in a 10 × 10 cell, every fifth fixed (with a velocity of its
-/// own, which integrate leaves), random velocities before and after the step, some spheres
-/// about to leave the cell.
+/// `n` spheres of three radii in a 10 × 10 cell, every fifth fixed (1, 6, 11, …) (with a velocity
+/// of its own, which integrate leaves), sphere 3 free but without mass (1/m = 1/I = 0: it moves and
+/// carries no energy), random velocities before and after the step, some spheres about to
+/// leave the cell. 41 spheres end in a partial block of lanes on every instruction set.
 struct Scene {
-  Scene() {
+  explicit Scene(int n = 41) {
     std::mt19937_64 rng(7);
     std::uniform_real_distribution<double> unit(0.0, 1.0);
     world.box = PeriodicBox{10.0, 10.0};
-    for (int i = 0; i < 40; ++i) {
+    for (int i = 0; i < n; ++i) {
       const double r = 0.5 + 0.25 * (i % 3);
       const Vec3 centre(10.0 * unit(rng), i % 7 == 0 ? 9.999 : 10.0 * unit(rng),
                         1.0 + 5.0 * unit(rng));
-      world.bodies.add_sphere(centre, r, 1.0, i % 5 == 0);
+      world.bodies.add_sphere(centre, r, 1.0, i % 5 == 1);
       world.bodies.velocity[i] = random_vec(rng, 0.3);
       world.bodies.angular_velocity[i] = random_vec(rng, 0.2);
     }
+    if (n > 3) world.bodies.inverse_mass[3] = world.bodies.inverse_inertia[3] = 0.0;
     world.walls.piston.enabled = true;
     world.walls.piston.velocity = -0.01;
     world.walls.piston.height = 8.0;
@@ -85,8 +89,8 @@ TEST(Integrate, CommitsTheVelocitiesAndMovesTheSpheres) {
   EXPECT_DOUBLE_EQ(s.world.time, before.time + Scene::kDt);
 }
 
-TEST(Integrate, ItsMeasuresAreThoseOfPassesOfTheirOwnToTheLastBit) {
-  Scene s;
+/// integrate() on `s` against passes of their own over the World before and after it.
+void expect_measures_of_passes_of_their_own(Scene& s) {
   const World before = s.world;
   const SphereMeasures m = integrate(s.velocities, Scene::kDt, s.world);
   const Bodies& old_bodies = before.bodies;
@@ -112,6 +116,7 @@ TEST(Integrate, ItsMeasuresAreThoseOfPassesOfTheirOwnToTheLastBit) {
                       0.5 * bodies.inertia(i) * bodies.angular_velocity[i].squaredNorm();
     // m|Δv|/Δt + I|Δω|/(Δt r), with Δt/m and Δt/I as the velocity cache holds them
     const SphereVelocity& next = s.velocities.spheres[i];
+    if (next.dt_inverse_mass <= 0.0) continue;
     const double force = (next.linear - old_bodies.velocity[i]).norm() / next.dt_inverse_mass;
     const double torque = (next.angular - old_bodies.angular_velocity[i]).norm() /
                           next.dt_inverse_inertia / bodies.radius[i];
@@ -119,12 +124,26 @@ TEST(Integrate, ItsMeasuresAreThoseOfPassesOfTheirOwnToTheLastBit) {
   }
   EXPECT_TRUE(same_bits(m.kinetic_energy, kinetic_energy));
   EXPECT_TRUE(same_bits(m.max_speed, max_speed));
-  EXPECT_TRUE(same_bits(m.rms_speed, std::sqrt(mass_v2 / moving_mass)));
+  EXPECT_TRUE(same_bits(m.rms_speed, moving_mass > 0.0 ? std::sqrt(mass_v2 / moving_mass) : 0.0));
   EXPECT_TRUE(same_bits(m.max_net_force, net_force));
   EXPECT_TRUE(same_bits(m.largest_surface_speed, surface_speed));
   EXPECT_TRUE(m.finite);
-  EXPECT_GT(m.kinetic_energy, 0.0);
-  EXPECT_GT(m.max_net_force, 0.0);
+}
+
+TEST(Integrate, ItsMeasuresAreThoseOfPassesOfTheirOwnToTheLastBit) {
+  for (const lanes::Isa isa : {lanes::Isa::Sse2, lanes::Isa::Avx2}) {
+    if (!lanes::allow_isa(isa)) continue;  // no AVX2 here
+    for (const int n : {1, 2, 3, 4, 5, 7, 40, 41}) {
+      SCOPED_TRACE(::testing::Message() << n << " spheres, avx2 " << (isa == lanes::Isa::Avx2));
+      Scene s(n);
+      expect_measures_of_passes_of_their_own(s);
+    }
+    Scene s;
+    const SphereMeasures m = integrate(s.velocities, Scene::kDt, s.world);
+    EXPECT_GT(m.kinetic_energy, 0.0);
+    EXPECT_GT(m.max_net_force, 0.0);
+  }
+  lanes::allow_isa(lanes::Isa::Avx512);
 }
 
 TEST(Integrate, NetForceIsTheMassTimesTheVelocityChangeOverTheStep) {
@@ -151,21 +170,28 @@ TEST(Integrate, ANonFiniteSphereIsFoundOnThePass) {
   const std::array<double, 3> bad_values{std::numeric_limits<double>::quiet_NaN(),
                                          std::numeric_limits<double>::infinity(),
                                          -std::numeric_limits<double>::infinity()};
-  for (const double bad : bad_values) {
-    for (int where = 0; where < 3; ++where) {
-      Scene s;
-      const std::size_t i = 13;  // a free sphere
-      ASSERT_EQ(s.world.bodies.fixed[i], 0);
-      if (where == 0) s.velocities.spheres[i].linear.y() = bad;
-      if (where == 1) s.velocities.spheres[i].angular.z() = bad;
-      if (where == 2) s.world.bodies.position[i].z() = bad;
-      EXPECT_FALSE(integrate(s.velocities, Scene::kDt, s.world).finite) << bad << " " << where;
+  for (const lanes::Isa isa : {lanes::Isa::Sse2, lanes::Isa::Avx2}) {
+    if (!lanes::allow_isa(isa)) continue;  // no AVX2 here
+    for (const double bad : bad_values) {
+      // sphere 13 in a whole block of lanes, sphere 40 alone in the last, partial one
+      for (const std::size_t i : {std::size_t{13}, std::size_t{40}}) {
+        for (int where = 0; where < 3; ++where) {
+          Scene s;
+          ASSERT_EQ(s.world.bodies.fixed[i], 0);
+          if (where == 0) s.velocities.spheres[i].linear.y() = bad;
+          if (where == 1) s.velocities.spheres[i].angular.z() = bad;
+          if (where == 2) s.world.bodies.position[i].z() = bad;
+          EXPECT_FALSE(integrate(s.velocities, Scene::kDt, s.world).finite)
+              << bad << " " << i << " " << where;
+        }
+      }
     }
+    // a fixed sphere's own velocity counts too
+    Scene fixed;
+    fixed.world.bodies.angular_velocity[1].x() = std::numeric_limits<double>::infinity();
+    EXPECT_FALSE(integrate(fixed.velocities, Scene::kDt, fixed.world).finite);
   }
-  // a fixed sphere's own velocity counts too
-  Scene fixed;
-  fixed.world.bodies.angular_velocity[0].x() = std::numeric_limits<double>::infinity();
-  EXPECT_FALSE(integrate(fixed.velocities, Scene::kDt, fixed.world).finite);
+  lanes::allow_isa(lanes::Isa::Avx512);
 }
 
 }  // namespace

@@ -7,7 +7,8 @@ namespace cdpowder {
 
 /// What integrate() measures on its pass over the spheres. Each value is what a pass of its
 /// own over the World after the step (or, for the net force, over the velocities before and
-/// after) would give, to the last bit: the sums add the spheres in index order. One pass
+/// after) would give, to the last bit: the sums add the spheres in index order. (Only the
+/// sign of a NaN energy may differ, on a state that is a fault anyway.) One pass
 /// instead of five (the energies and speeds, the net force, the next Δt's surface speed and
 /// the finiteness check each read every sphere once; docs/performance.md, "One pass over
 /// the spheres").
@@ -22,7 +23,7 @@ struct SphereMeasures {
   /// [F_coh]
   double max_net_force = 0.0;
   /// max over all spheres of |v| + r|ω| after the step: how far a surface moves per unit
-  /// time, which bounds the next Δt (time_step_control.hpp) [R/t0]
+  /// time, which bounds the next Δt (solver/time_step_control.hpp) [R/t0]
   double largest_surface_speed = 0.0;
   /// every sphere's position, velocity and angular velocity is finite after the step
   bool finite = true;

@@ -63,9 +63,7 @@ void finish_step(World& world, StepWorkspace& work, const StepSettings& settings
                  StepReport& report);
 
 /// Stage 3 and the opening gauge: solves the problem begin_step left in `work` and sets
-/// report.solver, the diagnostics' two cohesive-opening gauges (cohesive_opening.hpp) and
-/// the step's largest net force (net_force_of_step, which needs the velocities before
-/// integration).
+/// report.solver and the diagnostics' two cohesive-opening gauges (cohesive_opening.hpp).
 /// Leaves the World and the action cache as begin_step found them, so a step abandoned here
 /// is undone by restoring the sweep-order stream (work.solver.rng) alone: that is how an
 /// adaptive Δt solves a step again with a shorter Δt (experiment/run_loop.cpp). begin_step's
@@ -74,8 +72,9 @@ void finish_step(World& world, StepWorkspace& work, const StepSettings& settings
 void solve_step(const World& world, StepWorkspace& work, const StepSettings& settings,
                 StepReport& report);
 
-/// Keeps a solved step: stores its actions for the next warm start, integrates, and fills
-/// the rest of report.diagnostics. On a step whose solve ran on two threads, the stages'
+/// Keeps a solved step: stores its actions for the next warm start, integrates (measuring the
+/// spheres on the way, the net force among them: SphereMeasures), and fills the rest of
+/// report.diagnostics. On a step whose solve ran on two threads, the stages'
 /// independent halves run side by side too (the same bits: each half writes its own results).
 void commit_step(World& world, StepWorkspace& work, const StepSettings& settings,
                  StepReport& report);
