@@ -39,16 +39,14 @@ std::int64_t first_non_finite(const std::vector<Vec3>& values) {
   return -1;
 }
 
-/// `spheres_known_finite`: integrate() found every sphere finite on its pass
-/// (StepDiagnostics::spheres_finite), so only the piston is checked here.
-std::optional<RunFault> non_finite(const World& world, bool spheres_known_finite) {
+/// The first sphere whose position, velocity or angular velocity is not finite.
+std::optional<RunFault> non_finite_sphere(const World& world) {
   const Bodies& b = world.bodies;
   const std::array<std::pair<const std::vector<Vec3>*, const char*>, 3> fields{
       {{&b.position, "position"},
        {&b.velocity, "velocity"},
        {&b.angular_velocity, "angular velocity"}}};
   for (const auto& [values, name] : fields) {
-    if (spheres_known_finite) break;
     const std::int64_t i = first_non_finite(*values);
     if (i < 0) continue;
     const Vec3& v = (*values)[static_cast<std::size_t>(i)];
@@ -60,6 +58,10 @@ std::optional<RunFault> non_finite(const World& world, bool spheres_known_finite
         name, i, v.x(), v.y(), v.z(), where(f));
     return f;
   }
+  return std::nullopt;
+}
+
+std::optional<RunFault> non_finite_piston(const World& world) {
   const Piston& piston = world.walls.piston;
   if (piston.enabled && !(std::isfinite(piston.height) && std::isfinite(piston.velocity))) {
     RunFault f = fault(world, "piston", -1, std::numeric_limits<double>::quiet_NaN());
@@ -108,7 +110,12 @@ RunFault largest_overlap(const World& world, const Contacts& contacts, double bo
 
 std::optional<RunFault> find_fault(const World& world, const Contacts& contacts,
                                    const StepDiagnostics& diagnostics, const FaultLimits& limits) {
-  if (auto f = non_finite(world, diagnostics.spheres_finite)) return f;
+  // the spheres are searched only when integrate()'s pass did not find them finite
+  // (StepDiagnostics::spheres_finite)
+  if (!diagnostics.spheres_finite) {
+    if (auto f = non_finite_sphere(world)) return f;
+  }
+  if (auto f = non_finite_piston(world)) return f;
   // NaN compares false, so std::max in the diagnostics never holds one; positions are finite
   // here, so the largest overlap is too
   if (diagnostics.max_overlap > limits.max_overlap) {

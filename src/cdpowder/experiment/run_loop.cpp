@@ -138,7 +138,7 @@ class RunLoop {
         load_(piston_load(world)),
         // the grain volume is constant: computed once for the porosity check of every step
         fault_limits_{run.max_overlap, grain_volume(world.bodies)},
-        smallest_radius_(smallest_radius(world.bodies)) {
+        smallest_radius_(world.bodies.min_radius()) {
     if (!state.started) {
       state.started = true;
       state.start_time = world.time;
@@ -209,11 +209,9 @@ class RunLoop {
     // the next Δt before the static solves: they leave the World as it is unless they end
     // the run, so it is the same either way, and a run stopped inside one has it already
     if (adaptive_) {
-      // the spheres' fastest surface as integrate() measured it, and the piston's
-      const Piston& piston = world_.walls.piston;
-      const SurfaceMotion motion{std::max(std::abs(piston.enabled ? piston.velocity : 0.0),
-                                          result_.last.diagnostics.largest_surface_speed),
-                                 smallest_radius_};
+      // the spheres' fastest surface as integrate() measured it
+      const SurfaceMotion motion =
+          surface_motion(world_, result_.last.diagnostics.largest_surface_speed, smallest_radius_);
       state_.dt = next_time_step(settings_.solver.time_step, current_.solver.dt, motion,
                                  result_.last.diagnostics.max_cohesive_opening_speed,
                                  settings_.laws, settings_.solver.skin);

@@ -8,6 +8,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <numbers>
 #include <vector>
 
@@ -50,6 +51,13 @@ struct Bodies {
 
   [[nodiscard]] double inertia(std::size_t i) const {
     return inverse_inertia[i] > 0.0 ? 1.0 / inverse_inertia[i] : 0.0;
+  }
+
+  /// The smallest radius; ∞ without spheres.
+  [[nodiscard]] double min_radius() const {
+    double r = std::numeric_limits<double>::infinity();
+    for (const double ri : radius) r = ri < r ? ri : r;
+    return r;
   }
 
   [[nodiscard]] double max_radius() const {

@@ -9,18 +9,16 @@
 
 namespace cdpowder {
 
-double smallest_radius(const Bodies& bodies) {
-  double smallest = std::numeric_limits<double>::infinity();
-  for (const double r : bodies.radius) smallest = std::min(smallest, r);
-  return smallest;
+SurfaceMotion surface_motion(const World& world, double sphere_speed, double smallest_radius) {
+  const Piston& piston = world.walls.piston;
+  return {std::max(std::abs(piston.enabled ? piston.velocity : 0.0), sphere_speed),
+          smallest_radius};
 }
 
 SurfaceMotion surface_motion(const World& world) {
   const Bodies& bodies = world.bodies;
-  const Piston& piston = world.walls.piston;
-  return {std::max(std::abs(piston.enabled ? piston.velocity : 0.0),
-                   largest_surface_speed(bodies, 0, bodies.size())),
-          smallest_radius(bodies)};
+  return surface_motion(world, largest_surface_speed(bodies, 0, bodies.size()),
+                        bodies.min_radius());
 }
 
 double next_time_step(const TimeStepControl& control, double dt, const SurfaceMotion& motion,

@@ -21,12 +21,13 @@ struct SurfaceMotion {
   double smallest_radius = 0.0;  ///< [R]
 };
 
-/// The surface motion of `world` in a pass of its own over the spheres, for a caller without
-/// the step's measures (a run takes the speed from integrate()'s, SphereMeasures).
-SurfaceMotion surface_motion(const World& world);
+/// The surface motion of `world`: the piston's speed, the spheres' largest surface speed
+/// `sphere_speed` (a run takes integrate()'s, SphereMeasures::largest_surface_speed) and their
+/// smallest radius.
+SurfaceMotion surface_motion(const World& world, double sphere_speed, double smallest_radius);
 
-/// The smallest sphere radius of `bodies` (∞ without spheres) [R].
-double smallest_radius(const Bodies& bodies);
+/// The same with the spheres' speed and radius found in a pass of its own over the spheres.
+SurfaceMotion surface_motion(const World& world);
 
 /// Δt of the next step after a step of length `dt`, from the surface motion after it and that
 /// step's largest cohesive opening speed (StepDiagnostics::max_cohesive_opening_speed) [t0].
