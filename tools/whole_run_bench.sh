@@ -41,7 +41,15 @@ out_csv=docs/performance/whole_runs.csv
 header="date,commit,machine,scene,settings,spheres,steps,sweeps_per_step,wall_seconds,nlgs_seconds,porosity"
 mkdir -p "$(dirname "$out_csv")"
 [ -f "$out_csv" ] || echo "$header" >"$out_csv"
-machine="$(lscpu | sed -n 's/^Model name: *//p' | head -1) x$(nproc)"
+# the CPU's name, its family and model (two "AMD EPYC"s of different generations share a name)
+# and the widest instruction set the kernel runs on there (lanes.hpp)
+cpu_field() { lscpu | sed -n "s/^$1: *//p" | head -1; }
+flags="$(cpu_field Flags)"
+isa=sse2
+[[ " $flags " == *" avx2 "* ]] && isa=avx2
+[[ " $flags " == *" avx512f "* && " $flags " == *" avx512dq "* && " $flags " == *" avx512vl "* ]] &&
+  isa=avx512
+machine="$(cpu_field 'Model name') x$(nproc), family $(cpu_field 'CPU family') model $(cpu_field Model), $isa"
 commit="$(git rev-parse --short=12 HEAD)"
 for run in "${runs[@]}"; do
   scene="${run%%|*}"
