@@ -41,15 +41,7 @@ out_csv=docs/performance/whole_runs.csv
 header="date,commit,machine,scene,settings,spheres,steps,sweeps_per_step,wall_seconds,nlgs_seconds,porosity"
 mkdir -p "$(dirname "$out_csv")"
 [ -f "$out_csv" ] || echo "$header" >"$out_csv"
-# the CPU's name, its family and model (two "AMD EPYC"s of different generations share a name)
-# and the widest instruction set the kernel runs on there (lanes.hpp)
-cpu_field() { lscpu | sed -n "s/^$1: *//p" | head -1; }
-flags="$(cpu_field Flags)"
-isa=sse2
-[[ " $flags " == *" avx2 "* ]] && isa=avx2
-[[ " $flags " == *" avx512f "* && " $flags " == *" avx512dq "* && " $flags " == *" avx512vl "* ]] &&
-  isa=avx512
-machine="$(cpu_field 'Model name') x$(nproc), family $(cpu_field 'CPU family') model $(cpu_field Model), $isa"
+cores="$(nproc)"
 commit="$(git rev-parse --short=12 HEAD)"
 for run in "${runs[@]}"; do
   scene="${run%%|*}"
@@ -58,15 +50,19 @@ for run in "${runs[@]}"; do
   # shellcheck disable=SC2086  # the point's settings are words
   build/release/app/cdpowder simulate "$scene" --out "$out" --quiet $point "${settings[@]}" >/dev/null ||
     [ $? -eq 4 ]  # a run that did not block still times
-  /usr/bin/python3 - "$out/summary.json" "$scene" "$commit" "$machine" \
+  /usr/bin/python3 - "$out/summary.json" "$scene" "$commit" "$cores" \
     "$(echo "$point ${settings[*]}" | sed 's/--set //g; s/^ *//; s/ *$//')" >>"$out_csv" <<'PY'
 import datetime, pathlib, sys
 sys.path.insert(0, str(pathlib.Path("tools").resolve()))
 from run_summary import read_summary
 s = read_summary(sys.argv[1])
 r = s["run"]
+# the machine as the run saw it: the CPU (name, family, model), the cores, the kernel's
+# instruction set (docs/outputs.md, program.cpu and program.kernel)
+p = s["program"]
+machine = f"{p.get('cpu') or 'unknown CPU'} x{sys.argv[4]}, {p.get('kernel') or 'unknown kernel'}"
 print(",".join(str(x) for x in [
-    datetime.date.today().isoformat(), sys.argv[3], '"' + sys.argv[4] + '"', sys.argv[2],
+    datetime.date.today().isoformat(), sys.argv[3], '"' + machine + '"', sys.argv[2],
     '"' + sys.argv[5] + '"', s["spheres"], r["steps"], round(r["sweeps_per_step"], 2),
     round(r["wall_seconds"], 3), round(r["stage_seconds"]["solve_nlgs"], 3),
     round(s["porosity"], 5)]))

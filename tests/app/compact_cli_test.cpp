@@ -3,6 +3,7 @@
 // VTK files read back, results are reproducible, a deposit feeds a compaction, and bad
 // configurations are refused before anything is written.
 #include "cdpowder/io/run_summary.hpp"
+#include "cdpowder/solver/lanes.hpp"
 #include "support/cli_process.hpp"
 
 #include <gmock/gmock.h>
@@ -78,6 +79,9 @@ TEST_F(CompactCli, QuickExampleBlocksWithStressEqualToThePressure) {
   EXPECT_LT(s["accuracy"]["mean_overlap"].get<double>(), 1e-3);
   EXPECT_GT(s["contacts"]["coordination_number"].get<double>(), 1.0);
   EXPECT_EQ(s["spheres"], 100);
+  // where it ran, for reading its timings: the kernel's instruction set in this environment
+  EXPECT_EQ(s["program"]["kernel"].get<std::string>(), cdpowder::lanes::kernel_isa_name());
+  EXPECT_TRUE(s["program"]["cpu"].is_string());
 
   for (const char* name : {"summary.json", "particles.csv", "initial_particles.csv", "contacts.csv",
                            "timeseries.csv", "scene.toml", "particles.vtp", "contacts.vtp",

@@ -17,6 +17,8 @@ RunSummary example_summary() {
   RunSummary s;
   s.program.version = "9.9.9";
   s.program.commit = "abcdef123456";
+  s.program.kernel = "avx2";
+  s.program.cpu = "AMD EPYC";
   s.seed = 18446744073709551557ULL;  // beyond 2^53: must not pass through a double
   s.porosity = 0.6430459140388864;
   s.initial_porosity = 0.9273698405723986;
@@ -75,6 +77,8 @@ TEST(RunSummary, WrittenAndReadBackFieldForField) {
   EXPECT_EQ(r.schema, kRunSummarySchema);
   EXPECT_EQ(nlohmann::json::parse(text).at("schema"), kRunSummarySchema);
   EXPECT_EQ(r.program.commit, s.program.commit);
+  EXPECT_EQ(r.program.kernel, s.program.kernel);
+  EXPECT_EQ(r.program.cpu, s.program.cpu);
   EXPECT_EQ(r.seed, s.seed);
   EXPECT_EQ(r.porosity, s.porosity);  // nlohmann writes the shortest round-trip form
   EXPECT_EQ(r.spheres, s.spheres);

@@ -6,6 +6,7 @@
 #include "cdpowder/analysis/porosity.hpp"
 #include "cdpowder/analysis/stress.hpp"
 #include "cdpowder/experiment/deposition.hpp"
+#include "cdpowder/solver/lanes.hpp"
 #include "cdpowder/version.hpp"
 
 #include <fmt/format.h>
@@ -16,6 +17,7 @@
 #include <fstream>
 #include <limits>
 #include <sstream>
+#include <string>
 #include <utility>
 
 namespace cdpowder {
@@ -104,8 +106,47 @@ json scene_json(const std::string& scene_toml) {
   return json::parse(text.str());
 }
 
-json program_json() {
-  return {{"name", "cdpowder"}, {"version", kVersion}, {"commit", kGitCommit}};
+/// The first CPU's model name, family and model from /proc/cpuinfo, "AMD EPYC (family 25,
+/// model 1)": a virtual machine's CPUs of different generations may share one name. Empty
+/// where the system has no such file.
+std::string cpu_description() {
+  std::ifstream cpuinfo("/proc/cpuinfo");
+  std::string name;
+  std::string family;
+  std::string model;
+  std::string line;
+  while (std::getline(cpuinfo, line) && !line.empty()) {  // the first CPU's block
+    const std::size_t colon = line.find(':');
+    if (colon == std::string::npos) continue;
+    const std::size_t end = line.find_last_not_of(" \t", colon - 1);
+    const std::string key = line.substr(0, end == std::string::npos ? 0 : end + 1);
+    const std::size_t first = line.find_first_not_of(" \t", colon + 1);
+    const std::string value = first == std::string::npos ? std::string{} : line.substr(first);
+    if (key == "model name") name = value;
+    if (key == "cpu family") family = value;
+    if (key == "model") model = value;
+  }
+  if (name.empty()) return {};
+  if (family.empty() || model.empty()) return name;
+  return fmt::format("{} (family {}, model {})", name, family, model);
+}
+
+/// This build and where it runs.
+RunSummary::Program this_program() {
+  RunSummary::Program p;
+  p.version = kVersion;
+  p.commit = kGitCommit;
+  p.kernel = lanes::kernel_isa_name();
+  p.cpu = cpu_description();
+  return p;
+}
+
+json program_json(const RunSummary::Program& p) {
+  return {{"name", p.name},
+          {"version", p.version},
+          {"commit", p.commit},
+          {"kernel", p.kernel},
+          {"cpu", p.cpu}};
 }
 
 json fault_json(const RunFault& f) {
@@ -337,8 +378,7 @@ RunSummary summarise_run(const Scene& scene, const World& world, const Contacts&
   const double pressure = piston.enabled ? piston.force / world.box.area() : 0.0;
 
   RunSummary s;
-  s.program.version = kVersion;
-  s.program.commit = kGitCommit;
+  s.program = this_program();
   s.seed = scene.step.solver.seed;
   s.porosity = porosity(world);
   s.initial_porosity = initial_porosity;
@@ -378,8 +418,7 @@ RunSummary summarise_run(const Scene& scene, const World& world, const Contacts&
 std::string run_summary_json(const RunSummary& s) {
   json j;
   j["schema"] = s.schema;
-  j["program"] = {
-      {"name", s.program.name}, {"version", s.program.version}, {"commit", s.program.commit}};
+  j["program"] = program_json(s.program);
   j["seed"] = s.seed;
   j["porosity"] = s.porosity;
   j["initial_porosity"] = s.initial_porosity;
@@ -442,6 +481,8 @@ RunSummary parse_run_summary(std::string_view json_text) {
   s.program.name = program.text("name");
   s.program.version = program.text("version");
   s.program.commit = program.text("commit", true);
+  s.program.kernel = program.text("kernel");
+  s.program.cpu = program.text("cpu");
   s.seed = top.count<std::uint64_t>("seed");
   s.porosity = top.number("porosity", true);
   s.initial_porosity = top.number("initial_porosity");
@@ -481,7 +522,7 @@ std::optional<RunSummary> read_run_summary(const std::filesystem::path& path) {
 std::string deposit_summary_json(const Scene& scene, const World& world) {
   json j;
   j["schema"] = kRunSummarySchema;
-  j["program"] = program_json();
+  j["program"] = program_json(this_program());
   j["seed"] = scene.deposition ? scene.deposition->seed : 0;
   j["spheres"] = world.bodies.size();
   j["porosity"] = deposit_porosity(world.bodies, world.box);

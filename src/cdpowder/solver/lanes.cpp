@@ -47,6 +47,11 @@ bool use_avx512() {
   return widest_allowed == Isa::Avx512 && use_avx2() && cpu_has_avx512();
 }
 
+const char* kernel_isa_name() {
+  if (use_avx512()) return "avx512";
+  return use_avx2() ? "avx2" : "sse2";
+}
+
 bool allow_isa(Isa widest) {
   widest_allowed = widest;
   switch (widest) {

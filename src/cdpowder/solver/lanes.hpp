@@ -40,6 +40,10 @@ bool use_avx512();
 /// the coloured kernel now uses (false where the CPU lacks it). Every set gives the same bits.
 bool allow_isa(Isa widest);
 
+/// The instruction set the coloured kernel runs on in this process, as run summaries name it:
+/// "avx512", "avx2" or "sse2". Every set gives the same bits; the time differs.
+const char* kernel_isa_name();
+
 // A record is a 64-byte line of 8 doubles (a SphereVelocity, a ContactAction); load_rows and
 // store_rows move fields [kFirst, kFirst + kCount) of kLanes records to and from kCount
 // registers, lane l holding record rows[l] (`rows`: an array of record pointers, or anything
