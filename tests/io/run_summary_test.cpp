@@ -140,8 +140,12 @@ TEST(RunSummary, SchemaZeroIsAFileWithoutTheKeyAndItsMissingFieldsAreAbsent) {
   j.at("run").erase("failed");
   j.at("run").erase("dt_min");
   j.at("accuracy").erase("max_cohesive_opening_per_range");
+  j.at("program").erase("kernel");
+  j.at("program").erase("cpu");
   const RunSummary r = parse_run_summary(j.dump());
   EXPECT_EQ(r.schema, 0);
+  EXPECT_TRUE(r.program.kernel.empty());
+  EXPECT_TRUE(r.program.cpu.empty());
   EXPECT_FALSE(r.run.failed);
   EXPECT_TRUE(std::isnan(r.run.dt_min));
   EXPECT_TRUE(std::isnan(r.accuracy.max_cohesive_opening_per_range));

@@ -44,8 +44,7 @@ struct RunSummary {
     std::string commit;
     /// where it ran, for reading its timings: the coloured kernel's instruction set
     /// (lanes::kernel_isa_name) and the CPU's model name, family and model (empty where the
-    /// system names none);
-    /// both empty in a summary written before they were recorded
+    /// system names none); both empty in a summary written before they were recorded
     std::string kernel;
     std::string cpu;
   } program;
