@@ -116,10 +116,11 @@ std::string cpu_description() {
   std::string model;
   std::string line;
   while (std::getline(cpuinfo, line) && !line.empty()) {  // the first CPU's block
+    // "key<tabs>: value"
     const std::size_t colon = line.find(':');
     if (colon == std::string::npos) continue;
-    const std::size_t end = line.find_last_not_of(" \t", colon - 1);
-    const std::string key = line.substr(0, end == std::string::npos ? 0 : end + 1);
+    std::string key = line.substr(0, colon);
+    key.erase(key.find_last_not_of(" \t") + 1);  // npos + 1 = 0: a key of blanks is empty
     const std::size_t first = line.find_first_not_of(" \t", colon + 1);
     const std::string value = first == std::string::npos ? std::string{} : line.substr(first);
     if (key == "model name") name = value;
