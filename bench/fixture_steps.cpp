@@ -7,6 +7,9 @@
 // blocked-state test); step() alone does not see it.
 // --always-threaded keeps every cut step on the threads with solver.threads = 2, so that a
 // measurement of the threads is not mixed with the blocks the timed choice runs on one thread.
+// With solver.threads ≥ 2 it also prints the round trip of a cache line between CPUs 0 and 1
+// just before and just after the steps: on a virtual machine that path changes while the
+// steps run, and a two-thread time is read beside it (docs/performance.md).
 //   fixture_steps FILE.cdps --steps N [--run-loop] [--always-threaded] [--set section.key=value
 //   ...]
 #include "cdpowder/analysis/porosity.hpp"
@@ -15,6 +18,7 @@
 #include "cdpowder/io/state_file.hpp"
 #include "cdpowder/io/state_hash.hpp"
 #include "cdpowder/solver/step.hpp"
+#include "support/core_round_trip.hpp"
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -113,8 +117,11 @@ int main(int argc, char** argv) {
     RunState restored;
     restore_run(std::move(saved), saved_scene.run, saved_scene.step.solver.dt, world, work,
                 restored);
+    const bool threads = scene.step.solver.threads >= 2;
+    const double round_trip_before = threads ? bench::core_round_trip_ns() : 0.0;
     const Totals t =
         run_loop ? run_loop_steps(world, work, scene, steps) : run_steps(world, work, scene, steps);
+    const double round_trip_after = threads ? bench::core_round_trip_ns() : 0.0;
     const auto solve = static_cast<std::size_t>(Stage::SolveNlgs);
     // the overhead is everything but the NLGS stage: in --run-loop mode the wall time of the
     // loop (its undo copies included) minus the NLGS stage
@@ -153,6 +160,10 @@ int main(int argc, char** argv) {
         "analyse {:.0f}, outside the stages {:.0f}\n",
         1e6 * t.stages[0] / n, 1e6 * t.stages[1] / n, 1e6 * t.stages[2] / n, 1e6 * t.stages[3] / n,
         1e6 * t.stages[4] / n, run_loop ? 1e6 * (t.wall - stage_sum) / n : 0.0);
+    if (threads) {
+      fmt::print("core round trip [ns], CPU 0 to 1 and back: {:.0f} before, {:.0f} after\n",
+                 round_trip_before, round_trip_after);
+    }
     return 0;
   } catch (const std::exception& error) {
     fmt::print(stderr, "fixture_steps: {}\n", error.what());
