@@ -5,7 +5,6 @@
 #include <array>
 #include <atomic>
 #include <chrono>
-#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <thread>
@@ -69,7 +68,9 @@ class KeepAffinity {
 
 double core_round_trip_ns(int first, int second) {
   const KeepAffinity keep;
-  // the line both threads write: odd values are the first thread's, even ones the answers
+  // the caller first: once it is pinned only the answering thread can fail, before it answers
+  if (!pin_to(first)) return std::numeric_limits<double>::quiet_NaN();
+  // the line both threads write: odd values are the caller's, even ones the answers
   alignas(64) std::atomic<std::uint32_t> line{0};
   std::atomic<int> pinned{0};  // 1 once the answering thread is pinned, −1 if it cannot be
   std::thread answering([&] {
@@ -85,14 +86,7 @@ double core_round_trip_ns(int first, int second) {
     }
   });
   while (pinned.load() == 0) std::this_thread::yield();
-  if (pinned.load() < 0 || !pin_to(first)) {
-    if (pinned.load() > 0) {  // let the answering thread finish its rounds alone
-      for (std::uint32_t value = 1; value < kLastValue; value += 2) {
-        line.store(value, std::memory_order_release);
-        while (line.load(std::memory_order_acquire) != value + 1) {
-        }
-      }
-    }
+  if (pinned.load() < 0) {
     answering.join();
     return std::numeric_limits<double>::quiet_NaN();
   }
