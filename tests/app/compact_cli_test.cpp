@@ -2,8 +2,8 @@
 // quick example compacts to the blocked state with σzz equal to the applied pressure, the
 // VTK files read back, results are reproducible, a deposit feeds a compaction, and bad
 // configurations are refused before anything is written.
+#include "cdpowder/core/lanes.hpp"
 #include "cdpowder/io/run_summary.hpp"
-#include "cdpowder/solver/lanes.hpp"
 #include "support/cli_process.hpp"
 
 #include <gmock/gmock.h>

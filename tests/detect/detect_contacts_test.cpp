@@ -3,10 +3,13 @@
 // boundaries and in boxes of one, two or three cells per axis, the candidates are exactly
 // those of a brute-force O(N²) minimum-image search with the same cutoff, each pair once,
 // in the key order the warm-start merge of ActionCache relies on (physics.md §4.3, §7.4);
-// and PeriodicBox::wrap, whose shortcut for positions in the cell keeps the formula's bits.
+// the pairs' geometry, formed in lanes, has the bits of the scalar formulas on every
+// instruction set; and PeriodicBox::wrap, whose shortcut for positions in the cell keeps the
+// formula's bits.
 #include "cdpowder/detect/detect_contacts.hpp"
 
 #include "cdpowder/contact/action_cache.hpp"
+#include "cdpowder/core/lanes.hpp"
 #include "cdpowder/core/rng.hpp"
 #include "cdpowder/solver/settings.hpp"
 
@@ -17,6 +20,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <map>
 #include <string>
 #include <vector>
@@ -265,6 +269,79 @@ TEST(DetectContacts, FindsPairsAcrossEveryPeriodicBoundary) {
   for (std::size_t k = 0; k < 3; ++k) {
     EXPECT_NEAR((contacts.pairs[k].normal - expected_normals[k]).norm(), 0.0, kRoundOff);
   }
+}
+
+/// Whether two pair records hold the same bits in every field (a record has no padding).
+bool same_bits(const PairProblem& x, const PairProblem& y) {
+  return std::memcmp(&x, &y, sizeof(PairProblem)) == 0;
+}
+
+/// The geometry detect_contacts gives a pair, one scalar expression at a time (find_pairs in
+/// detect_contacts.cpp): the reference the lanes must match bit for bit. Pairs in (a, b) order,
+/// none of two fixed spheres.
+std::vector<PairProblem> scalar_pairs(const World& world, double cutoff) {
+  const Bodies& bodies = world.bodies;
+  std::vector<PairProblem> pairs;
+  const auto n = static_cast<BodyIndex>(bodies.size());
+  for (BodyIndex a = 0; a < n; ++a) {
+    for (BodyIndex b = a + 1; b < n; ++b) {
+      if (bodies.fixed[a] != 0 && bodies.fixed[b] != 0) continue;
+      const Vec3 d = world.box.minimum_image(bodies.position[b] - bodies.position[a]);
+      const double reach = bodies.radius[a] + bodies.radius[b] + cutoff;
+      const double distance_squared = d.squaredNorm();
+      if (distance_squared >= reach * reach) continue;
+      const double distance = std::sqrt(distance_squared);
+      PairProblem p;
+      p.a = a;
+      p.b = b;
+      p.normal = distance > 0.0 ? Vec3(d / distance) : Vec3::UnitZ();
+      p.gap = distance - bodies.radius[a] - bodies.radius[b];
+      p.lever_a = bodies.radius[a] + 0.5 * p.gap;
+      p.lever_b = bodies.radius[b] + 0.5 * p.gap;
+      p.r_eff = effective_radius(bodies.radius[a], bodies.radius[b]);
+      pairs.push_back(p);
+    }
+  }
+  return pairs;
+}
+
+TEST(DetectContacts, PairsFormedInLanesHaveTheScalarFormulasBitsOnEveryInstructionSet) {
+  for (const lanes::Isa isa : {lanes::Isa::Sse2, lanes::Isa::Avx2}) {
+    if (!lanes::allow_isa(isa)) continue;  // no AVX2 here
+    // lists of every length modulo the lanes (1 … 40 pairs and more), so that the last block
+    // of lanes is full, partial or absent; pairs across the boundaries (make_world)
+    for (const int n : {2, 3, 5, 9, 17, 40, 150}) {
+      for (const std::uint64_t seed : {1U, 2U}) {
+        SCOPED_TRACE(::testing::Message()
+                     << n << " spheres, seed " << seed << ", avx2 " << (isa == lanes::Isa::Avx2));
+        const double side = std::cbrt(6.0 * n);
+        World world = make_world({.lx = side,
+                                  .ly = side,
+                                  .height = side,
+                                  .spheres = n,
+                                  .min_radius = 0.3,
+                                  .max_radius = 1.0,
+                                  .seed = seed});
+        if (n == 9) {
+          // coincident centres (the normal e_z) and a separation of exactly L/2 along x and y
+          world.bodies.position[4] = world.bodies.position[3];
+          world.bodies.position[6] =
+              world.bodies.position[5] + Vec3(0.5 * world.box.lx, 0.5 * world.box.ly, 0.0);
+        }
+        StepSettings settings;
+        CellGrid grid;
+        Contacts contacts;
+        detect_contacts(world, settings.detection(), grid, contacts);
+        const auto expected = scalar_pairs(world, candidate_gap(world, settings.detection()));
+        ASSERT_EQ(contacts.pairs.size(), expected.size());
+        for (std::size_t k = 0; k < expected.size(); ++k) {
+          EXPECT_TRUE(same_bits(contacts.pairs[k], expected[k]))
+              << "pair " << k << " (" << expected[k].a << ", " << expected[k].b << ")";
+        }
+      }
+    }
+  }
+  lanes::allow_isa(lanes::Isa::Avx512);
 }
 
 /// PeriodicBox::wrap without its shortcut for positions already in the cell.

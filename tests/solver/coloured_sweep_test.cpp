@@ -4,9 +4,9 @@
 // the same sequence gives the same bits.
 #include "cdpowder/solver/coloured_sweep.hpp"
 
+#include "cdpowder/core/lanes.hpp"
 #include "cdpowder/detect/detect_contacts.hpp"
 #include "cdpowder/solver/build.hpp"
-#include "cdpowder/solver/lanes.hpp"
 #include "cdpowder/solver/nlgs.hpp"
 #include "cdpowder/solver/slab_threads.hpp"
 #include "support/small_packing.hpp"

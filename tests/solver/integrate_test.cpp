@@ -3,7 +3,7 @@
 // of analysis/sphere_measures.hpp) to the last bit.
 #include "cdpowder/solver/integrate.hpp"
 
-#include "cdpowder/solver/lanes.hpp"
+#include "cdpowder/core/lanes.hpp"
 
 #include <gtest/gtest.h>
 

@@ -3,12 +3,12 @@
 // stalls, that it stops a step far sooner with end velocities the fully converged step
 // confirms.
 #include "cdpowder/config/scene_reader.hpp"
+#include "cdpowder/core/lanes.hpp"
 #include "cdpowder/detect/detect_contacts.hpp"
 #include "cdpowder/experiment/run_loop.hpp"
 #include "cdpowder/io/state_file.hpp"
 #include "cdpowder/solver/build.hpp"
 #include "cdpowder/solver/kinematic_change.hpp"
-#include "cdpowder/solver/lanes.hpp"
 #include "cdpowder/solver/nlgs.hpp"
 #include "cdpowder/solver/step.hpp"
 

@@ -3,8 +3,8 @@
 // paper-size step.
 #include "cdpowder/solver/slab_threads.hpp"
 
+#include "cdpowder/core/lanes.hpp"
 #include "cdpowder/io/state_hash.hpp"
-#include "cdpowder/solver/lanes.hpp"
 #include "cdpowder/solver/slabs.hpp"
 #include "cdpowder/solver/step.hpp"
 #include "support/fixture_hash.hpp"

@@ -1,7 +1,9 @@
-// cohesive_opening.cpp — one pass over the cohesion-active contacts.
+// cohesive_opening.cpp — one pass over the cohesion-active contacts (the pairs in lanes:
+// opening_lanes.inc).
 #include "cdpowder/analysis/cohesive_opening.hpp"
 
 #include "cdpowder/contact/contact_view.hpp"
+#include "cdpowder/core/lanes.hpp"
 
 #include <algorithm>
 #include <array>
@@ -10,6 +12,22 @@
 #include <limits>
 
 namespace cdpowder {
+
+namespace {
+
+/// What the pairs' pass reads, through pointers held in locals.
+struct PairOpeningInputs {
+  const PairProblem* pairs = nullptr;
+  const std::uint8_t* cohesive = nullptr;
+  const std::uint8_t* fixed = nullptr;
+  const Vec3* velocity = nullptr;        ///< bodies.velocity (a fixed sphere's)
+  const SphereVelocity* next = nullptr;  ///< v* of the sweeps
+};
+
+}  // namespace
+
+#define CDP_LANE_CODE "cdpowder/analysis/opening_lanes.inc"
+#include "cdpowder/core/lanes_instantiate.inc"
 
 namespace {
 
@@ -34,7 +52,16 @@ OpeningSpeeds opening_speeds(const World& world, const Contacts& contacts,
   const Piston& piston = world.walls.piston;
   const double piston_speed = piston.enabled ? velocities.piston_velocity : piston.velocity;
   OpeningSpeeds out;
-  for_each_contact_in(contacts, first, last, [&](const ContactView& c) {
+  // the pairs in blocks of lanes, then the rest of the pairs and the walls one by one
+  const PairOpeningInputs lanes_in{.pairs = contacts.pairs.data(),
+                                   .cohesive = contacts.pair_cohesive.data(),
+                                   .fixed = bodies.fixed.data(),
+                                   .velocity = bodies.velocity.data(),
+                                   .next = velocities.spheres.data()};
+  std::size_t rest = first;
+  out.pair = CDP_LANES_FOR_CPU(pair_opening_lanes)(
+      lanes_in, first, std::min(last, contacts.pairs.size()), out.pair, rest);
+  for_each_contact_in(contacts, rest, last, [&](const ContactView& c) {
     if (!c.cohesive) return;
     if (c.is_pair()) {
       out.pair = std::max(out.pair, (end_velocity(c.b) - end_velocity(c.a)).dot(c.normal));

@@ -1,21 +1,59 @@
-// step_diagnostics.cpp — overlaps from the new positions, the piston balance, and the
-// spheres' measures joined in.
+// step_diagnostics.cpp — overlaps from the new positions (the pairs in lanes:
+// overlap_lanes.inc), the piston balance, and the spheres' measures joined in.
 #include "cdpowder/analysis/step_diagnostics.hpp"
 
 #include "cdpowder/contact/contact_view.hpp"
+#include "cdpowder/core/lanes.hpp"
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
+#include <cstdint>
 
 namespace cdpowder {
+
+namespace {
+
+/// What the pairs' pass reads, through pointers held in locals.
+struct PairOverlapInputs {
+  std::size_t n = 0;  ///< pairs
+  const PairProblem* pairs = nullptr;
+  const ContactAction* actions = nullptr;
+  const std::uint8_t* cohesive = nullptr;
+  const Vec3* position = nullptr;
+  const double* radius = nullptr;
+  PeriodicBox box;
+};
+
+/// measure_contacts' running maxima, sums and counts.
+struct ContactSums {
+  double max_overlap = 0.0;
+  double overlap_sum = 0.0;
+  std::size_t closed = 0;
+  std::size_t cohesive = 0;
+};
+
+}  // namespace
+
+#define CDP_LANE_CODE "cdpowder/analysis/overlap_lanes.inc"
+#include "cdpowder/core/lanes_instantiate.inc"
 
 void measure_contacts(const World& world, const Contacts& contacts, StepDiagnostics& d) {
   const Bodies& bodies = world.bodies;
   const Piston& piston = world.walls.piston;
   d.contacts = contacts.size();
-  double overlap_sum = 0.0;
-  // pairs, then walls: overlap_sum and the piston's force add up in Contacts' order
-  for_each_contact(contacts, [&](const ContactView& c) {
+  // pairs in blocks of lanes, then the rest of the pairs and the walls one by one: the overlap
+  // sum and the piston's force add up in Contacts' order
+  ContactSums sums{.max_overlap = d.max_overlap};
+  const PairOverlapInputs lanes_in{.n = contacts.pairs.size(),
+                                   .pairs = contacts.pairs.data(),
+                                   .actions = contacts.pair_actions.data(),
+                                   .cohesive = contacts.pair_cohesive.data(),
+                                   .position = bodies.position.data(),
+                                   .radius = bodies.radius.data(),
+                                   .box = world.box};
+  const std::size_t rest = CDP_LANES_FOR_CPU(pair_overlap_lanes)(lanes_in, sums);
+  for_each_contact_in(contacts, rest, contacts.size(), [&](const ContactView& c) {
     // the overlap from the new positions (c.gap is the step's start)
     double overlap = 0.0;
     if (c.is_pair()) {
@@ -28,17 +66,20 @@ void measure_contacts(const World& world, const Contacts& contacts, StepDiagnost
       const double gap = *c.wall == WallKind::Bottom ? z - r : piston.height - z - r;
       overlap = std::max(0.0, -gap);
     }
-    d.max_overlap = std::max(d.max_overlap, overlap);
-    if (c.cohesive) ++d.cohesive_contacts;
+    sums.max_overlap = std::max(sums.max_overlap, overlap);
+    if (c.cohesive) ++sums.cohesive;
     if (c.closed()) {
-      ++d.closed_contacts;
-      overlap_sum += overlap;
+      ++sums.closed;
+      sums.overlap_sum += overlap;
     }
     // n = −e_z at the piston: the force on the piston is −R, its z part +R_n
     if (c.wall == WallKind::Piston) d.piston_contact_force += c.action->normal_force;
   });
+  d.max_overlap = sums.max_overlap;
+  d.cohesive_contacts += sums.cohesive;
+  d.closed_contacts += sums.closed;
   d.mean_overlap =
-      d.closed_contacts > 0 ? overlap_sum / static_cast<double>(d.closed_contacts) : 0.0;
+      d.closed_contacts > 0 ? sums.overlap_sum / static_cast<double>(d.closed_contacts) : 0.0;
 }
 
 StepDiagnostics join_measures(const World& world, const StepDiagnostics& of_contacts,

@@ -4,6 +4,7 @@
 
 #include "cdpowder/contact/contact_law.hpp"
 #include "cdpowder/core/assert.hpp"
+#include "cdpowder/core/lanes.hpp"
 #include "cdpowder/model/finite.hpp"
 
 #include <algorithm>
@@ -11,6 +12,9 @@
 #include <cmath>
 
 namespace cdpowder {
+
+#define CDP_LANE_CODE "cdpowder/detect/find_pairs_lanes.inc"
+#include "cdpowder/core/lanes_instantiate.inc"
 
 namespace {
 
@@ -21,11 +25,11 @@ double gap_for_speed(double sphere_speed, const World& world, const DetectionSet
   return std::max(settings.cohesion_range, 2.0 * v_max * settings.dt) + settings.skin;
 }
 
-/// Appends to `out` the geometry of every pair of list[first, last) whose centre distance is
-/// below R_a + R_b + cutoff, in list order.
-void find_pairs(const Bodies& bodies, const PeriodicBox& box, double cutoff,
-                const std::vector<CandidateList::Pair>& list, std::size_t first, std::size_t last,
-                std::vector<PairProblem>& out) {
+/// find_pairs one pair at a time: the definition of its arithmetic (find_pairs_lanes.inc takes
+/// the same operations in lanes), and the list's last pairs that fill no block of lanes.
+void find_pairs_one_by_one(const Bodies& bodies, const PeriodicBox& box, double cutoff,
+                           const std::vector<CandidateList::Pair>& list, std::size_t first,
+                           std::size_t last, std::vector<PairProblem>& out) {
   for (std::size_t k = first; k < last; ++k) {
     const BodyIndex a = list[k].a;
     const BodyIndex b = list[k].b;
@@ -48,6 +52,16 @@ void find_pairs(const Bodies& bodies, const PeriodicBox& box, double cutoff,
     CDP_ASSERT(std::abs(p.normal.norm() - 1.0) < 1e-12 && std::isfinite(p.gap), "n or g");
     out.push_back(p);
   }
+}
+
+/// Appends to `out` the geometry of every pair of list[first, last) whose centre distance is
+/// below R_a + R_b + cutoff, in list order: blocks of lanes, then the rest one by one.
+void find_pairs(const Bodies& bodies, const PeriodicBox& box, double cutoff,
+                const std::vector<CandidateList::Pair>& list, std::size_t first, std::size_t last,
+                std::vector<PairProblem>& out) {
+  const std::size_t rest =
+      CDP_LANES_FOR_CPU(find_pair_lanes)(bodies, box, cutoff, list.data(), first, last, out);
+  find_pairs_one_by_one(bodies, box, cutoff, list, rest, last, out);
 }
 
 /// Appends to `out` the contacts of every sphere (in sphere order) with the wall `kind`: the

@@ -5,8 +5,8 @@
 #include "cdpowder/analysis/coordination.hpp"
 #include "cdpowder/analysis/porosity.hpp"
 #include "cdpowder/analysis/stress.hpp"
+#include "cdpowder/core/lanes.hpp"
 #include "cdpowder/experiment/deposition.hpp"
-#include "cdpowder/solver/lanes.hpp"
 #include "cdpowder/version.hpp"
 
 #include <fmt/format.h>

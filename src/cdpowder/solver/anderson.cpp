@@ -1,7 +1,7 @@
 // anderson.cpp — the least-squares mixing of Anderson acceleration (type II).
 #include "cdpowder/solver/anderson.hpp"
 
-#include "cdpowder/solver/lanes.hpp"
+#include "cdpowder/core/lanes.hpp"
 
 #include <Eigen/Dense>
 
@@ -53,7 +53,7 @@ using PassOneSums = AndersonAccelerator::PassSums;
 // (chosen at run time, lanes.hpp): a 4-double vector is two SSE2 registers or one AVX
 // register, the same operations on the same operands, so the same bits.
 #define CDP_LANE_CODE "cdpowder/solver/anderson_lanes.inc"
-#include "cdpowder/solver/lanes_instantiate.inc"
+#include "cdpowder/core/lanes_instantiate.inc"
 
 }  // namespace
 

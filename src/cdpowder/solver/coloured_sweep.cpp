@@ -9,9 +9,9 @@
 #include "cdpowder/solver/coloured_sweep.hpp"
 
 #include "cdpowder/core/assert.hpp"
+#include "cdpowder/core/lanes.hpp"
 #include "cdpowder/core/pieces.hpp"
 #include "cdpowder/solver/build.hpp"
-#include "cdpowder/solver/lanes.hpp"
 #include "cdpowder/solver/visit_contact.hpp"
 
 #include <algorithm>
@@ -28,7 +28,7 @@ namespace cdpowder {
 // AVX-512 (8 lanes: two batches per call), chosen at run time: the same IEEE operations on the
 // same operands, so the same bits.
 #define CDP_LANE_CODE "cdpowder/solver/coloured_kernel.inc"
-#include "cdpowder/solver/lanes_instantiate.inc"
+#include "cdpowder/core/lanes_instantiate.inc"
 
 #if defined(CDP_HAVE_AVX512)
 #pragma GCC diagnostic push

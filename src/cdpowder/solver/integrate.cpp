@@ -2,7 +2,7 @@
 // pass, in lanes (integrate_lanes.inc, compiled for SSE2 and for AVX2 like the coloured kernel).
 #include "cdpowder/solver/integrate.hpp"
 
-#include "cdpowder/solver/lanes.hpp"
+#include "cdpowder/core/lanes.hpp"
 
 #include <algorithm>
 #include <array>
@@ -46,7 +46,7 @@ struct SpherePassSums {
 }  // namespace
 
 #define CDP_LANE_CODE "cdpowder/solver/integrate_lanes.inc"
-#include "cdpowder/solver/lanes_instantiate.inc"
+#include "cdpowder/core/lanes_instantiate.inc"
 
 SphereMeasures integrate(const VelocityCache& velocities, double dt, World& world) {
   Bodies& bodies = world.bodies;

@@ -2,7 +2,7 @@
 // (kinematic_lanes.inc, compiled for SSE2 and for AVX2 like the coloured kernel).
 #include "cdpowder/solver/kinematic_change.hpp"
 
-#include "cdpowder/solver/lanes.hpp"
+#include "cdpowder/core/lanes.hpp"
 
 #include <algorithm>
 #include <array>
@@ -11,7 +11,7 @@
 namespace cdpowder {
 
 #define CDP_LANE_CODE "cdpowder/solver/kinematic_lanes.inc"
-#include "cdpowder/solver/lanes_instantiate.inc"
+#include "cdpowder/core/lanes_instantiate.inc"
 
 void KinematicChange::begin_step(const VelocityCache& velocities,
                                  std::span<const std::uint8_t> slab) {

@@ -1,5 +1,5 @@
-// lanes.cpp — which instruction set the solver's lane loops run on (lanes.hpp).
-#include "cdpowder/solver/lanes.hpp"
+// lanes.cpp — which instruction set the lane loops run on (lanes.hpp).
+#include "cdpowder/core/lanes.hpp"
 
 #include <cstdlib>
 #include <string_view>

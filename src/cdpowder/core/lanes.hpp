@@ -1,8 +1,9 @@
-// lanes.hpp — SIMD lanes for the solver's hot loops over spheres and contacts, once per
-// instruction set: SSE2 (2 doubles per register, the x86-64 baseline) and AVX2 (4 doubles,
-// chosen at run time where the CPU has it, use_avx2()), and for the coloured kernel alone
-// AVX-512 (8 doubles, use_avx512()). A file that vectorises a loop includes its lane code once
-// in each namespace, so all see the same source. No set uses fused multiply-add (no FMA
+// lanes.hpp — SIMD lanes for the hot loops over spheres and contacts (the solver's kernels,
+// detection's candidate pairs, the step's measurements), once per instruction set: SSE2 (2
+// doubles per register, the x86-64 baseline) and AVX2 (4 doubles, chosen at run time where the
+// CPU has it, use_avx2()), and for the coloured kernel alone AVX-512 (8 doubles, use_avx512()).
+// A file that vectorises a loop includes its lane code once in each namespace
+// (lanes_instantiate.inc), so all see the same source. No set uses fused multiply-add (no FMA
 // intrinsics, and -ffp-contract=off), and every loop built on these gives the same bits on any
 // of them: the results do not depend on the machine.
 #pragma once
@@ -54,7 +55,7 @@ using P = double __attribute__((vector_size(16)));
 using M = std::int64_t __attribute__((vector_size(16)));
 constexpr int kLanes = 2;
 
-#include "cdpowder/solver/lane_ops.inc"
+#include "cdpowder/core/lane_ops.inc"
 
 CDP_INLINE P vsqrt(P x) {
 #if defined(__SSE2__)
@@ -121,7 +122,7 @@ using P = double __attribute__((vector_size(32)));
 using M = std::int64_t __attribute__((vector_size(32)));
 constexpr int kLanes = 4;
 
-#include "cdpowder/solver/lane_ops.inc"
+#include "cdpowder/core/lane_ops.inc"
 
 CDP_INLINE P vsqrt(P x) {
   return reinterpret_cast<P>(_mm256_sqrt_pd(reinterpret_cast<__m256d>(x)));
@@ -185,7 +186,7 @@ using P = double __attribute__((vector_size(64)));
 using M = std::int64_t __attribute__((vector_size(64)));
 constexpr int kLanes = 8;
 
-#include "cdpowder/solver/lane_ops.inc"
+#include "cdpowder/core/lane_ops.inc"
 
 CDP_INLINE P vsqrt(P x) {
   return reinterpret_cast<P>(_mm512_sqrt_pd(reinterpret_cast<__m512d>(x)));
