@@ -83,8 +83,8 @@ std::uint64_t bits(double x) {
 }
 
 /// The small packing's contacts with made-up forces, cohesion and velocities: about a third
-/// of the contacts open, half cohesive, every ninth sphere fixed with a velocity of its own,
-/// the spheres moved by up to `jitter` so that some overlap.
+/// of the contacts open (a fifth exactly at R_n = −F_c), half cohesive, every ninth sphere fixed
+/// with a velocity of its own, the spheres moved by up to `jitter` so that some overlap.
 struct MeasuredPacking {
   SmallPacking packing{0.2};
 
@@ -99,7 +99,9 @@ struct MeasuredPacking {
     for (std::size_t k = 0; k < contacts.pairs.size(); ++k) {
       contacts.pair_cohesive[k] = uniform01(rng) < 0.5 ? 1 : 0;
       contacts.pairs[k].cohesion = contacts.pair_cohesive[k] != 0 ? 1.0 : 0.0;
-      contacts.pair_actions[k].normal_force = random(1.5);
+      // every fifth exactly open, R_n = −F_c (S = +0: not closed), as the solver leaves it
+      contacts.pair_actions[k].normal_force =
+          k % 5 == 0 ? -contacts.pairs[k].cohesion : random(1.5);
     }
     for (std::size_t k = 0; k < contacts.walls.size(); ++k) {
       contacts.wall_cohesive[k] = uniform01(rng) < 0.5 ? 1 : 0;

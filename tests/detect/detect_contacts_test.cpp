@@ -4,8 +4,8 @@
 // those of a brute-force O(N²) minimum-image search with the same cutoff, each pair once,
 // in the key order the warm-start merge of ActionCache relies on (physics.md §4.3, §7.4);
 // the pairs' geometry, formed in lanes, has the bits of the scalar formulas on every
-// instruction set; and PeriodicBox::wrap, whose shortcut for positions in the cell keeps the
-// formula's bits.
+// instruction set (also for coincident centres and at exactly half a cell apart); and
+// PeriodicBox::wrap, whose shortcut for positions in the cell keeps the formula's bits.
 #include "cdpowder/detect/detect_contacts.hpp"
 
 #include "cdpowder/contact/action_cache.hpp"
@@ -323,10 +323,8 @@ TEST(DetectContacts, PairsFormedInLanesHaveTheScalarFormulasBitsOnEveryInstructi
                                   .max_radius = 1.0,
                                   .seed = seed});
         if (n == 9) {
-          // coincident centres (the normal e_z) and a separation of exactly L/2 along x and y
+          // coincident centres: the normal e_z
           world.bodies.position[4] = world.bodies.position[3];
-          world.bodies.position[6] =
-              world.bodies.position[5] + Vec3(0.5 * world.box.lx, 0.5 * world.box.ly, 0.0);
         }
         StepSettings settings;
         CellGrid grid;
@@ -340,6 +338,39 @@ TEST(DetectContacts, PairsFormedInLanesHaveTheScalarFormulasBitsOnEveryInstructi
         }
       }
     }
+  }
+  lanes::allow_isa(lanes::Isa::Avx512);
+}
+
+TEST(DetectContacts, PairsHalfACellApartTakeTheirOwnImageInLanes) {
+  // a 4 R cell and unit spheres: the only candidates are four touching pairs, two of them
+  // exactly L/2 = 2 R apart along x or y (the minimum image's boundary case, |d| ≤ L/2), all
+  // four in one block of lanes on AVX2 and in two on SSE2
+  const std::array<Vec3, 5> centres = {Vec3(1.0, 1.0, 1.0), Vec3(3.0, 1.0, 1.0),
+                                       Vec3(1.0, 1.0, 3.0), Vec3(1.0, 3.0, 3.0),
+                                       Vec3(1.0, 1.0, 5.0)};
+  for (const lanes::Isa isa : {lanes::Isa::Sse2, lanes::Isa::Avx2}) {
+    if (!lanes::allow_isa(isa)) continue;  // no AVX2 here
+    SCOPED_TRACE(::testing::Message() << "avx2 " << (isa == lanes::Isa::Avx2));
+    World world;
+    world.box = PeriodicBox{4.0, 4.0};
+    for (const Vec3& centre : centres) world.bodies.add_sphere(centre, 1.0, 1.0);
+    const StepSettings settings;
+    CellGrid grid;
+    Contacts contacts;
+    detect_contacts(world, settings.detection(), grid, contacts);
+    const auto expected = scalar_pairs(world, candidate_gap(world, settings.detection()));
+    std::vector<std::uint64_t> keys;
+    for (const PairProblem& p : expected) keys.push_back(pair_key(p.a, p.b));
+    ASSERT_EQ(keys, (std::vector<std::uint64_t>{pair_key(0, 1), pair_key(0, 2), pair_key(2, 3),
+                                                pair_key(2, 4)}));
+    ASSERT_EQ(contacts.pairs.size(), expected.size());
+    for (std::size_t k = 0; k < expected.size(); ++k) {
+      EXPECT_TRUE(same_bits(contacts.pairs[k], expected[k])) << "pair " << k;
+    }
+    // the two at L/2 keep the sign of their separation: n = +e_x, +e_y
+    EXPECT_EQ(contacts.pairs[0].normal, Vec3(1.0, 0.0, 0.0));
+    EXPECT_EQ(contacts.pairs[2].normal, Vec3(0.0, 1.0, 0.0));
   }
   lanes::allow_isa(lanes::Isa::Avx512);
 }

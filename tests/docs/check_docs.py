@@ -19,7 +19,8 @@
 (d) layers: the folder table of docs/architecture.md ("## Folders of the library") lists the
     library's folders from the bottom of the stack up; a file of src/cdpowder/<folder>/
     includes only headers of its own folder and of the folders listed before it (a header at
-    the top of src/cdpowder, such as the generated version.hpp, is outside the layers), and
+    the top of src/cdpowder, such as the generated version.hpp, is outside the layers; the lane
+    code a file names in `#define CDP_LANE_CODE` counts as an include of it), and
     every folder of src/cdpowder is in the table.
 (e) machine paths: no text file under results/, docs/ or examples/ records a file by the
     absolute path of the machine that wrote it (`/…/examples/paper/scene.toml`): provenance
@@ -308,7 +309,9 @@ def check_labels(root):
 # (d) the library's layers
 
 LAYER_ROW = re.compile(r"^\|\s*`([a-z_]+)/`\s*\|")
-LIBRARY_INCLUDE = re.compile(r'^\s*#\s*include\s+"cdpowder/([a-z_]+)/')
+# an include, or the lane code a file compiles through core/lanes_instantiate.inc (the
+# `#define CDP_LANE_CODE "cdpowder/<folder>/…"` before it): that code becomes the defining file's
+LIBRARY_INCLUDE = re.compile(r'^\s*#\s*(?:include|define\s+CDP_LANE_CODE)\s+"cdpowder/([a-z_]+)/')
 
 
 def layer_order(architecture_md):
@@ -612,6 +615,10 @@ class SelfTest(unittest.TestCase):
 
     def test_include_pointing_up_the_stack(self):
         problems = self.problems(src__cdpowder__core__vec3_DOT_hpp=lambda t: t + '#include "cdpowder/solver/settings.hpp"\n')
+        self.assert_reported(problems, "src/cdpowder/core/vec3.hpp:2: core/ includes solver/")
+
+    def test_lane_code_pointing_up_the_stack(self):
+        problems = self.problems(src__cdpowder__core__vec3_DOT_hpp=lambda t: t + '#define CDP_LANE_CODE "cdpowder/solver/kernel.inc"\n')
         self.assert_reported(problems, "src/cdpowder/core/vec3.hpp:2: core/ includes solver/")
 
     def test_folder_missing_from_the_layers(self):
