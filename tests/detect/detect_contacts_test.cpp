@@ -76,26 +76,35 @@ World make_world(const Packing& p) {
   return world;
 }
 
+/// Calls visit(a, b, d) for every pair a < b, in (a, b) order, except pairs of two fixed
+/// spheres, d the minimum image of x_b − x_a.
+template <typename Visit>
+void for_each_pair(const World& world, const Visit& visit) {
+  const Bodies& bodies = world.bodies;
+  const auto n = static_cast<BodyIndex>(bodies.size());
+  for (BodyIndex a = 0; a < n; ++a) {
+    for (BodyIndex b = a + 1; b < n; ++b) {
+      if (bodies.fixed[a] != 0 && bodies.fixed[b] != 0) continue;
+      visit(a, b, world.box.minimum_image(bodies.position[b] - bodies.position[a]));
+    }
+  }
+}
+
 /// Every pair a < b whose minimum-image centre distance is below R_a + R_b + cutoff, except
 /// pairs of two fixed spheres, keyed by pair_key.
 std::map<std::uint64_t, PairProblem> brute_force_pairs(const World& world, double cutoff) {
   const Bodies& bodies = world.bodies;
   std::map<std::uint64_t, PairProblem> pairs;
-  const auto n = static_cast<BodyIndex>(bodies.size());
-  for (BodyIndex a = 0; a < n; ++a) {
-    for (BodyIndex b = a + 1; b < n; ++b) {
-      if (bodies.fixed[a] != 0 && bodies.fixed[b] != 0) continue;
-      const Vec3 d = world.box.minimum_image(bodies.position[b] - bodies.position[a]);
-      const double reach = bodies.radius[a] + bodies.radius[b] + cutoff;
-      if (d.norm() >= reach) continue;
-      PairProblem p;
-      p.a = a;
-      p.b = b;
-      p.normal = d.normalized();
-      p.gap = d.norm() - bodies.radius[a] - bodies.radius[b];
-      pairs[pair_key(a, b)] = p;
-    }
-  }
+  for_each_pair(world, [&](BodyIndex a, BodyIndex b, const Vec3& d) {
+    const double reach = bodies.radius[a] + bodies.radius[b] + cutoff;
+    if (d.norm() >= reach) return;
+    PairProblem p;
+    p.a = a;
+    p.b = b;
+    p.normal = d.normalized();
+    p.gap = d.norm() - bodies.radius[a] - bodies.radius[b];
+    pairs[pair_key(a, b)] = p;
+  });
   return pairs;
 }
 
@@ -282,26 +291,21 @@ bool same_bits(const PairProblem& x, const PairProblem& y) {
 std::vector<PairProblem> scalar_pairs(const World& world, double cutoff) {
   const Bodies& bodies = world.bodies;
   std::vector<PairProblem> pairs;
-  const auto n = static_cast<BodyIndex>(bodies.size());
-  for (BodyIndex a = 0; a < n; ++a) {
-    for (BodyIndex b = a + 1; b < n; ++b) {
-      if (bodies.fixed[a] != 0 && bodies.fixed[b] != 0) continue;
-      const Vec3 d = world.box.minimum_image(bodies.position[b] - bodies.position[a]);
-      const double reach = bodies.radius[a] + bodies.radius[b] + cutoff;
-      const double distance_squared = d.squaredNorm();
-      if (distance_squared >= reach * reach) continue;
-      const double distance = std::sqrt(distance_squared);
-      PairProblem p;
-      p.a = a;
-      p.b = b;
-      p.normal = distance > 0.0 ? Vec3(d / distance) : Vec3::UnitZ();
-      p.gap = distance - bodies.radius[a] - bodies.radius[b];
-      p.lever_a = bodies.radius[a] + 0.5 * p.gap;
-      p.lever_b = bodies.radius[b] + 0.5 * p.gap;
-      p.r_eff = effective_radius(bodies.radius[a], bodies.radius[b]);
-      pairs.push_back(p);
-    }
-  }
+  for_each_pair(world, [&](BodyIndex a, BodyIndex b, const Vec3& d) {
+    const double reach = bodies.radius[a] + bodies.radius[b] + cutoff;
+    const double distance_squared = d.squaredNorm();
+    if (distance_squared >= reach * reach) return;
+    const double distance = std::sqrt(distance_squared);
+    PairProblem p;
+    p.a = a;
+    p.b = b;
+    p.normal = distance > 0.0 ? Vec3(d / distance) : Vec3::UnitZ();
+    p.gap = distance - bodies.radius[a] - bodies.radius[b];
+    p.lever_a = bodies.radius[a] + 0.5 * p.gap;
+    p.lever_b = bodies.radius[b] + 0.5 * p.gap;
+    p.r_eff = effective_radius(bodies.radius[a], bodies.radius[b]);
+    pairs.push_back(p);
+  });
   return pairs;
 }
 
