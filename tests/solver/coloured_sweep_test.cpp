@@ -189,79 +189,133 @@ Branches branches(const Contacts& c) {
   return b;
 }
 
+struct BatchStates {
+  int all_closed = 0, some_open = 0;
+};
+
+/// The batches of `colouring` (four members of a colour at a time) whose contacts are all
+/// closed, and those with an open one (R_n = −F_c), after a sweep.
+BatchStates closed_batches(const Contacts& c, const PairColouring& colouring) {
+  BatchStates states;
+  for (std::size_t colour = 0; colour < colouring.colours(); ++colour) {
+    for (std::uint32_t m = colouring.colour_start[colour]; m < colouring.colour_start[colour + 1];
+         m += kBatchLanes) {
+      const std::uint32_t end =
+          std::min<std::uint32_t>(m + kBatchLanes, colouring.colour_start[colour + 1]);
+      bool all_closed = true;
+      for (std::uint32_t j = m; j < end; ++j) {
+        const ContactIndex k = colouring.members[j];
+        all_closed = all_closed && is_closed(c.pair_actions[k].normal_force, c.pairs[k].cohesion);
+      }
+      ++(all_closed ? states.all_closed : states.some_open);
+    }
+  }
+  return states;
+}
+
 // The greedy colouring (chunks of 256 contacts) in a random order: batches of 4 independent
 // contacts give the bits of the scalar sweep visiting the same contacts one by one in the same
 // sequence, and so do the bottom-wall contacts in their batches. Also without rolling and
 // torsion friction (the (0,0) corner), where the kernel leaves the pairs' torques alone
 // (ColouredSweep::torques = false) and the scalar one keeps them +0.
+// Both kernels of ColouredSweep::open_rare (the one that skips the open branch where no lane of
+// a call is open, and the one that always selects) give these bits: on the packing as it is,
+// where most calls have an open lane, and with most pairs held closed by a strong cohesion, where
+// many calls have none.
 TEST(ColouredSweep, FullBatchesEqualTheScalarSweepInTheSameSequence) {
   struct Case {
     double mu_roll, mu_twist;
   };
 
+  struct Kernel {
+    bool open_rare, mostly_closed;
+  };
+
   for (const lanes::Isa isa : kIsas) {
     if (!allow_kernel_isa(isa)) continue;  // not on this CPU
-    for (const Case friction : {Case{0.0, 0.2}, Case{0.1, 0.2}, Case{0.0, 0.0}}) {
-      const double mu_roll = friction.mu_roll;
-      SmallPacking packing(mu_roll, friction.mu_twist);
-      Contacts scalar = packing.scene.work.contacts;
-      // wall torques of −0, as warm-start caches may hold them: solve_wall writes +0 over them
-      // (and the bottom-wall batches must too, even without the pairs' torques)
-      for (ContactAction& x : scalar.wall_actions) {
-        x.rolling_torque = Vec3(-0.0, -0.0, -0.0);
-        x.twisting_torque = -0.0;
-      }
-      VelocityCache scalar_v = packing.scene.work.velocities;
-      Contacts coloured = scalar;
-      VelocityCache coloured_v = scalar_v;
-      ColouredSweep sweep;
-      colour_pairs(coloured.pairs, coloured_v.spheres.size(), kMaxColours, 256, sweep.colouring,
-                   sweep.masks);
-      build_batches(coloured, coloured_v, sweep);
-      sweep.torques = friction.mu_roll > 0.0 || friction.mu_twist > 0.0;
-      // the bottom-wall contacts are solved side by side, in batches of their own
-      const auto [bottom_first, bottom_last] = sweep.bottom_walls[0];
-      ASSERT_GT(bottom_last - bottom_first, 2U * kBatchLanes);
-      ASSERT_EQ(sweep.part_wall_batches[1] - sweep.part_wall_batches[0],
-                2 * sweep.wall_batch_pairs.size());
-      ASSERT_GT(sweep.colouring.chunk_colours.size(), 3U);
-      ASSERT_GT(sweep.colours(), 6U);
-      Rng rng = make_rng(3, RngStream::SweepOrder);
-      order_groups(sweep, VisitOrder::RandomEachStep, rng);
-      scalar.visit_order.clear();
-      for (const std::uint32_t g : sweep.group_order) {
-        if (g >= sweep.colours()) {  // a part's sequential group
-          const std::size_t part = g - sweep.colours();
-          scalar.visit_order.insert(scalar.visit_order.end(),
-                                    sweep.sequential.begin() + sweep.part_sequential[part],
-                                    sweep.sequential.begin() + sweep.part_sequential[part + 1]);
-        } else {
-          for (std::uint32_t m = sweep.colouring.colour_start[g];
-               m < sweep.colouring.colour_start[g + 1]; ++m) {
-            scalar.visit_order.push_back(sweep.colouring.members[m]);
+    for (const Kernel kernel :
+         {Kernel{false, false}, Kernel{true, false}, Kernel{false, true}, Kernel{true, true}}) {
+      for (const Case friction : {Case{0.0, 0.2}, Case{0.1, 0.2}, Case{0.0, 0.0}}) {
+        SCOPED_TRACE(::testing::Message()
+                     << "open_rare " << kernel.open_rare << ", mostly closed "
+                     << kernel.mostly_closed << ", mu_roll " << friction.mu_roll << ", mu_twist "
+                     << friction.mu_twist);
+        const double mu_roll = friction.mu_roll;
+        SmallPacking packing(mu_roll, friction.mu_twist);
+        Contacts scalar = packing.scene.work.contacts;
+        // wall torques of −0, as warm-start caches may hold them: solve_wall writes +0 over them
+        // (and the bottom-wall batches must too, even without the pairs' torques)
+        for (ContactAction& x : scalar.wall_actions) {
+          x.rolling_torque = Vec3(-0.0, -0.0, -0.0);
+          x.twisting_torque = -0.0;
+        }
+        if (kernel.mostly_closed) {
+          // four pairs in five closed by F_c = 50 (no gap to close); every fifth as it was
+          for (std::size_t k = 0; k < scalar.pairs.size(); ++k) {
+            if (k % 5 == 0) continue;
+            scalar.pairs[k].cohesion = 50.0;
+            scalar.pairs[k].gap_rate = 0.0;
           }
         }
-      }
-      ASSERT_EQ(scalar.visit_order.size(), scalar.size());
-      for (int s = 0; s < 5; ++s) {
-        const SweepSums a = run_sweep(scalar, scalar_v);
-        const SweepSums b = run_coloured_sweep(coloured, coloured_v, sweep);
-        expect_same_sums(a, b);
-        expect_same_state(scalar, scalar_v, coloured, coloured_v);
-      }
-      const Branches taken = branches(coloured);
-      EXPECT_GT(taken.open, 0);
-      EXPECT_GT(taken.sliding, 0);
-      if (friction.mu_twist > 0.0) {
-        EXPECT_GT(taken.twisting, 0);
-      }
-      if (mu_roll > 0.0) {
-        EXPECT_GT(taken.rolling, 0);
-      }
-      if (!sweep.torques) {
-        for (const ContactAction& x : coloured.pair_actions) {
-          EXPECT_FALSE(std::signbit(x.twisting_torque));
-          EXPECT_EQ(x.rolling_torque, Vec3::Zero());
+        VelocityCache scalar_v = packing.scene.work.velocities;
+        Contacts coloured = scalar;
+        VelocityCache coloured_v = scalar_v;
+        ColouredSweep sweep;
+        colour_pairs(coloured.pairs, coloured_v.spheres.size(), kMaxColours, 256, sweep.colouring,
+                     sweep.masks);
+        build_batches(coloured, coloured_v, sweep);
+        sweep.torques = friction.mu_roll > 0.0 || friction.mu_twist > 0.0;
+        // the bottom-wall contacts are solved side by side, in batches of their own
+        const auto [bottom_first, bottom_last] = sweep.bottom_walls[0];
+        ASSERT_GT(bottom_last - bottom_first, 2U * kBatchLanes);
+        ASSERT_EQ(sweep.part_wall_batches[1] - sweep.part_wall_batches[0],
+                  2 * sweep.wall_batch_pairs.size());
+        ASSERT_GT(sweep.colouring.chunk_colours.size(), 3U);
+        ASSERT_GT(sweep.colours(), 6U);
+        Rng rng = make_rng(3, RngStream::SweepOrder);
+        order_groups(sweep, VisitOrder::RandomEachStep, rng);
+        scalar.visit_order.clear();
+        for (const std::uint32_t g : sweep.group_order) {
+          if (g >= sweep.colours()) {  // a part's sequential group
+            const std::size_t part = g - sweep.colours();
+            scalar.visit_order.insert(scalar.visit_order.end(),
+                                      sweep.sequential.begin() + sweep.part_sequential[part],
+                                      sweep.sequential.begin() + sweep.part_sequential[part + 1]);
+          } else {
+            for (std::uint32_t m = sweep.colouring.colour_start[g];
+                 m < sweep.colouring.colour_start[g + 1]; ++m) {
+              scalar.visit_order.push_back(sweep.colouring.members[m]);
+            }
+          }
+        }
+        ASSERT_EQ(scalar.visit_order.size(), scalar.size());
+        for (int s = 0; s < 5; ++s) {
+          const SweepSums a = run_sweep(scalar, scalar_v);
+          sweep.open_rare = kernel.open_rare;  // the sweep before set it from its sums
+          const SweepSums b = run_coloured_sweep(coloured, coloured_v, sweep);
+          expect_same_sums(a, b);
+          expect_same_state(scalar, scalar_v, coloured, coloured_v);
+        }
+        const Branches taken = branches(coloured);
+        EXPECT_GT(taken.open, 0);
+        // batches of four closed contacts (the branch's fast path) and batches with an open one
+        const BatchStates batch_states = closed_batches(coloured, sweep.colouring);
+        if (kernel.mostly_closed) {
+          EXPECT_GT(batch_states.all_closed, 0);
+        }
+        EXPECT_GT(batch_states.some_open, 0);
+        EXPECT_GT(taken.sliding, 0);
+        if (friction.mu_twist > 0.0) {
+          EXPECT_GT(taken.twisting, 0);
+        }
+        if (mu_roll > 0.0) {
+          EXPECT_GT(taken.rolling, 0);
+        }
+        if (!sweep.torques) {
+          for (const ContactAction& x : coloured.pair_actions) {
+            EXPECT_FALSE(std::signbit(x.twisting_torque));
+            EXPECT_EQ(x.rolling_torque, Vec3::Zero());
+          }
         }
       }
     }

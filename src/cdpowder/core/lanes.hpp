@@ -311,9 +311,11 @@ CDP_INLINE void store_rows(const Rows& rows, const std::array<P, kCount>& in) {
 
 /// The lane code `name` (a function, or an instance of a function template, compiled once per
 /// set by lanes_instantiate.inc) for this CPU: avx2::name where lanes::use_avx2(), else
-/// sse2::name. Both have one type, so the choice is a function pointer.
+/// sse2::name. Both have one type, so the choice is a function pointer. (Variadic, so that a
+/// name may carry template arguments: CDP_LANES_FOR_CPU(f<true, false>).)
 #if defined(CDP_HAVE_AVX2)
-#define CDP_LANES_FOR_CPU(name) (::cdpowder::lanes::use_avx2() ? avx2::name : sse2::name)
+#define CDP_LANES_FOR_CPU(...) \
+  (::cdpowder::lanes::use_avx2() ? avx2::__VA_ARGS__ : sse2::__VA_ARGS__)
 #else
-#define CDP_LANES_FOR_CPU(name) (sse2::name)
+#define CDP_LANES_FOR_CPU(...) (sse2::__VA_ARGS__)
 #endif

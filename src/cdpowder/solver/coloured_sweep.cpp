@@ -496,19 +496,37 @@ using SolveWallBatches = void (*)(const WallBatchPair*, std::uint32_t, std::uint
 
 /// The kernel code `name` for this CPU: AVX-512 where lanes::use_avx512(), else AVX2 or SSE2.
 #if defined(CDP_HAVE_AVX512)
-#define CDP_KERNEL_FOR_CPU(name) (lanes::use_avx512() ? avx512::name : CDP_LANES_FOR_CPU(name))
+#define CDP_KERNEL_FOR_CPU(...) \
+  (lanes::use_avx512() ? avx512::__VA_ARGS__ : CDP_LANES_FOR_CPU(__VA_ARGS__))
 #else
-#define CDP_KERNEL_FOR_CPU(name) CDP_LANES_FOR_CPU(name)
+#define CDP_KERNEL_FOR_CPU(...) CDP_LANES_FOR_CPU(__VA_ARGS__)
 #endif
 
-/// The kernel for this CPU, with torques or without (ColouredSweep::torques).
-SolveBatches batch_kernel(bool torques) {
-  return torques ? CDP_KERNEL_FOR_CPU(solve_batches<true>)
-                 : CDP_KERNEL_FOR_CPU(solve_batches<false>);
+/// The kernel for this CPU, with torques or without (ColouredSweep::torques), for open
+/// contacts rare or not (ColouredSweep::open_rare): the same bits either way.
+SolveBatches batch_kernel(bool torques, bool open_rare) {
+  if (torques) {
+    return open_rare ? CDP_KERNEL_FOR_CPU(solve_batches<true, true>)
+                     : CDP_KERNEL_FOR_CPU(solve_batches<true, false>);
+  }
+  return open_rare ? CDP_KERNEL_FOR_CPU(solve_batches<false, true>)
+                   : CDP_KERNEL_FOR_CPU(solve_batches<false, false>);
 }
 
-SolveWallBatches wall_kernel() {
-  return CDP_KERNEL_FOR_CPU(solve_wall_batches);
+SolveWallBatches wall_kernel(bool open_rare) {
+  return open_rare ? CDP_KERNEL_FOR_CPU(solve_wall_batches<true>)
+                   : CDP_KERNEL_FOR_CPU(solve_wall_batches<false>);
+}
+
+/// Whether at most one visit in kOpenRare of a sweep left its contact open (not closed): then
+/// the next sweep runs the kernel that skips the open branch where no lane of a call needs it.
+/// The break-even lies between the compaction front (≈ 2.5 % of the visits open: the selects
+/// are cheaper) and mid-run (≈ 0.25 %: the branch is cheaper); docs/performance.md, "Calls
+/// without an open lane".
+constexpr std::size_t kOpenRare = 100;
+
+bool open_contacts_rare(const SweepSums& sums, std::size_t visits) {
+  return (visits - std::min(sums.closed, visits)) * kOpenRare <= visits;
 }
 
 ApplyBatches apply_kernel(bool torques) {
@@ -551,7 +569,8 @@ SweepSums run_coloured_part(Contacts& contacts, VelocityCache& velocities,
   const std::size_t colours = sweep.colours();
   SphereVelocity* const spheres = velocities.spheres.data();
   ContactAction* const actions = contacts.pair_actions.data();
-  const SolveBatches solve = batch_kernel(sweep.torques);
+  const SolveBatches solve = batch_kernel(sweep.torques, sweep.open_rare);
+  const SolveWallBatches solve_walls = wall_kernel(sweep.open_rare);
   for (std::uint32_t i = sweep.part_groups[part]; i < sweep.part_groups[part + 1]; ++i) {
     const std::uint32_t group = sweep.group_order[i];
     if (group >= colours) {
@@ -562,8 +581,8 @@ SweepSums run_coloured_part(Contacts& contacts, VelocityCache& velocities,
         visit_contact(sweep.sequential[j], contacts, velocities, sums);
       }
       if (bottom_first < bottom_last) {
-        wall_kernel()(sweep.wall_batch_pairs.data(), sweep.part_wall_batches[p],
-                      sweep.part_wall_batches[p + 1], spheres, contacts.wall_actions.data(), sums);
+        solve_walls(sweep.wall_batch_pairs.data(), sweep.part_wall_batches[p],
+                    sweep.part_wall_batches[p + 1], spheres, contacts.wall_actions.data(), sums);
       }
       for (std::uint32_t j = bottom_last; j < sweep.part_sequential[p + 1]; ++j) {
         visit_contact(sweep.sequential[j], contacts, velocities, sums);
@@ -592,6 +611,7 @@ SweepSums run_coloured_sweep(Contacts& contacts, VelocityCache& velocities,
   });
   sums.add_part(inside[0].sums);
   sums.add_part(inside[1].sums);
+  sweep.open_rare = open_contacts_rare(sums, contacts.size());
   return sums;
 }
 

@@ -152,6 +152,11 @@ struct ColouredSweep {
   /// non-zero: the pair kernels then leave the torques alone (they stay +0, the bits are the
   /// same); the bottom-wall batches always solve them, as solve_wall does
   bool torques = true;
+  /// which of two kernels with the same bits the next sweep runs: with open contacts rare in the
+  /// last sweep (≤ 1 % of its visits), the one that skips the open branch where no lane of a
+  /// call needs it (coloured_kernel.inc). A hint about speed alone, so a sweep taken as const
+  /// updates it (run_coloured_sweep), and tests may set it.
+  mutable bool open_rare = false;
   std::vector<ContactAction> deltas;  ///< scratch of the mixing: pair action changes
 
   /// batches with a lane in use (the padding of colours with an odd number left out)
@@ -241,7 +246,7 @@ class AfterPart {
 
 /// One sweep over the groups in sweep.group_order: part 2, then parts 0 and 1 (each followed by
 /// after(part)), their sums added in that order. With `threads`, a cut step's two slabs run
-/// side by side: the same bits.
+/// side by side: the same bits. Sets sweep.open_rare for the next sweep from its sums.
 SweepSums run_coloured_sweep(Contacts& contacts, VelocityCache& velocities,
                              const ColouredSweep& sweep, SlabThreads* threads = nullptr,
                              AfterPart after = {});
