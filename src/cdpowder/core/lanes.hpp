@@ -1,7 +1,8 @@
 // lanes.hpp — SIMD lanes for the hot loops over spheres and contacts (the solver's kernels,
 // detection's candidate pairs, the step's measurements), once per instruction set: SSE2 (2
 // doubles per register, the x86-64 baseline) and AVX2 (4 doubles, chosen at run time where the
-// CPU has it, use_avx2()), and for the coloured kernel alone AVX-512 (8 doubles, use_avx512()).
+// CPU has it, use_avx2()), and for the coloured kernel AVX-512 (8 doubles, use_avx512(); other
+// lane code may opt in, lanes_instantiate.inc, where it pays: detection's pair search did not).
 // A file that vectorises a loop includes its lane code once in each namespace
 // (lanes_instantiate.inc), so all see the same source. No set uses fused multiply-add (no FMA
 // intrinsics, and -ffp-contract=off), and every loop built on these gives the same bits on any
@@ -173,7 +174,7 @@ CDP_INLINE void store_rows(const Rows& rows, const std::array<P, kCount>& in) {
 #pragma GCC pop_options
 #endif
 
-// AVX-512 (8 doubles), for the coloured kernel alone: one register holds two batches of four
+// AVX-512 (8 doubles), for the coloured kernel: one register holds two batches of four
 // contacts (coloured_kernel.inc), which doubles the independent work in flight. (GCC only, as
 // AVX2; compiled with avx512f, dq and vl, run where the CPU has all three: use_avx512().)
 #if defined(CDP_HAVE_AVX2)
@@ -318,4 +319,13 @@ CDP_INLINE void store_rows(const Rows& rows, const std::array<P, kCount>& in) {
   (::cdpowder::lanes::use_avx2() ? avx2::__VA_ARGS__ : sse2::__VA_ARGS__)
 #else
 #define CDP_LANES_FOR_CPU(...) (sse2::__VA_ARGS__)
+#endif
+
+/// CDP_LANES_FOR_CPU, with avx512::name where lanes::use_avx512(): for lane code instantiated
+/// on AVX-512 as well (CDP_LANE_CODE_AVX512, lanes_instantiate.inc).
+#if defined(CDP_HAVE_AVX512)
+#define CDP_WIDE_LANES_FOR_CPU(...) \
+  (::cdpowder::lanes::use_avx512() ? avx512::__VA_ARGS__ : CDP_LANES_FOR_CPU(__VA_ARGS__))
+#else
+#define CDP_WIDE_LANES_FOR_CPU(...) CDP_LANES_FOR_CPU(__VA_ARGS__)
 #endif

@@ -28,27 +28,8 @@ namespace cdpowder {
 // AVX-512 (8 lanes: two batches per call), chosen at run time: the same IEEE operations on the
 // same operands, so the same bits.
 #define CDP_LANE_CODE "cdpowder/solver/coloured_kernel.inc"
+#define CDP_LANE_CODE_AVX512
 #include "cdpowder/core/lanes_instantiate.inc"
-
-#if defined(CDP_HAVE_AVX512)
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wpsabi"
-// GCC 12 warns of the intrinsics' own _mm512_undefined_pd() operands once they are inlined
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
-#pragma GCC push_options
-#pragma GCC target("avx2,avx512f,avx512dq,avx512vl")
-
-namespace avx512 {
-namespace {
-namespace isa = lanes::avx512;
-using namespace isa;  // NOLINT(google-build-using-namespace)
-#include "cdpowder/solver/coloured_kernel.inc"
-}  // namespace
-}  // namespace avx512
-
-#pragma GCC pop_options
-#pragma GCC diagnostic pop
-#endif
 
 namespace {
 
@@ -494,28 +475,20 @@ using ApplyBatches = void (*)(const BatchPair*, std::uint32_t, std::uint32_t, Sp
 using SolveWallBatches = void (*)(const WallBatchPair*, std::uint32_t, std::uint32_t,
                                   SphereVelocity*, ContactAction*, SweepSums&);
 
-/// The kernel code `name` for this CPU: AVX-512 where lanes::use_avx512(), else AVX2 or SSE2.
-#if defined(CDP_HAVE_AVX512)
-#define CDP_KERNEL_FOR_CPU(...) \
-  (lanes::use_avx512() ? avx512::__VA_ARGS__ : CDP_LANES_FOR_CPU(__VA_ARGS__))
-#else
-#define CDP_KERNEL_FOR_CPU(...) CDP_LANES_FOR_CPU(__VA_ARGS__)
-#endif
-
 /// The kernel for this CPU, with torques or without (ColouredSweep::torques), for open
 /// contacts rare or not (ColouredSweep::open_rare): the same bits either way.
 SolveBatches batch_kernel(bool torques, bool open_rare) {
   if (torques) {
-    return open_rare ? CDP_KERNEL_FOR_CPU(solve_batches<true, true>)
-                     : CDP_KERNEL_FOR_CPU(solve_batches<true, false>);
+    return open_rare ? CDP_WIDE_LANES_FOR_CPU(solve_batches<true, true>)
+                     : CDP_WIDE_LANES_FOR_CPU(solve_batches<true, false>);
   }
-  return open_rare ? CDP_KERNEL_FOR_CPU(solve_batches<false, true>)
-                   : CDP_KERNEL_FOR_CPU(solve_batches<false, false>);
+  return open_rare ? CDP_WIDE_LANES_FOR_CPU(solve_batches<false, true>)
+                   : CDP_WIDE_LANES_FOR_CPU(solve_batches<false, false>);
 }
 
 SolveWallBatches wall_kernel(bool open_rare) {
-  return open_rare ? CDP_KERNEL_FOR_CPU(solve_wall_batches<true>)
-                   : CDP_KERNEL_FOR_CPU(solve_wall_batches<false>);
+  return open_rare ? CDP_WIDE_LANES_FOR_CPU(solve_wall_batches<true>)
+                   : CDP_WIDE_LANES_FOR_CPU(solve_wall_batches<false>);
 }
 
 /// Whether at most one visit in kOpenRare of a sweep left its contact open (not closed): then
@@ -530,8 +503,8 @@ bool open_contacts_rare(const SweepSums& sums, std::size_t visits) {
 }
 
 ApplyBatches apply_kernel(bool torques) {
-  return torques ? CDP_KERNEL_FOR_CPU(apply_batches<true>)
-                 : CDP_KERNEL_FOR_CPU(apply_batches<false>);
+  return torques ? CDP_WIDE_LANES_FOR_CPU(apply_batches<true>)
+                 : CDP_WIDE_LANES_FOR_CPU(apply_batches<false>);
 }
 
 }  // namespace
