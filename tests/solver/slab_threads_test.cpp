@@ -49,35 +49,80 @@ TEST(SlabThreads, RunsEveryPieceOnce) {
   }
 }
 
+/// Runs one block of `choice` at `threads_ns` per contact update on the threads and `alone_ns`
+/// alone (1000 updates a step); returns whether it ran on the threads.
+bool run_block(ThreadChoice& choice, double threads_ns, double alone_ns) {
+  const bool threaded = choice.threaded();
+  for (std::uint64_t k = 0; k < ThreadChoice::kBlockSteps; ++k) {
+    EXPECT_EQ(choice.threaded(), threaded) << "the way changed inside a block";
+    choice.record((threaded ? threads_ns : alone_ns) * 1e-9 * 1000, 1000);
+  }
+  return threaded;
+}
+
+/// The blocks among the next `blocks` that run the way `tried` (their indices from 0).
+std::vector<std::uint64_t> blocks_run(ThreadChoice& choice, bool tried, std::uint64_t blocks,
+                                      double threads_ns, double alone_ns) {
+  std::vector<std::uint64_t> out;
+  for (std::uint64_t b = 0; b < blocks; ++b) {
+    if (run_block(choice, threads_ns, alone_ns) == tried) out.push_back(b);
+  }
+  return out;
+}
+
 // The choice between the threads and the caller alone: the first block on the threads, the
-// second alone, then the way whose last block was faster, and every kTryEvery-th block the other.
+// second alone, then the way whose last block was faster, and now and then a block the other
+// way: every kTryEvery-th while the other way loses by less than kClearLoss.
 TEST(ThreadChoice, RunsTheFasterWayAndTriesTheOtherNowAndThen) {
-  constexpr std::uint64_t kBlock = ThreadChoice::kBlockSteps;
   ThreadChoice choice;
-  // per contact update: 2 ns on the threads, 3 ns alone
-  const auto run_block = [&choice] {
-    const bool threaded = choice.threaded();
-    for (std::uint64_t k = 0; k < kBlock; ++k) {
-      EXPECT_EQ(choice.threaded(), threaded) << "the way changed inside a block";
-      choice.record(threaded ? 2e-9 * 1000 : 3e-9 * 1000, 1000);
-    }
-    return threaded;
-  };
-  EXPECT_TRUE(run_block());
-  EXPECT_FALSE(run_block());
-  std::uint64_t alone = 0;
-  for (std::uint64_t block = 2; block < 2 + 10 * ThreadChoice::kTryEvery; ++block) {
-    alone += run_block() ? 0 : 1;
+  EXPECT_TRUE(run_block(choice, 2.0, 2.2));
+  EXPECT_FALSE(run_block(choice, 2.0, 2.2));
+  // alone 10 % slower: a try every kTryEvery blocks
+  const auto tries = blocks_run(choice, false, 10 * ThreadChoice::kTryEvery, 2.0, 2.2);
+  ASSERT_EQ(tries.size(), 10U);
+  for (std::size_t k = 1; k < tries.size(); ++k) {
+    EXPECT_EQ(tries[k] - tries[k - 1], ThreadChoice::kTryEvery);
   }
-  EXPECT_EQ(alone, 10U);  // one block in kTryEvery tries the slower way
-  // the threads turn slow (a busy second core): the choice follows within a few blocks
-  std::uint64_t threaded_late = 0;
-  for (std::uint64_t block = 0; block < 4 * ThreadChoice::kTryEvery; ++block) {
-    const bool threaded = choice.threaded();
-    for (std::uint64_t k = 0; k < kBlock; ++k) choice.record(threaded ? 5e-6 : 3e-6, 1000);
-    if (block >= 2 * ThreadChoice::kTryEvery) threaded_late += threaded ? 1 : 0;
+  EXPECT_EQ(choice.try_every(), ThreadChoice::kTryEvery);
+}
+
+// A way that loses clearly is tried at doubling intervals, up to kMaxTryEvery; once it wins,
+// it is taken and the interval is kTryEvery again.
+TEST(ThreadChoice, TriesAClearLoserLessAndLessOften) {
+  ThreadChoice choice;
+  EXPECT_TRUE(run_block(choice, 5.0, 2.0));  // the threads 2.5× slower (a slow path)
+  EXPECT_FALSE(run_block(choice, 5.0, 2.0));
+  const auto tries = blocks_run(choice, true, 8 * ThreadChoice::kMaxTryEvery, 5.0, 2.0);
+  ASSERT_GE(tries.size(), 5U);
+  std::vector<std::uint64_t> gaps;
+  for (std::size_t k = 1; k < tries.size(); ++k) gaps.push_back(tries[k] - tries[k - 1]);
+  EXPECT_EQ(gaps[0], 2 * ThreadChoice::kTryEvery);
+  EXPECT_EQ(gaps[1], 4 * ThreadChoice::kTryEvery);
+  for (std::size_t k = 2; k < gaps.size(); ++k) EXPECT_EQ(gaps[k], ThreadChoice::kMaxTryEvery);
+  EXPECT_EQ(choice.try_every(), ThreadChoice::kMaxTryEvery);
+  // the path turns fast (the threads 1.5× faster): the next try finds them faster, the
+  // threads stay, and the interval is kTryEvery again
+  const auto threaded = blocks_run(choice, true, 4 * ThreadChoice::kMaxTryEvery, 2.0, 3.0);
+  ASSERT_FALSE(threaded.empty());
+  const std::uint64_t found = threaded.front();
+  EXPECT_LT(found, ThreadChoice::kMaxTryEvery);
+  std::vector<std::uint64_t> alone_after;
+  for (std::uint64_t b = found; b < 4 * ThreadChoice::kMaxTryEvery; ++b) {
+    if (!std::binary_search(threaded.begin(), threaded.end(), b)) alone_after.push_back(b);
   }
-  EXPECT_EQ(threaded_late, 2U);  // only the tries, once the threads' last block was slower
+  ASSERT_GE(alone_after.size(), 2U);
+  EXPECT_EQ(alone_after[0], found + ThreadChoice::kTryEvery);
+  EXPECT_EQ(alone_after[1], found + 3 * ThreadChoice::kTryEvery);  // alone lost clearly: 64 on
+}
+
+// The threads turn slow (a busy second core): the choice follows within a block.
+TEST(ThreadChoice, FollowsTheThreadsTurningSlow) {
+  ThreadChoice choice;
+  run_block(choice, 2.0, 3.0);
+  run_block(choice, 2.0, 3.0);
+  for (int b = 0; b < 20; ++b) EXPECT_TRUE(run_block(choice, 2.0, 3.0));
+  EXPECT_TRUE(run_block(choice, 5.0, 3.0));  // the block that finds them slow
+  EXPECT_FALSE(run_block(choice, 5.0, 3.0));
 }
 
 // A choice told to stay on the threads stays there, however slow their blocks.

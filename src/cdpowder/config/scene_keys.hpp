@@ -120,8 +120,10 @@ inline constexpr std::string_view kThreadsMeaning =
     "same bits for any count; only 2 threads have pieces to share, and a larger count uses 2. "
     "Since the bits do not depend on it, steps go in blocks of 16 on the threads or on the "
     "calling thread alone, whichever took less time per contact update in its last block "
-    "(every 32nd block tries the other): when the second core is busy with other work, a run "
-    "falls back to about one thread's speed. After a step solved on the threads, the next "
+    "(a block tries the other way after 32 blocks, and after twice as many, up to 128, each "
+    "time that way lost by more than 25 %): when the second core is busy with other work, or "
+    "the path between the cores is slow, a run falls back to about one thread's speed. After "
+    "a step solved on the threads, the next "
     "step's detection and building of the local problems run in two halves on them too. The "
     "workers spin during a step and for 1 ms after it, then sleep (docs/performance.md, \"Two "
     "slabs\")";

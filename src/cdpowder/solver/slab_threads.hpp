@@ -14,8 +14,10 @@
 #include "cdpowder/core/pieces.hpp"
 #include "cdpowder/solver/sweep_threads.hpp"
 
+#include <algorithm>
 #include <array>
 #include <atomic>
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 
@@ -58,13 +60,20 @@ class SlabThreads final : public PieceRunner {
 /// session (docs/performance.md, "Two slabs") took 1.2–1.4× less time on two threads in some
 /// minutes and 1.3× more in others, when the second core was not free for this process. The
 /// steps go in blocks of kBlockSteps, each block one way; a block runs the way whose last
-/// block took less time per contact update, and every kTryEvery-th block the other way.
+/// block took less time per contact update, and now and then a block tries the other way: after
+/// kTryEvery blocks, and after twice as many (up to kMaxTryEvery) each time the way tried lost
+/// by more than kClearLoss (on a machine whose cores talk slowly two threads lose 2.5× per
+/// step, "A faster machine": trying them every 32nd block cost a run up to 6–7 %). A try that wins,
+/// or loses by less, brings the interval back to kTryEvery.
 /// Blocks, not single steps: one step's time is too noisy to choose by (steps differ in their
 /// sweeps, and a step is ≈ 0.5–1.5 ms, the scale of the machine's hiccups).
 class ThreadChoice {
  public:
   static constexpr std::uint64_t kBlockSteps = 16;
   static constexpr std::uint64_t kTryEvery = 32;
+  /// ≈ 2–4 s of a paper-size run: a machine that turns fast is still seen within seconds
+  static constexpr std::uint64_t kMaxTryEvery = 128;
+  static constexpr double kClearLoss = 1.25;
 
   /// Whether this step should run on the threads.
   [[nodiscard]] bool threaded() const { return threaded_; }
@@ -77,6 +86,9 @@ class ThreadChoice {
     threaded_ = true;
   }
 
+  /// Blocks between two tries of the other way at present (kTryEvery … kMaxTryEvery).
+  [[nodiscard]] std::uint64_t try_every() const { return try_every_; }
+
   /// The time this step took [s] for its contact updates (sweeps × contacts); at the end of a
   /// block, chooses the way of the next.
   void record(double seconds, double updates) {
@@ -86,25 +98,38 @@ class ThreadChoice {
       updates_ += updates;
     }
     if (++steps_ % kBlockSteps != 0) return;
-    if (updates_ > 0.0) per_update_[threaded_ ? 1 : 0] = seconds_ / updates_;
+    const std::size_t way = threaded_ ? 1 : 0;
+    if (updates_ > 0.0) per_update_[way] = seconds_ / updates_;
     seconds_ = updates_ = 0.0;
-    ++blocks_;
     if (per_update_[0] == 0.0) {  // the caller alone not measured yet
       threaded_ = false;
       return;
     }
+    if (trying_) {
+      const bool clear_loss = per_update_[way] > kClearLoss * per_update_[1 - way];
+      try_every_ = clear_loss ? std::min(2 * try_every_, kMaxTryEvery) : kTryEvery;
+      trying_ = false;
+    }
     const bool faster = per_update_[1] <= per_update_[0];
-    threaded_ = blocks_ % kTryEvery == 0 ? !faster : faster;
+    if (++since_try_ >= try_every_) {
+      since_try_ = 0;
+      trying_ = true;
+      threaded_ = !faster;
+      return;
+    }
+    threaded_ = faster;
   }
 
  private:
   bool threaded_ = true;                ///< the way of the current block
   bool always_ = false;                 ///< always_threaded()
+  bool trying_ = false;                 ///< the current block tries the slower way
   std::array<double, 2> per_update_{};  ///< [alone, threads] s per update of its last block
   double seconds_ = 0.0;                ///< of the current block
   double updates_ = 0.0;
   std::uint64_t steps_ = 0;
-  std::uint64_t blocks_ = 0;
+  std::uint64_t since_try_ = 0;  ///< blocks since the last try
+  std::uint64_t try_every_ = kTryEvery;
 };
 
 /// A workspace's SlabThreads, started at the first step that asks for more than one thread
