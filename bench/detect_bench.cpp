@@ -8,41 +8,37 @@
 namespace cdpowder::bench {
 namespace {
 
-void BM_DetectContacts(benchmark::State& state) {
+/// Detection of the packing state.range(0) spheres large, with the candidate list rebuilt
+/// each time (kept = nullptr) or kept from the first call, as a step of a run does it (its
+/// cover checked, the pairs searched in lanes; the spheres are at rest).
+void run_detection(benchmark::State& state, CandidateList* kept) {
   Packing packing = fcc_packing_with_vacancies(static_cast<int>(state.range(0)));
   StepWorkspace work(1);
+  if (kept != nullptr) {
+    detect_contacts(packing.world, packing.settings.detection(), work.grid, work.contacts, kept);
+  }
   for (auto _ : state) {
-    detect_contacts(packing.world, packing.settings.detection(), work.grid, work.contacts);
+    detect_contacts(packing.world, packing.settings.detection(), work.grid, work.contacts, kept);
     benchmark::DoNotOptimize(work.contacts.pairs.data());
   }
   const auto n = static_cast<double>(packing.world.bodies.size());
   state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(n));
   state.counters["candidates"] = static_cast<double>(work.contacts.size());
+  if (kept != nullptr) state.counters["listed"] = static_cast<double>(kept->pairs().size());
   state.counters["ns_per_particle"] =
       benchmark::Counter(static_cast<double>(state.iterations()) * n,
                          benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 
+void BM_DetectContacts(benchmark::State& state) {
+  run_detection(state, nullptr);
+}
+
 BENCHMARK(BM_DetectContacts)->Arg(1000)->Arg(100000)->Unit(benchmark::kMicrosecond);
 
-/// Detection as a step of a run does it: the candidate list kept from the step before (its
-/// cover checked, the pairs searched in lanes), the spheres at rest.
 void BM_DetectContactsListKept(benchmark::State& state) {
-  Packing packing = fcc_packing_with_vacancies(static_cast<int>(state.range(0)));
-  StepWorkspace work(1);
   CandidateList list;
-  detect_contacts(packing.world, packing.settings.detection(), work.grid, work.contacts, &list);
-  for (auto _ : state) {
-    detect_contacts(packing.world, packing.settings.detection(), work.grid, work.contacts, &list);
-    benchmark::DoNotOptimize(work.contacts.pairs.data());
-  }
-  const auto n = static_cast<double>(packing.world.bodies.size());
-  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(n));
-  state.counters["candidates"] = static_cast<double>(list.pairs().size());
-  state.counters["contacts"] = static_cast<double>(work.contacts.size());
-  state.counters["ns_per_particle"] =
-      benchmark::Counter(static_cast<double>(state.iterations()) * n,
-                         benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  run_detection(state, &list);
 }
 
 BENCHMARK(BM_DetectContactsListKept)->Arg(1000)->Arg(100000)->Unit(benchmark::kMicrosecond);

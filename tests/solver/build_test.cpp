@@ -1,8 +1,10 @@
 // Tests of build_local_problems' pair constants: W's blocks, the closing rate and the caps,
 // against the formulas of physics.md §5.2 written out here, bit for bit, with fixed spheres
-// and gaps on both sides of the touching dead band.
+// and gaps on both sides of the touching dead band, in one pass and in the two pieces of a
+// threaded step (whose constants take Δt/m, Δt/I from the bodies, not the velocity cache).
 #include "cdpowder/solver/build.hpp"
 
+#include "cdpowder/solver/slab_threads.hpp"
 #include "support/small_packing.hpp"
 
 #include <gtest/gtest.h>
@@ -58,10 +60,13 @@ TEST(BuildLocalProblems, PairConstantsAreTheFormulasOfW) {
   bool touches_fixed = false;
   for (const PairProblem& p : contacts.pairs) touches_fixed |= p.a == 0 || p.a == 5;
   EXPECT_TRUE(touches_fixed);
-  for (const bool warm_start : {true, false}) {
-    SCOPED_TRACE(::testing::Message() << "warm start " << warm_start);
-    s.settings.solver.warm_start = warm_start;
-    build_local_problems(s.world, s.settings, s.work.action_cache, contacts, s.work.velocities);
+  SlabThreads pieces(1);  // the two pieces, one after the other on this thread
+  for (PieceRunner* runner :
+       {static_cast<PieceRunner*>(nullptr), static_cast<PieceRunner*>(&pieces)}) {
+    SCOPED_TRACE(::testing::Message() << "in pieces " << (runner != nullptr));
+    for (PairProblem& p : contacts.pairs) p.inv_dt_w_n = p.inv_dt_w_t = p.inv_dt_w_r = -1.0;
+    build_local_problems(s.world, s.settings, s.work.action_cache, contacts, s.work.velocities,
+                         runner);
     for (const PairProblem& p : contacts.pairs) {
       expect_constants(s.world.bodies, s.settings.laws.spheres, s.settings.solver.dt, p);
     }

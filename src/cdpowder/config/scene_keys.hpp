@@ -123,10 +123,9 @@ inline constexpr std::string_view kThreadsMeaning =
     "(a block tries the other way after 32 blocks, and after twice as many, up to 128, each "
     "time that way lost by more than 25 %): when the second core is busy with other work, or "
     "the path between the cores is slow, a run falls back to about one thread's speed. After "
-    "a step solved on the threads, the next "
-    "step's detection and building of the local problems run in two halves on them too. The "
-    "workers spin during a step and for 1 ms after it, then sleep (docs/performance.md, \"Two "
-    "slabs\")";
+    "a step solved on the threads, the next step's detection and building of the local "
+    "problems run in two halves on them too. The workers spin during a step and for 1 ms after "
+    "it, then sleep (docs/performance.md, \"Two slabs\")";
 inline constexpr std::string_view kCaptureRuleMeaning =
     "centre_distance: r_capt is the centre-to-centre distance of two mean spheres, capture at a "
     "surface gap r_capt − (radius_min + radius_max) (needs r_capt ≥ radius_min + radius_max; "
