@@ -111,5 +111,44 @@ TEST(CandidateList, CoversOnlyWhatItWasBuiltFor) {
   EXPECT_FALSE(list.covers(world.bodies, world.box, 0.0));
 }
 
+// The list holds exactly the pairs a brute-force search finds (a < b, not both fixed, centre
+// distance below R_a + R_b + gap + margin through the periodic boundaries), in (a, b) order:
+// in grids of one, two and many cells along x and y, with every fifth sphere fixed.
+TEST(CandidateList, ListsExactlyThePairsABruteForceSearchFinds) {
+  for (const double side : {3.0, 5.0, 12.0, 30.0}) {
+    SCOPED_TRACE(::testing::Message() << "side " << side);
+    Rng rng = make_rng(17, RngStream::Deposition);
+    Bodies bodies;
+    const PeriodicBox box{side, side};
+    const int n = static_cast<int>(side * side);
+    for (int i = 0; i < n; ++i) {
+      const Vec3 centre(side * uniform01(rng), side * uniform01(rng), 8.0 * uniform01(rng));
+      bodies.add_sphere(centre, 0.6 + 0.5 * uniform01(rng), 1.0, i % 5 == 0);
+    }
+    const double gap = 0.05;
+    const double margin = 0.2;
+    std::vector<CandidateList::Pair> expected;
+    for (BodyIndex a = 0; a < bodies.size(); ++a) {
+      for (BodyIndex b = a + 1; b < bodies.size(); ++b) {
+        if (bodies.fixed[a] != 0 && bodies.fixed[b] != 0) continue;
+        const double reach = bodies.radius[a] + bodies.radius[b] + (gap + margin);
+        if (box.minimum_image(bodies.position[b] - bodies.position[a]).squaredNorm() <
+            reach * reach) {
+          expected.push_back({a, b});
+        }
+      }
+    }
+    CellGrid grid;
+    CandidateList list;
+    list.rebuild(bodies, box, grid, gap, margin);
+    ASSERT_EQ(list.pairs().size(), expected.size());
+    for (std::size_t k = 0; k < expected.size(); ++k) {
+      EXPECT_EQ(list.pairs()[k].a, expected[k].a) << "pair " << k;
+      EXPECT_EQ(list.pairs()[k].b, expected[k].b) << "pair " << k;
+    }
+    EXPECT_GT(expected.size(), 0U);
+  }
+}
+
 }  // namespace
 }  // namespace cdpowder

@@ -1,7 +1,10 @@
 // candidate_list.cpp — the Verlet list's validity test and its build from the cell grid.
 #include "cdpowder/detect/candidate_list.hpp"
 
+#include "cdpowder/detect/sphere_scan.hpp"
+
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace cdpowder {
@@ -14,10 +17,7 @@ bool CandidateList::may_cover(const Bodies& bodies, const PeriodicBox& box, doub
 bool CandidateList::covers_spheres(const Bodies& bodies, const PeriodicBox& box, double gap,
                                    std::size_t first, std::size_t last) const {
   const double slack_sq = slack(gap) * slack(gap);
-  for (std::size_t i = first; i < last; ++i) {
-    if (box.minimum_image(bodies.position[i] - anchor_[i]).squaredNorm() > slack_sq) return false;
-  }
-  return true;
+  return all_within(bodies.position.data(), anchor_.data(), box, slack_sq, first, last);
 }
 
 void CandidateList::rebuild(const Bodies& bodies, const PeriodicBox& box, CellGrid& grid,
@@ -27,23 +27,38 @@ void CandidateList::rebuild(const Bodies& bodies, const PeriodicBox& box, CellGr
   anchor_ = bodies.position;
   ++builds_;
   pairs_.clear();
-  // Visiting a in index order and sorting each sphere's few partners b gives the list sorted
-  // by (a, b) — the order of the warm-start cache — without sorting the whole list.
   grid.rebuild(bodies.position, box, 2.0 * bodies.max_radius() + built_gap_);
+  const std::vector<BodyIndex>& near = grid.sorted();
+  const std::vector<Vec3>& near_position = grid.sorted_positions();
+  std::array<CellGrid::Run, CellGrid::kMaxRuns> runs{};
+  // Visiting a in index order and sorting each sphere's few partners b gives the list sorted
+  // by (a, b), the order of the warm-start cache, without sorting the whole list.
   const auto sphere_count = static_cast<BodyIndex>(bodies.size());
   for (BodyIndex a = 0; a < sphere_count; ++a) {
-    const std::size_t first = pairs_.size();
-    grid.for_each_near(a, [&](BodyIndex b) {
-      if (b <= a || (bodies.fixed[a] != 0 && bodies.fixed[b] != 0)) return;
-      const double reach = bodies.radius[a] + bodies.radius[b] + built_gap_;
-      if (box.minimum_image(bodies.position[b] - bodies.position[a]).squaredNorm() >=
-          reach * reach) {
-        return;
+    const int run_count = grid.near_runs(a, runs);
+    std::size_t near_count = 0;
+    for (int r = 0; r < run_count; ++r) near_count += runs[r].last - runs[r].first;
+    if (partners_.size() < near_count) partners_.resize(near_count);
+    const Vec3& position_a = bodies.position[a];
+    const double radius_a = bodies.radius[a];
+    const bool fixed_a = bodies.fixed[a] != 0;
+    // every neighbour written, the kept ones counted: no branch on the tests, which go
+    // either way about as often (b > a for half of them)
+    std::size_t kept = 0;
+    for (int r = 0; r < run_count; ++r) {
+      for (std::uint32_t t = runs[r].first; t < runs[r].last; ++t) {
+        const BodyIndex b = near[t];
+        const double reach = radius_a + bodies.radius[b] + built_gap_;
+        const double distance_squared =
+            box.minimum_image(near_position[t] - position_a).squaredNorm();
+        const bool listed =
+            (b > a) & !(fixed_a & (bodies.fixed[b] != 0)) & (distance_squared < reach * reach);
+        partners_[kept] = b;
+        kept += listed ? 1 : 0;
       }
-      pairs_.push_back({a, b});
-    });
-    std::sort(pairs_.begin() + static_cast<std::ptrdiff_t>(first), pairs_.end(),
-              [](const Pair& x, const Pair& y) { return x.b < y.b; });
+    }
+    std::sort(partners_.begin(), partners_.begin() + static_cast<std::ptrdiff_t>(kept));
+    for (std::size_t j = 0; j < kept; ++j) pairs_.push_back({a, partners_[j]});
   }
 }
 

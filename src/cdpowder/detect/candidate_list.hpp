@@ -61,6 +61,7 @@ class CandidateList {
   PeriodicBox box_;
   double built_gap_ = -1.0;  ///< gap + margin of the build; < 0: never built [R]
   std::int64_t builds_ = 0;
+  std::vector<BodyIndex> partners_;  ///< scratch of rebuild: one sphere's listed partners
 };
 
 }  // namespace cdpowder

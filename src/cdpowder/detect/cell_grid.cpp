@@ -49,29 +49,51 @@ void CellGrid::rebuild(const std::vector<Vec3>& positions, const PeriodicBox& bo
   sorted_.resize(n);
   std::vector<std::uint32_t>& fill = cell_start_;  // reuse as cursors, then shift back
   for (std::size_t i = 0; i < n; ++i) sorted_[fill[cell_of_[i]]++] = static_cast<BodyIndex>(i);
+  sorted_position_.resize(n);
+  for (std::size_t t = 0; t < n; ++t) sorted_position_[t] = positions[sorted_[t]];
   for (std::size_t c = cells; c > 0; --c) cell_start_[c] = cell_start_[c - 1];
   cell_start_[0] = 0;
 }
 
-int CellGrid::neighbour_cells(int cx, int cy, int cz, std::array<int, 27>& out) const {
+int CellGrid::near_runs(BodyIndex i, std::array<Run, kMaxRuns>& runs) const {
+  const int c = cell_of_[i];
+  const int cx = c % nx_;
+  const int cy = (c / nx_) % ny_;
+  const int cz = c / (nx_ * ny_);
   int count = 0;
-  const bool may_repeat = nx_ < 3 || ny_ < 3;
-  for (int dz = -1; dz <= 1; ++dz) {
-    const int z = cz + dz;
-    if (z < 0 || z >= nz_) continue;  // z is not periodic
-    for (int dy = -1; dy <= 1; ++dy) {
-      const int y = (cy + dy + ny_) % ny_;
-      for (int dx = -1; dx <= 1; ++dx) {
-        const int x = (cx + dx + nx_) % nx_;
-        const int c = cell_index(x, y, z);
-        // with fewer than three cells along x or y, offsets ±1 wrap onto the same cell
-        if (!may_repeat || std::find(out.begin(), out.begin() + count, c) == out.begin() + count) {
-          out[count++] = c;
-        }
-      }
+  // the layers cz − 1 … cz + 1 that exist (z is not periodic); in each the rows cy − 1 … cy + 1
+  // wrapped in y, or every row where there are fewer than three (an offset ±1 would repeat one)
+  const int z_last = std::min(cz + 1, nz_ - 1);
+  for (int z = std::max(cz - 1, 0); z <= z_last; ++z) {
+    if (ny_ < 3) {
+      for (int y = 0; y < ny_; ++y) add_row(cx, y, z, runs, count);
+    } else {
+      add_row(cx, cy == 0 ? ny_ - 1 : cy - 1, z, runs, count);
+      add_row(cx, cy, z, runs, count);
+      add_row(cx, cy == ny_ - 1 ? 0 : cy + 1, z, runs, count);
     }
   }
   return count;
+}
+
+void CellGrid::add_row(int cx, int cy, int cz, std::array<Run, kMaxRuns>& runs, int& count) const {
+  // the cells of a row are consecutive, and so are their spheres in sorted_
+  const int row = cell_index(0, cy, cz);
+  const auto add = [&](int first_x, int last_x) {
+    const Run run{cell_start_[row + first_x], cell_start_[row + last_x + 1]};
+    if (run.first < run.last) runs[count++] = run;
+  };
+  if (nx_ < 3) {
+    add(0, nx_ - 1);  // every cell of the row is a neighbour, each once
+  } else if (cx == 0) {
+    add(0, 1);
+    add(nx_ - 1, nx_ - 1);
+  } else if (cx == nx_ - 1) {
+    add(0, 0);
+    add(nx_ - 2, nx_ - 1);
+  } else {
+    add(cx - 1, cx + 1);
+  }
 }
 
 }  // namespace cdpowder

@@ -1,6 +1,6 @@
 // cell_grid.hpp — the broad phase: a uniform grid of cells, periodic in x and y and
-// bounded by the spheres' extent in z, rebuilt every step by a counting sort (O(N)).
-// A cell edge ≥ the largest centre distance that can still be a candidate, so every
+// bounded by the spheres' extent in z, rebuilt by a counting sort (O(N)) with the candidate
+// list. A cell edge ≥ the largest centre distance that can still be a candidate, so every
 // candidate pair sits in the same or a neighbouring cell (physics.md §4.3).
 #pragma once
 
@@ -34,13 +34,35 @@ double edge_within(double min_edge, double max_cells, const CellCount& cell_coun
 
 class CellGrid {
  public:
+  /// A stretch [first, last) of sorted(): the spheres of one cell or of neighbouring cells
+  /// next to each other along x.
+  struct Run {
+    std::uint32_t first = 0;
+    std::uint32_t last = 0;
+  };
+
+  /// The most runs near_runs gives: three layers in z times three rows in y, each row one
+  /// stretch of cells along x or two where it wraps.
+  static constexpr int kMaxRuns = 18;
+
   /// Sorts the positions (already wrapped into the box) into cells of edge ≥ min_cell_edge [R].
   void rebuild(const std::vector<Vec3>& positions, const PeriodicBox& box, double min_cell_edge);
 
+  /// The spheres in the same or a neighbouring cell of sphere i (i itself included), each
+  /// once, as runs of sorted(): at most 2 per row of three cells along x, so a sphere's
+  /// neighbourhood is a few contiguous stretches rather than 27 cells. Returns their count.
+  int near_runs(BodyIndex i, std::array<Run, kMaxRuns>& runs) const;
+
   /// Calls visit(j) for every sphere j in the same or a neighbouring cell of sphere i
-  /// (each once; i itself included), in cell order.
+  /// (each once; i itself included), run by run.
   template <typename Visitor>
   void for_each_near(BodyIndex i, Visitor&& visit) const;
+
+  /// The spheres ordered by cell, and their positions in that order (copies of the positions
+  /// of the last rebuild, so that a pass over a run reads contiguous memory).
+  [[nodiscard]] const std::vector<BodyIndex>& sorted() const { return sorted_; }
+
+  [[nodiscard]] const std::vector<Vec3>& sorted_positions() const { return sorted_position_; }
 
   [[nodiscard]] int cells_x() const { return nx_; }
 
@@ -51,8 +73,9 @@ class CellGrid {
  private:
   [[nodiscard]] int cell_index(int cx, int cy, int cz) const { return (cz * ny_ + cy) * nx_ + cx; }
 
-  /// Distinct neighbour cells of (cx, cy, cz) including itself; returns their count.
-  int neighbour_cells(int cx, int cy, int cz, std::array<int, 27>& out) const;
+  /// Appends to `runs` the neighbour cells of cx in the row (cy, cz): one run, or two where
+  /// the row wraps; the whole row when it has fewer than three cells.
+  void add_row(int cx, int cy, int cz, std::array<Run, kMaxRuns>& runs, int& count) const;
 
   int nx_ = 1;
   int ny_ = 1;
@@ -60,20 +83,16 @@ class CellGrid {
   std::vector<int> cell_of_;  ///< cell of every sphere
   std::vector<std::uint32_t>
       cell_start_;  ///< spheres of cell c: sorted_[cell_start_[c] .. cell_start_[c+1])
-  std::vector<BodyIndex> sorted_;  ///< sphere indices ordered by cell
+  std::vector<BodyIndex> sorted_;      ///< sphere indices ordered by cell
+  std::vector<Vec3> sorted_position_;  ///< positions[sorted_[t]] [R]
 };
 
 template <typename Visitor>
 void CellGrid::for_each_near(BodyIndex i, Visitor&& visit) const {
-  const int c = cell_of_[i];
-  const int cx = c % nx_;
-  const int cy = (c / nx_) % ny_;
-  const int cz = c / (nx_ * ny_);
-  std::array<int, 27> neighbours{};
-  const int count = neighbour_cells(cx, cy, cz, neighbours);
-  for (int k = 0; k < count; ++k) {
-    const int nc = neighbours[k];
-    for (std::uint32_t t = cell_start_[nc]; t < cell_start_[nc + 1]; ++t) visit(sorted_[t]);
+  std::array<Run, kMaxRuns> runs{};
+  const int count = near_runs(i, runs);
+  for (int r = 0; r < count; ++r) {
+    for (std::uint32_t t = runs[r].first; t < runs[r].last; ++t) visit(sorted_[t]);
   }
 }
 

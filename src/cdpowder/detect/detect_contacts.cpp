@@ -5,6 +5,7 @@
 #include "cdpowder/contact/contact_law.hpp"
 #include "cdpowder/core/assert.hpp"
 #include "cdpowder/core/lanes.hpp"
+#include "cdpowder/detect/sphere_scan.hpp"
 #include "cdpowder/model/finite.hpp"
 
 #include <algorithm>
@@ -153,16 +154,6 @@ void detect_in_pieces(World& world, const DetectionSettings& settings, CellGrid&
 }
 
 }  // namespace
-
-double largest_surface_speed(const Bodies& bodies, std::size_t first, std::size_t last) {
-  double v_max = 0.0;
-  for (std::size_t i = first; i < last; ++i) {
-    const double surface_speed =
-        bodies.velocity[i].norm() + bodies.radius[i] * bodies.angular_velocity[i].norm();
-    v_max = std::max(v_max, surface_speed);
-  }
-  return v_max;
-}
 
 double candidate_gap(const World& world, const DetectionSettings& settings) {
   return gap_for_speed(largest_surface_speed(world.bodies, 0, world.bodies.size()), world,

@@ -7,14 +7,12 @@
 #include "cdpowder/detect/candidate_list.hpp"
 #include "cdpowder/detect/cell_grid.hpp"
 #include "cdpowder/detect/detection_settings.hpp"
+#include "cdpowder/detect/sphere_scan.hpp"
 #include "cdpowder/model/world.hpp"
 
 #include <vector>
 
 namespace cdpowder {
-
-/// The largest surface speed |v| + R |ω| of spheres [first, last) [R/t0].
-double largest_surface_speed(const Bodies& bodies, std::size_t first, std::size_t last);
 
 /// Largest gap at which a pair is a candidate this step:
 /// max(d_coh, 2 v_max Δt) + skin (physics.md §4.3), v_max the largest surface speed.

@@ -1,7 +1,7 @@
 // time_step_control.cpp — the two bounds of the next Δt, growth-limited and clamped.
 #include "cdpowder/solver/time_step_control.hpp"
 
-#include "cdpowder/detect/detect_contacts.hpp"
+#include "cdpowder/detect/sphere_scan.hpp"
 
 #include <algorithm>
 #include <cmath>
