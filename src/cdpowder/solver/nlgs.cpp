@@ -2,6 +2,7 @@
 #include "cdpowder/solver/nlgs.hpp"
 
 #include "cdpowder/contact/local_solve.hpp"
+#include "cdpowder/core/nth_root.hpp"
 #include "cdpowder/solver/build.hpp"
 #include "cdpowder/solver/mixed_actions.hpp"
 #include "cdpowder/solver/slab_solve.hpp"
@@ -23,6 +24,7 @@ namespace {
 /// Sweeps over which the contraction ρ is measured: long enough to average out the
 /// sweep-to-sweep noise of a random visiting order.
 constexpr int kContractionWindow = 8;
+static_assert(kContractionWindow <= kMaxRootDegree, "nth_root takes roots up to the 8th");
 /// ρ is capped here, so the error estimate is at most 1000 × the residual.
 constexpr double kMaxContraction = 0.999;
 
@@ -31,13 +33,14 @@ constexpr double kMaxContraction = 0.999;
 class ContractionWindow {
  public:
   /// Adds the measure of sweep `sweep` (1, 2, …) and returns ρ = (x_k / x_{k−w})^{1/w} over
-  /// the last w = min(kContractionWindow, k − 1) sweeps, clamped to [0, kMaxContraction].
+  /// the last w = min(kContractionWindow, k − 1) sweeps, clamped to [0, kMaxContraction]; the
+  /// root from nth_root, whose bits do not depend on the machine or its C library as pow's do.
   double add(int sweep, double value) {
     recent_[static_cast<std::size_t>(sweep) % recent_.size()] = value;
     const int window = std::min(kContractionWindow, sweep - 1);
     if (window == 0) return kMaxContraction;
     const double earlier = recent_[static_cast<std::size_t>(sweep - window) % recent_.size()];
-    const double rho = earlier > 0.0 ? std::pow(value / earlier, 1.0 / window) : 0.0;
+    const double rho = earlier > 0.0 ? nth_root(value / earlier, window) : 0.0;
     return std::clamp(rho, 0.0, kMaxContraction);
   }
 
