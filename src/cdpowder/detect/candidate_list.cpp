@@ -41,7 +41,7 @@ void CandidateList::rebuild(const Bodies& bodies, const PeriodicBox& box, CellGr
     if (partners_.size() < near_count) partners_.resize(near_count);
     const Vec3& position_a = bodies.position[a];
     const double radius_a = bodies.radius[a];
-    const bool fixed_a = bodies.fixed[a] != 0;
+    const std::size_t free_a = bodies.fixed[a] == 0 ? 1 : 0;
     // every neighbour written, the kept ones counted: no branch on the tests, which go
     // either way about as often (b > a for half of them)
     std::size_t kept = 0;
@@ -51,10 +51,12 @@ void CandidateList::rebuild(const Bodies& bodies, const PeriodicBox& box, CellGr
         const double reach = radius_a + bodies.radius[b] + built_gap_;
         const double distance_squared =
             box.minimum_image(near_position[t] - position_a).squaredNorm();
-        const bool listed =
-            (b > a) & !(fixed_a & (bodies.fixed[b] != 0)) & (distance_squared < reach * reach);
+        // listed: b > a, not both fixed, and within reach (0 or 1 each, and-ed as integers)
+        const std::size_t later = b > a ? 1 : 0;
+        const std::size_t movable = free_a | (bodies.fixed[b] == 0 ? 1 : 0);
+        const std::size_t within = distance_squared < reach * reach ? 1 : 0;
         partners_[kept] = b;
-        kept += listed ? 1 : 0;
+        kept += later & movable & within;
       }
     }
     std::sort(partners_.begin(), partners_.begin() + static_cast<std::ptrdiff_t>(kept));
