@@ -113,16 +113,26 @@ TEST(CandidateList, CoversOnlyWhatItWasBuiltFor) {
 
 // The list holds exactly the pairs a brute-force search finds (a < b, not both fixed, centre
 // distance below R_a + R_b + gap + margin through the periodic boundaries), in (a, b) order:
-// in grids of one, two and many cells along x and y, with every fifth sphere fixed.
+// in grids of one, two, three (both wrapped neighbours in one row) and many cells along x and
+// y, square and not, with every fifth sphere fixed.
 TEST(CandidateList, ListsExactlyThePairsABruteForceSearchFinds) {
-  for (const double side : {3.0, 5.0, 12.0, 30.0}) {
-    SCOPED_TRACE(::testing::Message() << "side " << side);
+  struct Box {
+    double lx;
+    double ly;
+    int cells_x;
+    int cells_y;
+  };
+
+  // cells of edge 2 R_max + gap + margin ≈ 2.45 R
+  for (const Box& shape : {Box{3.0, 3.0, 1, 1}, Box{5.0, 5.0, 2, 2}, Box{8.0, 8.0, 3, 3},
+                           Box{3.0, 12.0, 1, 4}, Box{12.0, 5.0, 4, 2}, Box{30.0, 30.0, 12, 12}}) {
+    SCOPED_TRACE(::testing::Message() << "box " << shape.lx << " × " << shape.ly);
     Rng rng = make_rng(17, RngStream::Deposition);
     Bodies bodies;
-    const PeriodicBox box{side, side};
-    const int n = static_cast<int>(side * side);
+    const PeriodicBox box{shape.lx, shape.ly};
+    const int n = static_cast<int>(shape.lx * shape.ly);
     for (int i = 0; i < n; ++i) {
-      const Vec3 centre(side * uniform01(rng), side * uniform01(rng), 8.0 * uniform01(rng));
+      const Vec3 centre(shape.lx * uniform01(rng), shape.ly * uniform01(rng), 8.0 * uniform01(rng));
       bodies.add_sphere(centre, 0.6 + 0.5 * uniform01(rng), 1.0, i % 5 == 0);
     }
     const double gap = 0.05;
@@ -141,6 +151,8 @@ TEST(CandidateList, ListsExactlyThePairsABruteForceSearchFinds) {
     CellGrid grid;
     CandidateList list;
     list.rebuild(bodies, box, grid, gap, margin);
+    ASSERT_EQ(grid.cells_x(), shape.cells_x);  // the shapes the test means to cover
+    ASSERT_EQ(grid.cells_y(), shape.cells_y);
     ASSERT_EQ(list.pairs().size(), expected.size());
     for (std::size_t k = 0; k < expected.size(); ++k) {
       EXPECT_EQ(list.pairs()[k].a, expected[k].a) << "pair " << k;

@@ -49,7 +49,8 @@ CellGrid check_grid(const std::vector<Vec3>& x, const PeriodicBox& box, double r
     EXPECT_EQ(count, 1) << "pair (" << pair.first << ", " << pair.second << "), cells "
                         << grid.cells_x() << "×" << grid.cells_y() << "×" << grid.cells_z();
   }
-  // for_each_near, the production path: every neighbour of i once, i itself included
+  // for_each_near (near_runs, which the candidate list walks, sphere by sphere): every
+  // neighbour of i once, i itself included
   for (BodyIndex i = 0; i < x.size(); ++i) {
     std::map<BodyIndex, int> near;
     grid.for_each_near(i, [&](BodyIndex j) { ++near[j]; });

@@ -1,6 +1,7 @@
 // Tests for src/cdpowder/detect/sphere_scan.cpp: the passes over the spheres in lanes give
 // the scalar loops' results, bit for bit, on every instruction set, for every count of
-// spheres modulo the lanes, with NaN and periodic images where the scalar tests meet them.
+// spheres modulo the lanes, with NaN, ties and periodic images where the scalar tests meet
+// them. (The passes are compiled for SSE2 and AVX2; an AVX-512 CPU runs the AVX2 copy.)
 #include "cdpowder/detect/sphere_scan.hpp"
 
 #include "cdpowder/core/lanes.hpp"
@@ -20,8 +21,8 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-/// The instruction sets this CPU has, the widest last (lanes::allow_isa restores the default
-/// after the loop: see Restore below).
+/// The instruction sets this CPU has, the widest last (each test puts the default back with a
+/// RestoreIsa).
 std::vector<lanes::Isa> isas() {
   std::vector<lanes::Isa> out;
   for (const lanes::Isa isa : {lanes::Isa::Sse2, lanes::Isa::Avx2, lanes::Isa::Avx512}) {
@@ -82,43 +83,57 @@ TEST(SphereScan, LargestSurfaceSpeedHasTheScalarLoopsBitsOnEveryInstructionSet) 
   }
 }
 
-TEST(SphereScan, AllWithinMatchesTheScalarTestOnEveryInstructionSet) {
+/// The definition: no sphere of [first, last) farther than √slack_sq from its anchor, the
+/// minimum image in x and y, none in z.
+bool scalar_within(const std::vector<Vec3>& position, const std::vector<Vec3>& anchor,
+                   const PeriodicBox& box, double slack_sq, std::size_t first, std::size_t last) {
+  for (std::size_t i = first; i < last; ++i) {
+    if (box.minimum_image(position[i] - anchor[i]).squaredNorm() > slack_sq) return false;
+  }
+  return true;
+}
+
+TEST(SphereScan, AllWithinGivesTheScalarTestsAnswerOnEveryInstructionSet) {
   const RestoreIsa restore;
-  const PeriodicBox box{10.0, 10.0};
+  const PeriodicBox box{10.0, 7.0};  // not square: x and y each with their own length
   for (const lanes::Isa isa : isas()) {
     lanes::allow_isa(isa);
     for (const int n : {1, 2, 3, 7, 8, 9, 16, 17, 40}) {
-      const Bodies bodies = random_spheres(n, 5);
-      std::vector<Vec3> anchor = bodies.position;
-      std::vector<Vec3> position = bodies.position;
-      // every sphere ≈ 0.09 from its anchor, the even ones through the periodic boundary in x
-      for (int i = 0; i < n; ++i) {
-        anchor[i].x() = i % 2 == 0 ? 0.02 : 5.0;
-        position[i].x() = i % 2 == 0 ? 9.93 : 5.09;
-      }
-      const auto test = [&](double slack_sq, int moved) {
-        return all_within(position.data(), anchor.data(), box, slack_sq, 0,
-                          static_cast<std::size_t>(n)) == (moved < 0);
-      };
       SCOPED_TRACE(::testing::Message() << n << " spheres, isa " << static_cast<int>(isa));
-      EXPECT_TRUE(test(0.01, -1));          // 0.09² < 0.01
-      EXPECT_TRUE(test(0.0081 * 0.99, 0));  // just below 0.09²: every sphere beyond
-      // one sphere beyond in turn, in a full block or the partial one
+      const Bodies bodies = random_spheres(n, 5);
+      const std::vector<Vec3> anchor = bodies.position;
+      std::vector<Vec3> position = bodies.position;
+      // each sphere a little off its anchor, some through the periodic boundary in x or y
+      Rng rng = make_rng(6, RngStream::Deposition);
+      for (int i = 0; i < n; ++i) {
+        Vec3& p = position[i];
+        p += 0.1 * Vec3(uniform01(rng) - 0.5, uniform01(rng) - 0.5, uniform01(rng) - 0.5);
+        if (i % 2 == 0) p.x() += p.x() < 5.0 ? 10.0 : -10.0;
+        if (i % 3 == 0) p.y() += p.y() < 3.5 ? 7.0 : -7.0;
+      }
+      const auto count = static_cast<std::size_t>(n);
+      const auto check = [&](const std::vector<Vec3>& at, double slack_sq, std::size_t first) {
+        EXPECT_EQ(all_within(at.data(), anchor.data(), box, slack_sq, first, count),
+                  scalar_within(at, anchor, box, slack_sq, first, count))
+            << "slack² " << slack_sq << " from sphere " << first;
+      };
+      // every sphere's own d² as the slack², and the double just below it: ties within, the
+      // sphere beyond by one unit in the last place
+      for (int i = 0; i < n; ++i) {
+        const double d2 = box.minimum_image(position[i] - anchor[i]).squaredNorm();
+        for (const double slack_sq : {d2, std::nextafter(d2, 0.0)}) {
+          check(position, slack_sq, 0);
+          check(position, slack_sq, static_cast<std::size_t>(i));
+        }
+      }
+      // one sphere moved beyond, or to NaN, in turn: in a full block or the partial one
       for (int moved = 0; moved < n; ++moved) {
         std::vector<Vec3> one = position;
-        one[moved].z() += 0.5;
-        EXPECT_FALSE(
-            all_within(one.data(), anchor.data(), box, 0.01, 0, static_cast<std::size_t>(n)))
-            << "sphere " << moved;
-        // a NaN position is within, as in the scalar test
-        one[moved].z() = kNaN;
-        EXPECT_TRUE(
-            all_within(one.data(), anchor.data(), box, 0.01, 0, static_cast<std::size_t>(n)))
-            << "sphere " << moved;
-        // outside [first, last) it is not looked at
-        one[moved].z() = anchor[moved].z() + 3.0;
-        EXPECT_TRUE(all_within(one.data(), anchor.data(), box, 0.01,
-                               static_cast<std::size_t>(moved) + 1, static_cast<std::size_t>(n)));
+        one[moved].z() += 6.0;  // past half a period, but z is not periodic
+        check(one, 0.01, 0);
+        check(one, 0.01, static_cast<std::size_t>(moved) + 1);  // outside [first, last)
+        one[moved].z() = kNaN;                                  // a NaN distance is within
+        check(one, 0.01, 0);
       }
     }
   }

@@ -36,20 +36,24 @@ inline constexpr std::array<std::array<double, kMaxRootDegree>, kMaxRootDegree +
      0x1.6a09e667f3bcdp+0, 0x1.8ace5422aa0dbp+0, 0x1.ae89f995ad3adp+0, 0x1.d5818dcfba487p+0},
 }};
 
-/// Newton steps from 1 for m^(1/n), m in [1, 2): the first step lands above the root (in
-/// [1, 1.19) at n = 8, [1, 1.42) at n = 2) and the rest converge from there, quadratically,
-/// in fewer than this.
+/// Newton steps from 1 for m^(1/n), m in [1, 2): the first lands above the root (in
+/// [1, 1.125) at n = 8, [1, 1.5) at n = 2) and the rest converge from there quadratically, to
+/// within rounding after five (about 2 units in the last place at worst). The count is fixed,
+/// not a test of convergence: in floating point the iterate may keep flipping by a unit, and a
+/// fixed count is what makes the bits the same everywhere.
 inline constexpr int kNewtonSteps = 6;
 
 }  // namespace detail
 
-/// x^(1/n) for 1 ≤ n ≤ kMaxRootDegree, within a few units in the last place of the exact
-/// root and the same bits wherever IEEE-754 double arithmetic is (no FMA contraction: the
-/// build's -ffp-contract=off). +0 for +0, +∞ for +∞, NaN for NaN and for x < 0.
+/// x^(1/n) for 1 ≤ n ≤ kMaxRootDegree and x ≥ 0, within a few units in the last place of the
+/// exact root and the same bits wherever IEEE-754 double arithmetic is (no FMA contraction: the
+/// build's -ffp-contract=off). +0 for ±0 and +∞ for +∞, as pow gives them; NaN for NaN and for
+/// any x < 0 (pow(x, 1.0) would give x: this root is not defined there).
 inline double nth_root(double x, int n) {
   CDP_ASSERT(n >= 1 && n <= kMaxRootDegree, "root degree outside 1 … 8");
   if (x < 0.0) return std::numeric_limits<double>::quiet_NaN();
-  if (n == 1 || !(x > 0.0) || std::isinf(x)) return x;  // x itself, +0, NaN, +∞
+  if (x == 0.0) return 0.0;  // +0 for −0 too
+  if (n == 1 || std::isnan(x) || std::isinf(x)) return x;
   // x = m 2^e with m in [1, 2) (frexp and ldexp are exact); e = q n + r with 0 ≤ r < n, so
   // x^(1/n) = 2^q · 2^(r/n) · m^(1/n), and a power of two 2^(q n) has the root 2^q exactly
   int e = 0;

@@ -51,10 +51,12 @@ void CandidateList::rebuild(const Bodies& bodies, const PeriodicBox& box, CellGr
         const double reach = radius_a + bodies.radius[b] + built_gap_;
         const double distance_squared =
             box.minimum_image(near_position[t] - position_a).squaredNorm();
-        // listed: b > a, not both fixed, and within reach (0 or 1 each, and-ed as integers)
+        // listed: b > a, not both fixed, and within reach (0 or 1 each, and-ed as integers);
+        // a pair is passed over where d² ≥ reach², so a NaN distance is listed, as find_pairs
+        // keeps it (a non-finite step is then caught by its checks, not lost here)
         const std::size_t later = b > a ? 1 : 0;
         const std::size_t movable = free_a | (bodies.fixed[b] == 0 ? 1 : 0);
-        const std::size_t within = distance_squared < reach * reach ? 1 : 0;
+        const std::size_t within = distance_squared >= reach * reach ? 0 : 1;
         partners_[kept] = b;
         kept += later & movable & within;
       }
