@@ -1,5 +1,5 @@
 // Tests for src/cdpowder/detect/detect_contacts.cpp, the production broad phase
-// (CellGrid::for_each_near): on random packings of mixed radii, across the periodic x/y
+// (CellGrid::near_runs): on random packings of mixed radii, across the periodic x/y
 // boundaries and in boxes of one, two or three cells per axis, the candidates are exactly
 // those of a brute-force O(N²) minimum-image search with the same cutoff, each pair once,
 // in the key order the warm-start merge of ActionCache relies on (physics.md §4.3, §7.4);

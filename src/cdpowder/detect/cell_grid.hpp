@@ -53,11 +53,6 @@ class CellGrid {
   /// neighbourhood is a few contiguous stretches rather than 27 cells. Returns their count.
   int near_runs(BodyIndex i, std::array<Run, kMaxRuns>& runs) const;
 
-  /// Calls visit(j) for every sphere j in the same or a neighbouring cell of sphere i
-  /// (each once; i itself included), run by run.
-  template <typename Visitor>
-  void for_each_near(BodyIndex i, Visitor&& visit) const;
-
   /// The spheres ordered by cell, and their positions in that order (copies of the positions
   /// of the last rebuild, so that a pass over a run reads contiguous memory).
   [[nodiscard]] const std::vector<BodyIndex>& sorted() const { return sorted_; }
@@ -86,14 +81,5 @@ class CellGrid {
   std::vector<BodyIndex> sorted_;      ///< sphere indices ordered by cell
   std::vector<Vec3> sorted_position_;  ///< positions[sorted_[t]] [R]
 };
-
-template <typename Visitor>
-void CellGrid::for_each_near(BodyIndex i, Visitor&& visit) const {
-  std::array<Run, kMaxRuns> runs{};
-  const int count = near_runs(i, runs);
-  for (int r = 0; r < count; ++r) {
-    for (std::uint32_t t = runs[r].first; t < runs[r].last; ++t) visit(sorted_[t]);
-  }
-}
 
 }  // namespace cdpowder
