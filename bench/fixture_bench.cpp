@@ -5,6 +5,7 @@
 // detection, building the local problems, warm start, integration, diagnostics).
 #include "cdpowder/config/scene_reader.hpp"
 #include "cdpowder/io/state_file.hpp"
+#include "cdpowder/solver/build.hpp"
 #include "cdpowder/solver/step.hpp"
 
 #include <benchmark/benchmark.h>
@@ -63,6 +64,39 @@ void BM_FixtureSteps(benchmark::State& state) {
 }
 
 BENCHMARK(BM_FixtureSteps)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(3);
+
+/// Stage 2 alone (build_local_problems: the contacts' constants, cohesion, warm start and the
+/// predicted velocities) on the contacts of a fixture's next step, after one whole step has
+/// filled the warm-start cache: what one step of a run pays for it. Each call writes the same
+/// records and velocities from the same inputs.
+void BM_BuildLocalProblems(benchmark::State& state) {
+  const std::filesystem::path file = std::filesystem::path(CDPOWDER_FIXTURE_DIR) /
+                                     kFixtures.at(static_cast<std::size_t>(state.range(0)));
+  if (!std::filesystem::exists(file)) {
+    state.SkipWithError(
+        ("missing " + file.string() + ": run bench/fixtures/make_fixtures.sh").c_str());
+    return;
+  }
+  const SavedRun saved = load_state(file);
+  const Scene scene = read_scene_text(saved.scene_toml, file.string(), {}, file.parent_path());
+  World world;
+  StepWorkspace work(scene.step.solver.seed);
+  RunState run;
+  restore_run(saved, scene.run, scene.step.solver.dt, world, work, run);
+  step(world, work, scene.step);
+  begin_step(world, work, scene.step);
+  for (auto _ : state) {
+    build_local_problems(world, scene.step, work.action_cache, work.contacts, work.velocities);
+    benchmark::DoNotOptimize(work.velocities.spheres.data());
+  }
+  state.counters["contacts"] = static_cast<double>(work.contacts.size());
+  state.counters["ns_per_contact"] = benchmark::Counter(
+      static_cast<double>(state.iterations()) * static_cast<double>(work.contacts.size()),
+      benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  state.SetLabel(kFixtures.at(static_cast<std::size_t>(state.range(0))));
+}
+
+BENCHMARK(BM_BuildLocalProblems)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 }  // namespace cdpowder::bench
