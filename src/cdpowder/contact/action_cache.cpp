@@ -46,15 +46,6 @@ void ActionCache::restore(std::vector<CachedAction> pairs, std::vector<CachedAct
   walls_ = std::move(walls);
 }
 
-const CachedAction* ActionCache::find(const std::vector<CachedAction>& entries, std::size_t& cursor,
-                                      std::uint64_t key) {
-  // a key below an entry the cursor has passed would miss that entry: lookups must ascend
-  CDP_ASSERT(cursor == 0 || entries[cursor - 1].key < key, "lookups not in ascending key order");
-  while (cursor < entries.size() && entries[cursor].key < key) ++cursor;
-  if (cursor < entries.size() && entries[cursor].key == key) return &entries[cursor];
-  return nullptr;
-}
-
 std::size_t ActionCache::cursor_at(const std::vector<CachedAction>& entries, std::uint64_t key) {
   return static_cast<std::size_t>(
       std::lower_bound(entries.begin(), entries.end(), key,

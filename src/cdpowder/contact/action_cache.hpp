@@ -5,6 +5,7 @@
 #pragma once
 
 #include "cdpowder/contact/local_problem.hpp"
+#include "cdpowder/core/assert.hpp"
 
 #include <cstdint>
 #include <vector>
@@ -58,8 +59,17 @@ class ActionCache {
   void restore(std::vector<CachedAction> pairs, std::vector<CachedAction> walls);
 
  private:
+  /// Inline: the build calls it once per contact per step (as a call of its own it took ≈ 5 %
+  /// of the build's time; docs/performance.md, "The build's pairs in lanes").
   static const CachedAction* find(const std::vector<CachedAction>& entries, std::size_t& cursor,
-                                  std::uint64_t key);
+                                  std::uint64_t key) {
+    // a key below an entry the cursor has passed would miss that entry: lookups must ascend
+    CDP_ASSERT(cursor == 0 || entries[cursor - 1].key < key, "lookups not in ascending key order");
+    while (cursor < entries.size() && entries[cursor].key < key) ++cursor;
+    if (cursor < entries.size() && entries[cursor].key == key) return &entries[cursor];
+    return nullptr;
+  }
+
   /// The first entry whose key is not below `key`.
   static std::size_t cursor_at(const std::vector<CachedAction>& entries, std::uint64_t key);
 
