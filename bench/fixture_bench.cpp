@@ -12,7 +12,9 @@
 
 #include <array>
 #include <filesystem>
+#include <optional>
 #include <string>
+#include <utility>
 
 namespace cdpowder::bench {
 namespace {
@@ -23,16 +25,32 @@ constexpr std::array<const char*, 2> kFixtures = {"paper_front_mu00_t350.cdps",
 
 constexpr int kStepsPerIteration = 100;
 
-void BM_FixtureSteps(benchmark::State& state) {
+/// A saved engine state and the scene it resolves to.
+struct Fixture {
+  SavedRun saved;
+  Scene scene;
+};
+
+/// The fixture of the benchmark's argument; nothing (and the benchmark skipped with the reason)
+/// where its file is missing.
+std::optional<Fixture> load_fixture(benchmark::State& state) {
   const std::filesystem::path file = std::filesystem::path(CDPOWDER_FIXTURE_DIR) /
                                      kFixtures.at(static_cast<std::size_t>(state.range(0)));
   if (!std::filesystem::exists(file)) {
     state.SkipWithError(
         ("missing " + file.string() + ": run bench/fixtures/make_fixtures.sh").c_str());
-    return;
+    return std::nullopt;
   }
-  const SavedRun saved = load_state(file);
-  const Scene scene = read_scene_text(saved.scene_toml, file.string(), {}, file.parent_path());
+  SavedRun saved = load_state(file);
+  Scene scene = read_scene_text(saved.scene_toml, file.string(), {}, file.parent_path());
+  return Fixture{std::move(saved), std::move(scene)};
+}
+
+void BM_FixtureSteps(benchmark::State& state) {
+  const std::optional<Fixture> fixture = load_fixture(state);
+  if (!fixture) return;
+  const SavedRun& saved = fixture->saved;
+  const Scene& scene = fixture->scene;
   std::int64_t steps = 0;
   std::int64_t sweeps = 0;
   double updates = 0.0;
@@ -70,15 +88,10 @@ BENCHMARK(BM_FixtureSteps)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Itera
 /// filled the warm-start cache: what one step of a run pays for it. Each call writes the same
 /// records and velocities from the same inputs.
 void BM_BuildLocalProblems(benchmark::State& state) {
-  const std::filesystem::path file = std::filesystem::path(CDPOWDER_FIXTURE_DIR) /
-                                     kFixtures.at(static_cast<std::size_t>(state.range(0)));
-  if (!std::filesystem::exists(file)) {
-    state.SkipWithError(
-        ("missing " + file.string() + ": run bench/fixtures/make_fixtures.sh").c_str());
-    return;
-  }
-  const SavedRun saved = load_state(file);
-  const Scene scene = read_scene_text(saved.scene_toml, file.string(), {}, file.parent_path());
+  const std::optional<Fixture> fixture = load_fixture(state);
+  if (!fixture) return;
+  const SavedRun& saved = fixture->saved;
+  const Scene& scene = fixture->scene;
   World world;
   StepWorkspace work(scene.step.solver.seed);
   RunState run;
