@@ -138,9 +138,11 @@ int main(int argc, char** argv) {
     // the last step's colouring: what the threads of solver.threads share, and what they do not
     const ColouredSweep& coloured = work.solver.coloured;
     if (scene.step.solver.kernel == SweepKernel::Coloured) {
-      fmt::print("last step: contacts={} colours={} batches={} sequential={} (walls {})\n",
-                 work.contacts.size(), coloured.colours(), coloured.batches(),
-                 coloured.sequential.size(), work.contacts.walls.size());
+      fmt::print(
+          "last step: contacts={} (of {} listed pairs) colours={} batches={} sequential={} "
+          "(walls {})\n",
+          work.contacts.size(), work.candidates.pairs().size(), coloured.colours(),
+          coloured.batches(), coloured.sequential.size(), work.contacts.walls.size());
       // the parts of a step cut into slabs (slabs.hpp): batched pairs + sequential contacts
       const PairColouring& colouring = coloured.colouring;
       std::string parts;

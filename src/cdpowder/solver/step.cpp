@@ -118,12 +118,14 @@ void commit_step(World& world, StepWorkspace& work, const StepSettings& settings
   // the warm start of the next step (§7.4) reads the contacts; integration reads the
   // velocities, writes the World and measures the spheres on its pass (SphereMeasures), and
   // the contacts' overlaps need its new positions: the store side by side with the other two
-  // on a threaded step, where all three count as integration's time
+  // on a threaded step, where all three count as integration's time. On one thread the store
+  // counts as the build's, the warm start's other half: either way it is per-step overhead,
+  // not the solver's sweeps and mixing.
   SphereMeasures of_spheres;
   StepDiagnostics of_contacts;
   if (threads == nullptr) {
     work.action_cache.store(work.contacts);
-    clock.lap(Stage::SolveNlgs, report.times);
+    clock.lap(Stage::BuildLocalProblems, report.times);
     of_spheres = integrate(work.velocities, settings.solver.dt, world);
     clock.lap(Stage::Integrate, report.times);
     measure_contacts(world, work.contacts, of_contacts);
