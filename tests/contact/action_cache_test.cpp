@@ -39,24 +39,22 @@ void add_wall(Contacts& c, WallKind wall, BodyIndex sphere, const ContactAction&
   c.wall_cohesive.push_back(cohesive ? 1 : 0);
 }
 
-void expect_entry(const CachedAction* found, std::uint64_t key, const ContactAction& action,
-                  bool cohesive) {
-  ASSERT_NE(found, nullptr) << "key " << key;
-  EXPECT_EQ(found->key, key);
-  EXPECT_EQ(found->action.normal_force, action.normal_force);
-  EXPECT_EQ(found->action.tangential_force, action.tangential_force);
-  EXPECT_EQ(found->cohesive, cohesive);
+void expect_entry(LastAction found, std::uint64_t key, const ContactAction& action, bool cohesive) {
+  ASSERT_TRUE(found) << "key " << key;
+  EXPECT_EQ(found.action->normal_force, action.normal_force) << "key " << key;
+  EXPECT_EQ(found.action->tangential_force, action.tangential_force) << "key " << key;
+  EXPECT_EQ(found.cohesive, cohesive) << "key " << key;
 }
 
 TEST(ActionCache, AscendingLookupsReturnExactlyTheStoredEntries) {
   Contacts c;
   add_pair(c, 0, 1, action_with(1.0), false);
-  add_pair(c, 0, 5, ContactAction{}, false);  // zero force, not cohesive: not stored
-  add_pair(c, 0, 7, ContactAction{}, true);   // zero force but cohesive: stored
+  add_pair(c, 0, 5, ContactAction{}, false);  // zero force, not cohesive: carries nothing
+  add_pair(c, 0, 7, ContactAction{}, true);   // zero force but cohesive: carries over
   add_pair(c, 2, 3, action_with(-0.5), true);
   add_pair(c, 7, 9, action_with(2.0), false);
   add_wall(c, WallKind::Bottom, 1, action_with(3.0), false);
-  add_wall(c, WallKind::Bottom, 4, ContactAction{}, false);  // not stored
+  add_wall(c, WallKind::Bottom, 4, ContactAction{}, false);  // carries nothing
   add_wall(c, WallKind::Piston, 0, action_with(4.0), true);
   add_wall(c, WallKind::Piston, 4, action_with(5.0), false);
   ActionCache cache;
@@ -66,25 +64,25 @@ TEST(ActionCache, AscendingLookupsReturnExactlyTheStoredEntries) {
   // every key of a larger set, ascending: missing keys interleaved, before and after all
   std::size_t pairs = 0;
   std::size_t walls = 0;
-  EXPECT_EQ(cache.find_pair(pairs, pair_key(0, 0)), nullptr);
+  EXPECT_FALSE(cache.find_pair(pairs, pair_key(0, 0)));
   expect_entry(cache.find_pair(pairs, pair_key(0, 1)), pair_key(0, 1), action_with(1.0), false);
-  EXPECT_EQ(cache.find_pair(pairs, pair_key(0, 2)), nullptr);
-  EXPECT_EQ(cache.find_pair(pairs, pair_key(0, 5)), nullptr);
+  EXPECT_FALSE(cache.find_pair(pairs, pair_key(0, 2)));
+  EXPECT_FALSE(cache.find_pair(pairs, pair_key(0, 5)));
   expect_entry(cache.find_pair(pairs, pair_key(0, 7)), pair_key(0, 7), ContactAction{}, true);
-  EXPECT_EQ(cache.find_pair(pairs, pair_key(1, 2)), nullptr);
+  EXPECT_FALSE(cache.find_pair(pairs, pair_key(1, 2)));
   expect_entry(cache.find_pair(pairs, pair_key(2, 3)), pair_key(2, 3), action_with(-0.5), true);
   expect_entry(cache.find_pair(pairs, pair_key(7, 9)), pair_key(7, 9), action_with(2.0), false);
-  EXPECT_EQ(cache.find_pair(pairs, pair_key(7, 10)), nullptr);
-  EXPECT_EQ(cache.find_pair(pairs, pair_key(9, 11)), nullptr);
+  EXPECT_FALSE(cache.find_pair(pairs, pair_key(7, 10)));
+  EXPECT_FALSE(cache.find_pair(pairs, pair_key(9, 11)));
 
   // walls have their own cursor: unaffected by the pair lookups above
   expect_entry(cache.find_wall(walls, wall_key(WallKind::Bottom, 1)), wall_key(WallKind::Bottom, 1),
                action_with(3.0), false);
-  EXPECT_EQ(cache.find_wall(walls, wall_key(WallKind::Bottom, 4)), nullptr);
-  EXPECT_EQ(cache.find_wall(walls, wall_key(WallKind::Bottom, 9)), nullptr);
+  EXPECT_FALSE(cache.find_wall(walls, wall_key(WallKind::Bottom, 4)));
+  EXPECT_FALSE(cache.find_wall(walls, wall_key(WallKind::Bottom, 9)));
   expect_entry(cache.find_wall(walls, wall_key(WallKind::Piston, 0)), wall_key(WallKind::Piston, 0),
                action_with(4.0), true);
-  EXPECT_EQ(cache.find_wall(walls, wall_key(WallKind::Piston, 3)), nullptr);
+  EXPECT_FALSE(cache.find_wall(walls, wall_key(WallKind::Piston, 3)));
   expect_entry(cache.find_wall(walls, wall_key(WallKind::Piston, 4)), wall_key(WallKind::Piston, 4),
                action_with(5.0), false);
 
@@ -92,17 +90,29 @@ TEST(ActionCache, AscendingLookupsReturnExactlyTheStoredEntries) {
   pairs = 0;
   walls = 0;
   expect_entry(cache.find_pair(pairs, pair_key(7, 9)), pair_key(7, 9), action_with(2.0), false);
-  EXPECT_EQ(cache.find_wall(walls, wall_key(WallKind::Piston, 1)), nullptr);
+  EXPECT_FALSE(cache.find_wall(walls, wall_key(WallKind::Piston, 1)));
   expect_entry(cache.find_wall(walls, wall_key(WallKind::Piston, 4)), wall_key(WallKind::Piston, 4),
                action_with(5.0), false);
 
   // a cursor started at a key (a second piece's first lookup) finds what one from 0 finds
   std::size_t from = cache.pair_cursor_at(pair_key(1, 2));
-  EXPECT_EQ(cache.find_pair(from, pair_key(1, 2)), nullptr);
+  EXPECT_FALSE(cache.find_pair(from, pair_key(1, 2)));
   expect_entry(cache.find_pair(from, pair_key(2, 3)), pair_key(2, 3), action_with(-0.5), true);
   from = cache.pair_cursor_at(pair_key(2, 3));
   expect_entry(cache.find_pair(from, pair_key(2, 3)), pair_key(2, 3), action_with(-0.5), true);
-  EXPECT_EQ(cache.pair_cursor_at(pair_key(9, 11)), cache.pair_entries().size());
+  from = cache.pair_cursor_at(pair_key(9, 11));
+  EXPECT_FALSE(cache.find_pair(from, pair_key(9, 11)));
+
+  // what a state file saves: the entries that carry over, and a cache restored from them
+  // answers every lookup as the stored one does
+  ActionCache restored;
+  restored.restore(cache.pair_entries(), cache.wall_entries());
+  EXPECT_EQ(restored.pair_entries().size(), 4U);
+  EXPECT_EQ(restored.wall_entries().size(), 3U);
+  std::size_t again = 0;
+  EXPECT_FALSE(restored.find_pair(again, pair_key(0, 5)));
+  expect_entry(restored.find_pair(again, pair_key(0, 7)), pair_key(0, 7), ContactAction{}, true);
+  expect_entry(restored.find_pair(again, pair_key(7, 9)), pair_key(7, 9), action_with(2.0), false);
 }
 
 TEST(ActionCache, KeysOrderPairsByFirstThenSecondSphereAndWallsByKindThenSphere) {
@@ -140,22 +150,22 @@ void expect_strictly_ascending(const std::vector<Problem>& list, Key key, const 
   }
 }
 
-/// What ActionCache::store keeps: the contact was cohesive or carried a nonzero action.
+/// What a lookup finds of a stored contact: it was cohesive or carried a nonzero action.
 bool is_kept(const ContactAction& action, std::uint8_t cohesive) {
   return cohesive != 0 || action.normal_force != 0.0 || action.tangential_force != Vec3::Zero() ||
          action.rolling_torque != Vec3::Zero() || action.twisting_torque != 0.0;
 }
 
 /// Returns 1 if an entry was expected, so the caller can count the warm-started contacts.
-int expect_same(const CachedAction* found, const ContactAction* stored, int step) {
+int expect_same(LastAction found, const ContactAction* stored, int step) {
   if (stored == nullptr) {
-    EXPECT_EQ(found, nullptr) << "step " << step;
+    EXPECT_FALSE(found) << "step " << step;
     return 0;
   }
-  EXPECT_NE(found, nullptr) << "step " << step;
-  if (found == nullptr) return 1;
-  EXPECT_EQ(found->action.normal_force, stored->normal_force) << "step " << step;
-  EXPECT_EQ(found->action.tangential_force, stored->tangential_force) << "step " << step;
+  EXPECT_TRUE(found) << "step " << step;
+  if (!found) return 1;
+  EXPECT_EQ(found.action->normal_force, stored->normal_force) << "step " << step;
+  EXPECT_EQ(found.action->tangential_force, stored->tangential_force) << "step " << step;
   return 1;
 }
 
@@ -237,8 +247,8 @@ TEST(ActionCacheDeathTest, ALookupBelowThePassedEntriesAbortsInDebugBuilds) {
   ActionCache cache;
   cache.store(c);
   std::size_t cursor = 0;
-  EXPECT_NE(cache.find_pair(cursor, pair_key(2, 3)), nullptr);
-  // (0, 1) is stored but the cursor has passed it: the merge would answer nullptr
+  EXPECT_TRUE(cache.find_pair(cursor, pair_key(2, 3)));
+  // (0, 1) is stored but the cursor has passed it: the merge would find nothing
   EXPECT_DEATH(cache.find_pair(cursor, pair_key(0, 1)), "lookups not in ascending key order");
 #endif
 }

@@ -290,8 +290,10 @@ World read_world(ByteReader& in) {
 void write_actions(ByteWriter& out, const ActionCache& actions) {
   Encode io{out};
   io.tag("ACTS");
-  entries_fields(io, actions.pair_entries());
-  entries_fields(io, actions.wall_entries());
+  const std::vector<CachedAction> pairs = actions.pair_entries();
+  const std::vector<CachedAction> walls = actions.wall_entries();
+  entries_fields(io, pairs);
+  entries_fields(io, walls);
 }
 
 ActionCache read_actions(ByteReader& in) {
@@ -304,7 +306,7 @@ ActionCache read_actions(ByteReader& in) {
   entries_fields(io, walls);
   check_ascending(in, walls, "wall");
   ActionCache cache;
-  cache.restore(std::move(pairs), std::move(walls));
+  cache.restore(pairs, walls);
   return cache;
 }
 

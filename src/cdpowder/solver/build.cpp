@@ -31,7 +31,7 @@ double gap_closing_rate(double gap, double dt) {
 
 /// Cohesion activity of a contact from its start-of-step gap (physics.md §6.2). Exactly
 /// touching deposit contacts have |g| ~ 1e-15; `g ≤ d_coh` keeps round-off out of it (§12.11).
-bool is_cohesive(const ContactLaw& law, CohesionRule rule, double gap, const CachedAction* last) {
+bool is_cohesive(const ContactLaw& law, CohesionRule rule, double gap, LastAction last) {
   if (law.cohesion_force <= 0.0) return false;
   switch (rule) {
     case CohesionRule::Graph:
@@ -40,8 +40,7 @@ bool is_cohesive(const ContactLaw& law, CohesionRule rule, double gap, const Cac
       // a bond forms at touching, in the sense the contact law uses (the dead band above):
       // with `g ≤ 0` the sign of round-off decided it, and about half of a deposit's exactly
       // touching contacts (|g| ~ 1e-15) started the compaction without cohesion
-      return gap <= kTouchingGap ||
-             (last != nullptr && last->cohesive && gap <= law.cohesion_range);
+      return gap <= kTouchingGap || (last.cohesive && gap <= law.cohesion_range);
   }
   return false;
 }
@@ -49,9 +48,9 @@ bool is_cohesive(const ContactLaw& law, CohesionRule rule, double gap, const Cac
 /// Warm start: last step's action, with its tangential parts projected onto the new
 /// tangent plane (physics.md §7.4), written into `action`. Always inlined: as a call of its own
 /// it took ≈ 9 % of the build's time (docs/performance.md, "The build's pairs in lanes").
-[[gnu::always_inline]] inline void warm_start(const CachedAction& last, const Vec3& n,
+[[gnu::always_inline]] inline void warm_start(const ContactAction& last, const Vec3& n,
                                               double cohesion, ContactAction& action) {
-  action = last.action;
+  action = last;
   action.tangential_force -= action.tangential_force.dot(n) * n;
   action.rolling_torque -= action.rolling_torque.dot(n) * n;
   // an attraction may only be warm-started where this step's law allows it
@@ -162,13 +161,14 @@ void build_pairs(const World& world, const StepSettings& settings, const ActionC
     p.mu = laws.spheres.mu;
     p.roll_cap = laws.spheres.mu_roll * p.r_eff;
     p.twist_cap = laws.spheres.mu_twist * p.r_eff;
-    const CachedAction* last_step = lookup ? cache.find_pair(cursor, pair_key(p.a, p.b)) : nullptr;
+    const LastAction last_step =
+        lookup ? cache.find_pair(cursor, pair_key(p.a, p.b)) : LastAction{};
     const bool cohesive = is_cohesive(laws.spheres, laws.cohesion_rule, p.gap, last_step);
     p.cohesion = cohesive ? laws.spheres.cohesion_force : 0.0;
     contacts.pair_cohesive[k] = cohesive ? 1 : 0;
     ContactAction& action = contacts.pair_actions[k];
-    if (settings.solver.warm_start && last_step != nullptr) {
-      warm_start(*last_step, p.normal, p.cohesion, action);
+    if (settings.solver.warm_start && last_step) {
+      warm_start(*last_step.action, p.normal, p.cohesion, action);
       if constexpr (kApply) {
         apply_pair_delta(p, action.normal_force * p.normal + action.tangential_force,
                          action.rolling_torque + action.twisting_torque * p.normal,
@@ -208,14 +208,14 @@ void build_walls(const World& world, const StepSettings& settings, const ActionC
     w.mu = laws.walls.mu;
     w.roll_cap = laws.walls.mu_roll * r_eff;
     w.twist_cap = laws.walls.mu_twist * r_eff;
-    const CachedAction* last_step =
-        lookup ? cache.find_wall(cursor, wall_key(w.wall, w.sphere)) : nullptr;
+    const LastAction last_step =
+        lookup ? cache.find_wall(cursor, wall_key(w.wall, w.sphere)) : LastAction{};
     const bool cohesive = is_cohesive(laws.walls, laws.cohesion_rule, w.gap, last_step);
     w.cohesion = cohesive ? laws.walls.cohesion_force : 0.0;
     contacts.wall_cohesive[k] = cohesive ? 1 : 0;
     ContactAction& action = contacts.wall_actions[k];
-    if (settings.solver.warm_start && last_step != nullptr) {
-      warm_start(*last_step, w.normal, w.cohesion, action);
+    if (settings.solver.warm_start && last_step) {
+      warm_start(*last_step.action, w.normal, w.cohesion, action);
       if constexpr (kApply) apply_wall_action(w, action, velocities);
     } else {
       action = ContactAction{};
