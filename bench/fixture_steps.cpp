@@ -134,7 +134,7 @@ int main(int argc, char** argv) {
         "hash={}\n",
         t.steps, static_cast<double>(t.sweeps) / n, t.capped, t.repeated, t.threaded,
         1e9 * t.stages[solve] / t.updates, 1e6 * other / n, t.opening, t.wall, porosity(world),
-        hash_text(state_hash(world, work.action_cache)));
+        hash_text(state_hash(world, work)));
     // the last step's colouring: what the threads of solver.threads share, and what they do not
     const ColouredSweep& coloured = work.solver.coloured;
     if (scene.step.solver.kernel == SweepKernel::Coloured) {

@@ -47,8 +47,9 @@ int main(int argc, char** argv) {
     cdpowder::save_state(out, scene.effective_toml, world, work, state);
     fmt::print("{}: t = {} t0, step {}, {} spheres, {} stored actions, state hash {}\n",
                out.string(), world.time, world.step, world.bodies.size(),
-               work.action_cache.pair_entries().size() + work.action_cache.wall_entries().size(),
-               cdpowder::hash_text(cdpowder::state_hash(world, work.action_cache)));
+               cdpowder::carried_pairs(cdpowder::last_step_contacts(work)).size() +
+                   cdpowder::carried_walls(cdpowder::last_step_contacts(work)).size(),
+               cdpowder::hash_text(cdpowder::state_hash(world, work)));
     return 0;
   } catch (const std::exception& error) {
     fmt::print(stderr, "make_fixture: {}\n", error.what());

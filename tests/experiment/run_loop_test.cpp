@@ -217,8 +217,7 @@ TEST(RunLoop, ARunResumedFromItsStateFileTakesTheSameDecisions) {
     EXPECT_EQ(result.steps, uninterrupted.steps) << "stopped at " << stop_at;
     EXPECT_EQ(result.total_sweeps, uninterrupted.total_sweeps) << "stopped at " << stop_at;
     EXPECT_EQ(result.unbalanced_rest_solves, 5) << "stopped at " << stop_at;
-    EXPECT_EQ(state_hash(resumed.world, resumed.work.action_cache),
-              state_hash(whole.world, whole.work.action_cache))
+    EXPECT_EQ(state_hash(resumed.world, resumed.work), state_hash(whole.world, whole.work))
         << "stopped at " << stop_at;
   }
 
@@ -239,8 +238,7 @@ TEST(RunLoop, ARunResumedFromItsStateFileTakesTheSameDecisions) {
         run_simulation(resumed.world, resumed.work, resumed.settings, run, resumed_state, {});
     EXPECT_TRUE(result.blocked_by_probe) << "stopped at " << stop_at;
     EXPECT_EQ(result.probes, probed.probes) << "stopped at " << stop_at;
-    EXPECT_EQ(state_hash(resumed.world, resumed.work.action_cache),
-              state_hash(noisy.world, noisy.work.action_cache))
+    EXPECT_EQ(state_hash(resumed.world, resumed.work), state_hash(noisy.world, noisy.work))
         << "stopped at " << stop_at;
   }
 }
@@ -281,8 +279,7 @@ TEST(RunLoop, AStopInsideAStaticSolveIsSolvedAgainWhenTheRunContinues) {
   EXPECT_EQ(result.probe_sweeps, uninterrupted.probe_sweeps);
   ASSERT_TRUE(result.final_solve.has_value());
   EXPECT_EQ(result.final_solve->sweeps, uninterrupted.final_solve->sweeps);
-  EXPECT_EQ(state_hash(resumed.world, resumed.work.action_cache),
-            state_hash(whole.world, whole.work.action_cache));
+  EXPECT_EQ(state_hash(resumed.world, resumed.work), state_hash(whole.world, whole.work));
 }
 
 }  // namespace

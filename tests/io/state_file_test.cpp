@@ -76,8 +76,7 @@ TEST(StateFile, AResumedRunEndsBitIdenticalToAnUninterruptedOne) {
   const RunResult continued = run(scene, resumed);
   EXPECT_FALSE(continued.interrupted);
   expect_same_run(continued, uninterrupted);
-  EXPECT_EQ(state_hash(resumed.world, resumed.work.action_cache),
-            state_hash(whole.world, whole.work.action_cache));
+  EXPECT_EQ(state_hash(resumed.world, resumed.work), state_hash(whole.world, whole.work));
   EXPECT_EQ(resumed.world.time, whole.world.time);
   EXPECT_EQ(resumed.world.step, whole.world.step);
 }
@@ -102,8 +101,7 @@ TEST(StateFile, AnAdaptiveRunResumesBitIdentically) {
     expect_same_run(continued, uninterrupted);
     EXPECT_EQ(continued.repeated_steps, uninterrupted.repeated_steps);
     EXPECT_EQ(continued.min_dt, uninterrupted.min_dt);
-    EXPECT_EQ(state_hash(resumed.world, resumed.work.action_cache),
-              state_hash(whole.world, whole.work.action_cache))
+    EXPECT_EQ(state_hash(resumed.world, resumed.work), state_hash(whole.world, whole.work))
         << "stopped at " << stop_at;
   }
 }
@@ -117,8 +115,7 @@ TEST(StateFile, AStateWithoutContactsReadsBack) {
   Engine copy(scene);
   restore_run(decode_state(bytes, "memory"), scene.run, scene.step.solver.dt, copy.world, copy.work,
               copy.state);
-  EXPECT_EQ(state_hash(copy.world, copy.work.action_cache),
-            state_hash(engine.world, engine.work.action_cache));
+  EXPECT_EQ(state_hash(copy.world, copy.work), state_hash(engine.world, engine.work));
 }
 
 TEST(StateFile, EncodingIsStableThroughADecode) {
@@ -137,19 +134,25 @@ TEST(StateHash, ChangesWithOneUlpOfAnyVelocityOrAction) {
   const Scene scene = quick_scene();
   Engine engine(scene);
   run(scene, engine, 10);
-  const std::uint64_t before = state_hash(engine.world, engine.work.action_cache);
-  EXPECT_EQ(state_hash(engine.world, engine.work.action_cache), before);
+  const std::uint64_t before = state_hash(engine.world, engine.work);
+  EXPECT_EQ(state_hash(engine.world, engine.work), before);
   Vec3& v = engine.world.bodies.velocity[57];
   const double old = v.y();
   v.y() = std::nextafter(old, 1.0);
-  EXPECT_NE(state_hash(engine.world, engine.work.action_cache), before);
+  EXPECT_NE(state_hash(engine.world, engine.work), before);
   v.y() = old;
-  ASSERT_FALSE(engine.work.action_cache.pair_entries().empty());
-  std::vector<CachedAction> pairs = engine.work.action_cache.pair_entries();
+  const Contacts& last_step = last_step_contacts(engine.work);
+  ASSERT_FALSE(carried_pairs(last_step).empty());
+  std::vector<CachedAction> pairs = carried_pairs(last_step);
   pairs[3].action.twisting_torque = std::nextafter(pairs[3].action.twisting_torque, 1.0);
-  ActionCache changed;
-  changed.restore(pairs, engine.work.action_cache.wall_entries());
+  StepWorkspace changed(scene.step.solver.seed);
+  changed.action_cache.restore(pairs, carried_walls(last_step));
   EXPECT_NE(state_hash(engine.world, changed), before);
+  // the same entries restored unchanged give the same hash: the cache a state file gives
+  // back is the state of the contacts it was written from
+  StepWorkspace same(scene.step.solver.seed);
+  same.action_cache.restore(carried_pairs(last_step), carried_walls(last_step));
+  EXPECT_EQ(state_hash(engine.world, same), before);
 }
 
 std::string message_of(const std::string& bytes) {
@@ -228,8 +231,7 @@ TEST(StateFile, AStopInsideAStepLeavesTheStateOfTheStepBefore) {
   EXPECT_EQ(stopped.steps, 377);
   EXPECT_EQ(polls, 3);
   // the World, the warm-start cache and the sweep-order stream (the wall times differ)
-  EXPECT_EQ(state_hash(inside.world, inside.work.action_cache),
-            state_hash(between.world, between.work.action_cache));
+  EXPECT_EQ(state_hash(inside.world, inside.work), state_hash(between.world, between.work));
   EXPECT_TRUE(inside.work.solver.rng == between.work.solver.rng);
   expect_same_run(inside.state.result, between.state.result);
   EXPECT_EQ(inside.state.dt, between.state.dt);
@@ -238,8 +240,7 @@ TEST(StateFile, AStopInsideAStepLeavesTheStateOfTheStepBefore) {
   restore_run(decode_state(encode_state("", inside.world, inside.work, inside.state), "memory"),
               scene.run, scene.step.solver.dt, resumed.world, resumed.work, resumed.state);
   expect_same_run(run(scene, resumed), uninterrupted);
-  EXPECT_EQ(state_hash(resumed.world, resumed.work.action_cache),
-            state_hash(whole.world, whole.work.action_cache));
+  EXPECT_EQ(state_hash(resumed.world, resumed.work), state_hash(whole.world, whole.work));
 }
 
 // A stop asked after the last step comes too late to cut anything: the run is complete.

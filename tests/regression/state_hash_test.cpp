@@ -109,13 +109,14 @@ std::uint64_t hash_after(const Scene& scene) {
   World world = make_world(scene);
   StepWorkspace work(scene.step.solver.seed);
   run_simulation(world, work, scene.step, scene.run, {});
-  return state_hash(world, work.action_cache);
+  return state_hash(world, work);
 }
 
 // The quick example's ballistic deposit of 100 spheres (capture radius 3R).
 TEST(StateHash, Deposit) {
   const Scene scene = quick_scene({});
-  expect_golden("deposit_100", state_hash(make_world(scene), ActionCache{}));
+  expect_golden("deposit_100",
+                state_hash(make_world(scene), StepWorkspace(scene.step.solver.seed)));
 }
 
 // The first 300 steps of the quick compaction at (μt, μn) = (1, 1) and (0, 0).

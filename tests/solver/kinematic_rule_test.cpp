@@ -4,10 +4,8 @@
 // confirms.
 #include "cdpowder/config/scene_reader.hpp"
 #include "cdpowder/core/lanes.hpp"
-#include "cdpowder/detect/detect_contacts.hpp"
 #include "cdpowder/experiment/run_loop.hpp"
 #include "cdpowder/io/state_file.hpp"
-#include "cdpowder/solver/build.hpp"
 #include "cdpowder/solver/kinematic_change.hpp"
 #include "cdpowder/solver/nlgs.hpp"
 #include "cdpowder/solver/step.hpp"
@@ -140,8 +138,7 @@ SolverStats solve_front_step(const SolverSettings& solver, std::uint64_t order_s
   restore_run(std::move(saved), scene.run, scene.step.solver.dt, world, work, run);
   step(world, work, scene.step);
   // stages 1 and 2 of step(), then the solver with the settings under test
-  detect_contacts(world, scene.step.detection(), work.grid, work.contacts, &work.candidates);
-  build_local_problems(world, scene.step, work.action_cache, work.contacts, work.velocities);
+  begin_step(world, work, scene.step);
   work.solver.rng = make_rng(order_seed, RngStream::SweepOrder);
   const SolverStats stats = solve_nlgs(work.contacts, work.velocities, solver,
                                        scene.step.laws.spheres.cohesion_force, work.solver);

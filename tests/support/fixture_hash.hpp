@@ -30,7 +30,7 @@ inline std::uint64_t fixture_hash(const std::string& name, int steps,
   RunState run;
   restore_run(std::move(saved), saved_scene.run, saved_scene.step.solver.dt, world, work, run);
   for (int k = 0; k < steps; ++k) step(world, work, scene.step);
-  return state_hash(world, work.action_cache);
+  return state_hash(world, work);
 }
 
 }  // namespace cdpowder::testing

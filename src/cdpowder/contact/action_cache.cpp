@@ -1,4 +1,4 @@
-// action_cache.cpp — storing and merge-joining last step's contact actions.
+// action_cache.cpp — taking over and merge-joining last step's contact actions.
 #include "cdpowder/contact/action_cache.hpp"
 
 #include "cdpowder/core/assert.hpp"
@@ -7,61 +7,102 @@
 
 namespace cdpowder {
 
-void ActionCache::store(const Contacts& contacts) {
-  // the keys in one pass over the records; the actions and cohesion flags as block copies
-  // (a vector's copy assignment keeps its capacity: no allocation once it is reached)
-  pairs_.keys.resize(contacts.pairs.size());
-  for (std::size_t k = 0; k < contacts.pairs.size(); ++k) {
-    const PairProblem& p = contacts.pairs[k];
-    pairs_.keys[k] = pair_key(p.a, p.b);
-    CDP_ASSERT(k == 0 || pairs_.keys[k - 1] < pairs_.keys[k],
-               "pairs not strictly ascending by key (a, b)");
-  }
-  pairs_.actions = contacts.pair_actions;
-  pairs_.cohesive = contacts.pair_cohesive;
-  walls_.keys.resize(contacts.walls.size());
-  for (std::size_t k = 0; k < contacts.walls.size(); ++k) {
-    const WallProblem& w = contacts.walls[k];
-    walls_.keys[k] = wall_key(w.wall, w.sphere);
-    CDP_ASSERT(k == 0 || walls_.keys[k - 1] < walls_.keys[k],
-               "walls not strictly ascending by key (wall, sphere)");
-  }
-  walls_.actions = contacts.wall_actions;
-  walls_.cohesive = contacts.wall_cohesive;
-  CDP_ASSERT(pairs_.actions.size() == pairs_.keys.size() &&
-                 pairs_.cohesive.size() == pairs_.keys.size() &&
-                 walls_.actions.size() == walls_.keys.size() &&
-                 walls_.cohesive.size() == walls_.keys.size(),
+namespace {
+
+template <typename Record, typename KeyOf>
+std::vector<CachedAction> carried(const std::vector<Record>& records,
+                                  const std::vector<ContactAction>& actions,
+                                  const std::vector<std::uint8_t>& cohesive, KeyOf key_of) {
+  CDP_ASSERT(actions.size() == records.size() && cohesive.size() == records.size(),
              "a contact without its action or cohesion flag");
-}
-
-void ActionCache::restore(const std::vector<CachedAction>& pairs,
-                          const std::vector<CachedAction>& walls) {
-  fill(pairs_, pairs);
-  fill(walls_, walls);
-}
-
-void ActionCache::fill(Family& family, const std::vector<CachedAction>& entries) {
-  family.clear();
-  for (const CachedAction& entry : entries) {
-    family.keys.push_back(entry.key);
-    family.actions.push_back(entry.action);
-    family.cohesive.push_back(entry.cohesive ? 1 : 0);
-  }
-}
-
-std::vector<CachedAction> ActionCache::entries(const Family& family) {
   std::vector<CachedAction> out;
-  for (std::size_t k = 0; k < family.keys.size(); ++k) {
-    const bool cohesive = family.cohesive[k] != 0;
-    if (!carries_over(family.actions[k], cohesive)) continue;
-    out.push_back({family.keys[k], family.actions[k], cohesive});
+  for (std::size_t k = 0; k < records.size(); ++k) {
+    const bool was_cohesive = cohesive[k] != 0;
+    if (!carries_over(actions[k], was_cohesive)) continue;
+    out.push_back({key_of(records[k]), actions[k], was_cohesive});
   }
   return out;
 }
 
-std::size_t ActionCache::cursor_at(const std::vector<std::uint64_t>& keys, std::uint64_t key) {
-  return static_cast<std::size_t>(std::lower_bound(keys.begin(), keys.end(), key) - keys.begin());
+/// Checks (debug builds) that a family's keys ascend strictly, as the merge join needs.
+template <typename Record, typename KeyOf>
+void check_ascending(const std::vector<Record>& records, KeyOf key_of, const char* what) {
+  for (std::size_t k = 1; k < records.size(); ++k) {
+    CDP_ASSERT(key_of(records[k - 1]) < key_of(records[k]), what);
+  }
+  static_cast<void>(key_of);  // both read by the assertion alone
+  static_cast<void>(what);
+}
+
+std::uint64_t key_of_pair(const PairProblem& p) {
+  return pair_key(p.a, p.b);
+}
+
+std::uint64_t key_of_wall(const WallProblem& w) {
+  return wall_key(w.wall, w.sphere);
+}
+
+}  // namespace
+
+std::vector<CachedAction> carried_pairs(const Contacts& contacts) {
+  return carried(contacts.pairs, contacts.pair_actions, contacts.pair_cohesive, key_of_pair);
+}
+
+std::vector<CachedAction> carried_walls(const Contacts& contacts) {
+  return carried(contacts.walls, contacts.wall_actions, contacts.wall_cohesive, key_of_wall);
+}
+
+void ActionCache::take(Contacts& contacts) {
+  check_ascending(contacts.pairs, key_of_pair, "pairs not strictly ascending by key (a, b)");
+  check_ascending(contacts.walls, key_of_wall,
+                  "walls not strictly ascending by key (wall, sphere)");
+  CDP_ASSERT(contacts.pair_actions.size() == contacts.pairs.size() &&
+                 contacts.pair_cohesive.size() == contacts.pairs.size() &&
+                 contacts.wall_actions.size() == contacts.walls.size() &&
+                 contacts.wall_cohesive.size() == contacts.walls.size(),
+             "a contact without its action or cohesion flag");
+  last_.pairs.swap(contacts.pairs);
+  last_.pair_actions.swap(contacts.pair_actions);
+  last_.pair_cohesive.swap(contacts.pair_cohesive);
+  last_.walls.swap(contacts.walls);
+  last_.wall_actions.swap(contacts.wall_actions);
+  last_.wall_cohesive.swap(contacts.wall_cohesive);
+}
+
+void ActionCache::store(const Contacts& contacts) {
+  Contacts copy = contacts;
+  take(copy);
+}
+
+std::size_t ActionCache::pair_cursor_at(std::uint64_t key) const {
+  const std::vector<PairProblem>& records = last_.pairs;
+  return static_cast<std::size_t>(
+      std::lower_bound(records.begin(), records.end(), key,
+                       [](const PairProblem& p, std::uint64_t k) { return key_of(p) < k; }) -
+      records.begin());
+}
+
+void ActionCache::restore(const std::vector<CachedAction>& pairs,
+                          const std::vector<CachedAction>& walls) {
+  last_.clear();
+  for (const CachedAction& entry : pairs) {
+    PairProblem p;
+    p.a = static_cast<BodyIndex>(entry.key >> 32U);
+    p.b = static_cast<BodyIndex>(entry.key & 0xffff'ffffU);
+    CDP_ASSERT(key_of(p) == entry.key, "a pair key that does not split into two bodies");
+    last_.pairs.push_back(p);
+    last_.pair_actions.push_back(entry.action);
+    last_.pair_cohesive.push_back(entry.cohesive ? 1 : 0);
+  }
+  for (const CachedAction& entry : walls) {
+    WallProblem w;
+    w.wall = static_cast<WallKind>(entry.key >> 32U);
+    w.sphere = static_cast<BodyIndex>(entry.key & 0xffff'ffffU);
+    CDP_ASSERT(key_of(w) == entry.key, "a wall key that does not split into wall and sphere");
+    last_.walls.push_back(w);
+    last_.wall_actions.push_back(entry.action);
+    last_.wall_cohesive.push_back(entry.cohesive ? 1 : 0);
+  }
 }
 
 }  // namespace cdpowder

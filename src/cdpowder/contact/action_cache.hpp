@@ -1,7 +1,8 @@
 // action_cache.hpp — last step's contact actions, keyed by the contact's bodies, for the
 // warm start (physics.md §7.4) and the history cohesion rule (§6.2).
 // Both the cache and each step's contact list are sorted by key, so the lookup is one
-// merge pass: O(contacts), no hashing, no allocation once capacity is reached.
+// merge pass: O(contacts), no hashing, no allocation once capacity is reached. The cache is
+// the last step's contact arrays themselves, taken over by swap at the start of the next step.
 #pragma once
 
 #include "cdpowder/contact/local_problem.hpp"
@@ -47,12 +48,22 @@ struct LastAction {
   explicit operator bool() const { return action != nullptr; }
 };
 
+/// The contacts of `contacts` that carry something over (carries_over), each family in its
+/// (ascending) key order: what a state file saves of a step's actions.
+[[nodiscard]] std::vector<CachedAction> carried_pairs(const Contacts& contacts);
+[[nodiscard]] std::vector<CachedAction> carried_walls(const Contacts& contacts);
+
 class ActionCache {
  public:
-  /// Replaces the cache with the actions of a solved step (pairs and walls, each sorted by
-  /// key): every contact's key, action and cohesion, in three arrays per family. The test of
-  /// what carries over is the lookup's, so the store is two block copies and one pass over the
-  /// keys (docs/performance.md, "The warm-start store as block copies").
+  /// Makes a solved step's contacts the last step's without copying them: swaps their
+  /// records, actions and cohesion flags with the cache's own arrays. `contacts` is left with
+  /// the cache's former arrays, whose contents are unspecified: the next detection clears
+  /// them. (Copying the actions instead cost ≈ 7 µs of a front step, waiting on memory;
+  /// docs/performance.md, "The warm-start store as block copies".)
+  void take(Contacts& contacts);
+
+  /// take() on a copy of `contacts`, for tools and tests that go on reading theirs (it
+  /// allocates; a step takes its contacts in begin_step instead, solver/step.hpp).
   void store(const Contacts& contacts);
 
   /// Merge-join lookups: from a cursor of the caller's (0 before a step's first lookup of
@@ -60,64 +71,50 @@ class ActionCache {
   /// cursor on. Empty if the contact did not exist in the previous step or carried nothing
   /// over. The cache is only read, so pieces side by side look up with cursors of their own.
   LastAction find_pair(std::size_t& cursor, std::uint64_t key) const {
-    return find(pairs_, cursor, key);
+    return find(last_.pairs, last_.pair_actions, last_.pair_cohesive, cursor, key);
   }
 
   LastAction find_wall(std::size_t& cursor, std::uint64_t key) const {
-    return find(walls_, cursor, key);
+    return find(last_.walls, last_.wall_actions, last_.wall_cohesive, cursor, key);
   }
 
   /// The cursor of a piece whose first lookup is `key`: the first entry not below it.
-  [[nodiscard]] std::size_t pair_cursor_at(std::uint64_t key) const {
-    return cursor_at(pairs_.keys, key);
-  }
+  [[nodiscard]] std::size_t pair_cursor_at(std::uint64_t key) const;
 
-  /// The entries that carry over (carries_over), each family sorted by key: what a state file
-  /// saves, and all a lookup can find.
-  [[nodiscard]] std::vector<CachedAction> pair_entries() const { return entries(pairs_); }
-
-  [[nodiscard]] std::vector<CachedAction> wall_entries() const { return entries(walls_); }
+  /// The last step's contacts as the cache holds them: records (of which the lookups read
+  /// the bodies alone), actions and cohesion flags.
+  [[nodiscard]] const Contacts& last() const { return last_; }
 
   /// Replaces the cache with entries read back from a state file; each family must be
-  /// sorted by key, as pair_entries() gives them.
+  /// sorted by key, as carried_pairs and carried_walls give them. The records it makes hold
+  /// the bodies alone.
   void restore(const std::vector<CachedAction>& pairs, const std::vector<CachedAction>& walls);
 
  private:
-  /// One family (pairs or walls) of a step's contacts, index by index.
-  struct Family {
-    std::vector<std::uint64_t> keys;  ///< ascending
-    std::vector<ContactAction> actions;
-    std::vector<std::uint8_t> cohesive;  ///< 1 if cohesion-active
+  static std::uint64_t key_of(const PairProblem& p) { return pair_key(p.a, p.b); }
 
-    void clear() {
-      keys.clear();
-      actions.clear();
-      cohesive.clear();
-    }
-  };
+  static std::uint64_t key_of(const WallProblem& w) { return wall_key(w.wall, w.sphere); }
 
   /// Inline: the build calls it once per contact per step (as a call of its own it took ≈ 5 %
   /// of the build's time; docs/performance.md, "The build's pairs in lanes").
-  static LastAction find(const Family& family, std::size_t& cursor, std::uint64_t key) {
-    const std::vector<std::uint64_t>& keys = family.keys;
+  template <typename Record>
+  static LastAction find(const std::vector<Record>& records,
+                         const std::vector<ContactAction>& actions,
+                         const std::vector<std::uint8_t>& cohesive, std::size_t& cursor,
+                         std::uint64_t key) {
     // a key below an entry the cursor has passed would miss that entry: lookups must ascend
-    CDP_ASSERT(cursor == 0 || keys[cursor - 1] < key, "lookups not in ascending key order");
-    while (cursor < keys.size() && keys[cursor] < key) ++cursor;
-    if (cursor == keys.size() || keys[cursor] != key) return {};
-    const ContactAction& action = family.actions[cursor];
-    const bool cohesive = family.cohesive[cursor] != 0;
-    if (!carries_over(action, cohesive)) return {};
-    return {&action, cohesive};
+    CDP_ASSERT(cursor == 0 || key_of(records[cursor - 1]) < key,
+               "lookups not in ascending key order");
+    while (cursor < records.size() && key_of(records[cursor]) < key) ++cursor;
+    if (cursor == records.size() || key_of(records[cursor]) != key) return {};
+    const ContactAction& action = actions[cursor];
+    const bool was_cohesive = cohesive[cursor] != 0;
+    if (!carries_over(action, was_cohesive)) return {};
+    return {&action, was_cohesive};
   }
 
-  /// The first entry whose key is not below `key`.
-  static std::size_t cursor_at(const std::vector<std::uint64_t>& keys, std::uint64_t key);
-
-  static std::vector<CachedAction> entries(const Family& family);
-  static void fill(Family& family, const std::vector<CachedAction>& entries);
-
-  Family pairs_;
-  Family walls_;
+  /// Only the records, actions and cohesion flags of the last step (no visit order).
+  Contacts last_;
 };
 
 }  // namespace cdpowder

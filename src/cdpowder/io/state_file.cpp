@@ -287,11 +287,11 @@ World read_world(ByteReader& in) {
   return world;
 }
 
-void write_actions(ByteWriter& out, const ActionCache& actions) {
+void write_actions(ByteWriter& out, const Contacts& last_step) {
   Encode io{out};
   io.tag("ACTS");
-  const std::vector<CachedAction> pairs = actions.pair_entries();
-  const std::vector<CachedAction> walls = actions.wall_entries();
+  const std::vector<CachedAction> pairs = carried_pairs(last_step);
+  const std::vector<CachedAction> walls = carried_walls(last_step);
   entries_fields(io, pairs);
   entries_fields(io, walls);
 }
@@ -321,7 +321,7 @@ std::string encode_state(std::string_view scene_toml, const World& world, const 
   out.tag("SCEN");
   out.string(scene_toml);
   write_world(out, world);
-  write_actions(out, work.action_cache);
+  write_actions(out, last_step_contacts(work));
   out.tag("RNGS");
   out.string(rng_text(work.solver.rng));
   Encode io{out};
@@ -477,6 +477,7 @@ void restore_run(SavedRun saved, const RunConfig& run, double dt, World& world, 
   state.dt = saved.dt;
   world = std::move(saved.world);
   work.action_cache = std::move(saved.actions);
+  work.last_step_in_contacts = false;
   work.solver.rng = saved.sweep_order;
 }
 

@@ -56,10 +56,13 @@ struct SavedRun {
   double dt = 0.0;
 };
 
-/// The World and the warm-start cache through the shared serialiser (also state_hash).
+/// The World and the warm-start actions through the shared serialiser (also state_hash):
+/// write_actions saves the actions of the last committed step's contacts
+/// (last_step_contacts, solver/step.hpp) that carry over; read_actions gives them back as the
+/// cache the next step starts from.
 void write_world(ByteWriter& out, const World& world);
 World read_world(ByteReader& in);
-void write_actions(ByteWriter& out, const ActionCache& actions);
+void write_actions(ByteWriter& out, const Contacts& last_step);
 ActionCache read_actions(ByteReader& in);
 
 /// The whole file's bytes for a run after some steps.

@@ -8,10 +8,10 @@
 
 namespace cdpowder {
 
-std::uint64_t state_hash(const World& world, const ActionCache& actions) {
+std::uint64_t state_hash(const World& world, const StepWorkspace& work) {
   ByteWriter bytes;
   write_world(bytes, world);
-  write_actions(bytes, actions);
+  write_actions(bytes, last_step_contacts(work));
   return fnv1a64(bytes.bytes());
 }
 

@@ -6,15 +6,17 @@
 // moves any result by one ulp is seen at once.
 #pragma once
 
-#include "cdpowder/contact/action_cache.hpp"
 #include "cdpowder/model/world.hpp"
+#include "cdpowder/solver/step.hpp"
 
 #include <cstdint>
 #include <string>
 
 namespace cdpowder {
 
-std::uint64_t state_hash(const World& world, const ActionCache& actions);
+/// The World and the last committed step's actions (last_step_contacts), as a state file
+/// stores them.
+std::uint64_t state_hash(const World& world, const StepWorkspace& work);
 
 /// "0x" and 16 lower-case hex digits.
 std::string hash_text(std::uint64_t hash);

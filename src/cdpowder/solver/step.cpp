@@ -36,10 +36,22 @@ StepReport step(World& world, StepWorkspace& work, const StepSettings& settings)
   return report;
 }
 
+const Contacts& last_step_contacts(const StepWorkspace& work) {
+  return work.last_step_in_contacts ? work.contacts : work.action_cache.last();
+}
+
 StepReport begin_step(World& world, StepWorkspace& work, const StepSettings& settings) {
   StepReport report;
   report.dt = settings.solver.dt;
   StageClock clock;
+  // the last step's contacts become the warm-start cache (§7.4) before detection refills
+  // work.contacts: a swap of arrays, timed with the build (the warm start's other half). A
+  // step solved again with a shorter Δt finds them taken already.
+  if (work.last_step_in_contacts) {
+    work.action_cache.take(work.contacts);
+    work.last_step_in_contacts = false;
+  }
+  clock.lap(Stage::BuildLocalProblems, report.times);
   // on the threads where the last step's solve was (a step too small to cut, or one the
   // ThreadChoice keeps on one thread, keeps these stages there too); parked after them, as a
   // caller of begin_step alone may never solve
@@ -74,20 +86,6 @@ SlabThreads* stage_threads(StepWorkspace& work, const StepSettings& settings,
   return work.solver.threads.get(std::min(settings.solver.threads, 2));
 }
 
-/// Runs first() and second() side by side on `threads` (one after the other on the caller
-/// when null), then lets the workers rest: the two must write nothing in common.
-template <typename First, typename Second>
-void side_by_side(SlabThreads* threads, const First& first, const Second& second) {
-  run_pieces(threads, 2, [&](std::uint32_t piece) {
-    if (piece == 0) {
-      first();
-    } else {
-      second();
-    }
-  });
-  if (threads != nullptr) threads->park();
-}
-
 }  // namespace
 
 void solve_step(const World& world, StepWorkspace& work, const StepSettings& settings,
@@ -114,30 +112,14 @@ void solve_step(const World& world, StepWorkspace& work, const StepSettings& set
 void commit_step(World& world, StepWorkspace& work, const StepSettings& settings,
                  StepReport& report) {
   StageClock clock;
-  SlabThreads* const threads = stage_threads(work, settings, report);
-  // the warm start of the next step (§7.4) reads the contacts; integration reads the
-  // velocities, writes the World and measures the spheres on its pass (SphereMeasures), and
-  // the contacts' overlaps need its new positions: the store side by side with the other two
-  // on a threaded step, where all three count as integration's time. On one thread the store
-  // counts as the build's, the warm start's other half: either way it is per-step overhead,
-  // not the solver's sweeps and mixing.
-  SphereMeasures of_spheres;
+  // integration reads the velocities, writes the World and measures the spheres on its pass
+  // (SphereMeasures); the contacts' overlaps need its new positions. The contacts stay where
+  // they are: the next begin_step takes them for its warm start (§7.4).
+  const SphereMeasures of_spheres = integrate(work.velocities, settings.solver.dt, world);
+  clock.lap(Stage::Integrate, report.times);
   StepDiagnostics of_contacts;
-  if (threads == nullptr) {
-    work.action_cache.store(work.contacts);
-    clock.lap(Stage::BuildLocalProblems, report.times);
-    of_spheres = integrate(work.velocities, settings.solver.dt, world);
-    clock.lap(Stage::Integrate, report.times);
-    measure_contacts(world, work.contacts, of_contacts);
-  } else {
-    side_by_side(
-        threads, [&] { work.action_cache.store(work.contacts); },
-        [&] {
-          of_spheres = integrate(work.velocities, settings.solver.dt, world);
-          measure_contacts(world, work.contacts, of_contacts);
-        });
-    clock.lap(Stage::Integrate, report.times);
-  }
+  measure_contacts(world, work.contacts, of_contacts);
+  work.last_step_in_contacts = true;
   StepDiagnostics diagnostics = join_measures(world, of_contacts, of_spheres);
   diagnostics.max_cohesive_opening_speed = report.diagnostics.max_cohesive_opening_speed;
   diagnostics.max_cohesive_opening_per_range = report.diagnostics.max_cohesive_opening_per_range;

@@ -41,17 +41,27 @@ struct StepWorkspace {
   Contacts contacts;
   VelocityCache velocities;
   ActionCache action_cache;
+  /// `contacts` holds the last committed step, whose actions the next begin_step takes into
+  /// action_cache (by swap, ActionCache::take); until then they are the state's actions
+  /// (last_step_contacts).
+  bool last_step_in_contacts = false;
   NlgsWorkspace solver;
   /// The last step's solve ran on the threads (StepReport::solver.threaded): the next step's
   /// detection and build run on them too.
   bool threaded = false;
 };
 
+/// The last committed step's contacts, whose actions warm-start the next step and are what a
+/// state file saves: work.contacts from commit_step until the next begin_step takes them,
+/// the action cache's after that (or after a state file has been read back).
+const Contacts& last_step_contacts(const StepWorkspace& work);
+
 /// Advances `world` by one step of Δt = settings.solver.dt: begin_step, then finish_step.
 StepReport step(World& world, StepWorkspace& work, const StepSettings& settings);
 
-/// Stages 1–2 (detect, build): leaves the step's contact problem in work.contacts (with the
-/// warm-start actions) and work.velocities (v*, ω*, V_P* with those actions applied, §5.3).
+/// Stages 1–2 (detect, build), after taking the last committed step's contacts into the
+/// action cache: leaves the step's contact problem in work.contacts (with the warm-start
+/// actions) and work.velocities (v*, ω*, V_P* with those actions applied, §5.3).
 /// For tools that read or solve the problem themselves; step() is the two halves in a row.
 /// After a step whose solve ran on two threads, both stages run in halves on them too (the
 /// same bits).
@@ -72,9 +82,10 @@ void finish_step(World& world, StepWorkspace& work, const StepSettings& settings
 void solve_step(const World& world, StepWorkspace& work, const StepSettings& settings,
                 StepReport& report);
 
-/// Keeps a solved step: stores its actions for the next warm start, integrates (measuring the
-/// spheres on the way, the net force among them: SphereMeasures), and fills the rest of
-/// report.diagnostics. On a step whose solve ran on two threads, the stages'
+/// Keeps a solved step: integrates (measuring the spheres on the way, the net force among
+/// them: SphereMeasures), fills the rest of report.diagnostics, and leaves the step's contacts
+/// in work.contacts as the last committed step's (last_step_in_contacts), for the outputs
+/// and the next warm start. On a step whose solve ran on two threads, the stages'
 /// independent halves run side by side too (the same bits: each half writes its own results).
 void commit_step(World& world, StepWorkspace& work, const StepSettings& settings,
                  StepReport& report);
