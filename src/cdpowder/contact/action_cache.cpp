@@ -42,6 +42,19 @@ std::uint64_t key_of_wall(const WallProblem& w) {
   return wall_key(w.wall, w.sphere);
 }
 
+/// Appends the saved `entries` to one family's arrays, each record made from its key by
+/// `record_of` (the bodies alone: all a lookup reads).
+template <typename Record, typename RecordOf>
+void fill(const std::vector<CachedAction>& entries, std::vector<Record>& records,
+          std::vector<ContactAction>& actions, std::vector<std::uint8_t>& cohesive,
+          RecordOf record_of) {
+  for (const CachedAction& entry : entries) {
+    records.push_back(record_of(entry.key));
+    actions.push_back(entry.action);
+    cohesive.push_back(entry.cohesive ? 1 : 0);
+  }
+}
+
 }  // namespace
 
 std::vector<CachedAction> carried_pairs(const Contacts& contacts) {
@@ -85,24 +98,18 @@ std::size_t ActionCache::pair_cursor_at(std::uint64_t key) const {
 void ActionCache::restore(const std::vector<CachedAction>& pairs,
                           const std::vector<CachedAction>& walls) {
   last_.clear();
-  for (const CachedAction& entry : pairs) {
+  fill(pairs, last_.pairs, last_.pair_actions, last_.pair_cohesive, [](std::uint64_t key) {
     PairProblem p;
-    p.a = static_cast<BodyIndex>(entry.key >> 32U);
-    p.b = static_cast<BodyIndex>(entry.key & 0xffff'ffffU);
-    CDP_ASSERT(key_of(p) == entry.key, "a pair key that does not split into two bodies");
-    last_.pairs.push_back(p);
-    last_.pair_actions.push_back(entry.action);
-    last_.pair_cohesive.push_back(entry.cohesive ? 1 : 0);
-  }
-  for (const CachedAction& entry : walls) {
+    p.a = static_cast<BodyIndex>(key >> 32U);
+    p.b = static_cast<BodyIndex>(key & 0xffff'ffffU);
+    return p;
+  });
+  fill(walls, last_.walls, last_.wall_actions, last_.wall_cohesive, [](std::uint64_t key) {
     WallProblem w;
-    w.wall = static_cast<WallKind>(entry.key >> 32U);
-    w.sphere = static_cast<BodyIndex>(entry.key & 0xffff'ffffU);
-    CDP_ASSERT(key_of(w) == entry.key, "a wall key that does not split into wall and sphere");
-    last_.walls.push_back(w);
-    last_.wall_actions.push_back(entry.action);
-    last_.wall_cohesive.push_back(entry.cohesive ? 1 : 0);
-  }
+    w.wall = static_cast<WallKind>(key >> 32U);
+    w.sphere = static_cast<BodyIndex>(key & 0xffff'ffffU);
+    return w;
+  });
 }
 
 }  // namespace cdpowder
