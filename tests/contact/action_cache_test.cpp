@@ -152,8 +152,9 @@ void expect_strictly_ascending(const std::vector<Problem>& list, Key key, const 
 
 /// What a lookup finds of a stored contact: it was cohesive or carried a nonzero action.
 bool is_kept(const ContactAction& action, std::uint8_t cohesive) {
-  return cohesive != 0 || action.normal_force != 0.0 || action.tangential_force != Vec3::Zero() ||
-         action.rolling_torque != Vec3::Zero() || action.twisting_torque != 0.0;
+  return cohesive != 0 || action.normal_force != 0.0 ||
+         action.tangential_force.squaredNorm() != 0.0 ||
+         action.rolling_torque.squaredNorm() != 0.0 || action.twisting_torque != 0.0;
 }
 
 /// Returns 1 if an entry was expected, so the caller can count the warm-started contacts.

@@ -326,8 +326,7 @@ TEST(StagesInPieces, BuildGivesTheProblemsOfOnePiece) {
     TinyScene& scene = packing.scene;
     scene.settings.solver.warm_start = warm_start;
     // begin_step's first half by hand: the last step's contacts into the cache, then detection
-    scene.work.action_cache.take(scene.work.contacts);
-    scene.work.last_step_in_contacts = false;
+    take_last_step(scene.work);
     detect_contacts(scene.world, scene.settings.detection(), scene.work.grid, scene.work.contacts);
     ASSERT_GT(carried_pairs(scene.work.action_cache.last()).size(), 100U);
     Contacts contacts_one = scene.work.contacts;

@@ -30,9 +30,9 @@ struct CachedAction {
 };
 
 /// Whether a stored contact carries anything into the next step: it was cohesion-active, or
-/// its action is nonzero. A zero-force, non-cohesive contact warm-starts as a new one would,
-/// from a zero action and without a bond (the history rule, physics.md §6.2). (−0 counts as
-/// zero, as it compares equal to it.)
+/// its action is nonzero (a vector part whose squared norm underflows to 0 counts as zero). A
+/// zero-force, non-cohesive contact warm-starts as a new one would, from a zero action and without
+/// a bond (the history rule, physics.md §6.2). (−0 counts as zero, as it compares equal to it.)
 [[nodiscard]] inline bool carries_over(const ContactAction& action, bool cohesive) {
   return cohesive || action.normal_force != 0.0 || action.tangential_force.squaredNorm() != 0.0 ||
          action.rolling_torque.squaredNorm() != 0.0 || action.twisting_torque != 0.0;

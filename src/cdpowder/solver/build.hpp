@@ -13,7 +13,8 @@
 namespace cdpowder {
 
 /// Completes the records that detect_contacts started and fills the velocity cache.
-/// Reads last step's actions from `cache` (merge join; contacts must be sorted by key).
+/// Reads last step's actions from `cache` (merge join; contacts must be sorted by key): on a
+/// workspace that has run steps, after take_last_step (solver/step.hpp), as begin_step does.
 /// With `pieces`, in two halves side by side on the runner's threads: the predicted
 /// velocities and the contacts' records a half each, then the warm start's velocity changes,
 /// each half those of its own spheres in contact order. The same bits as on one thread.

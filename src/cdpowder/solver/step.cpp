@@ -40,6 +40,12 @@ const Contacts& last_step_contacts(const StepWorkspace& work) {
   return work.last_step_in_contacts ? work.contacts : work.action_cache.last();
 }
 
+void take_last_step(StepWorkspace& work) {
+  if (!work.last_step_in_contacts) return;
+  work.action_cache.take(work.contacts);
+  work.last_step_in_contacts = false;
+}
+
 StepReport begin_step(World& world, StepWorkspace& work, const StepSettings& settings) {
   StepReport report;
   report.dt = settings.solver.dt;
@@ -47,10 +53,7 @@ StepReport begin_step(World& world, StepWorkspace& work, const StepSettings& set
   // the last step's contacts become the warm-start cache (§7.4) before detection refills
   // work.contacts: a swap of arrays, timed with the build (the warm start's other half). A
   // step solved again with a shorter Δt finds them taken already.
-  if (work.last_step_in_contacts) {
-    work.action_cache.take(work.contacts);
-    work.last_step_in_contacts = false;
-  }
+  take_last_step(work);
   clock.lap(Stage::BuildLocalProblems, report.times);
   // on the threads where the last step's solve was (a step too small to cut, or one the
   // ThreadChoice keeps on one thread, keeps these stages there too); parked after them, as a

@@ -53,8 +53,17 @@ struct StepWorkspace {
 
 /// The last committed step's contacts, whose actions warm-start the next step and are what a
 /// state file saves: work.contacts from commit_step until the next begin_step takes them,
-/// the action cache's after that (or after a state file has been read back).
+/// the action cache's after that (or after a state file has been read back). For their keys,
+/// actions and cohesion flags only: the cache's records may hold the bodies alone (after a
+/// state file) and are no step's geometry.
 const Contacts& last_step_contacts(const StepWorkspace& work);
+
+/// begin_step's first act: the last committed step's contacts into the action cache (a swap
+/// of arrays, ActionCache::take) if work.contacts still holds them. A tool or test that runs
+/// detect_contacts and build_local_problems by hand on a workspace that has run steps calls
+/// it first: detection would otherwise overwrite the last step's actions, and the build
+/// warm-start from the step before them.
+void take_last_step(StepWorkspace& work);
 
 /// Advances `world` by one step of Δt = settings.solver.dt: begin_step, then finish_step.
 StepReport step(World& world, StepWorkspace& work, const StepSettings& settings);
@@ -74,7 +83,7 @@ void finish_step(World& world, StepWorkspace& work, const StepSettings& settings
 
 /// Stage 3 and the opening gauge: solves the problem begin_step left in `work` and sets
 /// report.solver and the diagnostics' two cohesive-opening gauges (cohesive_opening.hpp).
-/// Leaves the World and the action cache as begin_step found them, so a step abandoned here
+/// Leaves the World and the action cache as begin_step left them, so a step abandoned here
 /// is undone by restoring the sweep-order stream (work.solver.rng) alone: that is how an
 /// adaptive Δt solves a step again with a shorter Δt (experiment/run_loop.cpp). begin_step's
 /// one change to the World, the periodic wrap of the positions, maps positions it has
@@ -85,8 +94,7 @@ void solve_step(const World& world, StepWorkspace& work, const StepSettings& set
 /// Keeps a solved step: integrates (measuring the spheres on the way, the net force among
 /// them: SphereMeasures), fills the rest of report.diagnostics, and leaves the step's contacts
 /// in work.contacts as the last committed step's (last_step_in_contacts), for the outputs
-/// and the next warm start. On a step whose solve ran on two threads, the stages'
-/// independent halves run side by side too (the same bits: each half writes its own results).
+/// and the next warm start.
 void commit_step(World& world, StepWorkspace& work, const StepSettings& settings,
                  StepReport& report);
 
