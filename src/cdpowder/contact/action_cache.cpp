@@ -9,37 +9,28 @@ namespace cdpowder {
 
 namespace {
 
-template <typename Record, typename KeyOf>
+template <typename Record>
 std::vector<CachedAction> carried(const std::vector<Record>& records,
                                   const std::vector<ContactAction>& actions,
-                                  const std::vector<std::uint8_t>& cohesive, KeyOf key_of) {
+                                  const std::vector<std::uint8_t>& cohesive) {
   CDP_ASSERT(actions.size() == records.size() && cohesive.size() == records.size(),
              "a contact without its action or cohesion flag");
   std::vector<CachedAction> out;
   for (std::size_t k = 0; k < records.size(); ++k) {
     const bool was_cohesive = cohesive[k] != 0;
     if (!carries_over(actions[k], was_cohesive)) continue;
-    out.push_back({key_of(records[k]), actions[k], was_cohesive});
+    out.push_back({contact_key(records[k]), actions[k], was_cohesive});
   }
   return out;
 }
 
 /// Checks (debug builds) that a family's keys ascend strictly, as the merge join needs.
-template <typename Record, typename KeyOf>
-void check_ascending(const std::vector<Record>& records, KeyOf key_of, const char* what) {
+template <typename Record>
+void check_ascending(const std::vector<Record>& records, const char* what) {
   for (std::size_t k = 1; k < records.size(); ++k) {
-    CDP_ASSERT(key_of(records[k - 1]) < key_of(records[k]), what);
+    CDP_ASSERT(contact_key(records[k - 1]) < contact_key(records[k]), what);
   }
-  static_cast<void>(key_of);  // both read by the assertion alone
-  static_cast<void>(what);
-}
-
-std::uint64_t key_of_pair(const PairProblem& p) {
-  return pair_key(p.a, p.b);
-}
-
-std::uint64_t key_of_wall(const WallProblem& w) {
-  return wall_key(w.wall, w.sphere);
+  static_cast<void>(what);  // read by the assertion alone
 }
 
 /// Appends the saved `entries` to one family's arrays, each record made from its key by
@@ -58,17 +49,16 @@ void fill(const std::vector<CachedAction>& entries, std::vector<Record>& records
 }  // namespace
 
 std::vector<CachedAction> carried_pairs(const Contacts& contacts) {
-  return carried(contacts.pairs, contacts.pair_actions, contacts.pair_cohesive, key_of_pair);
+  return carried(contacts.pairs, contacts.pair_actions, contacts.pair_cohesive);
 }
 
 std::vector<CachedAction> carried_walls(const Contacts& contacts) {
-  return carried(contacts.walls, contacts.wall_actions, contacts.wall_cohesive, key_of_wall);
+  return carried(contacts.walls, contacts.wall_actions, contacts.wall_cohesive);
 }
 
 void ActionCache::take(Contacts& contacts) {
-  check_ascending(contacts.pairs, key_of_pair, "pairs not strictly ascending by key (a, b)");
-  check_ascending(contacts.walls, key_of_wall,
-                  "walls not strictly ascending by key (wall, sphere)");
+  check_ascending(contacts.pairs, "pairs not strictly ascending by key (a, b)");
+  check_ascending(contacts.walls, "walls not strictly ascending by key (wall, sphere)");
   CDP_ASSERT(contacts.pair_actions.size() == contacts.pairs.size() &&
                  contacts.pair_cohesive.size() == contacts.pairs.size() &&
                  contacts.wall_actions.size() == contacts.walls.size() &&
@@ -91,7 +81,7 @@ std::size_t ActionCache::pair_cursor_at(std::uint64_t key) const {
   const std::vector<PairProblem>& records = last_.pairs;
   return static_cast<std::size_t>(
       std::lower_bound(records.begin(), records.end(), key,
-                       [](const PairProblem& p, std::uint64_t k) { return key_of(p) < k; }) -
+                       [](const PairProblem& p, std::uint64_t k) { return contact_key(p) < k; }) -
       records.begin());
 }
 

@@ -22,6 +22,15 @@ inline std::uint64_t wall_key(WallKind wall, BodyIndex sphere) {
   return (static_cast<std::uint64_t>(wall) << 32U) | sphere;
 }
 
+/// The key of a contact record: its pair_key or wall_key.
+inline std::uint64_t contact_key(const PairProblem& p) {
+  return pair_key(p.a, p.b);
+}
+
+inline std::uint64_t contact_key(const WallProblem& w) {
+  return wall_key(w.wall, w.sphere);
+}
+
 /// One stored contact as a state file saves it: its key, its action and its cohesion.
 struct CachedAction {
   std::uint64_t key = 0;
@@ -91,10 +100,6 @@ class ActionCache {
   void restore(const std::vector<CachedAction>& pairs, const std::vector<CachedAction>& walls);
 
  private:
-  static std::uint64_t key_of(const PairProblem& p) { return pair_key(p.a, p.b); }
-
-  static std::uint64_t key_of(const WallProblem& w) { return wall_key(w.wall, w.sphere); }
-
   /// Inline: the build calls it once per contact per step (as a call of its own it took ≈ 5 %
   /// of the build's time; docs/performance.md, "The build's pairs in lanes").
   template <typename Record>
@@ -103,10 +108,10 @@ class ActionCache {
                          const std::vector<std::uint8_t>& cohesive, std::size_t& cursor,
                          std::uint64_t key) {
     // a key below an entry the cursor has passed would miss that entry: lookups must ascend
-    CDP_ASSERT(cursor == 0 || key_of(records[cursor - 1]) < key,
+    CDP_ASSERT(cursor == 0 || contact_key(records[cursor - 1]) < key,
                "lookups not in ascending key order");
-    while (cursor < records.size() && key_of(records[cursor]) < key) ++cursor;
-    if (cursor == records.size() || key_of(records[cursor]) != key) return {};
+    while (cursor < records.size() && contact_key(records[cursor]) < key) ++cursor;
+    if (cursor == records.size() || contact_key(records[cursor]) != key) return {};
     const ContactAction& action = actions[cursor];
     const bool was_cohesive = cohesive[cursor] != 0;
     if (!carries_over(action, was_cohesive)) return {};

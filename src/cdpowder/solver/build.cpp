@@ -141,9 +141,7 @@ void build_pairs(const World& world, const StepSettings& settings, const ActionC
   const ContactLaws& laws = settings.laws;
   const bool lookup = reads_cache(settings);
   std::size_t cursor =
-      lookup && first < last
-          ? cache.pair_cursor_at(pair_key(contacts.pairs[first].a, contacts.pairs[first].b))
-          : 0;
+      lookup && first < last ? cache.pair_cursor_at(contact_key(contacts.pairs[first])) : 0;
   for (std::size_t k = first; k < last; ++k) {
     PairProblem& p = contacts.pairs[k];
     const StepResponse a = response_of<kApply>(world, velocities, p.a, dt);
@@ -161,8 +159,7 @@ void build_pairs(const World& world, const StepSettings& settings, const ActionC
     p.mu = laws.spheres.mu;
     p.roll_cap = laws.spheres.mu_roll * p.r_eff;
     p.twist_cap = laws.spheres.mu_twist * p.r_eff;
-    const LastAction last_step =
-        lookup ? cache.find_pair(cursor, pair_key(p.a, p.b)) : LastAction{};
+    const LastAction last_step = lookup ? cache.find_pair(cursor, contact_key(p)) : LastAction{};
     const bool cohesive = is_cohesive(laws.spheres, laws.cohesion_rule, p.gap, last_step);
     p.cohesion = cohesive ? laws.spheres.cohesion_force : 0.0;
     contacts.pair_cohesive[k] = cohesive ? 1 : 0;
@@ -208,8 +205,7 @@ void build_walls(const World& world, const StepSettings& settings, const ActionC
     w.mu = laws.walls.mu;
     w.roll_cap = laws.walls.mu_roll * r_eff;
     w.twist_cap = laws.walls.mu_twist * r_eff;
-    const LastAction last_step =
-        lookup ? cache.find_wall(cursor, wall_key(w.wall, w.sphere)) : LastAction{};
+    const LastAction last_step = lookup ? cache.find_wall(cursor, contact_key(w)) : LastAction{};
     const bool cohesive = is_cohesive(laws.walls, laws.cohesion_rule, w.gap, last_step);
     w.cohesion = cohesive ? laws.walls.cohesion_force : 0.0;
     contacts.wall_cohesive[k] = cohesive ? 1 : 0;
