@@ -12,7 +12,7 @@
 #include "cdpowder/core/stop_request.hpp"
 #include "cdpowder/io/atomic_file.hpp"
 #include "cdpowder/io/byte_stream.hpp"
-#include "cdpowder/sweep/time_limit.hpp"
+#include "cdpowder/study/time_limit.hpp"
 #include "cdpowder/version.hpp"
 
 #include <CLI/CLI.hpp>

@@ -1,7 +1,7 @@
 // progress.cpp — formatting the progress line.
 #include "progress.hpp"
 
-#include "cdpowder/io/run_messages.hpp"
+#include "cdpowder/run/run_messages.hpp"
 
 #include <algorithm>
 #include <cstdio>

@@ -1,7 +1,7 @@
 // Benchmark of one Anderson mixing step (anderson.hpp) with a full history, on iterates of
 // the length a paper-size step mixes (8 doubles per contact, ≈ 1 100 contacts) and a large
 // one; items are doubles of the iterate.
-#include "cdpowder/solver/anderson.hpp"
+#include "cdpowder/solver/nlgs/anderson.hpp"
 
 #include <benchmark/benchmark.h>
 

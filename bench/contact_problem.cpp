@@ -14,7 +14,7 @@
 #include "contact_problem/problem_json.hpp"
 
 #include "cdpowder/config/scene_reader.hpp"
-#include "cdpowder/io/state_file.hpp"
+#include "cdpowder/run/state_file.hpp"
 #include "cdpowder/solver/step.hpp"
 
 #include <CLI/CLI.hpp>

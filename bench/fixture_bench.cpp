@@ -4,7 +4,7 @@
 // sweeps × contacts), and the per-step overhead (a step's time outside the NLGS stage:
 // detection, building the local problems, warm start, integration, diagnostics).
 #include "cdpowder/config/scene_reader.hpp"
-#include "cdpowder/io/state_file.hpp"
+#include "cdpowder/run/state_file.hpp"
 #include "cdpowder/solver/build.hpp"
 #include "cdpowder/solver/step.hpp"
 

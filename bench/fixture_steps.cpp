@@ -2,7 +2,7 @@
 // and prints what the speed work compares: sweeps per step, capped steps, ns per contact
 // update in the NLGS stage, the per-step overhead outside it, wall time, and the final
 // porosity and state hash. Same state, same steps: the variants differ only by the override.
-// With --run-loop the steps go through run_simulation (experiment/run_loop.hpp), so the
+// With --run-loop the steps go through run_simulation (run/run_loop.hpp), so the
 // overhead includes what the loop adds to a step (the undo copy of an adaptive Δt, the
 // blocked-state test); step() alone does not see it.
 // --always-threaded keeps every cut step on the threads with solver.threads = 2, so that a
@@ -14,9 +14,9 @@
 //   ...]
 #include "cdpowder/analysis/porosity.hpp"
 #include "cdpowder/config/scene_reader.hpp"
-#include "cdpowder/experiment/run_loop.hpp"
-#include "cdpowder/io/state_file.hpp"
-#include "cdpowder/io/state_hash.hpp"
+#include "cdpowder/run/run_loop.hpp"
+#include "cdpowder/run/state_file.hpp"
+#include "cdpowder/run/state_hash.hpp"
 #include "cdpowder/solver/step.hpp"
 #include "support/core_round_trip.hpp"
 
@@ -136,8 +136,8 @@ int main(int argc, char** argv) {
         1e9 * t.stages[solve] / t.updates, 1e6 * other / n, t.opening, t.wall, porosity(world),
         hash_text(state_hash(world, work)));
     // the last step's colouring: what the threads of solver.threads share, and what they do not
-    const ColouredSweep& coloured = work.solver.coloured;
-    if (scene.step.solver.kernel == SweepKernel::Coloured) {
+    const ColouredPass& coloured = work.solver.coloured;
+    if (scene.step.solver.kernel == PassKernel::Coloured) {
       fmt::print(
           "last step: contacts={} (of {} listed pairs) colours={} batches={} sequential={} "
           "(walls {})\n",
@@ -146,7 +146,7 @@ int main(int argc, char** argv) {
       // the parts of a step cut into slabs (slabs.hpp): batched pairs + sequential contacts
       const PairColouring& colouring = coloured.colouring;
       std::string parts;
-      for (std::size_t p = 0; p < kSweepParts; ++p) {
+      for (std::size_t p = 0; p < kPassParts; ++p) {
         parts += fmt::format(" {}+{}", colouring.first_member(p + 1) - colouring.first_member(p),
                              coloured.part_sequential[p + 1] - coloured.part_sequential[p]);
       }

@@ -1,13 +1,13 @@
 // make_fixture — runs a scene's compaction to a given time and saves the engine state there
-// (io/state_file.hpp): the fixtures that the speed work measures each lever on, so that
+// (run/state_file.hpp): the fixtures that the speed work measures each lever on, so that
 // every variant solves exactly the same steps. bench/fixtures/README.md lists the fixtures
 // and the commands that made them.
 //   make_fixture SCENE.toml --time T --out FILE.cdps [--set section.key=value ...]
 #include "cdpowder/config/scene_reader.hpp"
-#include "cdpowder/experiment/run_loop.hpp"
-#include "cdpowder/experiment/scene_setup.hpp"
-#include "cdpowder/io/state_file.hpp"
-#include "cdpowder/io/state_hash.hpp"
+#include "cdpowder/run/run_loop.hpp"
+#include "cdpowder/run/state_file.hpp"
+#include "cdpowder/run/state_hash.hpp"
+#include "cdpowder/setup/scene_setup.hpp"
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>

@@ -1,7 +1,7 @@
 // Benchmarks of the NLGS stage (physics.md §7): ns per contact update of one sweep, and the
 // sweeps a cold-started solve of a frozen packing needs (a counter, not a time).
-#include "cdpowder/solver/nlgs.hpp"
-#include "cdpowder/solver/slabs.hpp"
+#include "cdpowder/solver/nlgs/nlgs.hpp"
+#include "cdpowder/solver/nlgs/slabs.hpp"
 #include "support/packings.hpp"
 
 #include <benchmark/benchmark.h>
@@ -11,7 +11,7 @@ namespace {
 
 // One sweep in the solver's order (range(1): 0 = the default per-step block permutation,
 // 1 = a fully random permutation as the group used); items are contact visits.
-void BM_NlgsSweep(benchmark::State& state) {
+void BM_NlgsPass(benchmark::State& state) {
   Packing packing = fcc_packing_with_vacancies(static_cast<int>(state.range(0)));
   StepWorkspace work(1);
   prepare_contacts(packing, work);
@@ -21,7 +21,7 @@ void BM_NlgsSweep(benchmark::State& state) {
     shuffle_indices(std::span<ContactIndex>(contacts.visit_order), work.solver.rng);
   }
   for (auto _ : state) {
-    benchmark::DoNotOptimize(run_sweep(contacts, work.velocities));
+    benchmark::DoNotOptimize(run_scalar_pass(contacts, work.velocities));
   }
   state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(contacts.size()));
   state.counters["contacts"] = static_cast<double>(contacts.size());
@@ -30,7 +30,7 @@ void BM_NlgsSweep(benchmark::State& state) {
       benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 
-BENCHMARK(BM_NlgsSweep)
+BENCHMARK(BM_NlgsPass)
     ->Args({1000, 0})
     ->Args({100000, 0})
     ->Args({1000, 1})
@@ -44,18 +44,18 @@ BENCHMARK(BM_NlgsSweep)
 // colours, the share of contacts in the sequential group (overflow and walls), the share of
 // unused lanes. CDPOWDER_KERNEL_ISA=sse2 (or avx2) keeps the SSE2 (or AVX2) kernel on a machine
 // with wider vectors.
-void BM_NlgsSweepColoured(benchmark::State& state) {
+void BM_NlgsPassColoured(benchmark::State& state) {
   Packing packing = fcc_packing_with_vacancies(static_cast<int>(state.range(0)));
   StepWorkspace work(1);
   prepare_contacts(packing, work);
   Contacts& contacts = work.contacts;
-  ColouredSweep& sweep = work.solver.coloured;
+  ColouredPass& sweep = work.solver.coloured;
   const auto chunk = static_cast<std::size_t>(state.range(1));
-  prepare_coloured_sweep(contacts, work.velocities, sweep,
-                         chunk == 0 ? kColourChunk : (chunk == 1 ? 0 : chunk));
+  prepare_coloured_pass(contacts, work.velocities, sweep,
+                        chunk == 0 ? kColourChunk : (chunk == 1 ? 0 : chunk));
   order_groups(sweep, VisitOrder::RandomEachStep, work.solver.rng);
   for (auto _ : state) {
-    benchmark::DoNotOptimize(run_coloured_sweep(contacts, work.velocities, sweep));
+    benchmark::DoNotOptimize(run_coloured_pass(contacts, work.velocities, sweep));
   }
   state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(contacts.size()));
   state.counters["contacts"] = static_cast<double>(contacts.size());
@@ -70,7 +70,7 @@ void BM_NlgsSweepColoured(benchmark::State& state) {
       benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 
-BENCHMARK(BM_NlgsSweepColoured)
+BENCHMARK(BM_NlgsPassColoured)
     ->Args({1000, 0})
     ->Args({100000, 0})
     ->Args({1000, 1})
@@ -82,21 +82,21 @@ BENCHMARK(BM_NlgsSweepColoured)
 // The coloured sweep on range(1) threads (solver.threads), the step cut into two slabs
 // (range(2) = 1, slabs.hpp) or not: the same bits for any thread count, so only the time
 // differs. {n, 1, 0} against {n, 1, 1} is the cost of the cut on one thread.
-void BM_NlgsSweepColouredThreads(benchmark::State& state) {
+void BM_NlgsPassColouredThreads(benchmark::State& state) {
   Packing packing = fcc_packing_with_vacancies(static_cast<int>(state.range(0)));
   StepWorkspace work(1);
   prepare_contacts(packing, work);
   Contacts& contacts = work.contacts;
-  ColouredSweep& sweep = work.solver.coloured;
+  ColouredPass& sweep = work.solver.coloured;
   if (state.range(2) != 0) {
     cut_into_slabs(packing.world.bodies.position, contacts, work.solver.slab,
                    work.solver.slab_scratch);
   }
-  prepare_coloured_sweep(contacts, work.velocities, sweep, kColourChunk, work.solver.slab);
+  prepare_coloured_pass(contacts, work.velocities, sweep, kColourChunk, work.solver.slab);
   order_groups(sweep, VisitOrder::RandomEachStep, work.solver.rng);
   SlabThreads threads(static_cast<int>(state.range(1)));
   for (auto _ : state) {
-    benchmark::DoNotOptimize(run_coloured_sweep(contacts, work.velocities, sweep, &threads));
+    benchmark::DoNotOptimize(run_coloured_pass(contacts, work.velocities, sweep, &threads));
   }
   state.counters["contacts"] = static_cast<double>(contacts.size());
   state.counters["colours"] = static_cast<double>(sweep.colours());
@@ -105,7 +105,7 @@ void BM_NlgsSweepColouredThreads(benchmark::State& state) {
       benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 
-BENCHMARK(BM_NlgsSweepColouredThreads)
+BENCHMARK(BM_NlgsPassColouredThreads)
     ->Args({1000, 1, 0})
     ->Args({1000, 1, 1})
     ->Args({1000, 2, 1})

@@ -5,7 +5,7 @@
 #include "cdpowder/config/particles_csv.hpp"
 #include "cdpowder/config/scene_reader.hpp"
 #include "cdpowder/model/bodies.hpp"
-#include "cdpowder/sweep/sweep_plan.hpp"
+#include "cdpowder/study/sweep_plan.hpp"
 
 #include <exception>
 #include <filesystem>

@@ -6,6 +6,7 @@
 
 #include <cdpowder/cdpowder.hpp>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <pybind11/eigen.h>
@@ -46,7 +47,7 @@ std::string override_text(const std::string& key, const py::handle& value) {
 std::vector<SceneOverride> overrides_of(const py::dict& overrides) {
   std::vector<SceneOverride> out;
   for (const auto& [key, value] : overrides) {
-    const std::string name = py::str(key).cast<std::string>();
+    const auto name = py::str(key).cast<std::string>();
     out.emplace_back(override_text(name, value));
   }
   return out;
@@ -245,8 +246,9 @@ std::string shape_text(const py::array& a) {
 /// `values` as n × `columns` finite numbers (columns 0: a vector of n), each at least
 /// `lower` (exclusive when `above`); a ValueError names the argument, the entry and the rule.
 Doubles checked_array(const std::string& name, const py::object& values, py::ssize_t n,
-                      py::ssize_t columns, double lower = -INFINITY, bool above = false) {
-  const Doubles a = Doubles::ensure(values);
+                      py::ssize_t columns, double lower = -std::numeric_limits<double>::infinity(),
+                      bool above = false) {
+  Doubles a = Doubles::ensure(values);
   if (!a) throw py::value_error(name + ": expected an array of numbers");
   const bool vector = columns == 0;
   if (a.ndim() != (vector ? 1 : 2) || a.shape(0) != n || (!vector && a.shape(1) != columns)) {
@@ -325,28 +327,24 @@ Result start(const PyScene& scene, const py::object& world, const py::object& ca
   return run(scene.scene, engine, callback, every, out, porosity(engine->world));
 }
 
-}  // namespace
-}  // namespace cdpowder::python
-
-// NOLINTNEXTLINE: pybind11's entry point
-PYBIND11_MODULE(cdpowder, m) {
-  using namespace cdpowder;          // NOLINT(google-build-using-namespace)
-  using namespace cdpowder::python;  // NOLINT(google-build-using-namespace)
-  m.doc() = "cdpowder: contact dynamics of cohesive powders of rigid spheres";
-  m.attr("__version__") = kVersion;
-  m.attr("git_commit") = kGitCommit;
-
+/// ConfigError as cdpowder.ConfigError (a ValueError), Interrupted as KeyboardInterrupt.
+void bind_errors(py::module_& m) {
   static py::exception<ConfigError> config_error(m, "ConfigError", PyExc_ValueError);
-  py::register_exception_translator([](std::exception_ptr p) {
-    try {
-      if (p) std::rethrow_exception(p);
-    } catch (const ConfigError& e) {
-      config_error(e.what());
-    } catch (const Interrupted& e) {
-      PyErr_SetString(PyExc_KeyboardInterrupt, e.what());
-    }
-  });
+  // pybind11 takes the translator as void(std::exception_ptr): by value
+  py::register_exception_translator(
+      [](std::exception_ptr p) {  // NOLINT(performance-unnecessary-value-param)
+        try {
+          if (p) std::rethrow_exception(p);
+        } catch (const ConfigError& e) {
+          config_error(e.what());
+        } catch (const Interrupted& e) {
+          PyErr_SetString(PyExc_KeyboardInterrupt, e.what());
+        }
+      });
+}
 
+/// cdpowder.Scene: read, built from keys, overridden.
+void bind_scene(py::module_& m) {
   py::class_<PyScene>(m, "Scene", "A scene (docs/config.md), read and checked")
       .def_static("from_toml", &PyScene::from_toml, py::arg("path"),
                   py::arg("overrides") = py::dict(),
@@ -365,7 +363,10 @@ PYBIND11_MODULE(cdpowder, m) {
       .def("__repr__", [](const PyScene& s) {
         return "<cdpowder.Scene from " + s.scene.source.string() + ">";
       });
+}
 
+/// cdpowder.StepDiagnostics and cdpowder.World (the spheres as NumPy views).
+void bind_world(py::module_& m) {
   py::class_<StepDiagnostics>(m, "StepDiagnostics", "The measures and gauges of one step")
       .def_readonly("contacts", &StepDiagnostics::contacts)
       .def_readonly("closed_contacts", &StepDiagnostics::closed_contacts)
@@ -406,7 +407,10 @@ PYBIND11_MODULE(cdpowder, m) {
            "The last step's contacts: a dict of arrays a, b (−1 bottom wall, −2 piston), "
            "normal, force, normal_force, gap, closed, cohesive")
       .def("__len__", [](const Engine& e) { return e.world.bodies.size(); });
+}
 
+/// cdpowder.Result: the end of a run, its stress and summary.
+void bind_result(py::module_& m) {
   py::class_<Result>(m, "Result", "The end of a run")
       .def_property_readonly("world", [](const Result& r) { return r.engine; })
       .def_property_readonly("porosity", [](const Result& r) { return porosity(r.engine->world); })
@@ -429,7 +433,10 @@ PYBIND11_MODULE(cdpowder, m) {
             return result_line(r.scene, r.engine->world, r.engine->work.contacts, r.run);
           },
           "The command line's result line");
+}
 
+/// deposit, compact and simulate, as the commands of the same names.
+void bind_runs(py::module_& m) {
   m.def(
       "deposit",
       [](const PyScene& scene) {
@@ -460,4 +467,19 @@ PYBIND11_MODULE(cdpowder, m) {
       py::arg("scene"), py::arg("world") = py::none(), py::arg("callback") = py::none(),
       py::arg("every") = 1, py::arg("out") = py::none(),
       "The scene's run (its duration, or until blocked), as `cdpowder simulate`");
+}
+
+}  // namespace
+}  // namespace cdpowder::python
+
+// NOLINTNEXTLINE: pybind11's entry point
+PYBIND11_MODULE(cdpowder, m) {
+  m.doc() = "cdpowder: contact dynamics of cohesive powders of rigid spheres";
+  m.attr("__version__") = cdpowder::kVersion;
+  m.attr("git_commit") = cdpowder::kGitCommit;
+  cdpowder::python::bind_errors(m);
+  cdpowder::python::bind_scene(m);
+  cdpowder::python::bind_world(m);
+  cdpowder::python::bind_result(m);
+  cdpowder::python::bind_runs(m);
 }

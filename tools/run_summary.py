@@ -1,7 +1,7 @@
 """Reading a run's summary.json, the one place the Python tools do it.
 
 The file and its schema are documented in docs/outputs.md ("summary.json"); the program
-writes and reads it in src/cdpowder/io/run_summary.cpp. A summary without a "schema" key was
+writes and reads it in src/cdpowder/run/run_summary.cpp. A summary without a "schema" key was
 written before the number existed and reads as schema 0: the fields it lacks are absent (use
 dict.get). A schema newer than SCHEMA is refused, since a renamed or re-meant field would be
 read wrongly.

@@ -4,9 +4,9 @@
 #include "stop_signals.hpp"
 
 #include "cdpowder/config/scene_reader.hpp"
-#include "cdpowder/experiment/scene_setup.hpp"
-#include "cdpowder/io/run_folder.hpp"
-#include "cdpowder/io/run_messages.hpp"
+#include "cdpowder/run/run_folder.hpp"
+#include "cdpowder/run/run_messages.hpp"
+#include "cdpowder/setup/scene_setup.hpp"
 
 #include <atomic>
 #include <chrono>

@@ -2,20 +2,20 @@
 // then run, then write every output atomically. Prints one result line on stdout.
 #include "commands/simulate.hpp"
 
-#include "checkpoint_interval.hpp"
-#include "folder_lock.hpp"
 #include "progress.hpp"
 #include "stop_signals.hpp"
 
 #include "cdpowder/analysis/porosity.hpp"
 #include "cdpowder/config/config_error.hpp"
 #include "cdpowder/config/scene_reader.hpp"
-#include "cdpowder/experiment/run_loop.hpp"
-#include "cdpowder/experiment/scene_setup.hpp"
 #include "cdpowder/io/provenance.hpp"
-#include "cdpowder/io/run_folder.hpp"
-#include "cdpowder/io/run_messages.hpp"
-#include "cdpowder/io/state_file.hpp"
+#include "cdpowder/run/checkpoint_interval.hpp"
+#include "cdpowder/run/folder_lock.hpp"
+#include "cdpowder/run/run_folder.hpp"
+#include "cdpowder/run/run_loop.hpp"
+#include "cdpowder/run/run_messages.hpp"
+#include "cdpowder/run/state_file.hpp"
+#include "cdpowder/setup/scene_setup.hpp"
 
 #include <fmt/format.h>
 

@@ -2,7 +2,7 @@
 #include "contact_problem/judge.hpp"
 
 #include "cdpowder/contact/local_solve.hpp"
-#include "cdpowder/solver/nlgs.hpp"
+#include "cdpowder/solver/nlgs/nlgs.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -119,7 +119,7 @@ Judgement judge(const ContactProblem& problem, const ContactActions& actions, st
   // the engine's default order (block-random, one permutation for the step)
   NlgsWorkspace work(seed);
   prepare_visit_order(contacts, VisitOrder::RandomEachStep, work);
-  for (int k = 0; k < presweeps; ++k) run_sweep(contacts, velocities);
+  for (int k = 0; k < presweeps; ++k) run_scalar_pass(contacts, velocities);
 
   Judgement out;
   read_gauges(problem, contacts, velocities, out);
@@ -128,7 +128,7 @@ Judgement judge(const ContactProblem& problem, const ContactActions& actions, st
     local_sq = std::max(local_sq, local_change_sq(contacts, velocities, k));
   }
 
-  const SweepSums sums = run_sweep(contacts, velocities);
+  const PassSums sums = run_scalar_pass(contacts, velocities);
   const double mean_closed =
       sums.closed > 0 ? sums.sum_closed_normal / static_cast<double>(sums.closed) : 0.0;
   out.force_scale = std::max({problem.reference_force, mean_closed, 1e-300});

@@ -2,7 +2,7 @@
 // nlohmann-json's shortest round-trip form, so a problem reads back bit for bit.
 #include "contact_problem/problem_json.hpp"
 
-#include "cdpowder/solver/build.hpp"
+#include "cdpowder/contact/velocity_change.hpp"
 
 #include <fstream>
 #include <stdexcept>

@@ -3,7 +3,7 @@
 // VTK files read back, results are reproducible, a deposit feeds a compaction, and bad
 // configurations are refused before anything is written.
 #include "cdpowder/core/lanes.hpp"
-#include "cdpowder/io/run_summary.hpp"
+#include "cdpowder/run/run_summary.hpp"
 #include "support/cli_process.hpp"
 
 #include <gmock/gmock.h>

@@ -2,13 +2,13 @@
 // SIGKILL, SIGINT or a sweep's end and continued ends bit-identical to the run never stopped
 // (docs/outputs.md, "Checkpoints and resume").
 #include "cdpowder/config/scene_reader.hpp"
-#include "cdpowder/experiment/run_loop.hpp"
-#include "cdpowder/experiment/scene_setup.hpp"
 #include "cdpowder/io/byte_stream.hpp"
 #include "cdpowder/io/provenance.hpp"
 #include "cdpowder/io/state_csv.hpp"
-#include "cdpowder/io/state_file.hpp"
 #include "cdpowder/io/timeseries.hpp"
+#include "cdpowder/run/run_loop.hpp"
+#include "cdpowder/run/state_file.hpp"
+#include "cdpowder/setup/scene_setup.hpp"
 #include "cdpowder/version.hpp"
 #include "support/cli_process.hpp"
 

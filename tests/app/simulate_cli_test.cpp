@@ -2,9 +2,9 @@
 // started as a process, its exit status and its output folder are checked.
 #include "cdpowder/analysis/porosity.hpp"
 #include "cdpowder/config/scene_reader.hpp"
-#include "cdpowder/experiment/run_loop.hpp"
-#include "cdpowder/experiment/scene_setup.hpp"
-#include "cdpowder/io/run_folder.hpp"
+#include "cdpowder/run/run_folder.hpp"
+#include "cdpowder/run/run_loop.hpp"
+#include "cdpowder/setup/scene_setup.hpp"
 #include "support/cli_process.hpp"
 
 #include <gmock/gmock.h>

@@ -21,7 +21,9 @@
     includes only headers of its own folder and of the folders listed before it (a header at
     the top of src/cdpowder, such as the generated version.hpp, is outside the layers; the lane
     code a file names in `#define CDP_LANE_CODE` counts as an include of it), and
-    every folder of src/cdpowder is in the table.
+    every folder of src/cdpowder is in the table. A stage in a folder of solver/ (solver/nlgs/)
+    includes of solver/ only its own folder and solver/settings.hpp: the step calls the
+    stages, never the other way round.
 (e) machine paths: no text file under results/, docs/ or examples/ records a file by the
     absolute path of the machine that wrote it (`/…/examples/paper/scene.toml`): provenance
     names a file as the user named it, or relative to the repository.
@@ -29,7 +31,7 @@
 (g) stages: the section "## One time step" of docs/architecture.md has a subsection "### N. …"
     per member of the Stage enum of src/cdpowder/solver/step.hpp, in its order, and every
     function it names in backticks (`solve_nlgs()`, `solve_nlgs(contacts, …)`,
-    `ActionCache::store()`) and every source file it names (`solver/nlgs.cpp`) exists in
+    `ActionCache::store()`) and every source file it names (`solver/nlgs/nlgs.cpp`) exists in
     src/cdpowder (or, `bench/…`, in the repository): a renamed or removed piece of a stage
     shows up here.
 
@@ -359,7 +361,29 @@ def check_layers(root):
                 problems.append(f"{path.relative_to(root)}:{number}: {folder}/ includes "
                                 f"{match.group(1)}/, a folder above it (docs/architecture.md, "
                                 "'Folders of the library')")
+            problems += stage_folder_problems(path.relative_to(library), line,
+                                              f"{path.relative_to(root)}:{number}")
     return problems
+
+
+SOLVER_INCLUDE = re.compile(r'^\s*#\s*(?:include|define\s+CDP_LANE_CODE)\s+"cdpowder/solver/([^"]+)"')
+
+
+def stage_folder_problems(relative, line, where):
+    """A stage in a folder of solver/ (solver/nlgs/) is called by the step, never calls it:
+    of solver/ it includes its own folder and the settings alone."""
+    parts = relative.parts
+    if len(parts) < 3 or parts[0] != "solver":
+        return []
+    match = SOLVER_INCLUDE.match(line)
+    if not match:
+        return []
+    target = match.group(1)
+    if target == "settings.hpp" or target.startswith(parts[1] + "/"):
+        return []
+    return [f"{where}: solver/{parts[1]}/ includes solver/{target}; a stage's folder includes "
+            "its own headers and solver/settings.hpp alone (docs/architecture.md, "
+            "'Folders of the library')"]
 
 
 # ---------------------------------------------------------------------------------------------
@@ -620,6 +644,14 @@ class SelfTest(unittest.TestCase):
     def test_lane_code_pointing_up_the_stack(self):
         problems = self.problems(src__cdpowder__core__vec3_DOT_hpp=lambda t: t + '#define CDP_LANE_CODE "cdpowder/solver/kernel.inc"\n')
         self.assert_reported(problems, "src/cdpowder/core/vec3.hpp:2: core/ includes solver/")
+
+    def test_stage_folder_including_the_step(self):
+        problems = self.problems(src__cdpowder__solver__nlgs__pass_DOT_hpp=lambda t: (
+            '#include "cdpowder/solver/settings.hpp"\n#include "cdpowder/solver/nlgs/x.hpp"\n'
+            '#include "cdpowder/solver/step.hpp"\n'))
+        self.assert_reported(problems, "src/cdpowder/solver/nlgs/pass.hpp:3: solver/nlgs/ "
+                             "includes solver/step.hpp")
+        self.assertEqual(len([p for p in problems if "nlgs/pass.hpp" in p]), 1)
 
     def test_folder_missing_from_the_layers(self):
         problems = self.problems(src__cdpowder__io__vtk_DOT_cpp=lambda t: '#include "cdpowder/core/vec3.hpp"\n')

@@ -1,10 +1,10 @@
-// The adaptive time step (solver/time_step_control.hpp, experiment/run_loop.cpp) on the
+// The adaptive time step (solver/time_step_control.hpp, run/run_loop.cpp) on the
 // quick example's (0, 0) compaction, the case whose cohesive contacts open fastest: every
 // step keeps the opening of §6.4 within its bound, and Δt moves between its bounds. dt_max is
 // 0.05 here, above the default, so that steps open contacts too far and are repeated.
 #include "cdpowder/config/scene_reader.hpp"
-#include "cdpowder/experiment/run_loop.hpp"
-#include "cdpowder/experiment/scene_setup.hpp"
+#include "cdpowder/run/run_loop.hpp"
+#include "cdpowder/setup/scene_setup.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,15 +1,15 @@
-// The regression net: state hashes (io/state_hash.hpp) of short scenes against golden
+// The regression net: state hashes (run/state_hash.hpp) of short scenes against golden
 // values in tests/regression/golden_hashes.txt. Any change that moves a result by one ulp
 // fails here. If the change is intended, update the golden value in the same commit and say
 // why in its message; the test prints the new value, and
 //   CDPOWDER_UPDATE_GOLDEN=1 ctest --preset release -R StateHash
 // rewrites the file. A build whose arithmetic differs from the others (none so far: the
 // release and the sanitizer builds agree bit for bit) gets lines of its own (docs/testing.md).
-#include "cdpowder/io/state_hash.hpp"
+#include "cdpowder/run/state_hash.hpp"
 
 #include "cdpowder/config/scene_reader.hpp"
-#include "cdpowder/experiment/run_loop.hpp"
-#include "cdpowder/experiment/scene_setup.hpp"
+#include "cdpowder/run/run_loop.hpp"
+#include "cdpowder/setup/scene_setup.hpp"
 #include "support/fixture_hash.hpp"
 
 #include <fmt/format.h>

@@ -4,7 +4,7 @@
 // threaded step (whose constants take Δt/m, Δt/I from the bodies, not the velocity cache).
 #include "cdpowder/solver/build.hpp"
 
-#include "cdpowder/solver/slab_threads.hpp"
+#include "cdpowder/solver/nlgs/slab_threads.hpp"
 #include "support/small_packing.hpp"
 
 #include <gtest/gtest.h>

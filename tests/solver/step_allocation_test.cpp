@@ -2,7 +2,7 @@
 // run's contacts (speed issue: "nothing allocated inside a step"; docs/performance.md,
 // "Memory"). This test binary counts every operator new while a step runs.
 #include "cdpowder/config/scene_reader.hpp"
-#include "cdpowder/experiment/scene_setup.hpp"
+#include "cdpowder/setup/scene_setup.hpp"
 #include "cdpowder/solver/step.hpp"
 
 #include <gtest/gtest.h>

@@ -4,8 +4,8 @@
 #pragma once
 
 #include "cdpowder/config/scene_reader.hpp"
-#include "cdpowder/io/state_file.hpp"
-#include "cdpowder/io/state_hash.hpp"
+#include "cdpowder/run/state_file.hpp"
+#include "cdpowder/run/state_hash.hpp"
 #include "cdpowder/solver/step.hpp"
 
 #include <cstdint>

@@ -35,7 +35,7 @@ class RunSummary(unittest.TestCase):
             run_summary.read_summary(pathlib.Path(tmp) / "summary.json")
 
     def test_the_schema_matches_the_program(self):
-        header = (ROOT / "src/cdpowder/io/run_summary.hpp").read_text()
+        header = (ROOT / "src/cdpowder/run/run_summary.hpp").read_text()
         self.assertIn(f"inline constexpr int kRunSummarySchema = {run_summary.SCHEMA};", header)
 
     def test_every_committed_summary_reads(self):

@@ -11,7 +11,6 @@ fmt.py summary RESULTS  counts per category and verdict, then every case whose v
                         ok; exit status 1 if a case is crash, lost or unclear, else 0
 """
 import json
-import math
 import sys
 
 

@@ -1,5 +1,5 @@
 // cohesive_opening.hpp — the opening gauge of physics.md §6.4, measured on a solved step
-// before it is integrated: an adaptive Δt (experiment/run_loop.cpp) decides from it whether
+// before it is integrated: an adaptive Δt (run/run_loop.cpp) decides from it whether
 // to keep the step or solve it again with a shorter Δt, and a step not kept has then changed
 // nothing of the World that needs undoing.
 #pragma once

@@ -39,7 +39,7 @@ struct StepDiagnostics {
   /// max over the spheres of |v| + r|ω| after the step (SphereMeasures) [R/t0]
   double largest_surface_speed = 0.0;
   /// integrate() found every sphere's position and velocities finite; false when not
-  /// measured, so that find_fault (experiment/run_fault.hpp) looks for itself
+  /// measured, so that find_fault (run/run_fault.hpp) looks for itself
   bool spheres_finite = false;
 };
 

@@ -1,6 +1,6 @@
 // deposition_config.hpp — the [deposition] table of a scene: how many spheres of which radii
 // are deposited into which cell, and how the capture radius r_capt is read (physics.md §8.1,
-// §16). The deposit itself is experiment/deposition.hpp's.
+// §16). The deposit itself is setup/deposition.hpp's.
 #pragma once
 
 #include <cstdint>

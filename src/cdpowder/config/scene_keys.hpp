@@ -8,7 +8,7 @@
 
 #include "cdpowder/config/scene.hpp"
 #include "cdpowder/config/table_reader.hpp"
-#include "cdpowder/solver/anderson.hpp"
+#include "cdpowder/solver/settings.hpp"
 
 #include <fmt/format.h>
 
@@ -67,8 +67,8 @@ inline constexpr EnumNames<VisitOrder, 3> kVisitOrderNames = {
     {{"random_each_step", VisitOrder::RandomEachStep},
      {"random_each_sweep", VisitOrder::RandomEachSweep},
      {"fixed", VisitOrder::Fixed}}};
-inline constexpr EnumNames<SweepKernel, 2> kSweepKernelNames = {
-    {{"scalar", SweepKernel::Scalar}, {"coloured", SweepKernel::Coloured}}};
+inline constexpr EnumNames<PassKernel, 2> kPassKernelNames = {
+    {{"scalar", PassKernel::Scalar}, {"coloured", PassKernel::Coloured}}};
 
 // The names of an enum-valued field's choices, found by its type.
 constexpr const auto& choices_of(CohesionRule /*unused*/) {
@@ -91,8 +91,8 @@ constexpr const auto& choices_of(VisitOrder /*unused*/) {
   return kVisitOrderNames;
 }
 
-constexpr const auto& choices_of(SweepKernel /*unused*/) {
-  return kSweepKernelNames;
+constexpr const auto& choices_of(PassKernel /*unused*/) {
+  return kPassKernelNames;
 }
 
 // The tables of a scene file, in the order the reader reads them (and reports in).
@@ -401,7 +401,7 @@ void visit_sweep_keys(auto& solver, auto&& visit) {
   visit(SceneKey{.table = table,
                  .name = "threads",
                  .minimum = 1,
-                 .maximum = kMaxSweepThreads,
+                 .maximum = kMaxSolverThreads,
                  .meaning = kThreadsMeaning,
                  .also_allowed = "; > 1 only with `kernel = \"coloured\"` (the default)"},
         solver.threads);
@@ -409,7 +409,7 @@ void visit_sweep_keys(auto& solver, auto&& visit) {
                  .name = "acceleration_depth",
                  .symbol = "m",
                  .minimum = 0,
-                 .maximum = AndersonAccelerator::kMaxDepth,
+                 .maximum = kMaxAndersonDepth,
                  .meaning = "Anderson acceleration history; 0 = plain NLGS (use 0 with "
                             "\"random_each_sweep\")"},
         solver.acceleration_depth);

@@ -321,12 +321,12 @@ void check_solver(TableReader& in, const Scene& s) {
   const CheckedKey threads = checked(in, s, solver.threads);
   const CheckedKey kernel = checked(in, s, solver.kernel);
   // only the coloured kernel's sweeps are split among threads
-  if (solver.threads > 1 && solver.kernel != SweepKernel::Coloured && !threads.failed() &&
+  if (solver.threads > 1 && solver.kernel != PassKernel::Coloured && !threads.failed() &&
       !kernel.failed()) {
     threads.report(
         fmt::format("got {}, but {} = \"scalar\" runs on one thread: expected 1, or "
                     "{} = \"coloured\" for 1 to {} threads",
-                    solver.threads, kernel.name(), kernel.name(), kMaxSweepThreads));
+                    solver.threads, kernel.name(), kernel.name(), kMaxSolverThreads));
   }
   const CheckedKey min_sweeps = checked(in, s, solver.min_sweeps);
   const CheckedKey max_sweeps = checked(in, s, solver.max_sweeps);

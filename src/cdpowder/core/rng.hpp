@@ -40,7 +40,7 @@ class Rng {
 };
 
 /// Stream ids: pcg32's second seed selects an independent sequence.
-enum class RngStream : std::uint64_t { SweepOrder = 1, Deposition = 2 };
+enum class RngStream : std::uint64_t { PassOrder = 1, Deposition = 2 };
 
 inline Rng make_rng(std::uint64_t seed, RngStream stream) {
   return {seed, static_cast<std::uint64_t>(stream)};

@@ -314,16 +314,4 @@ void build_local_problems(const World& world, const StepSettings& settings,
              "non-finite predicted velocity");
 }
 
-void apply_pair_action(const PairProblem& p, const ContactAction& delta, VelocityCache& v) {
-  apply_pair_delta(p, delta.normal_force * p.normal + delta.tangential_force,
-                   delta.rolling_torque + delta.twisting_torque * p.normal, v.spheres[p.a],
-                   v.spheres[p.b]);
-}
-
-void apply_wall_action(const WallProblem& w, const ContactAction& delta, VelocityCache& v) {
-  apply_wall_delta(w, delta.normal_force * w.normal + delta.tangential_force,
-                   delta.rolling_torque + delta.twisting_torque * w.normal, v.spheres[w.sphere],
-                   v.piston_velocity);
-}
-
 }  // namespace cdpowder

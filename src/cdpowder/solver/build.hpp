@@ -22,9 +22,4 @@ void build_local_problems(const World& world, const StepSettings& settings,
                           const ActionCache& cache, Contacts& contacts, VelocityCache& velocities,
                           PieceRunner* pieces = nullptr);
 
-/// Adds the velocity change that an action on a contact causes to both of its bodies
-/// (physics.md §5.5 "apply Δ"). Used for the warm start and by the kernels.
-void apply_pair_action(const PairProblem& p, const ContactAction& delta, VelocityCache& v);
-void apply_wall_action(const WallProblem& w, const ContactAction& delta, VelocityCache& v);
-
 }  // namespace cdpowder

@@ -38,7 +38,7 @@ enum class VisitOrder {
 };
 
 /// How a sweep solves the contacts (docs/performance.md, "Coloured kernel").
-enum class SweepKernel {
+enum class PassKernel {
   /// One contact after the other in the visiting order (two independent ones side by side);
   /// the order is a permutation of blocks of contacts.
   Scalar,
@@ -57,7 +57,7 @@ enum class SweepKernel {
 /// piston moving less than displacement_per_step × min(R_min, skin) per step; it grows by at
 /// most `growth` per step and stays within [dt_min, dt_max] (solver/time_step_control.hpp).
 /// A step that opened a contact by more than max_opening_per_step × d_coh is undone and
-/// repeated with a Δt scaled to the target (experiment/run_loop.cpp).
+/// repeated with a Δt scaled to the target (run/run_loop.cpp).
 struct TimeStepControl {
   bool adaptive = false;  ///< off: every step is SolverSettings::dt
   double dt_min = 1e-4;   ///< [t0]
@@ -75,7 +75,11 @@ struct TimeStepControl {
 
 /// Largest solver.threads: the workers spin during a step, so more threads than cores only
 /// slow a run down; 64 is a sanity bound, not a tested size.
-inline constexpr int kMaxSweepThreads = 64;
+inline constexpr int kMaxSolverThreads = 64;
+
+/// Largest solver.acceleration_depth: the Anderson fit is a kMaxAndersonDepth ×
+/// kMaxAndersonDepth problem at most (solver/nlgs/anderson.hpp).
+inline constexpr int kMaxAndersonDepth = 16;
 
 struct SolverSettings {
   double dt = 0.01;  ///< Δt [t0] (physics.md §3); the first step's Δt when adaptive
@@ -97,7 +101,7 @@ struct SolverSettings {
   int max_sweeps = 2000;  ///< N_max; a capped step is flagged in its report
   StoppingRule stopping_rule = StoppingRule::Residual;
   VisitOrder visit_order = VisitOrder::RandomEachStep;
-  SweepKernel kernel = SweepKernel::Coloured;
+  PassKernel kernel = PassKernel::Coloured;
   /// Threads of the coloured kernel's solve (docs/performance.md, "Two slabs"): a step cut
   /// into two slabs (slabs.hpp) solves them side by side, the same bits for any count. The
   /// scene reader rejects more than one with the scalar kernel; solve_nlgs runs that on one

@@ -10,14 +10,16 @@
 #include "cdpowder/detect/cell_grid.hpp"
 #include "cdpowder/detect/detect_contacts.hpp"
 #include "cdpowder/model/world.hpp"
-#include "cdpowder/solver/nlgs.hpp"
+#include "cdpowder/solver/nlgs/nlgs.hpp"
 #include "cdpowder/solver/settings.hpp"
 
 #include <array>
 
 namespace cdpowder {
 
-/// Stages of a step, in execution order; also the slots of StageTimes.
+/// Stages of a step, in execution order; also the slots of StageTimes. Analyse also holds the
+/// cohesive-opening gauge, which solve_step measures before stage 4 so that an adaptive Δt can
+/// undo the step before the World changes (physics.md §6.4).
 enum class Stage { DetectContacts, BuildLocalProblems, SolveNlgs, Integrate, Analyse, Count };
 
 /// Wall-clock seconds spent per stage.
@@ -85,7 +87,7 @@ void finish_step(World& world, StepWorkspace& work, const StepSettings& settings
 /// report.solver and the diagnostics' two cohesive-opening gauges (cohesive_opening.hpp).
 /// Leaves the World and the action cache as begin_step left them, so a step abandoned here
 /// is undone by restoring the sweep-order stream (work.solver.rng) alone: that is how an
-/// adaptive Δt solves a step again with a shorter Δt (experiment/run_loop.cpp). begin_step's
+/// adaptive Δt solves a step again with a shorter Δt (run/run_loop.cpp). begin_step's
 /// one change to the World, the periodic wrap of the positions, maps positions it has
 /// wrapped onto themselves (PeriodicBox::wrap).
 void solve_step(const World& world, StepWorkspace& work, const StepSettings& settings,

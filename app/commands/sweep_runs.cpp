@@ -1,0 +1,127 @@
+// sweep_runs.cpp — posix_spawn into a process group of its own, output into the run's log.
+#include "commands/sweep_runs.hpp"
+
+#include "commands/simulate.hpp"
+
+#include "cdpowder/run/run_folder.hpp"
+#include "cdpowder/run/state_file.hpp"
+#include "cdpowder/study/sweep_results.hpp"
+
+#include <fmt/format.h>
+
+#include <cerrno>
+#include <chrono>
+#include <csignal>
+#include <cstring>
+#include <fcntl.h>
+#include <fstream>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <thread>
+#include <unistd.h>
+
+extern char** environ;
+
+namespace cdpowder::app {
+
+RunningRuns::~RunningRuns() {
+  for (const auto& entry : runs) kill(entry.first, SIGTERM);
+  for (int waited = 0; !runs.empty() && waited < 600; ++waited) {  // ≤ 60 s, then kill
+    int status = 0;
+    const pid_t pid = waitpid(-1, &status, WNOHANG);
+    if (pid > 0) {
+      runs.erase(pid);
+    } else if (pid < 0 && errno == ECHILD) {
+      break;
+    } else {
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+  }
+  for (const auto& entry : runs) kill(entry.first, SIGKILL);
+  for (const auto& entry : runs) waitpid(entry.first, nullptr, 0);
+}
+
+bool has_usable_checkpoint(const std::filesystem::path& folder, const std::string& scene_text,
+                           std::string& why_not) {
+  const std::filesystem::path file = checkpoint_path(folder);
+  if (!std::filesystem::exists(file)) return false;
+  try {
+    const StateHeader header = read_state_header(file);
+    if (header.format_version != kStateFormatVersion) {
+      why_not = fmt::format("its checkpoint is of state format {}, this build reads format {}",
+                            header.format_version, kStateFormatVersion);
+      return false;
+    }
+    if (header.scene_toml != scene_text) {
+      why_not = "its checkpoint is of another scene";
+      return false;
+    }
+    return true;
+  } catch (const StateFileError& error) {
+    why_not = error.what();
+    return false;
+  }
+}
+
+pid_t start_run(const RunStart& run, std::string& error) {
+  const std::filesystem::path& folder = run.folder;
+  std::vector<std::string> args{"cdpowder", "resume", folder.string(), "--quiet"};
+  if (!run.resume) {
+    args = {"cdpowder", "compact", run.scene.string(), "--out", folder.string(), "--quiet"};
+    for (const SceneOverride& o : run.overrides) {
+      args.emplace_back("--set");
+      args.push_back(o.text);
+    }
+  }
+  if (run.checkpoint_every) {
+    args.emplace_back("--checkpoint-every");
+    args.push_back(fmt::format("{}", *run.checkpoint_every));
+  }
+  std::vector<char*> argv;
+  argv.reserve(args.size() + 1);
+  for (std::string& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+
+  const std::string log = (folder / "log.txt").string();
+  posix_spawn_file_actions_t files;
+  posix_spawn_file_actions_init(&files);
+  posix_spawn_file_actions_addopen(&files, STDOUT_FILENO, log.c_str(),
+                                   O_WRONLY | O_CREAT | (run.resume ? O_APPEND : O_TRUNC), 0644);
+  posix_spawn_file_actions_adddup2(&files, STDOUT_FILENO, STDERR_FILENO);
+  posix_spawnattr_t attributes;
+  posix_spawnattr_init(&attributes);
+  posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETPGROUP);
+  posix_spawnattr_setpgroup(&attributes, 0);
+  pid_t pid = 0;
+  const int failed = posix_spawn(&pid, kSelf, &files, &attributes, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&files);
+  posix_spawnattr_destroy(&attributes);
+  if (failed != 0) {
+    error = fmt::format("cannot start {}: {}", kSelf, std::strerror(failed));
+    return 0;
+  }
+  return pid;
+}
+
+RunExit run_exit(int status, const std::optional<RunSummary>& summary,
+                 const std::string& scene_text) {
+  const int code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  RunExit out;
+  out.fault = code == kExitFault;
+  out.unwritten = code == kExitOutputFailed;
+  out.counts =
+      (code == 0 || code == kExitNotBlocked || out.unwritten) && is_reusable(summary, scene_text);
+  return out;
+}
+
+std::string last_error_of(const std::filesystem::path& log) {
+  std::ifstream in(log);
+  std::string line;
+  std::string last;
+  while (std::getline(in, line)) {
+    if (line.starts_with("error: ")) last = line.substr(7);
+  }
+  return last.empty() ? "a run could not write its outputs, see " + log.string() : last;
+}
+
+}  // namespace cdpowder::app

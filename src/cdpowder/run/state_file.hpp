@@ -1,0 +1,112 @@
+// state_file.hpp — the full engine state in one versioned binary file: a run saved at step
+// k and continued from the file ends bit-identical to a run never stopped (tested in
+// tests/run/state_file_test.cpp). It is the program's checkpoint format and the fixture the
+// benchmarks start from; the determinism hashes (state_hash.hpp) encode the same sections
+// with the same serialiser. docs/outputs.md describes the layout.
+//
+// What a step needs from the past, and so what the file holds: the World (spheres, walls,
+// piston, cell, gravity, time, step), the warm-start cache (last step's contact actions,
+// which also carry the history cohesion rule), the sweep-order random stream, and the run
+// loop's RunState (counts, gauges, the blocked-state window, when the next static solve may
+// run). Everything else in a StepWorkspace is rebuilt at the start of every step. The
+// deposition stream is spent before the first step and is not needed to continue.
+// The resolved scene is stored as TOML text beside them, with the program version and
+// commit that wrote the file.
+#pragma once
+
+#include "cdpowder/contact/action_cache.hpp"
+#include "cdpowder/core/rng.hpp"
+#include "cdpowder/io/byte_stream.hpp"
+#include "cdpowder/model/world.hpp"
+#include "cdpowder/run/run_loop.hpp"
+#include "cdpowder/solver/step.hpp"
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <string_view>
+
+namespace cdpowder {
+
+/// Format of the files this build writes and the only one it reads. Bump it with every
+/// change of the layout (and say so in docs/outputs.md).
+inline constexpr std::uint32_t kStateFormatVersion = 1;
+
+/// The first eight bytes of every state file.
+inline constexpr std::string_view kStateFileMagic = "CDPSTATE";
+
+/// A state file's contents, decoded but not yet put back into the engine (restore_run).
+struct SavedRun {
+  std::uint32_t format_version = kStateFormatVersion;
+  std::string program_version;  ///< kVersion of the build that wrote the file
+  std::string git_commit;       ///< kGitCommit of that build
+  std::string scene_toml;       ///< the resolved scene of the run (Scene::effective_toml)
+  World world;
+  ActionCache actions;
+  Rng sweep_order;  ///< NlgsWorkspace::rng
+  RunResult result;
+  std::optional<BlockedStateDetector::Memory> detector;
+  double last_rest_check = 0.0;
+  double last_probe = 0.0;
+  int deferred_windows = 0;
+  bool probing = true;
+  bool started = false;
+  double start_time = 0.0;
+  double dt = 0.0;
+};
+
+/// The World and the warm-start actions through the shared serialiser (also state_hash):
+/// write_actions saves the actions of the last committed step's contacts
+/// (last_step_contacts, solver/step.hpp) that carry over; read_actions gives them back as the
+/// cache the next step starts from.
+void write_world(ByteWriter& out, const World& world);
+World read_world(ByteReader& in);
+void write_actions(ByteWriter& out, const Contacts& last_step);
+ActionCache read_actions(ByteReader& in);
+
+/// The whole file's bytes for a run after some steps.
+std::string encode_state(std::string_view scene_toml, const World& world, const StepWorkspace& work,
+                         const RunState& run);
+
+/// Decodes a state file's bytes. Throws StateFileError, naming `source`, for anything that
+/// is not a complete state file of kStateFormatVersion (another format is refused with both
+/// version numbers: there is no silent conversion).
+SavedRun decode_state(std::string_view bytes, const std::string& source);
+
+/// Writes the state atomically (a temporary file renamed into place: a crash while writing
+/// leaves the previous file intact).
+void save_state(const std::filesystem::path& path, std::string_view scene_toml, const World& world,
+                const StepWorkspace& work, const RunState& run);
+
+/// Reads and decodes a state file. Throws StateFileError.
+SavedRun load_state(const std::filesystem::path& path);
+
+/// The start of a state file: who wrote it and for which scene, read without decoding (or
+/// checking) the rest, so that a caller can decide what to do with a file of another format
+/// or another build before reading it whole (a sweep choosing between continuing a run from
+/// its checkpoint and starting it again).
+struct StateHeader {
+  std::uint32_t format_version = 0;
+  std::string program_version;
+  std::string git_commit;
+  std::string scene_toml;
+};
+
+/// Reads the header of the state file `path`. Throws StateFileError for a file that cannot
+/// be read or does not start as a state file; another format version is returned, not
+/// refused (its scene is then left empty: its layout is unknown).
+StateHeader read_state_header(const std::filesystem::path& path);
+
+/// Whether a file written by the build `program_version` (commit `git_commit`) comes from
+/// another build than this one: a run continued from it then goes on with other code, and
+/// does not end bit-identical to the run never stopped.
+bool written_by_another_build(std::string_view program_version, std::string_view git_commit);
+
+/// Puts a saved run back: the World, the workspace's warm-start cache and sweep-order
+/// stream, and the loop's state with its blocked-state window for `run` and `dt` (the
+/// scene's; Throws StateFileError if the window's length does not match them).
+void restore_run(SavedRun saved, const RunConfig& run, double dt, World& world, StepWorkspace& work,
+                 RunState& state);
+
+}  // namespace cdpowder

@@ -1,0 +1,22 @@
+// state_hash.cpp — the state file's World and action sections, hashed.
+#include "cdpowder/run/state_hash.hpp"
+
+#include "cdpowder/io/byte_stream.hpp"
+#include "cdpowder/run/state_file.hpp"
+
+#include <fmt/format.h>
+
+namespace cdpowder {
+
+std::uint64_t state_hash(const World& world, const StepWorkspace& work) {
+  ByteWriter bytes;
+  write_world(bytes, world);
+  write_actions(bytes, last_step_contacts(work));
+  return fnv1a64(bytes.bytes());
+}
+
+std::string hash_text(std::uint64_t hash) {
+  return fmt::format("{:#018x}", hash);
+}
+
+}  // namespace cdpowder

@@ -1,0 +1,200 @@
+// anderson.cpp — the least-squares mixing of Anderson acceleration (type II).
+#include "cdpowder/solver/nlgs/anderson.hpp"
+
+#include "cdpowder/core/lanes.hpp"
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <array>
+#include <cstring>
+#include <type_traits>
+#include <utility>
+
+namespace cdpowder {
+
+namespace {
+
+/// Calls f(std::integral_constant<int, count>) for count < kUnrolled, so the loops below
+/// keep their per-slot sums in registers and unroll over the slots; larger counts run the
+/// generic loop (f(std::integral_constant<int, -1>)). The arithmetic, and its order for
+/// every sum, is the same either way: results are bit-identical.
+constexpr int kUnrolled = 10;
+
+template <class F, int... I>
+void dispatch_impl(int count, F&& f, std::integer_sequence<int, I...>) {
+  const bool found = ((count == I ? (f(std::integral_constant<int, I>{}), true) : false) || ...);
+  if (!found) f(std::integral_constant<int, -1>{});
+}
+
+template <class F>
+void dispatch_by_count(int count, F&& f) {
+  dispatch_impl(count, f, std::make_integer_sequence<int, kUnrolled>{});
+}
+
+using SlotPointers = std::array<const double*, AndersonAccelerator::kMaxDepth>;
+using SlotWeights = std::array<double, AndersonAccelerator::kMaxDepth>;
+
+/// The vectors pass 1 streams through: the iterates x and g, the last f and g (updated), the
+/// new slot's differences (written); n doubles each.
+struct PassOneVectors {
+  const double* x;
+  const double* g;
+  double* last_f;
+  double* last_g;
+  double* new_f;
+  double* new_g;
+  std::size_t n;
+};
+
+using PassOneSums = AndersonAccelerator::PassSums;
+
+// The passes over the long vectors, compiled for SSE2 (the x86-64 baseline) and for AVX2
+// (chosen at run time, lanes.hpp): a 4-double vector is two SSE2 registers or one AVX
+// register, the same operations on the same operands, so the same bits.
+#define CDP_LANE_CODE "cdpowder/solver/nlgs/anderson_lanes.inc"
+#include "cdpowder/core/lanes_instantiate.inc"
+
+}  // namespace
+
+void AndersonAccelerator::set_depth(int depth) {
+  depth_ = std::clamp(depth, 1, kMaxDepth);
+  size_ = 0;  // the slot layout depends on the depth: lay out again on next use
+  reset();
+}
+
+void AndersonAccelerator::reset() {
+  has_last_ = false;
+  count_ = 0;
+  newest_ = 0;
+}
+
+bool AndersonAccelerator::extrapolate(const AlignedVector<double>& x,
+                                      const AlignedVector<double>& g, AlignedVector<double>& next) {
+  const std::size_t n = x.size();
+  next.resize(n);
+  begin(n);
+  const PassSums sums = pass(x.data(), g.data(), 0, n);
+  if (!fit(std::span<const PassSums>(&sums, 1))) {
+    std::copy(g.begin(), g.end(), next.begin());
+    return false;
+  }
+  mix(g.data(), next.data(), 0, n);
+  return true;
+}
+
+void AndersonAccelerator::begin(std::size_t n) {
+  if (n != size_) {
+    size_ = n;
+    constexpr std::size_t kLine = kCacheLine / sizeof(double);
+    stride_ = (n + kLine - 1) / kLine * kLine;
+    last_f_.resize(n);
+    last_g_.resize(n);
+    delta_f_.resize(stride_ * static_cast<std::size_t>(depth_));
+    delta_g_.resize(stride_ * static_cast<std::size_t>(depth_));
+    reset();
+  }
+  first_ = !has_last_;
+  has_last_ = true;
+  if (first_) return;
+  // the new difference goes to a free slot, or over the oldest one
+  slot_ = count_ < depth_ ? count_ : (newest_ + 1) % depth_;
+  count_ = std::min(count_ + 1, depth_);
+  newest_ = slot_;
+  n_others_ = 0;
+  for (int s = 0; s < count_; ++s) {
+    if (s != slot_) others_[static_cast<std::size_t>(n_others_++)] = s;
+  }
+}
+
+AndersonAccelerator::PassSums AndersonAccelerator::pass(const double* x, const double* g,
+                                                        std::size_t first, std::size_t last) {
+  PassSums sums;
+  if (first_) {
+    for (std::size_t i = first; i < last; ++i) {
+      last_f_[i] = g[i] - x[i];
+      last_g_[i] = g[i];
+    }
+    return sums;
+  }
+  // pass 1: f = g − x, the new differences, ΔF_newᵀΔF_s and ΔF_sᵀ f for every slot
+  SlotPointers other_f{};
+  for (int j = 0; j < n_others_; ++j) {
+    other_f[static_cast<std::size_t>(j)] =
+        delta_f_.data() + static_cast<std::size_t>(others_[static_cast<std::size_t>(j)]) * stride_ +
+        first;
+  }
+  double* new_f = delta_f_.data() + static_cast<std::size_t>(slot_) * stride_;
+  double* new_g = delta_g_.data() + static_cast<std::size_t>(slot_) * stride_;
+  const PassOneVectors vectors{
+      x + first,     g + first,   last_f_.data() + first, last_g_.data() + first, new_f + first,
+      new_g + first, last - first};
+  CDP_LANES_FOR_CPU(pass_one)(vectors, other_f, n_others_, sums);
+  return sums;
+}
+
+bool AndersonAccelerator::fit(std::span<const PassSums> ranges) {
+  if (first_) return false;
+  // the ranges' sums added range by range
+  PassSums sums = ranges.front();
+  for (std::size_t r = 1; r < ranges.size(); ++r) {
+    for (int j = 0; j < n_others_; ++j) {
+      sums.cross[static_cast<std::size_t>(j)] += ranges[r].cross[static_cast<std::size_t>(j)];
+      sums.rhs[static_cast<std::size_t>(j)] += ranges[r].rhs[static_cast<std::size_t>(j)];
+    }
+    sums.new_new += ranges[r].new_new;
+    sums.new_rhs += ranges[r].new_rhs;
+  }
+  SlotWeights& cross = sums.cross;  // ΔF_newᵀ ΔF_other[j]
+  SlotWeights& rhs = sums.rhs;      // ΔF_other[j]ᵀ f, then ΔF_newᵀ f of the new slot
+  const auto at = [](int s, int t) {
+    return static_cast<std::size_t>(s) * kMaxDepth + static_cast<std::size_t>(t);
+  };
+  gram_[at(slot_, slot_)] = sums.new_new;
+  for (int j = 0; j < n_others_; ++j) {
+    const int s = others_[static_cast<std::size_t>(j)];
+    gram_[at(slot_, s)] = gram_[at(s, slot_)] = cross[static_cast<std::size_t>(j)];
+  }
+
+  // normal equations (ΔFᵀΔF + λ I) γ = ΔFᵀ f over the slots [others..., slot], λ a
+  // relative Tikhonov term against nearly parallel differences; fixed capacity, no allocation
+  using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxDepth, kMaxDepth>;
+  using SmallVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxDepth, 1>;
+  const int k = n_others_ + 1;
+  std::array<int, kMaxDepth> slots = others_;
+  slots[static_cast<std::size_t>(n_others_)] = slot_;
+  rhs[static_cast<std::size_t>(n_others_)] = sums.new_rhs;
+  Small normal(k, k);
+  SmallVector right(k);
+  for (int a = 0; a < k; ++a) {
+    right(a) = rhs[static_cast<std::size_t>(a)];
+    for (int b = 0; b < k; ++b) {
+      normal(a, b) =
+          gram_[at(slots[static_cast<std::size_t>(a)], slots[static_cast<std::size_t>(b)])];
+    }
+  }
+  const double lambda = 1e-12 * normal.trace();
+  normal.diagonal().array() += lambda > 0.0 ? lambda : 1e-300;
+  const SmallVector gamma = normal.ldlt().solve(right);
+  if (!gamma.allFinite()) return false;
+  fitted_ = k;
+  for (int a = 0; a < k; ++a) {
+    others_[static_cast<std::size_t>(a)] = slots[static_cast<std::size_t>(a)];
+    weights_[static_cast<std::size_t>(a)] = gamma(a);
+  }
+  return true;
+}
+
+void AndersonAccelerator::mix(const double* g, double* next, std::size_t first,
+                              std::size_t last) const {
+  // pass 2: next = g − Σ γ_s ΔG_s
+  SlotPointers slot_g{};
+  for (int a = 0; a < fitted_; ++a) {
+    slot_g[static_cast<std::size_t>(a)] =
+        delta_g_.data() + static_cast<std::size_t>(others_[static_cast<std::size_t>(a)]) * stride_ +
+        first;
+  }
+  CDP_LANES_FOR_CPU(mix)(g + first, slot_g, weights_, fitted_, next + first, last - first);
+}
+
+}  // namespace cdpowder

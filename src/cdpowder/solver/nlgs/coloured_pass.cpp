@@ -1,0 +1,590 @@
+// coloured_sweep.cpp — batches of independent pair contacts, and of bottom-wall contacts,
+// solved side by side (coloured_sweep.hpp). The lane arithmetic is solve_pair's (solve_wall's
+// for the walls), operation for operation (Eigen's 3-vector dot products sum left to right, its
+// cross products are the textbook formula), with the kernel's two branches computed in every
+// lane and selected: the same bits, contact by contact (coloured_kernel.inc). The kernel is
+// compiled three times: for SSE2 (2 lanes per register, the x86-64 baseline without -march flags),
+// for AVX2 (4 lanes) and for AVX-512 (8 lanes: two batches of a colour), chosen at run time. None
+// uses fused multiply-add (-ffp-contract=off), so the results do not depend on the machine.
+#include "cdpowder/solver/nlgs/coloured_pass.hpp"
+
+#include "cdpowder/contact/velocity_change.hpp"
+#include "cdpowder/core/assert.hpp"
+#include "cdpowder/core/lanes.hpp"
+#include "cdpowder/core/pieces.hpp"
+#include "cdpowder/solver/nlgs/visit_contact.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <numeric>
+#include <span>
+#include <type_traits>
+
+namespace cdpowder {
+
+// The kernel for SSE2 (the x86-64 baseline, 2 lanes per register), AVX2 (4 lanes) and
+// AVX-512 (8 lanes: two batches per call), chosen at run time: the same IEEE operations on the
+// same operands, so the same bits.
+#define CDP_LANE_CODE "cdpowder/solver/nlgs/coloured_kernel.inc"
+#define CDP_LANE_CODE_AVX512
+#include "cdpowder/core/lanes_instantiate.inc"
+
+namespace {
+
+/// Lane `lane` of `pair`: pair contact k (in colour order) of the step, pairs[k].
+void fill_lane(const std::vector<PairProblem>& pairs, const VelocityCache& velocities,
+               ContactIndex k, std::size_t lane, BatchPair& pair) {
+  const PairProblem& p = pairs[k];
+  const SphereVelocity& a = velocities.spheres[p.a];
+  const SphereVelocity& b = velocities.spheres[p.b];
+  pair.x_row[lane] = k * kRecordDoubles;
+  pair.a_row[lane] = p.a * kRecordDoubles;
+  pair.b_row[lane] = p.b * kRecordDoubles;
+  pair.nx[lane] = p.normal.x();
+  pair.ny[lane] = p.normal.y();
+  pair.nz[lane] = p.normal.z();
+  pair.gap_rate[lane] = p.gap_rate;
+  pair.lever_a[lane] = p.lever_a;
+  pair.lever_b[lane] = p.lever_b;
+  pair.inv_dt_w_n[lane] = p.inv_dt_w_n;
+  pair.inv_dt_w_t[lane] = p.inv_dt_w_t;
+  pair.inv_dt_w_r[lane] = p.inv_dt_w_r;
+  pair.cohesion[lane] = p.cohesion;
+  pair.mu[lane] = p.mu;
+  pair.roll_cap[lane] = p.roll_cap;
+  pair.twist_cap[lane] = p.twist_cap;
+  const detail::ModeBlock block = pair_mode_block(p, a, b);
+  pair.coupling[lane] = block.coupling;
+  pair.inv_r_sq[lane] = block.inv_r_sq;
+  pair.mass_a[lane] = a.dt_inverse_mass;
+  pair.inertia_a[lane] = a.dt_inverse_inertia;
+  pair.mass_b[lane] = b.dt_inverse_mass;
+  pair.inertia_b[lane] = b.dt_inverse_inertia;
+}
+
+/// Lane `lane` of `pair`: wall contact w of the step (a bottom-wall contact), with solve_wall's
+/// mode constants.
+void fill_wall_lane(const Contacts& contacts, const VelocityCache& velocities, ContactIndex w,
+                    std::size_t lane, WallBatchPair& pair) {
+  const WallProblem& p = contacts.walls[w];
+  const SphereVelocity& s = velocities.spheres[p.sphere];
+  pair.x_row[lane] = w * kRecordDoubles;
+  pair.s_row[lane] = p.sphere * kRecordDoubles;
+  pair.nx[lane] = p.normal.x();
+  pair.ny[lane] = p.normal.y();
+  pair.nz[lane] = p.normal.z();
+  pair.gap_rate[lane] = p.gap_rate;
+  pair.radius[lane] = p.radius;
+  pair.inv_dt_w_n[lane] = p.inv_dt_w_n;
+  pair.inv_dt_w_t[lane] = p.inv_dt_w_t;
+  pair.inv_dt_w_r[lane] = p.inv_dt_w_r;
+  pair.cohesion[lane] = p.cohesion;
+  pair.mu[lane] = p.mu;
+  pair.roll_cap[lane] = p.roll_cap;
+  pair.twist_cap[lane] = p.twist_cap;
+  pair.coupling[lane] = -p.radius * s.dt_inverse_inertia;
+  pair.inv_r_sq[lane] = detail::torque_scale_sq(p.radius);
+  pair.mass[lane] = s.dt_inverse_mass;
+  pair.inertia[lane] = s.dt_inverse_inertia;
+}
+
+/// Batches (BatchPair or WallBatchPair) in use for `count` contacts, with the padding batch.
+std::size_t batches_for(std::size_t count) {
+  const std::size_t batches = (count + kBatchLanes - 1) / kBatchLanes;
+  return batches + batches % 2;
+}
+
+/// Fills batches next, next + 1, … of `pairs` with contacts member(begin) … member(end − 1),
+/// fill(contact, lane, pair) writing one lane: unused lanes repeat a used lane of their
+/// register pair (lane 0 where it has none), and a padding batch (no lane in use) repeats the
+/// first batch of its pair when the batches are odd in number (BatchPair).
+template <typename Pair, typename Member, typename Fill>
+void fill_batches(std::uint32_t begin, std::uint32_t end, const Member& member, const Fill& fill,
+                  std::vector<Pair>& pairs, std::size_t& next) {
+  for (std::uint32_t m = begin; m < end; m += kBatchLanes) {
+    Pair& pair = pairs[next / 2];
+    const std::size_t half = next % 2;
+    ++next;
+    const std::uint32_t lanes = std::min<std::uint32_t>(kBatchLanes, end - m);
+    pair.lanes[half] = lanes;
+    for (std::uint32_t l = 0; l < kBatchLanes; ++l) {
+      const std::uint32_t pair_first = l & ~std::uint32_t{1};
+      const std::uint32_t lane = l < lanes ? l : (pair_first < lanes ? pair_first : 0);
+      fill(member(m + lane), half * kBatchLanes + l, pair);
+    }
+  }
+  if (next % 2 != 0) {  // padding: the first batch again, no lane in use
+    Pair& pair = pairs[next / 2];
+    ++next;
+    pair.lanes[1] = 0;
+    for (std::uint32_t l = 0; l < kBatchLanes; ++l) {
+      fill(static_cast<ContactIndex>(pair.x_row[l] / kRecordDoubles), kBatchLanes + l, pair);
+    }
+  }
+}
+
+}  // namespace
+
+namespace {
+
+static_assert(sizeof(BodyIndex) == 4, "a pair's two spheres in one 64-bit key");
+
+std::uint64_t pair_key_of(const PairProblem& p) {
+  return static_cast<std::uint64_t>(p.a) << 32 | p.b;
+}
+
+std::uint64_t wall_key_of(const WallProblem& w) {
+  return static_cast<std::uint64_t>(w.sphere) << 32 | static_cast<std::uint64_t>(w.wall);
+}
+
+/// The values of part p's batches and wall batches filled again lane by lane, each lane from
+/// the contact its row names (pairs in colour order, `pairs`): what build_batches writes, when
+/// the colouring and the rows are those of its last call.
+void refill_part(const std::vector<PairProblem>& pairs, const Contacts& contacts,
+                 const VelocityCache& velocities, std::size_t part, ColouredPass& sweep) {
+  const PairColouring& colouring = sweep.colouring;
+  const std::uint32_t first = sweep.colour_batches[colouring.first_colour(part)] / 2;
+  const std::uint32_t last = sweep.colour_batches[colouring.first_colour(part + 1)] / 2;
+  for (std::uint32_t i = first; i < last; ++i) {
+    BatchPair& pair = sweep.batch_pairs[i];
+    for (std::size_t lane = 0; lane < kPairLanes; ++lane) {
+      fill_lane(pairs, velocities, pair.x_row[lane] / kRecordDoubles, lane, pair);
+    }
+  }
+  for (std::uint32_t i = sweep.part_wall_batches[part] / 2;
+       i < sweep.part_wall_batches[part + 1] / 2; ++i) {
+    WallBatchPair& pair = sweep.wall_batch_pairs[i];
+    for (std::size_t lane = 0; lane < kPairLanes; ++lane) {
+      fill_wall_lane(contacts, velocities, pair.x_row[lane] / kRecordDoubles, lane, pair);
+    }
+  }
+}
+
+}  // namespace
+
+bool ColouringInputs::match(const std::vector<PairProblem>& pairs,
+                            const std::vector<WallProblem>& walls,
+                            std::span<const std::uint8_t> slab, std::size_t chunk) const {
+  if (!recorded_ || chunk != chunk_ || pairs.size() != pairs_.size() ||
+      walls.size() != walls_.size() ||
+      !std::equal(slab.begin(), slab.end(), slab_.begin(), slab_.end())) {
+    return false;
+  }
+  for (std::size_t k = 0; k < pairs_.size(); ++k) {
+    if (pair_key_of(pairs[k]) != pairs_[k]) return false;
+  }
+  for (std::size_t w = 0; w < walls_.size(); ++w) {
+    if (wall_key_of(walls[w]) != walls_[w]) return false;
+  }
+  return true;
+}
+
+void ColouringInputs::record(const std::vector<PairProblem>& pairs,
+                             const std::vector<WallProblem>& walls,
+                             std::span<const std::uint8_t> slab, std::size_t chunk) {
+  pairs_.resize(pairs.size());
+  for (std::size_t k = 0; k < pairs_.size(); ++k) pairs_[k] = pair_key_of(pairs[k]);
+  walls_.resize(walls.size());
+  for (std::size_t w = 0; w < walls_.size(); ++w) walls_[w] = wall_key_of(walls[w]);
+  slab_.assign(slab.begin(), slab.end());
+  chunk_ = chunk;
+  recorded_ = true;
+}
+
+void build_batches(const Contacts& contacts, const VelocityCache& velocities, ColouredPass& sweep) {
+  sweep.built_from.forget();
+  const PairColouring& colouring = sweep.colouring;
+  const std::size_t colours = colouring.colours();
+  // Every field of every lane is written below, so the vector keeps last step's pairs of
+  // batches (clearing and value-initialising them again cost ≈ 40 instructions per pair on the
+  // paper's fronts). Unused lanes and padding batches repeat used lanes (BatchPair); on SSE2 a
+  // register pair of lanes with none in use is not solved, as a repeat there would follow the
+  // first solve.
+  std::size_t batch_count = 0;
+  for (std::size_t c = 0; c < colours; ++c) {
+    batch_count += batches_for(colouring.colour_start[c + 1] - colouring.colour_start[c]);
+  }
+  sweep.batch_pairs.resize(batch_count / 2);
+  // the records' offsets in BatchPair are 32-bit
+  CDP_ASSERT(contacts.pairs.size() <= UINT32_MAX / kRecordDoubles &&
+                 contacts.walls.size() <= UINT32_MAX / kRecordDoubles &&
+                 velocities.spheres.size() <= UINT32_MAX / kRecordDoubles,
+             "records addressable by 32-bit offsets");
+  sweep.colour_batches.assign(colours + 1, 0);
+  std::size_t next = 0;
+  const auto fill_pair = [&](ContactIndex k, std::size_t lane, BatchPair& pair) {
+    fill_lane(contacts.pairs, velocities, k, lane, pair);
+  };
+  for (std::size_t c = 0; c < colours; ++c) {
+    fill_batches(
+        colouring.colour_start[c], colouring.colour_start[c + 1],
+        [&](std::uint32_t m) { return colouring.members[m]; }, fill_pair, sweep.batch_pairs, next);
+    sweep.colour_batches[c + 1] = static_cast<std::uint32_t>(next);
+  }
+  CDP_ASSERT(next == batch_count, "every batch filled");
+  // part p's sequential group: its overflow pairs, then its wall contacts; of these, the
+  // bottom-wall contacts before the first piston contact go into wall batches
+  const auto n_pairs = static_cast<ContactIndex>(contacts.pairs.size());
+  sweep.sequential.clear();
+  sweep.group_order.clear();
+  std::size_t wall_batch_count = 0;
+  for (std::size_t p = 0; p < kPassParts; ++p) {
+    sweep.part_sequential[p] = static_cast<std::uint32_t>(sweep.sequential.size());
+    sweep.sequential.insert(sweep.sequential.end(),
+                            colouring.overflow.begin() + colouring.part_overflow[p],
+                            colouring.overflow.begin() + colouring.part_overflow[p + 1]);
+    const auto bottom_first = static_cast<std::uint32_t>(sweep.sequential.size());
+    std::uint32_t bottom_last = bottom_first;
+    for (std::size_t w = 0; w < contacts.walls.size(); ++w) {
+      const std::size_t part = sweep.wall_part.empty() ? 0 : sweep.wall_part[w];
+      if (part != p) continue;
+      if (contacts.walls[w].wall == WallKind::Bottom &&
+          bottom_last == static_cast<std::uint32_t>(sweep.sequential.size())) {
+        ++bottom_last;
+      }
+      sweep.sequential.push_back(n_pairs + static_cast<ContactIndex>(w));
+    }
+    sweep.bottom_walls[p] = {bottom_first, bottom_last};
+    // side by side only if no two share a sphere: detection lists them in sphere order, one
+    // per sphere at most (debug builds check it)
+    CDP_ASSERT(std::adjacent_find(sweep.sequential.begin() + bottom_first,
+                                  sweep.sequential.begin() + bottom_last,
+                                  [&](ContactIndex k, ContactIndex after) {
+                                    return contacts.walls[k - n_pairs].sphere >=
+                                           contacts.walls[after - n_pairs].sphere;
+                                  }) == sweep.sequential.begin() + bottom_last,
+               "bottom-wall contacts in increasing sphere order");
+    wall_batch_count += batches_for(bottom_last - bottom_first);
+    // the part's colours in storage order, then its sequential group
+    sweep.part_groups[p] = static_cast<std::uint32_t>(sweep.group_order.size());
+    for (std::uint32_t c = colouring.first_colour(p); c < colouring.first_colour(p + 1); ++c) {
+      sweep.group_order.push_back(c);
+    }
+    sweep.group_order.push_back(static_cast<std::uint32_t>(colours + p));
+  }
+  sweep.part_sequential[kPassParts] = static_cast<std::uint32_t>(sweep.sequential.size());
+  sweep.part_groups[kPassParts] = static_cast<std::uint32_t>(sweep.group_order.size());
+  // the bottom-wall batches, part by part
+  sweep.wall_batch_pairs.resize(wall_batch_count / 2);
+  const auto fill_wall = [&](ContactIndex w, std::size_t lane, WallBatchPair& pair) {
+    fill_wall_lane(contacts, velocities, w, lane, pair);
+  };
+  std::size_t next_wall = 0;
+  for (std::size_t p = 0; p < kPassParts; ++p) {
+    sweep.part_wall_batches[p] = static_cast<std::uint32_t>(next_wall);
+    fill_batches(
+        sweep.bottom_walls[p].first, sweep.bottom_walls[p].second,
+        [&](std::uint32_t j) { return sweep.sequential[j] - n_pairs; }, fill_wall,
+        sweep.wall_batch_pairs, next_wall);
+  }
+  sweep.part_wall_batches[kPassParts] = static_cast<std::uint32_t>(next_wall);
+  CDP_ASSERT(next_wall == wall_batch_count, "every wall batch filled");
+}
+
+namespace {
+
+/// out[i] = v[from[i]] for i in [first, last) (`out` sized by the caller)
+template <typename T>
+void gather_range(const std::vector<T>& v, const std::vector<ContactIndex>& from, std::size_t first,
+                  std::size_t last, std::vector<T>& out) {
+  for (std::size_t i = first; i < last; ++i) out[i] = v[from[i]];
+}
+
+/// v[i] = old v[from[i]]
+template <typename T>
+void gather_into(std::vector<T>& v, const std::vector<ContactIndex>& from,
+                 std::vector<T>& scratch) {
+  scratch.resize(v.size());
+  gather_range(v, from, 0, from.size(), scratch);
+  v.swap(scratch);
+}
+
+/// v[from[i]] = old v[i]
+template <typename T>
+void scatter_back(std::vector<T>& v, const std::vector<ContactIndex>& from,
+                  std::vector<T>& scratch) {
+  scratch.resize(v.size());
+  for (std::size_t i = 0; i < from.size(); ++i) scratch[from[i]] = v[i];
+  v.swap(scratch);
+}
+
+}  // namespace
+
+namespace {
+
+/// The part of pair p (slab.empty(): 0): 0 or 1 inside a slab, 2 across the cut.
+std::uint8_t part_of(const PairProblem& p, std::span<const std::uint8_t> slab) {
+  if (slab.empty()) return 0;
+  return slab[p.a] == slab[p.b] ? slab[p.a] : 2;
+}
+
+/// Each wall contact's part: a bottom-wall contact is in its sphere's slab; the piston's
+/// contacts share the piston's velocity, so all of them are in slab 1 when all their spheres
+/// are, else across the cut.
+void assign_wall_parts(const Contacts& contacts, std::span<const std::uint8_t> slab,
+                       std::vector<std::uint8_t>& wall_part) {
+  wall_part.clear();
+  if (slab.empty()) return;
+  wall_part.resize(contacts.walls.size());
+  std::uint8_t piston = 1;
+  for (const WallProblem& w : contacts.walls) {
+    if (w.wall == WallKind::Piston && slab[w.sphere] != 1) piston = 2;
+  }
+  for (std::size_t k = 0; k < contacts.walls.size(); ++k) {
+    const WallProblem& w = contacts.walls[k];
+    wall_part[k] = w.wall == WallKind::Piston ? piston : slab[w.sphere];
+  }
+}
+
+}  // namespace
+
+namespace {
+
+/// A step whose colouring is kept (ColouringInputs): part by part (on two threads when `pieces`
+/// has them), the part's pairs and actions into colour order (its members, and for the part
+/// across the cut also the overflow pairs, are a range of it), then its batches' values from
+/// them. The members are colour-order indices already (set by the build from these inputs).
+void refill_kept_colouring(Contacts& contacts, const VelocityCache& velocities, ColouredPass& sweep,
+                           PieceRunner* pieces) {
+  const PairColouring& colouring = sweep.colouring;
+  const std::vector<ContactIndex>& from = sweep.storage_index;
+  std::vector<PairProblem>& pairs = sweep.stored_pairs;
+  std::vector<ContactAction>& actions = sweep.action_scratch;
+  pairs.resize(contacts.pairs.size());
+  actions.resize(contacts.pair_actions.size());
+  run_pieces(pieces, kPassParts, [&](std::uint32_t part) {
+    const std::size_t first = colouring.first_member(part);
+    const std::size_t last =
+        part + 1 < kPassParts ? colouring.first_member(part + 1) : contacts.pairs.size();
+    gather_range(contacts.pairs, from, first, last, pairs);
+    gather_range(contacts.pair_actions, from, first, last, actions);
+    refill_part(pairs, contacts, velocities, part, sweep);
+  });
+  contacts.pairs.swap(pairs);
+  contacts.pair_actions.swap(actions);
+}
+
+}  // namespace
+
+void prepare_coloured_pass(Contacts& contacts, const VelocityCache& velocities, ColouredPass& sweep,
+                           std::size_t chunk, std::span<const std::uint8_t> slab,
+                           PieceRunner* pieces) {
+  // the pairs are only read while they are in colour order: their storage order stays in
+  // stored_pairs and comes back by a swap; the cohesion flags are not read by the sweeps and
+  // stay in storage order
+  if (sweep.built_from.match(contacts.pairs, contacts.walls, slab, chunk)) {
+    refill_kept_colouring(contacts, velocities, sweep, pieces);
+    sweep.in_colour_order = true;
+    return;
+  }
+  // whatever the record described is overwritten from here on
+  sweep.built_from.forget();
+  // the pairs part by part, each part in storage order (a counting sort)
+  std::array<std::uint32_t, kPassParts + 1> part_start{};
+  for (const PairProblem& p : contacts.pairs) ++part_start[part_of(p, slab) + 1];
+  for (std::size_t p = 0; p < kPassParts; ++p) part_start[p + 1] += part_start[p];
+  std::vector<ContactIndex>& order = sweep.part_order;
+  order.resize(contacts.pairs.size());
+  std::array<std::uint32_t, kPassParts + 1> next = part_start;
+  for (std::size_t k = 0; k < contacts.pairs.size(); ++k) {
+    order[next[part_of(contacts.pairs[k], slab)]++] = static_cast<ContactIndex>(k);
+  }
+  PairColouring& colouring = sweep.colouring;
+  colour_parts(contacts.pairs, order, part_start, velocities.spheres.size(), kMaxColours, chunk,
+               colouring, sweep.masks);
+  assign_wall_parts(contacts, slab, sweep.wall_part);
+  // store the pairs in the order the batches visit them, overflow last
+  std::vector<ContactIndex>& from = sweep.storage_index;
+  from.assign(colouring.members.begin(), colouring.members.end());
+  from.insert(from.end(), colouring.overflow.begin(), colouring.overflow.end());
+  gather_into(contacts.pairs, from, sweep.stored_pairs);
+  gather_into(contacts.pair_actions, from, sweep.action_scratch);
+  sweep.in_colour_order = true;
+  std::iota(colouring.members.begin(), colouring.members.end(), ContactIndex{0});
+  std::iota(colouring.overflow.begin(), colouring.overflow.end(),
+            static_cast<ContactIndex>(colouring.members.size()));
+  build_batches(contacts, velocities, sweep);
+  // (the pairs in storage order are in stored_pairs now)
+  sweep.built_from.record(sweep.stored_pairs, contacts.walls, slab, chunk);
+}
+
+void restore_storage_order(Contacts& contacts, ColouredPass& sweep) {
+  if (!sweep.in_colour_order) return;  // not prepared
+  const std::vector<ContactIndex>& from = sweep.storage_index;
+  CDP_ASSERT(from.size() == contacts.pairs.size(), "a storage index per pair");
+  // unchanged by the sweeps, so stored_pairs is still their storage order (debug builds check
+  // that the two hold the same pairs)
+  CDP_ASSERT(sweep.stored_pairs.size() == from.size() &&
+                 std::equal(from.begin(), from.end(), contacts.pairs.begin(),
+                            [&](ContactIndex stored, const PairProblem& p) {
+                              const PairProblem& q = sweep.stored_pairs[stored];
+                              return q.a == p.a && q.b == p.b;
+                            }),
+             "the pairs in colour order are the stored pairs");
+  contacts.pairs.swap(sweep.stored_pairs);
+  scatter_back(contacts.pair_actions, from, sweep.action_scratch);
+  sweep.in_colour_order = false;  // storage_index is kept for the next step's prepare
+}
+
+void order_groups(ColouredPass& sweep, VisitOrder policy, Rng& rng) {
+  const PairColouring& colouring = sweep.colouring;
+  const std::vector<std::uint32_t>& chunk_colours = colouring.chunk_colours;
+  const bool shuffle = policy != VisitOrder::Fixed;
+  constexpr std::uint32_t kSequential = ~std::uint32_t{0};
+  sweep.group_order.clear();
+  for (std::size_t p = 0; p < kPassParts; ++p) {
+    // the part's chunks and its sequential group in a random order, and each chunk's colours
+    // in a random order
+    sweep.chunk_order.clear();
+    for (std::uint32_t j = colouring.part_chunks[p]; j < colouring.part_chunks[p + 1]; ++j) {
+      sweep.chunk_order.push_back(j);
+    }
+    sweep.chunk_order.push_back(kSequential);
+    if (shuffle) shuffle_indices(std::span<std::uint32_t>(sweep.chunk_order), rng);
+    sweep.part_groups[p] = static_cast<std::uint32_t>(sweep.group_order.size());
+    for (const std::uint32_t chunk : sweep.chunk_order) {
+      if (chunk == kSequential) {
+        sweep.group_order.push_back(static_cast<std::uint32_t>(sweep.colours() + p));
+        continue;
+      }
+      const std::size_t first = sweep.group_order.size();
+      for (std::uint32_t c = chunk_colours[chunk]; c < chunk_colours[chunk + 1]; ++c) {
+        sweep.group_order.push_back(c);
+      }
+      if (shuffle) {
+        shuffle_indices(std::span<std::uint32_t>(sweep.group_order).subspan(first), rng);
+      }
+    }
+  }
+  sweep.part_groups[kPassParts] = static_cast<std::uint32_t>(sweep.group_order.size());
+}
+
+bool allow_kernel_isa(lanes::Isa widest) {
+  return lanes::allow_isa(widest);
+}
+
+namespace {
+
+using SolveBatches = void (*)(const BatchPair*, std::uint32_t, std::uint32_t, SphereVelocity*,
+                              ContactAction*, PassSums&);
+using ApplyBatches = void (*)(const BatchPair*, std::uint32_t, std::uint32_t, SphereVelocity*,
+                              const ContactAction*);
+using SolveWallBatches = void (*)(const WallBatchPair*, std::uint32_t, std::uint32_t,
+                                  SphereVelocity*, ContactAction*, PassSums&);
+
+/// The kernel for this CPU, with torques or without (ColouredPass::torques), for open
+/// contacts rare or not (ColouredPass::open_rare): the same bits either way.
+SolveBatches batch_kernel(bool torques, bool open_rare) {
+  if (torques) {
+    return open_rare ? CDP_WIDE_LANES_FOR_CPU(solve_batches<true, true>)
+                     : CDP_WIDE_LANES_FOR_CPU(solve_batches<true, false>);
+  }
+  return open_rare ? CDP_WIDE_LANES_FOR_CPU(solve_batches<false, true>)
+                   : CDP_WIDE_LANES_FOR_CPU(solve_batches<false, false>);
+}
+
+SolveWallBatches wall_kernel(bool open_rare) {
+  return open_rare ? CDP_WIDE_LANES_FOR_CPU(solve_wall_batches<true>)
+                   : CDP_WIDE_LANES_FOR_CPU(solve_wall_batches<false>);
+}
+
+/// Whether at most one visit in kOpenRare of a sweep left its contact open (not closed): then
+/// the next sweep runs the kernel that skips the open branch where no lane of a call needs it.
+/// The break-even lies between the compaction front (≈ 2.5 % of the visits open: the selects
+/// are cheaper) and mid-run (≈ 0.25 %: the branch is cheaper); docs/performance.md, "Calls
+/// without an open lane".
+constexpr std::size_t kOpenRare = 100;
+
+bool open_contacts_rare(const PassSums& sums, std::size_t visits) {
+  return (visits - std::min(sums.closed, visits)) * kOpenRare <= visits;
+}
+
+ApplyBatches apply_kernel(bool torques) {
+  return torques ? CDP_WIDE_LANES_FOR_CPU(apply_batches<true>)
+                 : CDP_WIDE_LANES_FOR_CPU(apply_batches<false>);
+}
+
+}  // namespace
+
+void apply_part_deltas(const ColouredPass& sweep, std::size_t part,
+                       const std::vector<ContactAction>& deltas, VelocityCache& velocities) {
+  // colour by colour: the AVX-512 kernel takes two batches at a time, which must not share a
+  // sphere (two colours may)
+  const ApplyBatches apply = apply_kernel(sweep.torques);
+  const PairColouring& colouring = sweep.colouring;
+  for (std::size_t c = colouring.first_colour(part); c < colouring.first_colour(part + 1); ++c) {
+    apply(sweep.batch_pairs.data(), sweep.colour_batches[c], sweep.colour_batches[c + 1],
+          velocities.spheres.data(), deltas.data());
+  }
+}
+
+void apply_overflow_deltas(const ColouredPass& sweep, const std::vector<ContactAction>& deltas,
+                           const Contacts& contacts, VelocityCache& velocities) {
+  for (const ContactIndex k : sweep.colouring.overflow) {
+    apply_pair_action(contacts.pairs[k], deltas[k], velocities);
+  }
+}
+
+void apply_pair_deltas(const ColouredPass& sweep, const std::vector<ContactAction>& deltas,
+                       const Contacts& contacts, VelocityCache& velocities) {
+  // colour by colour in storage order: each sphere gets its changes in the order of the
+  // scalar loop over the pairs (no sphere twice in a colour), so the same bits
+  for (std::size_t p = 0; p < kPassParts; ++p) apply_part_deltas(sweep, p, deltas, velocities);
+  apply_overflow_deltas(sweep, deltas, contacts, velocities);
+}
+
+PassSums run_coloured_part(Contacts& contacts, VelocityCache& velocities, const ColouredPass& sweep,
+                           std::size_t part) {
+  PassSums sums;
+  const std::size_t colours = sweep.colours();
+  SphereVelocity* const spheres = velocities.spheres.data();
+  ContactAction* const actions = contacts.pair_actions.data();
+  const SolveBatches solve = batch_kernel(sweep.torques, sweep.open_rare);
+  const SolveWallBatches solve_walls = wall_kernel(sweep.open_rare);
+  for (std::uint32_t i = sweep.part_groups[part]; i < sweep.part_groups[part + 1]; ++i) {
+    const std::uint32_t group = sweep.group_order[i];
+    if (group >= colours) {
+      // overflow pairs, bottom-wall batches, the other wall contacts: in the group's order
+      const std::size_t p = group - colours;
+      const auto [bottom_first, bottom_last] = sweep.bottom_walls[p];
+      for (std::uint32_t j = sweep.part_sequential[p]; j < bottom_first; ++j) {
+        visit_contact(sweep.sequential[j], contacts, velocities, sums);
+      }
+      if (bottom_first < bottom_last) {
+        solve_walls(sweep.wall_batch_pairs.data(), sweep.part_wall_batches[p],
+                    sweep.part_wall_batches[p + 1], spheres, contacts.wall_actions.data(), sums);
+      }
+      for (std::uint32_t j = bottom_last; j < sweep.part_sequential[p + 1]; ++j) {
+        visit_contact(sweep.sequential[j], contacts, velocities, sums);
+      }
+      continue;
+    }
+    solve(sweep.batch_pairs.data(), sweep.colour_batches[group], sweep.colour_batches[group + 1],
+          spheres, actions, sums);
+  }
+  return sums;
+}
+
+PassSums run_coloured_pass(Contacts& contacts, VelocityCache& velocities, const ColouredPass& sweep,
+                           SlabThreads* threads, AfterPart after) {
+  // across the cut first, so that each slab's spheres are final when its piece ends
+  PassSums sums = run_coloured_part(contacts, velocities, sweep, 2);
+
+  struct alignas(64) PartSums {
+    PassSums sums;
+  };
+
+  std::array<PartSums, 2> inside{};
+  run_pieces(sweep.cut() ? threads : nullptr, 2, [&](std::uint32_t p) {
+    inside[p].sums = run_coloured_part(contacts, velocities, sweep, p);
+    after(p);
+  });
+  sums.add_part(inside[0].sums);
+  sums.add_part(inside[1].sums);
+  sweep.open_rare = open_contacts_rare(sums, contacts.size());
+  return sums;
+}
+
+}  // namespace cdpowder

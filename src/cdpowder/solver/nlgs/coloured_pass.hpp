@@ -1,0 +1,253 @@
+// coloured_sweep.hpp — the coloured sweep kernel (solver.kernel = "coloured", the default;
+// docs/performance.md "Coloured kernel"). The step's sphere–sphere contacts are
+// coloured (colouring.hpp) and each colour is gathered into batches of kBatchLanes contacts
+// in structure-of-arrays form, solved side by side with the same arithmetic per contact as
+// solve_pair: a coloured sweep is an exact reordering of a scalar sweep. Overflow pairs and
+// wall contacts (the piston couples its contacts through one velocity) form one more group,
+// solved one by one with the scalar kernels, except its bottom-wall contacts: no two share a
+// sphere, so they are batched too (WallBatchPair) and solved side by side with solve_wall's
+// arithmetic, in their place in the group. A sweep visits the groups in an order drawn from
+// the sweep-order stream (physics.md §7.1, at the level of colours).
+// When the step is cut into two slabs (slabs.hpp) the contacts come in three parts (inside
+// slab 0, inside slab 1, across the cut), each with its own colours and sequential group; a
+// sweep visits part 2 (across the cut), then part 0 and part 1, and adds each part's visits to
+// sums of its own, which are then added in that order (PassSums::add_part), so the bits do
+// not depend on whether parts 0 and 1 ran one after the other or side by side.
+#pragma once
+
+#include "cdpowder/contact/local_problem.hpp"
+#include "cdpowder/contact/velocity_cache.hpp"
+#include "cdpowder/core/pieces.hpp"
+#include "cdpowder/core/rng.hpp"
+#include "cdpowder/solver/nlgs/colouring.hpp"
+#include "cdpowder/solver/nlgs/pass_sums.hpp"
+#include "cdpowder/solver/nlgs/slab_threads.hpp"
+#include "cdpowder/solver/settings.hpp"
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <utility>
+#include <vector>
+
+namespace cdpowder {
+
+namespace lanes {
+enum class Isa : std::uint8_t;  // lanes.hpp
+}  // namespace lanes
+
+/// Contacts in a batch: the unit the colours are cut into, whatever the lane width.
+inline constexpr int kBatchLanes = 4;
+/// Lanes of a BatchPair: two batches.
+inline constexpr int kPairLanes = 2 * kBatchLanes;
+/// A SphereVelocity and a ContactAction are 8 doubles each (one 64-byte line).
+inline constexpr std::uint32_t kRecordDoubles = 8;
+
+/// Two consecutive batches of kBatchLanes pair contacts of one colour side by side (lanes 0–3
+/// batch 2i, lanes 4–7 batch 2i + 1), the frozen data of PairProblem lane by lane: a field of
+/// both is one register of eight on AVX-512, and a batch's is half of it on SSE2 and AVX2.
+/// A colour starts at a new pair; with an odd number of batches its last pair's second batch
+/// is padding (no lane in use) that repeats the first, lane for lane. Unused lanes of a batch
+/// (a colour's last) repeat a used lane of the same register pair (lanes 0–1 or 2–3; lane 0
+/// where the pair has none). Either way the kernel solves a contact twice side by side from
+/// the same records into the same records, the same bits (a repeated store), and leaves the
+/// repeats out of its sums.
+struct alignas(64) BatchPair {
+  using Lanes = std::array<double, kPairLanes>;
+  Lanes nx{}, ny{}, nz{};
+  Lanes gap_rate{}, lever_a{}, lever_b{};
+  Lanes inv_dt_w_n{}, inv_dt_w_t{}, inv_dt_w_r{};
+  Lanes cohesion{}, mu{}, roll_cap{}, twist_cap{};
+  Lanes coupling{};                                    ///< Δt c of pair_mode_block
+  Lanes inv_r_sq{};                                    ///< 1/r_eff²
+  Lanes mass_a{}, inertia_a{}, mass_b{}, inertia_b{};  ///< Δt/m and Δt/I of both spheres
+  /// the lanes' records as offsets in doubles (index × kRecordDoubles): action x_row of
+  /// pair_actions, spheres a_row and b_row of the velocity cache (one load and an
+  /// addressing mode per record in the kernel)
+  std::array<std::uint32_t, kPairLanes> x_row{}, a_row{}, b_row{};
+  std::array<std::uint32_t, 2> lanes{};  ///< lanes in use of each batch, 0..kBatchLanes
+};
+
+/// Bottom-wall contacts side by side, as BatchPair holds pairs: WallProblem's frozen data and
+/// its sphere's Δt/m and Δt/I lane by lane, two batches of kBatchLanes, with BatchPair's rules
+/// for unused lanes and padding batches. No two bottom-wall contacts share a sphere (a sphere
+/// has one at most) and the wall does not move, so any of them may be solved side by side. The
+/// fields the modes read have ModeBlock's (and BatchPair's) names.
+struct alignas(64) WallBatchPair {
+  using Lanes = std::array<double, kPairLanes>;
+  Lanes nx{}, ny{}, nz{};
+  Lanes gap_rate{}, radius{};
+  Lanes inv_dt_w_n{}, inv_dt_w_t{}, inv_dt_w_r{};
+  Lanes cohesion{}, mu{}, roll_cap{}, twist_cap{};
+  Lanes coupling{};         ///< −R Δt/I, solve_wall's Δt c
+  Lanes inv_r_sq{};         ///< 1/R²
+  Lanes mass{}, inertia{};  ///< Δt/m and Δt/I of the sphere
+  /// offsets in doubles: action x_row of wall_actions, sphere s_row of the velocity cache
+  std::array<std::uint32_t, kPairLanes> x_row{}, s_row{};
+  std::array<std::uint32_t, 2> lanes{};  ///< lanes in use of each batch, 0..kBatchLanes
+};
+
+/// What a step's colouring, storage order and batch rows are built from: the pairs' spheres and
+/// the wall contacts (sphere and wall) in storage order, each sphere's slab and the colouring
+/// chunk. They are a function of these alone, so a step whose inputs match the
+/// last build's (most steps: the candidate lists are reused and contacts seldom open or close
+/// from one step to the next) keeps them and only refills the batches' values: the same bits.
+class ColouringInputs {
+ public:
+  /// Whether the pairs and walls (in storage order), `slab` and `chunk` are those recorded.
+  [[nodiscard]] bool match(const std::vector<PairProblem>& pairs,
+                           const std::vector<WallProblem>& walls,
+                           std::span<const std::uint8_t> slab, std::size_t chunk) const;
+  /// Records them, after a build from them.
+  void record(const std::vector<PairProblem>& pairs, const std::vector<WallProblem>& walls,
+              std::span<const std::uint8_t> slab, std::size_t chunk);
+
+  /// After the colouring or the batches were changed by other means.
+  void forget() { recorded_ = false; }
+
+ private:
+  std::vector<std::uint64_t> pairs_;  ///< a << 32 | b
+  std::vector<std::uint64_t> walls_;  ///< sphere << 32 | wall kind
+  std::vector<std::uint8_t> slab_;
+  std::size_t chunk_ = 0;
+  bool recorded_ = false;
+};
+
+/// The step's colours, batches and group order; reused from step to step.
+struct ColouredPass {
+  PairColouring colouring;
+  std::vector<std::uint64_t> masks;  ///< scratch of the colouring
+  /// colour by colour; batch i is half i % 2 of batch_pairs[i / 2]
+  std::vector<BatchPair> batch_pairs;
+  /// colour c: batches [cb[c], cb[c + 1]), cb[c] even (with its padding batch, if any)
+  std::vector<std::uint32_t> colour_batches;
+  /// part p's overflow pairs, then its walls (n_pairs + w): sequential[ps[p], ps[p + 1])
+  std::vector<ContactIndex> sequential;
+  std::array<std::uint32_t, kPassParts + 1> part_sequential{};
+  /// part p's sequential group holds its bottom-wall contacts at sequential[bottom_walls[p].first,
+  /// bottom_walls[p].second), right after its overflow pairs: they are solved side by side as
+  /// wall batches [part_wall_batches[p], part_wall_batches[p + 1]) of wall_batch_pairs (even,
+  /// with padding), the others of the group one by one
+  std::array<std::pair<std::uint32_t, std::uint32_t>, kPassParts> bottom_walls{};
+  std::vector<WallBatchPair> wall_batch_pairs;
+  std::array<std::uint32_t, kPassParts + 1> part_wall_batches{};
+  /// colours 0..C−1, and C + p = part p's sequential group; part p's groups are
+  /// group_order[part_groups[p], part_groups[p + 1])
+  std::vector<std::uint32_t> group_order;
+  std::array<std::uint32_t, kPassParts + 1> part_groups{};
+  std::vector<std::uint8_t> wall_part;      ///< each wall contact's part (empty: all in part 0)
+  std::vector<std::uint32_t> chunk_order;   ///< scratch of order_groups
+  std::vector<ContactIndex> part_order;     ///< scratch: the pairs part by part
+  std::vector<ContactIndex> storage_index;  ///< pair i is stored pair storage_index[i] of the step
+  /// whether Contacts holds the pairs in colour order (from prepare_coloured_pass to
+  /// restore_storage_order)
+  bool in_colour_order = false;
+  /// the inputs of the last build of the colouring, storage_index and the batches' rows
+  ColouringInputs built_from;
+  /// the step's pairs in storage order while Contacts holds them in colour order (the sweeps
+  /// only read them; restore_storage_order swaps them back)
+  std::vector<PairProblem> stored_pairs;
+  std::vector<ContactAction> action_scratch;
+  /// false when no contact of the step has a rolling or torsion threshold and no torque is
+  /// non-zero: the pair kernels then leave the torques alone (they stay +0, the bits are the
+  /// same); the bottom-wall batches always solve them, as solve_wall does
+  bool torques = true;
+  /// which of two kernels with the same bits the next sweep runs: with open contacts rare in the
+  /// last sweep (≤ 1 % of its visits), the one that skips the open branch where no lane of a
+  /// call needs it (coloured_kernel.inc). A hint about speed alone, so a sweep taken as const
+  /// updates it (run_coloured_pass), and tests may set it.
+  mutable bool open_rare = false;
+  std::vector<ContactAction> deltas;  ///< scratch of the mixing: pair action changes
+
+  /// batches with a lane in use (the padding of colours with an odd number left out)
+  [[nodiscard]] std::size_t batches() const {
+    std::size_t count = 0;
+    for (const BatchPair& pair : batch_pairs)
+      count += (pair.lanes[0] > 0 ? 1 : 0) + (pair.lanes[1] > 0 ? 1 : 0);
+    return count;
+  }
+
+  [[nodiscard]] std::size_t colours() const {
+    return colour_batches.empty() ? 0 : colour_batches.size() - 1;
+  }
+
+  /// whether the step is cut: parts 1 and 2 have a colour between them (each part has a
+  /// sequential group, empty or not, so two groups hold no colour)
+  [[nodiscard]] bool cut() const { return part_groups[1] + 2 < part_groups[kPassParts]; }
+};
+
+/// Colours the step's pairs greedily (chunks of kColourChunk contacts), part by part when
+/// `slab` gives each sphere's slab (slabs.hpp; empty: one part), stores the pairs and their
+/// actions in the order the sweep visits them (so a sweep streams through them;
+/// restore_storage_order undoes it) and builds the batches. The cohesion flags stay in storage
+/// order: nothing reads them until the pairs are back. When the pairs, walls and slabs are the
+/// last build's (ColouringInputs), the colouring and the batches' rows are kept and only the
+/// batches' values are filled again, part by part, on the threads of `pieces` if given.
+void prepare_coloured_pass(Contacts& contacts, const VelocityCache& velocities, ColouredPass& sweep,
+                           std::size_t chunk = kColourChunk,
+                           std::span<const std::uint8_t> slab = {}, PieceRunner* pieces = nullptr);
+
+/// Puts the pairs and their actions back in storage order (sorted by sphere pair), as the rest
+/// of the step expects them.
+void restore_storage_order(Contacts& contacts, ColouredPass& sweep);
+
+/// Builds the batches and the sequential groups from sweep.colouring and sweep.wall_part (set
+/// by the caller). The next prepare_coloured_pass colours afresh.
+void build_batches(const Contacts& contacts, const VelocityCache& velocities, ColouredPass& sweep);
+
+/// Group order, part by part: storage order for VisitOrder::Fixed, else the part's chunks (and
+/// its sequential group) in a fresh random order from `rng`, each chunk's colours in a random
+/// order.
+void order_groups(ColouredPass& sweep, VisitOrder policy, Rng& rng);
+
+/// Lets the sweep use kernels up to `widest` where the CPU has them (default: AVX-512, two
+/// batches per register; unless the environment says CDPOWDER_KERNEL_ISA=avx2 or sse2): all
+/// give the same bits. Returns whether the kernel now runs on `widest`.
+bool allow_kernel_isa(lanes::Isa widest);
+
+/// Moves the velocity cache by the pair action changes deltas[k] (pairs stored in colour order,
+/// as during the solve), as apply_pair_action over the pairs in storage order would: the
+/// batches colour by colour, a register of lanes at a time, then the overflow pairs. The same
+/// bits.
+void apply_pair_deltas(const ColouredPass& sweep, const std::vector<ContactAction>& deltas,
+                       const Contacts& contacts, VelocityCache& velocities);
+
+/// apply_pair_deltas of part p's batches alone (parts 0 and 1 touch no common sphere);
+/// apply_pair_deltas is parts 0, 1, 2 and then apply_overflow_deltas.
+void apply_part_deltas(const ColouredPass& sweep, std::size_t part,
+                       const std::vector<ContactAction>& deltas, VelocityCache& velocities);
+void apply_overflow_deltas(const ColouredPass& sweep, const std::vector<ContactAction>& deltas,
+                           const Contacts& contacts, VelocityCache& velocities);
+
+/// Part p's groups of one sweep, in sweep.group_order, with sums of their own.
+PassSums run_coloured_part(Contacts& contacts, VelocityCache& velocities, const ColouredPass& sweep,
+                           std::size_t part);
+
+/// Work a thread does right after it solved the contacts inside slab `part` (0 or 1), on that
+/// slab's spheres: a reference to a callable, not owned (no allocation).
+class AfterPart {
+ public:
+  AfterPart() = default;
+
+  template <typename F>
+  AfterPart(const F& f)  // NOLINT(google-explicit-constructor): a lambda at the call
+      : call_(
+            [](const void* object, std::uint32_t part) { (*static_cast<const F*>(object))(part); }),
+        object_(&f) {}
+
+  void operator()(std::uint32_t part) const {
+    if (call_ != nullptr) call_(object_, part);
+  }
+
+ private:
+  void (*call_)(const void*, std::uint32_t) = nullptr;
+  const void* object_ = nullptr;
+};
+
+/// One sweep over the groups in sweep.group_order: part 2, then parts 0 and 1 (each followed by
+/// after(part)), their sums added in that order. With `threads`, a cut step's two slabs run
+/// side by side: the same bits. Sets sweep.open_rare for the next sweep from its sums.
+PassSums run_coloured_pass(Contacts& contacts, VelocityCache& velocities, const ColouredPass& sweep,
+                           SlabThreads* threads = nullptr, AfterPart after = {});
+
+}  // namespace cdpowder

@@ -1,0 +1,97 @@
+// kinematic_change.hpp — how much the last sweep changed the step's end velocities, against
+// how fast the packing moves: the measures of the kinematic stopping rule
+// (SolverSettings::kinematic_tolerance, physics.md §7.3).
+#pragma once
+
+#include "cdpowder/contact/velocity_cache.hpp"
+#include "cdpowder/core/aligned_vector.hpp"
+#include "cdpowder/core/index.hpp"
+#include "cdpowder/core/vec3.hpp"
+
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <utility>
+#include <vector>
+
+namespace cdpowder {
+
+/// What one sweep did to the end velocities. A sphere's surface velocity is measured as
+/// u = √(|v|² + R²|ω|²), within √2 of the fastest point of its surface |v| + R|ω|.
+struct PassMotion {
+  double largest_change = 0.0;     ///< max over the spheres of u(Δv, Δω) [R/t0]
+  double rms_surface_speed = 0.0;  ///< √(mean over the spheres of u(v, ω)²) after the sweep [R/t0]
+  double piston_change = 0.0;      ///< |ΔV_P| [R/t0]
+};
+
+/// Compares the velocities after a sweep with those it started from. The snapshot a sweep
+/// is measured against is taken in the same pass that measures the sweep before it, so a
+/// sweep costs one pass over the spheres; only a change of the velocities between sweeps
+/// (the mixing) needs a fresh copy. Buffers are kept from sweep to sweep and step to step
+/// (no allocation in steady state).
+class KinematicChange {
+ public:
+  /// Remembers v*, ω*, V_P* before the first sweep of a step, and R² of every sphere from
+  /// the cache's Δt/m and Δt/I (solid sphere: I = 0.4 m R²). With `slab` (a step cut into
+  /// slabs, slabs.hpp) the spheres are taken in two pieces, slab by slab, each slab in index
+  /// order, and the pieces' sums are added piece by piece; without, one piece in index order.
+  void begin_step(const VelocityCache& velocities, std::span<const std::uint8_t> slab = {});
+
+  /// Remembers the velocities again after something other than a sweep changed them (the
+  /// mixing), so the next sweep is measured from them: copy_piece of every piece, then copied.
+  void velocities_changed(const VelocityCache& velocities);
+
+  /// The change since the last snapshot, which then moves to the velocities now. The RMS
+  /// speed is summed only when `with_speed` (the rule reads it once its window is full);
+  /// otherwise it is 0. measure_piece of every piece, then combine.
+  [[nodiscard]] PassMotion after_pass(const VelocityCache& velocities, bool with_speed);
+
+  /// The pass in pieces, for two threads (slab_solve.hpp): pieces touch disjoint spheres.
+  struct PieceMotion {
+    double largest_sq = 0.0;
+    double sum_sq = 0.0;
+  };
+
+  [[nodiscard]] std::uint32_t pieces() const { return order_.empty() ? 1 : 2; }
+
+  [[nodiscard]] PieceMotion measure_piece(const VelocityCache& velocities, std::uint32_t piece,
+                                          bool with_speed);
+  /// The motion from every piece's measure, added in piece order.
+  [[nodiscard]] PassMotion combine(const VelocityCache& velocities,
+                                   std::span<const PieceMotion> measured);
+  void copy_piece(const VelocityCache& velocities, std::uint32_t piece);
+
+  /// After copy_piece of every piece: V_P* too.
+  void copied(const VelocityCache& velocities) { piston_start_ = velocities.piston_velocity; }
+
+  /// Spheres side by side: a block holds four, field by field (lane l = sphere 4b + l), so
+  /// the pass runs 2 (SSE2) or 4 (AVX2) lanes at a time (lanes.hpp).
+  static constexpr std::size_t kBlock = 4;
+
+  /// Blocks that hold `spheres` spheres.
+  static constexpr std::size_t blocks_of(std::size_t spheres) {
+    return (spheres + kBlock - 1) / kBlock;
+  }
+
+  /// The snapshot of spheres 4b .. 4b + 3 (zeros past the last sphere).
+  struct alignas(32) Block {
+    std::array<std::array<double, kBlock>, 3> linear;
+    std::array<std::array<double, kBlock>, 3> angular;
+  };
+
+ private:
+  /// the blocks of slab 0, then of slab 1: [0, slab_block_) and [slab_block_, blocks)
+  [[nodiscard]] std::pair<std::size_t, std::size_t> blocks_of_piece(std::uint32_t piece) const;
+
+  std::vector<Block> start_;
+  AlignedVector<double> radius_sq_;  ///< R² per place in the blocks, zeros to a whole block
+  /// the sphere at each place of the blocks when cut (slab 0's, padded with spheres at rest
+  /// (index n) to a whole block, then slab 1's); empty: sphere i at place i
+  std::vector<BodyIndex> order_;
+  std::size_t slab_block_ = 0;
+  double piston_start_ = 0.0;
+};
+
+}  // namespace cdpowder

@@ -1,0 +1,157 @@
+// slab_threads.hpp — the two slabs of a step (slabs.hpp) on two threads (solver.threads = 2),
+// and the PieceRunner (core/pieces.hpp) of the stages around the solve: the halves of the
+// next step's detection and build, and of the commit's measures.
+// A sweep hands out its work in a few pieces that touch no common memory they write: the
+// contacts inside each slab, the two halves of the kinematic rule's pass over the spheres, the
+// two halves of the mixing's passes. Any thread may take any piece (the caller as well as the
+// worker, claimed from one shared counter), so the caller never waits for a piece nobody has
+// begun: on a loaded machine a descheduled worker's pieces are taken by the caller (a worker
+// descheduled in the middle of a piece is waited for, up to a time slice). The
+// pieces are fixed by the state, not by the thread count, and every sum over pieces is added
+// in piece order by the caller, so the results are the same bits on one thread or two.
+#pragma once
+
+#include "cdpowder/core/pieces.hpp"
+#include "cdpowder/solver/nlgs/pass_threads.hpp"
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+
+namespace cdpowder {
+
+class SlabThreads final : public PieceRunner {
+ public:
+  /// Starts threads − 1 workers (threads ≥ 1).
+  explicit SlabThreads(int threads) : pool_(threads) {}
+
+  [[nodiscard]] int size() const { return pool_.size(); }
+
+  /// Runs task(context, piece) for piece = 0 … pieces − 1, each exactly once, on whichever
+  /// thread claims it first, and returns when all are done.
+  void run_pieces(std::uint32_t pieces, Task task, const void* context) override;
+
+  /// Lets the workers sleep until the next run (between steps).
+  void park() { pool_.park(); }
+
+ private:
+  static void work(void* self, int thread);
+  bool claim(std::uint32_t& piece);
+  void solve_claimed();
+
+  /// id (32 bits) | pieces (16 bits) | next piece (16 bits): a claim is one compare-exchange,
+  /// and a late worker's claim on an earlier run fails on the id
+  alignas(64) std::atomic<std::uint64_t> claim_{0};
+  alignas(64) std::atomic<std::uint32_t> done_{0};  ///< pieces done in this run
+  alignas(64) std::uint32_t run_id_ = 0;
+  // the run's task, written before claim_ publishes it and read by a thread after a claim
+  Task task_ = nullptr;
+  const void* context_ = nullptr;
+  /// last member: its workers are stopped before the state above is destroyed
+  PassThreads pool_;
+};
+
+/// Whether a step's solve runs on the threads or on the caller alone. The bits are the same
+/// either way (the cut does not depend on it), so the choice is made on time alone: on a
+/// shared machine two threads are not always faster. Runs of the paper example measured in one
+/// session (docs/performance.md, "Two slabs") took 1.2–1.4× less time on two threads in some
+/// minutes and 1.3× more in others, when the second core was not free for this process. The
+/// steps go in blocks of kBlockSteps, each block one way; a block runs the way whose last
+/// block took less time per contact update, and now and then a block tries the other way:
+/// after kTryEvery blocks, and after twice as many (up to kMaxTryEvery) each time the way tried
+/// lost by more than kClearLoss (on a machine whose cores talk slowly two threads lose 2.5× per
+/// step, "A faster machine": trying them every 32nd block cost a run up to 6–7 %). A try that
+/// wins, or loses by less, brings the interval back to kTryEvery.
+/// Blocks, not single steps: one step's time is too noisy to choose by (steps differ in their
+/// sweeps, and a step is ≈ 0.5–1.5 ms, the scale of the machine's hiccups).
+class ThreadChoice {
+ public:
+  static constexpr std::uint64_t kBlockSteps = 16;
+  static constexpr std::uint64_t kTryEvery = 32;
+  /// ≈ 2–4 s of a paper-size run: a machine that turns fast is still seen within seconds
+  static constexpr std::uint64_t kMaxTryEvery = 128;
+  static constexpr double kClearLoss = 1.25;
+
+  /// Whether this step should run on the threads.
+  [[nodiscard]] bool threaded() const { return threaded_; }
+
+  /// Every cut step on the threads from now on, whatever their times: for measurements of the
+  /// threads alone (`fixture_steps --always-threaded`), which the choice would otherwise mix
+  /// with blocks on one thread.
+  void always_threaded() {
+    always_ = true;
+    threaded_ = true;
+  }
+
+  /// Blocks between two tries of the other way at present (kTryEvery … kMaxTryEvery).
+  [[nodiscard]] std::uint64_t try_every() const { return try_every_; }
+
+  /// The time this step took [s] for its contact updates (sweeps × contacts); at the end of a
+  /// block, chooses the way of the next.
+  void record(double seconds, double updates) {
+    if (always_) return;
+    if (updates > 0.0 && seconds >= 0.0) {
+      seconds_ += seconds;
+      updates_ += updates;
+    }
+    if (++steps_ % kBlockSteps != 0) return;
+    const std::size_t way = threaded_ ? 1 : 0;
+    if (updates_ > 0.0) per_update_[way] = seconds_ / updates_;
+    seconds_ = updates_ = 0.0;
+    if (per_update_[0] == 0.0) {  // the caller alone not measured yet
+      threaded_ = false;
+      return;
+    }
+    if (trying_) {
+      const bool clear_loss = per_update_[way] > kClearLoss * per_update_[1 - way];
+      try_every_ = clear_loss ? std::min(2 * try_every_, kMaxTryEvery) : kTryEvery;
+      trying_ = false;
+    }
+    const bool faster = per_update_[1] <= per_update_[0];
+    if (++since_try_ >= try_every_) {
+      since_try_ = 0;
+      trying_ = true;
+      threaded_ = !faster;
+      return;
+    }
+    threaded_ = faster;
+  }
+
+ private:
+  bool threaded_ = true;                ///< the way of the current block
+  bool always_ = false;                 ///< always_threaded()
+  bool trying_ = false;                 ///< the current block tries the slower way
+  std::array<double, 2> per_update_{};  ///< [alone, threads] s per update of its last block
+  double seconds_ = 0.0;                ///< of the current block
+  double updates_ = 0.0;
+  std::uint64_t steps_ = 0;
+  std::uint64_t since_try_ = 0;  ///< blocks since the last try
+  std::uint64_t try_every_ = kTryEvery;
+};
+
+/// A workspace's SlabThreads, started at the first step that asks for more than one thread
+/// and kept for the run. Scratch, not state: a copy of a workspace (the run loop solves a copy
+/// at rest) starts its own threads when it needs them, and an assignment keeps the target's.
+class SlabThreadsSlot {
+ public:
+  SlabThreadsSlot() = default;
+  ~SlabThreadsSlot() = default;
+
+  SlabThreadsSlot(const SlabThreadsSlot& /*other*/) {}
+
+  SlabThreadsSlot& operator=(const SlabThreadsSlot& /*other*/) { return *this; }
+
+  SlabThreadsSlot(SlabThreadsSlot&&) noexcept = default;
+  SlabThreadsSlot& operator=(SlabThreadsSlot&&) noexcept = default;
+
+  /// The threads of `threads` (started or resized here); nullptr for one thread.
+  SlabThreads* get(int threads);
+
+ private:
+  std::unique_ptr<SlabThreads> threads_;
+};
+
+}  // namespace cdpowder

@@ -1,0 +1,431 @@
+// Two slabs on two threads (slabs.hpp, slab_threads.hpp): the cut, the parts of a sweep, the
+// pieces a team runs, and the bits of one thread against two and three: a solve, steps and a
+// paper-size step.
+#include "cdpowder/solver/nlgs/slab_threads.hpp"
+
+#include "cdpowder/core/lanes.hpp"
+#include "cdpowder/run/state_hash.hpp"
+#include "cdpowder/solver/nlgs/slabs.hpp"
+#include "cdpowder/solver/step.hpp"
+#include "support/fixture_hash.hpp"
+#include "support/small_packing.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <atomic>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace cdpowder::testing {
+namespace {
+
+template <typename T>
+bool same_bits(const std::vector<T>& x, const std::vector<T>& y) {
+  return x.size() == y.size() && std::memcmp(x.data(), y.data(), x.size() * sizeof(T)) == 0;
+}
+
+bool same_bits(double x, double y) {
+  return std::bit_cast<std::uint64_t>(x) == std::bit_cast<std::uint64_t>(y);
+}
+
+// Every piece runs exactly once per run, on one, two and three threads, run after run (the
+// worker spins between runs and may come late to one).
+TEST(SlabThreads, RunsEveryPieceOnce) {
+  for (const int n : {1, 2, 3}) {
+    SlabThreads team(n);
+    for (std::uint32_t run = 0; run < 2000; ++run) {
+      const std::uint32_t pieces = 1 + run % 5;
+      std::array<std::atomic<int>, 5> count{};
+      run_pieces(&team, pieces, [&](std::uint32_t p) { count[p].fetch_add(1); });
+      for (std::uint32_t p = 0; p < 5; ++p) ASSERT_EQ(count[p].load(), p < pieces ? 1 : 0);
+      if (run % 500 == 499) team.park();
+    }
+  }
+}
+
+/// Runs one block of `choice` at `threads_ns` per contact update on the threads and `alone_ns`
+/// alone (1000 updates a step); returns whether it ran on the threads.
+bool run_block(ThreadChoice& choice, double threads_ns, double alone_ns) {
+  const bool threaded = choice.threaded();
+  for (std::uint64_t k = 0; k < ThreadChoice::kBlockSteps; ++k) {
+    EXPECT_EQ(choice.threaded(), threaded) << "the way changed inside a block";
+    choice.record((threaded ? threads_ns : alone_ns) * 1e-9 * 1000, 1000);
+  }
+  return threaded;
+}
+
+/// The blocks among the next `blocks` that run the way `tried` (their indices from 0).
+std::vector<std::uint64_t> blocks_run(ThreadChoice& choice, bool tried, std::uint64_t blocks,
+                                      double threads_ns, double alone_ns) {
+  std::vector<std::uint64_t> out;
+  for (std::uint64_t b = 0; b < blocks; ++b) {
+    if (run_block(choice, threads_ns, alone_ns) == tried) out.push_back(b);
+  }
+  return out;
+}
+
+// The choice between the threads and the caller alone: the first block on the threads, the
+// second alone, then the way whose last block was faster, and now and then a block the other
+// way: every kTryEvery-th while the other way loses by less than kClearLoss.
+TEST(ThreadChoice, RunsTheFasterWayAndTriesTheOtherNowAndThen) {
+  ThreadChoice choice;
+  EXPECT_TRUE(run_block(choice, 2.0, 2.2));
+  EXPECT_FALSE(run_block(choice, 2.0, 2.2));
+  // alone 10 % slower: a try every kTryEvery blocks
+  const auto tries = blocks_run(choice, false, 10 * ThreadChoice::kTryEvery, 2.0, 2.2);
+  ASSERT_EQ(tries.size(), 10U);
+  for (std::size_t k = 1; k < tries.size(); ++k) {
+    EXPECT_EQ(tries[k] - tries[k - 1], ThreadChoice::kTryEvery);
+  }
+  EXPECT_EQ(choice.try_every(), ThreadChoice::kTryEvery);
+}
+
+// A way that loses clearly is tried at doubling intervals, up to kMaxTryEvery; once it wins,
+// it is taken and the interval is kTryEvery again.
+TEST(ThreadChoice, TriesAClearLoserLessAndLessOften) {
+  ThreadChoice choice;
+  EXPECT_TRUE(run_block(choice, 5.0, 2.0));  // the threads 2.5× slower (a slow path)
+  EXPECT_FALSE(run_block(choice, 5.0, 2.0));
+  const auto tries = blocks_run(choice, true, 8 * ThreadChoice::kMaxTryEvery, 5.0, 2.0);
+  ASSERT_GE(tries.size(), 5U);
+  std::vector<std::uint64_t> gaps;
+  for (std::size_t k = 1; k < tries.size(); ++k) gaps.push_back(tries[k] - tries[k - 1]);
+  EXPECT_EQ(gaps[0], 2 * ThreadChoice::kTryEvery);
+  EXPECT_EQ(gaps[1], 4 * ThreadChoice::kTryEvery);
+  for (std::size_t k = 2; k < gaps.size(); ++k) EXPECT_EQ(gaps[k], ThreadChoice::kMaxTryEvery);
+  EXPECT_EQ(choice.try_every(), ThreadChoice::kMaxTryEvery);
+  // the path turns fast (the threads 1.5× faster): the next try finds them faster, the
+  // threads stay, and the interval is kTryEvery again
+  const auto threaded = blocks_run(choice, true, 4 * ThreadChoice::kMaxTryEvery, 2.0, 3.0);
+  ASSERT_FALSE(threaded.empty());
+  const std::uint64_t found = threaded.front();
+  EXPECT_LT(found, ThreadChoice::kMaxTryEvery);
+  std::vector<std::uint64_t> alone_after;
+  for (std::uint64_t b = found; b < 4 * ThreadChoice::kMaxTryEvery; ++b) {
+    if (!std::binary_search(threaded.begin(), threaded.end(), b)) alone_after.push_back(b);
+  }
+  ASSERT_GE(alone_after.size(), 2U);
+  EXPECT_EQ(alone_after[0], found + ThreadChoice::kTryEvery);
+  EXPECT_EQ(alone_after[1], found + 3 * ThreadChoice::kTryEvery);  // alone lost clearly: 64 on
+}
+
+// The threads turn slow (a busy second core): the choice follows within a block.
+TEST(ThreadChoice, FollowsTheThreadsTurningSlow) {
+  ThreadChoice choice;
+  run_block(choice, 2.0, 3.0);
+  run_block(choice, 2.0, 3.0);
+  for (int b = 0; b < 20; ++b) EXPECT_TRUE(run_block(choice, 2.0, 3.0));
+  EXPECT_TRUE(run_block(choice, 5.0, 3.0));  // the block that finds them slow
+  EXPECT_FALSE(run_block(choice, 5.0, 3.0));
+}
+
+// A choice told to stay on the threads stays there, however slow their blocks.
+TEST(ThreadChoice, AlwaysThreadedIgnoresTheTimes) {
+  ThreadChoice choice;
+  choice.always_threaded();
+  for (std::uint64_t k = 0; k < 4 * ThreadChoice::kTryEvery * ThreadChoice::kBlockSteps; ++k) {
+    EXPECT_TRUE(choice.threaded());
+    choice.record(1.0, 1.0);
+  }
+}
+
+// The cut balances the work of the two slabs (pairs, and wall contacts at kBottomWallVisitCost
+// or kPistonVisitCost each) up to the pairs across it; every sphere on its side of the cut; too few
+// contacts: no cut.
+TEST(Slabs, TheCutBalancesTheWorkOfTheTwoSlabs) {
+  const SmallPacking packing(0.1);
+  const std::vector<Vec3>& position = packing.scene.world.bodies.position;
+  const Contacts& contacts = packing.scene.work.contacts;
+  ASSERT_GE(contacts.pairs.size(), kMinPairsToCut);
+  std::vector<std::uint8_t> slab;
+  std::vector<double> scratch;
+  cut_into_slabs(position, contacts, slab, scratch);
+  ASSERT_EQ(slab.size(), position.size());
+  std::array<double, 3> work{};
+  for (const PairProblem& p : contacts.pairs) work[slab[p.a] == slab[p.b] ? slab[p.a] : 2] += 1;
+  const double across = work[2];
+  for (const WallProblem& w : contacts.walls) {
+    EXPECT_EQ(slab[w.sphere], w.wall == WallKind::Piston ? 1 : 0);
+    work[slab[w.sphere]] += w.wall == WallKind::Piston ? kPistonVisitCost : kBottomWallVisitCost;
+  }
+  EXPECT_GT(work[0], 0.3 * static_cast<double>(contacts.pairs.size()));
+  EXPECT_LE(std::abs(work[0] - work[1]), across + std::max(kPistonVisitCost, kBottomWallVisitCost));
+  EXPECT_LT(across, 0.3 * static_cast<double>(contacts.pairs.size()));
+  double top_of_0 = -1e300;
+  double bottom_of_1 = 1e300;
+  for (std::size_t i = 0; i < position.size(); ++i) {
+    if (slab[i] == 0) top_of_0 = std::max(top_of_0, position[i].z());
+    if (slab[i] == 1) bottom_of_1 = std::min(bottom_of_1, position[i].z());
+  }
+  EXPECT_LT(top_of_0, bottom_of_1);
+
+  Contacts few = contacts;
+  few.pairs.resize(kMinPairsToCut - 1);
+  cut_into_slabs(position, few, slab, scratch);
+  EXPECT_TRUE(slab.empty());
+}
+
+// The parts of a cut sweep: no sphere in both slabs' batches, the piston's contacts in one
+// part, every contact visited once.
+TEST(Slabs, TheTwoSlabsShareNoSphere) {
+  SmallPacking packing(0.1);
+  Contacts contacts = packing.scene.work.contacts;
+  const VelocityCache& velocities = packing.scene.work.velocities;
+  std::vector<std::uint8_t> slab;
+  std::vector<double> scratch;
+  cut_into_slabs(packing.scene.world.bodies.position, contacts, slab, scratch);
+  ColouredPass sweep;
+  prepare_coloured_pass(contacts, velocities, sweep, kColourChunk, slab);
+  ASSERT_TRUE(sweep.cut());
+  std::array<std::set<BodyIndex>, kPassParts> spheres;
+  std::array<std::set<std::size_t>, kPassParts> piston_parts;
+  std::size_t visits = 0;
+  const std::size_t colours = sweep.colours();
+  for (std::size_t p = 0; p < kPassParts; ++p) {
+    for (std::uint32_t i = sweep.part_groups[p]; i < sweep.part_groups[p + 1]; ++i) {
+      const std::uint32_t group = sweep.group_order[i];
+      if (group >= colours) {
+        for (std::uint32_t j = sweep.part_sequential[group - colours];
+             j < sweep.part_sequential[group - colours + 1]; ++j) {
+          const ContactIndex k = sweep.sequential[j];
+          ++visits;
+          if (k < contacts.pairs.size()) {
+            spheres[p].insert({contacts.pairs[k].a, contacts.pairs[k].b});
+            continue;
+          }
+          const WallProblem& w = contacts.walls[k - contacts.pairs.size()];
+          spheres[p].insert(w.sphere);
+          if (w.wall == WallKind::Piston) piston_parts[0].insert(p);
+        }
+        continue;
+      }
+      for (std::uint32_t b = sweep.colour_batches[group]; b < sweep.colour_batches[group + 1];
+           ++b) {
+        const BatchPair& pair = sweep.batch_pairs[b / 2];
+        for (std::uint32_t l = 0; l < pair.lanes[b % 2]; ++l) {
+          const std::size_t lane = (b % 2) * kBatchLanes + l;
+          spheres[p].insert({pair.a_row[lane] / kRecordDoubles, pair.b_row[lane] / kRecordDoubles});
+          ++visits;
+        }
+      }
+    }
+  }
+  EXPECT_EQ(visits, contacts.size());
+  std::vector<BodyIndex> common;
+  std::set_intersection(spheres[0].begin(), spheres[0].end(), spheres[1].begin(), spheres[1].end(),
+                        std::back_inserter(common));
+  EXPECT_TRUE(common.empty());
+  EXPECT_EQ(piston_parts[0].size(), 1U);  // all piston contacts in one part
+  EXPECT_FALSE(spheres[2].empty());
+}
+
+/// Solves the SmallPacking's first step, cut into slabs, on `threads` threads.
+struct CutSolve {
+  Contacts contacts;
+  VelocityCache velocities;
+  SolverStats stats;
+};
+
+CutSolve cut_solve(int threads, lanes::Isa isa) {
+  allow_kernel_isa(isa);
+  SmallPacking packing(0.1);
+  CutSolve out{packing.scene.work.contacts, packing.scene.work.velocities, {}};
+  std::vector<std::uint8_t> slab;
+  std::vector<double> scratch;
+  cut_into_slabs(packing.scene.world.bodies.position, out.contacts, slab, scratch);
+  SolverSettings settings = packing.scene.settings.solver;
+  settings.threads = threads;
+  settings.kinematic_tolerance = 1e-3;  // the kinematic rule's pass too
+  settings.min_sweeps = 40;             // sweeps and mixings enough to use every piece
+  settings.max_sweeps = 40;
+  NlgsWorkspace work(5);
+  out.stats = solve_nlgs(out.contacts, out.velocities, settings, 1.0, work, slab);
+  allow_kernel_isa(lanes::Isa::Avx512);
+  return out;
+}
+
+// A cut step's solve (sweeps, kinematic rule, mixing) on two and three threads leaves the bits
+// of one thread, with both instruction sets.
+TEST(SlabThreads, ASolveGivesTheBitsOfOneThread) {
+  for (const lanes::Isa isa : {lanes::Isa::Sse2, lanes::Isa::Avx2, lanes::Isa::Avx512}) {
+    if (!allow_kernel_isa(isa)) continue;  // not on this CPU
+    const CutSolve one = cut_solve(1, isa);
+    EXPECT_EQ(one.stats.sweeps, 40);
+    for (const int n : {2, 3}) {
+      const CutSolve many = cut_solve(n, isa);
+      EXPECT_EQ(many.stats.sweeps, one.stats.sweeps);
+      EXPECT_TRUE(same_bits(many.stats.residual, one.stats.residual));
+      EXPECT_TRUE(same_bits(many.stats.kinematic_error, one.stats.kinematic_error));
+      EXPECT_TRUE(same_bits(many.stats.force_scale, one.stats.force_scale));
+      EXPECT_TRUE(same_bits(many.contacts.pair_actions, one.contacts.pair_actions));
+      EXPECT_TRUE(same_bits(many.contacts.wall_actions, one.contacts.wall_actions));
+      EXPECT_TRUE(same_bits(many.velocities.spheres, one.velocities.spheres));
+      EXPECT_TRUE(same_bits(many.velocities.piston_velocity, one.velocities.piston_velocity));
+    }
+  }
+}
+
+/// The SmallPacking after a few steps (so that the warm start has actions and the history
+/// rule bonds), piston and walls included.
+SmallPacking stepped_packing() {
+  SmallPacking packing(0.1);
+  packing.scene.settings.solver.kinematic_tolerance = 1e-3;
+  packing.scene.run(3);
+  return packing;
+}
+
+// Detection in two pieces (the spheres' and the candidate list's halves side by side, the
+// second half's contacts joined after the first's) gives the contacts of one piece, bit for
+// bit, over steps that reuse the list and steps that rebuild it.
+TEST(StagesInPieces, DetectionGivesTheContactsOfOnePiece) {
+  SmallPacking packing = stepped_packing();
+  World one = packing.scene.world;
+  World two = one;
+  const DetectionSettings settings = packing.scene.settings.detection();
+  CellGrid grid_one;
+  CellGrid grid_two;
+  CandidateList list_one;
+  CandidateList list_two;
+  Contacts contacts_one;
+  Contacts contacts_two;
+  DetectionScratch scratch;
+  SlabThreads threads(2);
+  for (int step = 0; step < 40; ++step) {
+    detect_contacts(one, settings, grid_one, contacts_one, &list_one);
+    detect_contacts(two, settings, grid_two, contacts_two, &list_two, &threads, &scratch);
+    ASSERT_TRUE(same_bits(contacts_two.pairs, contacts_one.pairs)) << step;
+    ASSERT_TRUE(same_bits(contacts_two.walls, contacts_one.walls)) << step;
+    ASSERT_TRUE(same_bits(two.bodies.position, one.bodies.position)) << step;  // the wrap
+    // a drift across the cell's sides and up to the piston: of every sphere, of the second
+    // half of the spheres alone (whose cover check alone then fails), or a slow one of every
+    // sphere that the list still covers
+    for (World* world : {&one, &two}) {
+      const std::size_t n = world->bodies.size();
+      const double speed = step % 3 == 2 ? 0.001 : 0.13;
+      for (std::size_t i = step % 3 == 1 ? n / 2 : 0; i < n; ++i) {
+        world->bodies.position[i] += speed * Vec3(1.0, -0.5, 0.02 * static_cast<double>(i % 3));
+      }
+    }
+  }
+  EXPECT_GT(list_two.builds(), 5);  // the search after a failed cover check ran too
+  EXPECT_EQ(list_two.builds(), list_one.builds());
+  EXPECT_FALSE(contacts_one.walls.empty());
+}
+
+// Building the local problems in two pieces (predicted velocities and records a half each,
+// then the warm start's velocity changes by sphere owner) gives the bits of one piece.
+TEST(StagesInPieces, BuildGivesTheProblemsOfOnePiece) {
+  for (const bool warm_start : {true, false}) {
+    SmallPacking packing = stepped_packing();
+    TinyScene& scene = packing.scene;
+    scene.settings.solver.warm_start = warm_start;
+    // begin_step's first half by hand: the last step's contacts into the cache, then detection
+    take_last_step(scene.work);
+    detect_contacts(scene.world, scene.settings.detection(), scene.work.grid, scene.work.contacts);
+    ASSERT_GT(carried_pairs(scene.work.action_cache.last()).size(), 100U);
+    Contacts contacts_one = scene.work.contacts;
+    Contacts contacts_two = scene.work.contacts;
+    ActionCache cache_one = scene.work.action_cache;
+    ActionCache cache_two = scene.work.action_cache;
+    VelocityCache velocities_one;
+    VelocityCache velocities_two;
+    SlabThreads threads(2);
+    build_local_problems(scene.world, scene.settings, cache_one, contacts_one, velocities_one);
+    build_local_problems(scene.world, scene.settings, cache_two, contacts_two, velocities_two,
+                         &threads);
+    EXPECT_TRUE(same_bits(contacts_two.pairs, contacts_one.pairs));
+    EXPECT_TRUE(same_bits(contacts_two.pair_actions, contacts_one.pair_actions));
+    EXPECT_TRUE(same_bits(contacts_two.pair_cohesive, contacts_one.pair_cohesive));
+    EXPECT_TRUE(same_bits(contacts_two.walls, contacts_one.walls));
+    EXPECT_TRUE(same_bits(contacts_two.wall_actions, contacts_one.wall_actions));
+    EXPECT_TRUE(same_bits(contacts_two.wall_cohesive, contacts_one.wall_cohesive));
+    EXPECT_TRUE(same_bits(velocities_two.spheres, velocities_one.spheres));
+    EXPECT_TRUE(same_bits(velocities_two.piston_velocity, velocities_one.piston_velocity));
+    // the warm start moved the spheres away from v + Δt g
+    if (warm_start) {
+      const auto moved =
+          std::count_if(velocities_one.spheres.begin(), velocities_one.spheres.end(),
+                        [&](const SphereVelocity& s) { return s.angular.squaredNorm() > 0.0; });
+      EXPECT_GT(moved, 100);
+    }
+  }
+}
+
+// Whole steps (mixing and stopping rules included) with solver.threads = 1, 2, 3: one state hash.
+TEST(SlabThreads, StepsGiveTheSameStateHashForAnyThreadCount) {
+  std::vector<std::string> hashes;
+  for (const int n : {1, 2, 3}) {
+    SmallPacking packing(0.1);
+    packing.scene.settings.solver.kernel = PassKernel::Coloured;
+    packing.scene.settings.solver.threads = n;
+    packing.scene.settings.solver.kinematic_tolerance = 1e-3;  // the kinematic rule's pass too
+    const StepReport last = packing.scene.run(6);
+    EXPECT_TRUE(last.solver.converged);
+    hashes.push_back(hash_text(state_hash(packing.scene.world, packing.scene.work)));
+  }
+  EXPECT_EQ(hashes[1], hashes[0]);
+  EXPECT_EQ(hashes[2], hashes[0]);
+}
+
+// Two steps of the paper's (0,0) compaction front (≈ 1 000 spheres, cut into two slabs, and
+// the piston): the hash of one thread with two.
+TEST(SlabThreads, APaperSizeStepGivesTheSameStateHashOnTwoThreads) {
+  const std::vector<SceneOverride> settings{"solver.kinematic_tolerance=1e-4"};
+  std::vector<SceneOverride> two = settings;
+  two.emplace_back("solver.threads=2");
+  EXPECT_EQ(fixture_hash("paper_front_mu00_t350.cdps", 2, two),
+            fixture_hash("paper_front_mu00_t350.cdps", 2, settings));
+}
+
+// The stages after a threaded solve run their halves side by side (step.cpp): each step's
+// diagnostics on two threads have the bits of one.
+TEST(SlabThreads, AThreadedStepsDiagnosticsHaveTheBitsOfOneThread) {
+  const auto reports = [](int threads) {
+    const std::filesystem::path file =
+        std::filesystem::path(CDPOWDER_SOURCE_DIR) / "bench/fixtures/paper_front_mu00_t350.cdps";
+    SavedRun saved = load_state(file);
+    const Scene saved_scene = read_scene_text(saved.scene_toml, file.string(), {}, ".");
+    const Scene scene = read_scene_text(saved.scene_toml, file.string(),
+                                        {"solver.threads=" + std::to_string(threads)}, ".");
+    World world;
+    StepWorkspace work(scene.step.solver.seed);
+    RunState run;
+    restore_run(std::move(saved), saved_scene.run, saved_scene.step.solver.dt, world, work, run);
+    std::vector<StepReport> out;
+    out.reserve(3);
+    for (int k = 0; k < 3; ++k) out.push_back(step(world, work, scene.step));
+    return out;
+  };
+  const std::vector<StepReport> one = reports(1);
+  const std::vector<StepReport> two = reports(2);
+  ASSERT_EQ(one.size(), two.size());
+  for (std::size_t k = 0; k < one.size(); ++k) {
+    EXPECT_TRUE(two[k].solver.threaded);  // the first block of steps runs on the threads
+    const StepDiagnostics& a = one[k].diagnostics;
+    const StepDiagnostics& b = two[k].diagnostics;
+    EXPECT_EQ(a.contacts, b.contacts);
+    EXPECT_EQ(a.closed_contacts, b.closed_contacts);
+    EXPECT_EQ(a.cohesive_contacts, b.cohesive_contacts);
+    for (const auto field : {&StepDiagnostics::mean_overlap, &StepDiagnostics::max_overlap,
+                             &StepDiagnostics::kinetic_energy, &StepDiagnostics::max_speed,
+                             &StepDiagnostics::rms_speed, &StepDiagnostics::piston_contact_force,
+                             &StepDiagnostics::piston_imbalance, &StepDiagnostics::max_net_force,
+                             &StepDiagnostics::max_cohesive_opening_speed,
+                             &StepDiagnostics::max_cohesive_opening_per_range,
+                             &StepDiagnostics::largest_surface_speed}) {
+      EXPECT_TRUE(same_bits(a.*field, b.*field)) << "step " << k;
+    }
+    EXPECT_TRUE(a.spheres_finite && b.spheres_finite);
+    EXPECT_GT(a.kinetic_energy, 0.0);
+    EXPECT_GT(a.closed_contacts, 0U);
+  }
+}
+
+}  // namespace
+}  // namespace cdpowder::testing
