@@ -21,7 +21,7 @@ struct PairOpeningInputs {
   const std::uint8_t* cohesive = nullptr;
   const std::uint8_t* fixed = nullptr;
   const Vec3* velocity = nullptr;        ///< bodies.velocity (a fixed sphere's)
-  const SphereVelocity* next = nullptr;  ///< v* of the sweeps
+  const SphereVelocity* next = nullptr;  ///< v* of the passes
 };
 
 }  // namespace

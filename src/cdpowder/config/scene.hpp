@@ -51,7 +51,7 @@ struct BlockedCriteria {
   double force_balance = 1e-3;  ///< |Σ R_c→P·e_z − F|/F below [-]
   double height_change = 1e-6;  ///< |ΔZ_P|/Z_P over the window below [-]
   /// Once blocked, one more step is solved to this tolerance (at most final_max_sweeps
-  /// sweeps), and the stress is measured on its forces [-]
+  /// passes), and the stress is measured on its forces [-]
   double final_tolerance = 1e-6;
   int final_max_sweeps = 20000;
 };

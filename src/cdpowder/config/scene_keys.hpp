@@ -378,7 +378,7 @@ void visit_stopping_keys(auto& solver, auto&& visit) {
         solver.stopping_rule);
 }
 
-/// [solver], how the sweeps go: order, kernel, threads, acceleration.
+/// [solver], how the passes go: order, kernel, threads, acceleration.
 void visit_sweep_keys(auto& solver, auto&& visit) {
   const std::string_view table = kSolverTable;
   visit(SceneKey{.table = table,

@@ -320,7 +320,7 @@ void check_solver(TableReader& in, const Scene& s) {
   const SolverSettings& solver = s.step.solver;
   const CheckedKey threads = checked(in, s, solver.threads);
   const CheckedKey kernel = checked(in, s, solver.kernel);
-  // only the coloured kernel's sweeps are split among threads
+  // only the coloured kernel's passes are split among threads
   if (solver.threads > 1 && solver.kernel != PassKernel::Coloured && !threads.failed() &&
       !kernel.failed()) {
     threads.report(

@@ -1,8 +1,8 @@
 // local_problem.hpp — one step's contact set: the frozen geometry and inverse-mass
 // terms of every contact (physics.md §4.2, §5.2), and its unknowns.
-// Built once per step by build_local_problems, read-only during the sweeps.
+// Built once per step by build_local_problems, read-only during the passes.
 // Sphere–sphere and sphere–wall contacts live in separate arrays, so each kernel is
-// branch-free; the sweep visits a combined index range (pairs first, then walls).
+// branch-free; the pass visits a combined index range (pairs first, then walls).
 #pragma once
 
 #include "cdpowder/core/index.hpp"
@@ -89,7 +89,7 @@ struct Contacts {
   std::vector<WallProblem> walls;
   std::vector<ContactAction> wall_actions;
   std::vector<std::uint8_t> wall_cohesive;
-  std::vector<ContactIndex> visit_order;  ///< reused by the sweeps, no allocation per step
+  std::vector<ContactIndex> visit_order;  ///< reused by the passes, no allocation per step
 
   [[nodiscard]] std::size_t size() const { return pairs.size() + walls.size(); }
 

@@ -1,5 +1,5 @@
 // velocity_cache.hpp — v*, ω*: the end-of-step velocities being iterated (physics.md §5.3).
-// The only per-body data the sweeps write. One cache line per sphere holds everything a
+// The only per-body data the passes write. One cache line per sphere holds everything a
 // contact visit needs of a body, so a visit touches two lines of body data.
 #pragma once
 

@@ -1,5 +1,5 @@
 // rng.hpp — reproducible random streams (pcg32) and the Fisher–Yates shuffle.
-// One stream per purpose (deposition, sweep order), so adding draws to one never
+// One stream per purpose (deposition, pass order), so adding draws to one never
 // shifts the other. std::shuffle and std::uniform_*_distribution are avoided: their
 // sequences differ between standard libraries, ours must not. The engine is pcg-cpp's
 // pcg32, kept inside core/rng.cpp so that no pcg header reaches the library's users.

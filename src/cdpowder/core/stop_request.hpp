@@ -1,4 +1,4 @@
-// stop_request.hpp — how a caller (the command line's signal handler, a sweep, later a
+// stop_request.hpp — how a caller (the command line's signal handler, a pass, later a
 // Python callback) asks the library to stop long work: one function, asked between units of
 // work (a deposited sphere, a step), the same for every kind of work.
 #pragma once

@@ -1,5 +1,5 @@
 // detect_contacts.cpp — candidate pairs from the cell grid, sphere–wall candidates,
-// and the start-of-step geometry that stays frozen during the sweeps (physics.md §3).
+// and the start-of-step geometry that stays frozen during the passes (physics.md §3).
 #include "cdpowder/detect/detect_contacts.hpp"
 
 #include "cdpowder/contact/contact_law.hpp"

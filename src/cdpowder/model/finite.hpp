@@ -1,6 +1,6 @@
 // finite.hpp — whether a world holds only finite numbers: the precondition of a step that
 // CDP_ASSERT checks in debug builds (a NaN would otherwise spread silently through the
-// sweeps and be reported steps later, far from its cause).
+// passes and be reported steps later, far from its cause).
 #pragma once
 
 #include "cdpowder/model/world.hpp"

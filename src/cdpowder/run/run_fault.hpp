@@ -1,5 +1,5 @@
 // run_fault.hpp — a state no physical run can reach, caught the step it appears: a
-// non-finite position or velocity (a NaN spreads through the sweeps within a step and would
+// non-finite position or velocity (a NaN spreads through the passes within a step and would
 // be reported steps later, or never), an overlap far beyond the rigid contact's (physics.md
 // §17 asks for a mean of 1e-3 R), a piston through the bottom wall, or a porosity outside
 // (0, 1). The run loop stops at the first one (run_loop.cpp) and the caller reports it.

@@ -52,7 +52,7 @@ bool spheres_balanced(const StepReport& at_rest, const BlockedCriteria& criteria
 /// One step of an adaptive run: solved, and while it opened a cohesion-active contact by more
 /// than max_opening_per_step × d_coh (and Δt is above dt_min), abandoned before it is
 /// integrated and solved again with a shorter Δt (time_step_control.hpp). An abandoned step
-/// has changed nothing but the sweep-order stream (solve_step, step.hpp), so undoing it
+/// has changed nothing but the pass-order stream (solve_step, step.hpp), so undoing it
 /// copies 16 bytes instead of the World and the action cache. Leaves the Δt used in
 /// settings.solver.dt; the abandoned steps' time is added to result.stage_seconds and
 /// counted in result.repeated_steps once the step is committed.
@@ -144,7 +144,7 @@ class RunLoop {
       state.start_time = world.time;
       state.dt = settings.solver.dt;
     }
-    // long solves (a static solve of 20 000 sweeps) ask the stop request after every sweep
+    // long solves (a static solve of 20 000 passes) ask the stop request after every pass
     current_.solver.stop_request = stop_requested ? &stop_requested : nullptr;
     if (run.until_blocked && !state.detector)
       state.detector.emplace(run.blocked, settings.solver.dt);
@@ -243,7 +243,7 @@ class RunLoop {
   }
 
   /// The run ends blocked on `rest`. The static final solve is a measurement, not a step of
-  /// the dynamics: reported as accuracy.final_solve, outside the step and sweep counts (its
+  /// the dynamics: reported as accuracy.final_solve, outside the step and pass counts (its
   /// time is in stage_seconds).
   StaticChecks adopt(RestSolve&& rest, double fraction) {
     world_ = std::move(rest.world);

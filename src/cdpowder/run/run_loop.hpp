@@ -25,7 +25,7 @@ struct RunResult {
   double min_dt = 0.0;            ///< shortest and longest Δt of the run's steps [t0]
   double max_dt = 0.0;
   /// adaptive Δt: steps undone and solved again with a shorter Δt because a contact opened
-  /// by more than max_opening_per_step × d_coh, and their sweeps (not in steps/total_sweeps)
+  /// by more than max_opening_per_step × d_coh, and their passes (not in steps/total_sweeps)
   std::int64_t repeated_steps = 0;
   std::int64_t repeated_sweeps = 0;
   double max_overlap_seen = 0.0;  ///< largest overlap after any step [R]
@@ -39,7 +39,7 @@ struct RunResult {
   /// BlockedCriteria::final_tolerance); empty unless blocked. Not counted in steps,
   /// total_sweeps or capped_steps; its time is in wall_seconds and stage_seconds.
   std::optional<SolverStats> final_solve;
-  /// Static probes of the force balance (run_loop.cpp): how many ran, their sweeps and wall
+  /// Static probes of the force balance (run_loop.cpp): how many ran, their passes and wall
   /// time (not in the counts above or in stage_seconds), and whether the last one ended the
   /// run (blocked with a window mean of the imbalance above its threshold).
   int probes = 0;

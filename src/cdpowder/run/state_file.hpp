@@ -6,7 +6,7 @@
 //
 // What a step needs from the past, and so what the file holds: the World (spheres, walls,
 // piston, cell, gravity, time, step), the warm-start cache (last step's contact actions,
-// which also carry the history cohesion rule), the sweep-order random stream, and the run
+// which also carry the history cohesion rule), the pass-order random stream, and the run
 // loop's RunState (counts, gauges, the blocked-state window, when the next static solve may
 // run). Everything else in a StepWorkspace is rebuilt at the start of every step. The
 // deposition stream is spent before the first step and is not needed to continue.
@@ -84,7 +84,7 @@ SavedRun load_state(const std::filesystem::path& path);
 
 /// The start of a state file: who wrote it and for which scene, read without decoding (or
 /// checking) the rest, so that a caller can decide what to do with a file of another format
-/// or another build before reading it whole (a sweep choosing between continuing a run from
+/// or another build before reading it whole (a pass choosing between continuing a run from
 /// its checkpoint and starting it again).
 struct StateHeader {
   std::uint32_t format_version = 0;
@@ -103,7 +103,7 @@ StateHeader read_state_header(const std::filesystem::path& path);
 /// does not end bit-identical to the run never stopped.
 bool written_by_another_build(std::string_view program_version, std::string_view git_commit);
 
-/// Puts a saved run back: the World, the workspace's warm-start cache and sweep-order
+/// Puts a saved run back: the World, the workspace's warm-start cache and pass-order
 /// stream, and the loop's state with its blocked-state window for `run` and `dt` (the
 /// scene's; Throws StateFileError if the window's length does not match them).
 void restore_run(SavedRun saved, const RunConfig& run, double dt, World& world, StepWorkspace& work,

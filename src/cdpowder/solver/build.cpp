@@ -17,10 +17,10 @@ namespace {
 /// g/Δt of such a gap conflicts with the other constraints of a loop of closed, sticking
 /// contacts (e.g. two spheres touching each other and the piston): the normal constraints
 /// have no exact solution and the NLGS drifts the loop's forces by a constant amount per
-/// sweep without ever meeting its stopping rule (found in capped compaction steps). Below
+/// pass without ever meeting its stopping rule (found in capped compaction steps). Below
 /// the dead band the contact is treated as touching. 1e-6 R is three orders below the
 /// overlap accuracy target (mean overlap ≤ 1e-3 R, physics.md §17) and four below d_coh.
-/// Measured on a 100-sphere compaction at (μ_t, μ_n) = (0, 0): total sweeps 19.1 M → 9.3 M,
+/// Measured on a 100-sphere compaction at (μ_t, μ_n) = (0, 0): total passes 19.1 M → 9.3 M,
 /// capped steps 6823 → 1944, final porosity 0.69915 → 0.69939 (docs/performance.md).
 constexpr double kTouchingGap = 1e-6;
 
@@ -305,7 +305,7 @@ void build_local_problems(const World& world, const StepSettings& settings,
       }
     });
   }
-  // the sweeps assume finite v*, ω* (debug builds only; one pass over the spheres)
+  // the passes assume finite v*, ω* (debug builds only; one pass over the spheres)
   CDP_ASSERT(std::isfinite(velocities.piston_velocity) &&
                  std::all_of(velocities.spheres.begin(), velocities.spheres.end(),
                              [](const SphereVelocity& s) {

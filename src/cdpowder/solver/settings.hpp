@@ -13,9 +13,9 @@ namespace cdpowder {
 
 /// How the NLGS decides that a step's contact problem is solved (physics.md §7.2–7.3, §17).
 enum class StoppingRule {
-  /// Default. The largest force correction of a sweep (the natural-map residual of the
+  /// Default. The largest force correction of a pass (the natural-map residual of the
   /// contact laws, torques divided by r_eff) relative to the force scale, divided by
-  /// (1 − ρ) where ρ is the measured contraction per sweep: an estimate of the remaining
+  /// (1 − ρ) where ρ is the measured contraction per pass: an estimate of the remaining
   /// force error rather than of the last change (§17).
   Residual,
   /// The group's global test ⟨|ΔR|⟩ ≤ α ⟨|R|⟩ ([S+12] criterion II). Kept for comparison;
@@ -23,21 +23,21 @@ enum class StoppingRule {
   RelativeChange,
 };
 
-/// Order in which a sweep visits the contacts (physics.md §7.1).
+/// Order in which a pass visits the contacts (physics.md §7.1).
 enum class VisitOrder {
   /// A fresh seeded permutation of blocks of contacts every step (≥ 1024 blocks, ≤ 256
-  /// contacts each), kept for all sweeps of the step (default). Random across steps, so no
+  /// contacts each), kept for all passes of the step (default). Random across steps, so no
   /// direction is preferred; a stationary
-  /// sweep map within the step, which Anderson acceleration needs; blocks of contacts that
+  /// pass map within the step, which Anderson acceleration needs; blocks of contacts that
   /// share spheres, which keeps large systems cache friendly.
   RandomEachStep,
-  /// A fresh seeded permutation every sweep: the group's choice [UK03]. Use it with
+  /// A fresh seeded permutation every pass: the group's choice [UK03]. Use it with
   /// acceleration_depth = 0 (plain NLGS), which reproduces the paper's algorithm.
   RandomEachSweep,
   Fixed,  ///< storage order (sorted by body indices); for tests and benchmarks
 };
 
-/// How a sweep solves the contacts (docs/performance.md, "Coloured kernel").
+/// How a pass solves the contacts (docs/performance.md, "Coloured kernel").
 enum class PassKernel {
   /// One contact after the other in the visiting order (two independent ones side by side);
   /// the order is a permutation of blocks of contacts.
@@ -45,9 +45,9 @@ enum class PassKernel {
   /// Default. Sphere–sphere contacts graph-coloured each step, each colour solved in
   /// batches of 4 side by side (the same arithmetic per contact), bottom-wall contacts too;
   /// overflow and piston contacts one by one; the colours visited in a random order per step
-  /// (per sweep with random_each_sweep, storage order with fixed). Converges differently from
+  /// (per pass with random_each_sweep, storage order with fixed). Converges differently from
   /// "scalar" (equally well: the accuracy gate of docs/performance.md) and ≈ 1.3× faster per
-  /// sweep.
+  /// pass.
   Coloured,
 };
 
@@ -90,14 +90,14 @@ struct SolverSettings {
   /// bound stops slowly contracting steps (ρ → 1 at the compaction front) sooner [-].
   double max_error_amplification = 1000.0;
   /// κ of the kinematic rule, a second way to finish a step (physics.md §7.3): the step also
-  /// stops when the largest change of a sphere's surface velocity over the last sweep,
-  /// / (1 − ρ) with ρ its contraction per sweep, is at most κ × the RMS surface speed of the
+  /// stops when the largest change of a sphere's surface velocity over the last pass,
+  /// / (1 − ρ) with ρ its contraction per pass, is at most κ × the RMS surface speed of the
   /// spheres, and the same holds for the piston against its own speed. Forces of a rigid
   /// packing are not unique (§12.4): at the compaction front the force residual stalls while
   /// the velocities no longer move, and the velocities are what a step passes on. Relative,
   /// so a packing at rest is left to the residual rule. 0 = off [-]
   double kinematic_tolerance = 0.0;
-  int min_sweeps = 3;     ///< never stop before this many sweeps
+  int min_sweeps = 3;     ///< never stop before this many passes
   int max_sweeps = 2000;  ///< N_max; a capped step is flagged in its report
   StoppingRule stopping_rule = StoppingRule::Residual;
   VisitOrder visit_order = VisitOrder::RandomEachStep;
@@ -108,9 +108,9 @@ struct SolverSettings {
   /// thread.
   int threads = 1;
   int acceleration_depth = 5;  ///< Anderson acceleration history m; 0 = plain NLGS (anderson.hpp)
-  /// Sweeps between two mixing steps: the accelerated map is k sweeps in a row. The mixing
-  /// moves ≈ 2m + 10 doubles per force component, about a sweep's cost on a paper-size
-  /// packing, so k > 1 trades fewer mixings against the acceleration per sweep.
+  /// Passes between two mixing steps: the accelerated map is k passes in a row. The mixing
+  /// moves ≈ 2m + 10 doubles per force component, about a pass's cost on a paper-size
+  /// packing, so k > 1 trades fewer mixings against the acceleration per pass.
   int acceleration_interval = 3;
   bool warm_start = true;  ///< start from last step's actions (§7.4)
   double skin = 0.05;      ///< extra candidate distance beyond max(d_coh, 2 v_max Δt) [R]
@@ -118,9 +118,9 @@ struct SolverSettings {
   /// gap: the list is rebuilt once a sphere has moved about half of it; 0 rebuilds every
   /// step. Speed only: the contacts of every step are the same for any value [R]
   double verlet_margin = 0.2;
-  std::uint64_t seed = 1;  ///< seed of the sweep-order stream
-  /// Asked after every sweep (not a scene key; the run loop sets it): true ends the solve
-  /// there, on that sweep's output, with SolverStats::stopped. Null: never asked.
+  std::uint64_t seed = 1;  ///< seed of the pass-order stream
+  /// Asked after every pass (not a scene key; the run loop sets it): true ends the solve
+  /// there, on that pass's output, with SolverStats::stopped. Null: never asked.
   const StopRequest* stop_request = nullptr;
 };
 

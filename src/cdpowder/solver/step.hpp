@@ -86,7 +86,7 @@ void finish_step(World& world, StepWorkspace& work, const StepSettings& settings
 /// Stage 3 and the opening gauge: solves the problem begin_step left in `work` and sets
 /// report.solver and the diagnostics' two cohesive-opening gauges (cohesive_opening.hpp).
 /// Leaves the World and the action cache as begin_step left them, so a step abandoned here
-/// is undone by restoring the sweep-order stream (work.solver.rng) alone: that is how an
+/// is undone by restoring the pass-order stream (work.solver.rng) alone: that is how an
 /// adaptive Δt solves a step again with a shorter Δt (run/run_loop.cpp). begin_step's
 /// one change to the World, the periodic wrap of the positions, maps positions it has
 /// wrapped onto themselves (PeriodicBox::wrap).

@@ -2,11 +2,11 @@
 //
 // Why: a heavy free body closing the load path (the piston, M_P = 240 sphere masses)
 // gives the Delassus operator a near-null mode — one uniform force along the load path
-// that changes only the piston's velocity — so plain Gauss–Seidel needs ~H M_P/m sweeps
-// (measured: a 12-sphere column under the paper's piston, 66 000 sweeps to 1e-10). A few
-// smooth slow modes are exactly what Anderson mixing removes: with the last m sweeps it
+// that changes only the piston's velocity — so plain Gauss–Seidel needs ~H M_P/m passes
+// (measured: a 12-sphere column under the paper's piston, 66 000 passes to 1e-10). A few
+// smooth slow modes are exactly what Anderson mixing removes: with the last m passes it
 // takes the combination of iterates whose residual is smallest (Walker & Ni, SIAM J.
-// Numer. Anal. 49 (2011) 1715, "type II"). Same column: 31 sweeps with m = 5.
+// Numer. Anal. 49 (2011) 1715, "type II"). Same column: 31 passes with m = 5.
 // It needs a stationary map, so the visiting order is fixed within a step.
 //
 // Cost: the vectors hold 4 to 8 doubles per contact (nlgs.cpp leaves out modes that are zero
@@ -43,7 +43,7 @@ class AndersonAccelerator {
   /// buffers, so a new step of the same size allocates nothing.
   void reset();
 
-  /// Given the iterate x the sweep started from and g = G(x) the sweep produced, returns
+  /// Given the iterate x the pass started from and g = G(x) the pass produced, returns
   /// in `next` the accelerated iterate g − ΔG γ, γ = argmin |f − ΔF γ|, f = g − x.
   /// Returns false (and next = g) while there is no history yet or the fit failed.
   /// `next` must not alias x or g. It is the three stages below over one range [0, n).
@@ -84,7 +84,7 @@ class AndersonAccelerator {
   AlignedVector<double> last_g_;
   AlignedVector<double> delta_f_;  ///< slot s holds f_{j+1} − f_j in [s stride_, s stride_ + n)
   AlignedVector<double> delta_g_;  ///< slot s holds g_{j+1} − g_j
-  /// ΔF_sᵀΔF_t between ring slots s and t (row-major, kMaxDepth × kMaxDepth): a sweep
+  /// ΔF_sᵀΔF_t between ring slots s and t (row-major, kMaxDepth × kMaxDepth): a pass
   /// computes only the products of its new difference.
   std::array<double, static_cast<std::size_t>(kMaxDepth) * kMaxDepth> gram_{};
   // the mixing under way (begin … mix)

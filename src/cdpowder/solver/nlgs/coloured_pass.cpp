@@ -143,19 +143,19 @@ std::uint64_t wall_key_of(const WallProblem& w) {
 /// the contact its row names (pairs in colour order, `pairs`): what build_batches writes, when
 /// the colouring and the rows are those of its last call.
 void refill_part(const std::vector<PairProblem>& pairs, const Contacts& contacts,
-                 const VelocityCache& velocities, std::size_t part, ColouredPass& sweep) {
-  const PairColouring& colouring = sweep.colouring;
-  const std::uint32_t first = sweep.colour_batches[colouring.first_colour(part)] / 2;
-  const std::uint32_t last = sweep.colour_batches[colouring.first_colour(part + 1)] / 2;
+                 const VelocityCache& velocities, std::size_t part, ColouredPass& pass) {
+  const PairColouring& colouring = pass.colouring;
+  const std::uint32_t first = pass.colour_batches[colouring.first_colour(part)] / 2;
+  const std::uint32_t last = pass.colour_batches[colouring.first_colour(part + 1)] / 2;
   for (std::uint32_t i = first; i < last; ++i) {
-    BatchPair& pair = sweep.batch_pairs[i];
+    BatchPair& pair = pass.batch_pairs[i];
     for (std::size_t lane = 0; lane < kPairLanes; ++lane) {
       fill_lane(pairs, velocities, pair.x_row[lane] / kRecordDoubles, lane, pair);
     }
   }
-  for (std::uint32_t i = sweep.part_wall_batches[part] / 2;
-       i < sweep.part_wall_batches[part + 1] / 2; ++i) {
-    WallBatchPair& pair = sweep.wall_batch_pairs[i];
+  for (std::uint32_t i = pass.part_wall_batches[part] / 2;
+       i < pass.part_wall_batches[part + 1] / 2; ++i) {
+    WallBatchPair& pair = pass.wall_batch_pairs[i];
     for (std::size_t lane = 0; lane < kPairLanes; ++lane) {
       fill_wall_lane(contacts, velocities, pair.x_row[lane] / kRecordDoubles, lane, pair);
     }
@@ -193,9 +193,9 @@ void ColouringInputs::record(const std::vector<PairProblem>& pairs,
   recorded_ = true;
 }
 
-void build_batches(const Contacts& contacts, const VelocityCache& velocities, ColouredPass& sweep) {
-  sweep.built_from.forget();
-  const PairColouring& colouring = sweep.colouring;
+void build_batches(const Contacts& contacts, const VelocityCache& velocities, ColouredPass& pass) {
+  pass.built_from.forget();
+  const PairColouring& colouring = pass.colouring;
   const std::size_t colours = colouring.colours();
   // Every field of every lane is written below, so the vector keeps last step's pairs of
   // batches (clearing and value-initialising them again cost ≈ 40 instructions per pair on the
@@ -206,13 +206,13 @@ void build_batches(const Contacts& contacts, const VelocityCache& velocities, Co
   for (std::size_t c = 0; c < colours; ++c) {
     batch_count += batches_for(colouring.colour_start[c + 1] - colouring.colour_start[c]);
   }
-  sweep.batch_pairs.resize(batch_count / 2);
+  pass.batch_pairs.resize(batch_count / 2);
   // the records' offsets in BatchPair are 32-bit
   CDP_ASSERT(contacts.pairs.size() <= UINT32_MAX / kRecordDoubles &&
                  contacts.walls.size() <= UINT32_MAX / kRecordDoubles &&
                  velocities.spheres.size() <= UINT32_MAX / kRecordDoubles,
              "records addressable by 32-bit offsets");
-  sweep.colour_batches.assign(colours + 1, 0);
+  pass.colour_batches.assign(colours + 1, 0);
   std::size_t next = 0;
   const auto fill_pair = [&](ContactIndex k, std::size_t lane, BatchPair& pair) {
     fill_lane(contacts.pairs, velocities, k, lane, pair);
@@ -220,66 +220,66 @@ void build_batches(const Contacts& contacts, const VelocityCache& velocities, Co
   for (std::size_t c = 0; c < colours; ++c) {
     fill_batches(
         colouring.colour_start[c], colouring.colour_start[c + 1],
-        [&](std::uint32_t m) { return colouring.members[m]; }, fill_pair, sweep.batch_pairs, next);
-    sweep.colour_batches[c + 1] = static_cast<std::uint32_t>(next);
+        [&](std::uint32_t m) { return colouring.members[m]; }, fill_pair, pass.batch_pairs, next);
+    pass.colour_batches[c + 1] = static_cast<std::uint32_t>(next);
   }
   CDP_ASSERT(next == batch_count, "every batch filled");
   // part p's sequential group: its overflow pairs, then its wall contacts; of these, the
   // bottom-wall contacts before the first piston contact go into wall batches
   const auto n_pairs = static_cast<ContactIndex>(contacts.pairs.size());
-  sweep.sequential.clear();
-  sweep.group_order.clear();
+  pass.sequential.clear();
+  pass.group_order.clear();
   std::size_t wall_batch_count = 0;
   for (std::size_t p = 0; p < kPassParts; ++p) {
-    sweep.part_sequential[p] = static_cast<std::uint32_t>(sweep.sequential.size());
-    sweep.sequential.insert(sweep.sequential.end(),
+    pass.part_sequential[p] = static_cast<std::uint32_t>(pass.sequential.size());
+    pass.sequential.insert(pass.sequential.end(),
                             colouring.overflow.begin() + colouring.part_overflow[p],
                             colouring.overflow.begin() + colouring.part_overflow[p + 1]);
-    const auto bottom_first = static_cast<std::uint32_t>(sweep.sequential.size());
+    const auto bottom_first = static_cast<std::uint32_t>(pass.sequential.size());
     std::uint32_t bottom_last = bottom_first;
     for (std::size_t w = 0; w < contacts.walls.size(); ++w) {
-      const std::size_t part = sweep.wall_part.empty() ? 0 : sweep.wall_part[w];
+      const std::size_t part = pass.wall_part.empty() ? 0 : pass.wall_part[w];
       if (part != p) continue;
       if (contacts.walls[w].wall == WallKind::Bottom &&
-          bottom_last == static_cast<std::uint32_t>(sweep.sequential.size())) {
+          bottom_last == static_cast<std::uint32_t>(pass.sequential.size())) {
         ++bottom_last;
       }
-      sweep.sequential.push_back(n_pairs + static_cast<ContactIndex>(w));
+      pass.sequential.push_back(n_pairs + static_cast<ContactIndex>(w));
     }
-    sweep.bottom_walls[p] = {bottom_first, bottom_last};
+    pass.bottom_walls[p] = {bottom_first, bottom_last};
     // side by side only if no two share a sphere: detection lists them in sphere order, one
     // per sphere at most (debug builds check it)
-    CDP_ASSERT(std::adjacent_find(sweep.sequential.begin() + bottom_first,
-                                  sweep.sequential.begin() + bottom_last,
+    CDP_ASSERT(std::adjacent_find(pass.sequential.begin() + bottom_first,
+                                  pass.sequential.begin() + bottom_last,
                                   [&](ContactIndex k, ContactIndex after) {
                                     return contacts.walls[k - n_pairs].sphere >=
                                            contacts.walls[after - n_pairs].sphere;
-                                  }) == sweep.sequential.begin() + bottom_last,
+                                  }) == pass.sequential.begin() + bottom_last,
                "bottom-wall contacts in increasing sphere order");
     wall_batch_count += batches_for(bottom_last - bottom_first);
     // the part's colours in storage order, then its sequential group
-    sweep.part_groups[p] = static_cast<std::uint32_t>(sweep.group_order.size());
+    pass.part_groups[p] = static_cast<std::uint32_t>(pass.group_order.size());
     for (std::uint32_t c = colouring.first_colour(p); c < colouring.first_colour(p + 1); ++c) {
-      sweep.group_order.push_back(c);
+      pass.group_order.push_back(c);
     }
-    sweep.group_order.push_back(static_cast<std::uint32_t>(colours + p));
+    pass.group_order.push_back(static_cast<std::uint32_t>(colours + p));
   }
-  sweep.part_sequential[kPassParts] = static_cast<std::uint32_t>(sweep.sequential.size());
-  sweep.part_groups[kPassParts] = static_cast<std::uint32_t>(sweep.group_order.size());
+  pass.part_sequential[kPassParts] = static_cast<std::uint32_t>(pass.sequential.size());
+  pass.part_groups[kPassParts] = static_cast<std::uint32_t>(pass.group_order.size());
   // the bottom-wall batches, part by part
-  sweep.wall_batch_pairs.resize(wall_batch_count / 2);
+  pass.wall_batch_pairs.resize(wall_batch_count / 2);
   const auto fill_wall = [&](ContactIndex w, std::size_t lane, WallBatchPair& pair) {
     fill_wall_lane(contacts, velocities, w, lane, pair);
   };
   std::size_t next_wall = 0;
   for (std::size_t p = 0; p < kPassParts; ++p) {
-    sweep.part_wall_batches[p] = static_cast<std::uint32_t>(next_wall);
+    pass.part_wall_batches[p] = static_cast<std::uint32_t>(next_wall);
     fill_batches(
-        sweep.bottom_walls[p].first, sweep.bottom_walls[p].second,
-        [&](std::uint32_t j) { return sweep.sequential[j] - n_pairs; }, fill_wall,
-        sweep.wall_batch_pairs, next_wall);
+        pass.bottom_walls[p].first, pass.bottom_walls[p].second,
+        [&](std::uint32_t j) { return pass.sequential[j] - n_pairs; }, fill_wall,
+        pass.wall_batch_pairs, next_wall);
   }
-  sweep.part_wall_batches[kPassParts] = static_cast<std::uint32_t>(next_wall);
+  pass.part_wall_batches[kPassParts] = static_cast<std::uint32_t>(next_wall);
   CDP_ASSERT(next_wall == wall_batch_count, "every wall batch filled");
 }
 
@@ -346,12 +346,12 @@ namespace {
 /// has them), the part's pairs and actions into colour order (its members, and for the part
 /// across the cut also the overflow pairs, are a range of it), then its batches' values from
 /// them. The members are colour-order indices already (set by the build from these inputs).
-void refill_kept_colouring(Contacts& contacts, const VelocityCache& velocities, ColouredPass& sweep,
+void refill_kept_colouring(Contacts& contacts, const VelocityCache& velocities, ColouredPass& pass,
                            PieceRunner* pieces) {
-  const PairColouring& colouring = sweep.colouring;
-  const std::vector<ContactIndex>& from = sweep.storage_index;
-  std::vector<PairProblem>& pairs = sweep.stored_pairs;
-  std::vector<ContactAction>& actions = sweep.action_scratch;
+  const PairColouring& colouring = pass.colouring;
+  const std::vector<ContactIndex>& from = pass.storage_index;
+  std::vector<PairProblem>& pairs = pass.stored_pairs;
+  std::vector<ContactAction>& actions = pass.action_scratch;
   pairs.resize(contacts.pairs.size());
   actions.resize(contacts.pair_actions.size());
   run_pieces(pieces, kPassParts, [&](std::uint32_t part) {
@@ -360,7 +360,7 @@ void refill_kept_colouring(Contacts& contacts, const VelocityCache& velocities, 
         part + 1 < kPassParts ? colouring.first_member(part + 1) : contacts.pairs.size();
     gather_range(contacts.pairs, from, first, last, pairs);
     gather_range(contacts.pair_actions, from, first, last, actions);
-    refill_part(pairs, contacts, velocities, part, sweep);
+    refill_part(pairs, contacts, velocities, part, pass);
   });
   contacts.pairs.swap(pairs);
   contacts.pair_actions.swap(actions);
@@ -368,97 +368,97 @@ void refill_kept_colouring(Contacts& contacts, const VelocityCache& velocities, 
 
 }  // namespace
 
-void prepare_coloured_pass(Contacts& contacts, const VelocityCache& velocities, ColouredPass& sweep,
+void prepare_coloured_pass(Contacts& contacts, const VelocityCache& velocities, ColouredPass& pass,
                            std::size_t chunk, std::span<const std::uint8_t> slab,
                            PieceRunner* pieces) {
   // the pairs are only read while they are in colour order: their storage order stays in
-  // stored_pairs and comes back by a swap; the cohesion flags are not read by the sweeps and
+  // stored_pairs and comes back by a swap; the cohesion flags are not read by the passes and
   // stay in storage order
-  if (sweep.built_from.match(contacts.pairs, contacts.walls, slab, chunk)) {
-    refill_kept_colouring(contacts, velocities, sweep, pieces);
-    sweep.in_colour_order = true;
+  if (pass.built_from.match(contacts.pairs, contacts.walls, slab, chunk)) {
+    refill_kept_colouring(contacts, velocities, pass, pieces);
+    pass.in_colour_order = true;
     return;
   }
   // whatever the record described is overwritten from here on
-  sweep.built_from.forget();
+  pass.built_from.forget();
   // the pairs part by part, each part in storage order (a counting sort)
   std::array<std::uint32_t, kPassParts + 1> part_start{};
   for (const PairProblem& p : contacts.pairs) ++part_start[part_of(p, slab) + 1];
   for (std::size_t p = 0; p < kPassParts; ++p) part_start[p + 1] += part_start[p];
-  std::vector<ContactIndex>& order = sweep.part_order;
+  std::vector<ContactIndex>& order = pass.part_order;
   order.resize(contacts.pairs.size());
   std::array<std::uint32_t, kPassParts + 1> next = part_start;
   for (std::size_t k = 0; k < contacts.pairs.size(); ++k) {
     order[next[part_of(contacts.pairs[k], slab)]++] = static_cast<ContactIndex>(k);
   }
-  PairColouring& colouring = sweep.colouring;
+  PairColouring& colouring = pass.colouring;
   colour_parts(contacts.pairs, order, part_start, velocities.spheres.size(), kMaxColours, chunk,
-               colouring, sweep.masks);
-  assign_wall_parts(contacts, slab, sweep.wall_part);
+               colouring, pass.masks);
+  assign_wall_parts(contacts, slab, pass.wall_part);
   // store the pairs in the order the batches visit them, overflow last
-  std::vector<ContactIndex>& from = sweep.storage_index;
+  std::vector<ContactIndex>& from = pass.storage_index;
   from.assign(colouring.members.begin(), colouring.members.end());
   from.insert(from.end(), colouring.overflow.begin(), colouring.overflow.end());
-  gather_into(contacts.pairs, from, sweep.stored_pairs);
-  gather_into(contacts.pair_actions, from, sweep.action_scratch);
-  sweep.in_colour_order = true;
+  gather_into(contacts.pairs, from, pass.stored_pairs);
+  gather_into(contacts.pair_actions, from, pass.action_scratch);
+  pass.in_colour_order = true;
   std::iota(colouring.members.begin(), colouring.members.end(), ContactIndex{0});
   std::iota(colouring.overflow.begin(), colouring.overflow.end(),
             static_cast<ContactIndex>(colouring.members.size()));
-  build_batches(contacts, velocities, sweep);
+  build_batches(contacts, velocities, pass);
   // (the pairs in storage order are in stored_pairs now)
-  sweep.built_from.record(sweep.stored_pairs, contacts.walls, slab, chunk);
+  pass.built_from.record(pass.stored_pairs, contacts.walls, slab, chunk);
 }
 
-void restore_storage_order(Contacts& contacts, ColouredPass& sweep) {
-  if (!sweep.in_colour_order) return;  // not prepared
-  const std::vector<ContactIndex>& from = sweep.storage_index;
+void restore_storage_order(Contacts& contacts, ColouredPass& pass) {
+  if (!pass.in_colour_order) return;  // not prepared
+  const std::vector<ContactIndex>& from = pass.storage_index;
   CDP_ASSERT(from.size() == contacts.pairs.size(), "a storage index per pair");
-  // unchanged by the sweeps, so stored_pairs is still their storage order (debug builds check
+  // unchanged by the passes, so stored_pairs is still their storage order (debug builds check
   // that the two hold the same pairs)
-  CDP_ASSERT(sweep.stored_pairs.size() == from.size() &&
+  CDP_ASSERT(pass.stored_pairs.size() == from.size() &&
                  std::equal(from.begin(), from.end(), contacts.pairs.begin(),
                             [&](ContactIndex stored, const PairProblem& p) {
-                              const PairProblem& q = sweep.stored_pairs[stored];
+                              const PairProblem& q = pass.stored_pairs[stored];
                               return q.a == p.a && q.b == p.b;
                             }),
              "the pairs in colour order are the stored pairs");
-  contacts.pairs.swap(sweep.stored_pairs);
-  scatter_back(contacts.pair_actions, from, sweep.action_scratch);
-  sweep.in_colour_order = false;  // storage_index is kept for the next step's prepare
+  contacts.pairs.swap(pass.stored_pairs);
+  scatter_back(contacts.pair_actions, from, pass.action_scratch);
+  pass.in_colour_order = false;  // storage_index is kept for the next step's prepare
 }
 
-void order_groups(ColouredPass& sweep, VisitOrder policy, Rng& rng) {
-  const PairColouring& colouring = sweep.colouring;
+void order_groups(ColouredPass& pass, VisitOrder policy, Rng& rng) {
+  const PairColouring& colouring = pass.colouring;
   const std::vector<std::uint32_t>& chunk_colours = colouring.chunk_colours;
   const bool shuffle = policy != VisitOrder::Fixed;
   constexpr std::uint32_t kSequential = ~std::uint32_t{0};
-  sweep.group_order.clear();
+  pass.group_order.clear();
   for (std::size_t p = 0; p < kPassParts; ++p) {
     // the part's chunks and its sequential group in a random order, and each chunk's colours
     // in a random order
-    sweep.chunk_order.clear();
+    pass.chunk_order.clear();
     for (std::uint32_t j = colouring.part_chunks[p]; j < colouring.part_chunks[p + 1]; ++j) {
-      sweep.chunk_order.push_back(j);
+      pass.chunk_order.push_back(j);
     }
-    sweep.chunk_order.push_back(kSequential);
-    if (shuffle) shuffle_indices(std::span<std::uint32_t>(sweep.chunk_order), rng);
-    sweep.part_groups[p] = static_cast<std::uint32_t>(sweep.group_order.size());
-    for (const std::uint32_t chunk : sweep.chunk_order) {
+    pass.chunk_order.push_back(kSequential);
+    if (shuffle) shuffle_indices(std::span<std::uint32_t>(pass.chunk_order), rng);
+    pass.part_groups[p] = static_cast<std::uint32_t>(pass.group_order.size());
+    for (const std::uint32_t chunk : pass.chunk_order) {
       if (chunk == kSequential) {
-        sweep.group_order.push_back(static_cast<std::uint32_t>(sweep.colours() + p));
+        pass.group_order.push_back(static_cast<std::uint32_t>(pass.colours() + p));
         continue;
       }
-      const std::size_t first = sweep.group_order.size();
+      const std::size_t first = pass.group_order.size();
       for (std::uint32_t c = chunk_colours[chunk]; c < chunk_colours[chunk + 1]; ++c) {
-        sweep.group_order.push_back(c);
+        pass.group_order.push_back(c);
       }
       if (shuffle) {
-        shuffle_indices(std::span<std::uint32_t>(sweep.group_order).subspan(first), rng);
+        shuffle_indices(std::span<std::uint32_t>(pass.group_order).subspan(first), rng);
       }
     }
   }
-  sweep.part_groups[kPassParts] = static_cast<std::uint32_t>(sweep.group_order.size());
+  pass.part_groups[kPassParts] = static_cast<std::uint32_t>(pass.group_order.size());
 }
 
 bool allow_kernel_isa(lanes::Isa widest) {
@@ -490,8 +490,8 @@ SolveWallBatches wall_kernel(bool open_rare) {
                    : CDP_WIDE_LANES_FOR_CPU(solve_wall_batches<false>);
 }
 
-/// Whether at most one visit in kOpenRare of a sweep left its contact open (not closed): then
-/// the next sweep runs the kernel that skips the open branch where no lane of a call needs it.
+/// Whether at most one visit in kOpenRare of a pass left its contact open (not closed): then
+/// the next pass runs the kernel that skips the open branch where no lane of a call needs it.
 /// The break-even lies between the compaction front (≈ 2.5 % of the visits open: the selects
 /// are cheaper) and mid-run (≈ 0.25 %: the branch is cheaper); docs/performance.md, "Calls
 /// without an open lane".
@@ -508,82 +508,82 @@ ApplyBatches apply_kernel(bool torques) {
 
 }  // namespace
 
-void apply_part_deltas(const ColouredPass& sweep, std::size_t part,
+void apply_part_deltas(const ColouredPass& pass, std::size_t part,
                        const std::vector<ContactAction>& deltas, VelocityCache& velocities) {
   // colour by colour: the AVX-512 kernel takes two batches at a time, which must not share a
   // sphere (two colours may)
-  const ApplyBatches apply = apply_kernel(sweep.torques);
-  const PairColouring& colouring = sweep.colouring;
+  const ApplyBatches apply = apply_kernel(pass.torques);
+  const PairColouring& colouring = pass.colouring;
   for (std::size_t c = colouring.first_colour(part); c < colouring.first_colour(part + 1); ++c) {
-    apply(sweep.batch_pairs.data(), sweep.colour_batches[c], sweep.colour_batches[c + 1],
+    apply(pass.batch_pairs.data(), pass.colour_batches[c], pass.colour_batches[c + 1],
           velocities.spheres.data(), deltas.data());
   }
 }
 
-void apply_overflow_deltas(const ColouredPass& sweep, const std::vector<ContactAction>& deltas,
+void apply_overflow_deltas(const ColouredPass& pass, const std::vector<ContactAction>& deltas,
                            const Contacts& contacts, VelocityCache& velocities) {
-  for (const ContactIndex k : sweep.colouring.overflow) {
+  for (const ContactIndex k : pass.colouring.overflow) {
     apply_pair_action(contacts.pairs[k], deltas[k], velocities);
   }
 }
 
-void apply_pair_deltas(const ColouredPass& sweep, const std::vector<ContactAction>& deltas,
+void apply_pair_deltas(const ColouredPass& pass, const std::vector<ContactAction>& deltas,
                        const Contacts& contacts, VelocityCache& velocities) {
   // colour by colour in storage order: each sphere gets its changes in the order of the
   // scalar loop over the pairs (no sphere twice in a colour), so the same bits
-  for (std::size_t p = 0; p < kPassParts; ++p) apply_part_deltas(sweep, p, deltas, velocities);
-  apply_overflow_deltas(sweep, deltas, contacts, velocities);
+  for (std::size_t p = 0; p < kPassParts; ++p) apply_part_deltas(pass, p, deltas, velocities);
+  apply_overflow_deltas(pass, deltas, contacts, velocities);
 }
 
-PassSums run_coloured_part(Contacts& contacts, VelocityCache& velocities, const ColouredPass& sweep,
+PassSums run_coloured_part(Contacts& contacts, VelocityCache& velocities, const ColouredPass& pass,
                            std::size_t part) {
   PassSums sums;
-  const std::size_t colours = sweep.colours();
+  const std::size_t colours = pass.colours();
   SphereVelocity* const spheres = velocities.spheres.data();
   ContactAction* const actions = contacts.pair_actions.data();
-  const SolveBatches solve = batch_kernel(sweep.torques, sweep.open_rare);
-  const SolveWallBatches solve_walls = wall_kernel(sweep.open_rare);
-  for (std::uint32_t i = sweep.part_groups[part]; i < sweep.part_groups[part + 1]; ++i) {
-    const std::uint32_t group = sweep.group_order[i];
+  const SolveBatches solve = batch_kernel(pass.torques, pass.open_rare);
+  const SolveWallBatches solve_walls = wall_kernel(pass.open_rare);
+  for (std::uint32_t i = pass.part_groups[part]; i < pass.part_groups[part + 1]; ++i) {
+    const std::uint32_t group = pass.group_order[i];
     if (group >= colours) {
       // overflow pairs, bottom-wall batches, the other wall contacts: in the group's order
       const std::size_t p = group - colours;
-      const auto [bottom_first, bottom_last] = sweep.bottom_walls[p];
-      for (std::uint32_t j = sweep.part_sequential[p]; j < bottom_first; ++j) {
-        visit_contact(sweep.sequential[j], contacts, velocities, sums);
+      const auto [bottom_first, bottom_last] = pass.bottom_walls[p];
+      for (std::uint32_t j = pass.part_sequential[p]; j < bottom_first; ++j) {
+        visit_contact(pass.sequential[j], contacts, velocities, sums);
       }
       if (bottom_first < bottom_last) {
-        solve_walls(sweep.wall_batch_pairs.data(), sweep.part_wall_batches[p],
-                    sweep.part_wall_batches[p + 1], spheres, contacts.wall_actions.data(), sums);
+        solve_walls(pass.wall_batch_pairs.data(), pass.part_wall_batches[p],
+                    pass.part_wall_batches[p + 1], spheres, contacts.wall_actions.data(), sums);
       }
-      for (std::uint32_t j = bottom_last; j < sweep.part_sequential[p + 1]; ++j) {
-        visit_contact(sweep.sequential[j], contacts, velocities, sums);
+      for (std::uint32_t j = bottom_last; j < pass.part_sequential[p + 1]; ++j) {
+        visit_contact(pass.sequential[j], contacts, velocities, sums);
       }
       continue;
     }
-    solve(sweep.batch_pairs.data(), sweep.colour_batches[group], sweep.colour_batches[group + 1],
+    solve(pass.batch_pairs.data(), pass.colour_batches[group], pass.colour_batches[group + 1],
           spheres, actions, sums);
   }
   return sums;
 }
 
-PassSums run_coloured_pass(Contacts& contacts, VelocityCache& velocities, const ColouredPass& sweep,
+PassSums run_coloured_pass(Contacts& contacts, VelocityCache& velocities, const ColouredPass& pass,
                            SlabThreads* threads, AfterPart after) {
   // across the cut first, so that each slab's spheres are final when its piece ends
-  PassSums sums = run_coloured_part(contacts, velocities, sweep, 2);
+  PassSums sums = run_coloured_part(contacts, velocities, pass, 2);
 
   struct alignas(64) PartSums {
     PassSums sums;
   };
 
   std::array<PartSums, 2> inside{};
-  run_pieces(sweep.cut() ? threads : nullptr, 2, [&](std::uint32_t p) {
-    inside[p].sums = run_coloured_part(contacts, velocities, sweep, p);
+  run_pieces(pass.cut() ? threads : nullptr, 2, [&](std::uint32_t p) {
+    inside[p].sums = run_coloured_part(contacts, velocities, pass, p);
     after(p);
   });
   sums.add_part(inside[0].sums);
   sums.add_part(inside[1].sums);
-  sweep.open_rare = open_contacts_rare(sums, contacts.size());
+  pass.open_rare = open_contacts_rare(sums, contacts.size());
   return sums;
 }
 

@@ -1,16 +1,16 @@
-// coloured_sweep.hpp — the coloured sweep kernel (solver.kernel = "coloured", the default;
+// coloured_sweep.hpp — the coloured pass kernel (solver.kernel = "coloured", the default;
 // docs/performance.md "Coloured kernel"). The step's sphere–sphere contacts are
 // coloured (colouring.hpp) and each colour is gathered into batches of kBatchLanes contacts
 // in structure-of-arrays form, solved side by side with the same arithmetic per contact as
-// solve_pair: a coloured sweep is an exact reordering of a scalar sweep. Overflow pairs and
+// solve_pair: a coloured pass is an exact reordering of a scalar pass. Overflow pairs and
 // wall contacts (the piston couples its contacts through one velocity) form one more group,
 // solved one by one with the scalar kernels, except its bottom-wall contacts: no two share a
 // sphere, so they are batched too (WallBatchPair) and solved side by side with solve_wall's
-// arithmetic, in their place in the group. A sweep visits the groups in an order drawn from
-// the sweep-order stream (physics.md §7.1, at the level of colours).
+// arithmetic, in their place in the group. A pass visits the groups in an order drawn from
+// the pass-order stream (physics.md §7.1, at the level of colours).
 // When the step is cut into two slabs (slabs.hpp) the contacts come in three parts (inside
 // slab 0, inside slab 1, across the cut), each with its own colours and sequential group; a
-// sweep visits part 2 (across the cut), then part 0 and part 1, and adds each part's visits to
+// pass visits part 2 (across the cut), then part 0 and part 1, and adds each part's visits to
 // sums of its own, which are then added in that order (PassSums::add_part), so the bits do
 // not depend on whether parts 0 and 1 ran one after the other or side by side.
 #pragma once
@@ -144,7 +144,7 @@ struct ColouredPass {
   bool in_colour_order = false;
   /// the inputs of the last build of the colouring, storage_index and the batches' rows
   ColouringInputs built_from;
-  /// the step's pairs in storage order while Contacts holds them in colour order (the sweeps
+  /// the step's pairs in storage order while Contacts holds them in colour order (the passes
   /// only read them; restore_storage_order swaps them back)
   std::vector<PairProblem> stored_pairs;
   std::vector<ContactAction> action_scratch;
@@ -152,9 +152,9 @@ struct ColouredPass {
   /// non-zero: the pair kernels then leave the torques alone (they stay +0, the bits are the
   /// same); the bottom-wall batches always solve them, as solve_wall does
   bool torques = true;
-  /// which of two kernels with the same bits the next sweep runs: with open contacts rare in the
-  /// last sweep (≤ 1 % of its visits), the one that skips the open branch where no lane of a
-  /// call needs it (coloured_kernel.inc). A hint about speed alone, so a sweep taken as const
+  /// which of two kernels with the same bits the next pass runs: with open contacts rare in the
+  /// last pass (≤ 1 % of its visits), the one that skips the open branch where no lane of a
+  /// call needs it (coloured_kernel.inc). A hint about speed alone, so a pass taken as const
   /// updates it (run_coloured_pass), and tests may set it.
   mutable bool open_rare = false;
   std::vector<ContactAction> deltas;  ///< scratch of the mixing: pair action changes
@@ -178,29 +178,29 @@ struct ColouredPass {
 
 /// Colours the step's pairs greedily (chunks of kColourChunk contacts), part by part when
 /// `slab` gives each sphere's slab (slabs.hpp; empty: one part), stores the pairs and their
-/// actions in the order the sweep visits them (so a sweep streams through them;
+/// actions in the order the pass visits them (so a pass streams through them;
 /// restore_storage_order undoes it) and builds the batches. The cohesion flags stay in storage
 /// order: nothing reads them until the pairs are back. When the pairs, walls and slabs are the
 /// last build's (ColouringInputs), the colouring and the batches' rows are kept and only the
 /// batches' values are filled again, part by part, on the threads of `pieces` if given.
-void prepare_coloured_pass(Contacts& contacts, const VelocityCache& velocities, ColouredPass& sweep,
+void prepare_coloured_pass(Contacts& contacts, const VelocityCache& velocities, ColouredPass& pass,
                            std::size_t chunk = kColourChunk,
                            std::span<const std::uint8_t> slab = {}, PieceRunner* pieces = nullptr);
 
 /// Puts the pairs and their actions back in storage order (sorted by sphere pair), as the rest
 /// of the step expects them.
-void restore_storage_order(Contacts& contacts, ColouredPass& sweep);
+void restore_storage_order(Contacts& contacts, ColouredPass& pass);
 
-/// Builds the batches and the sequential groups from sweep.colouring and sweep.wall_part (set
+/// Builds the batches and the sequential groups from pass.colouring and pass.wall_part (set
 /// by the caller). The next prepare_coloured_pass colours afresh.
-void build_batches(const Contacts& contacts, const VelocityCache& velocities, ColouredPass& sweep);
+void build_batches(const Contacts& contacts, const VelocityCache& velocities, ColouredPass& pass);
 
 /// Group order, part by part: storage order for VisitOrder::Fixed, else the part's chunks (and
 /// its sequential group) in a fresh random order from `rng`, each chunk's colours in a random
 /// order.
-void order_groups(ColouredPass& sweep, VisitOrder policy, Rng& rng);
+void order_groups(ColouredPass& pass, VisitOrder policy, Rng& rng);
 
-/// Lets the sweep use kernels up to `widest` where the CPU has them (default: AVX-512, two
+/// Lets the pass use kernels up to `widest` where the CPU has them (default: AVX-512, two
 /// batches per register; unless the environment says CDPOWDER_KERNEL_ISA=avx2 or sse2): all
 /// give the same bits. Returns whether the kernel now runs on `widest`.
 bool allow_kernel_isa(lanes::Isa widest);
@@ -209,18 +209,18 @@ bool allow_kernel_isa(lanes::Isa widest);
 /// as during the solve), as apply_pair_action over the pairs in storage order would: the
 /// batches colour by colour, a register of lanes at a time, then the overflow pairs. The same
 /// bits.
-void apply_pair_deltas(const ColouredPass& sweep, const std::vector<ContactAction>& deltas,
+void apply_pair_deltas(const ColouredPass& pass, const std::vector<ContactAction>& deltas,
                        const Contacts& contacts, VelocityCache& velocities);
 
 /// apply_pair_deltas of part p's batches alone (parts 0 and 1 touch no common sphere);
 /// apply_pair_deltas is parts 0, 1, 2 and then apply_overflow_deltas.
-void apply_part_deltas(const ColouredPass& sweep, std::size_t part,
+void apply_part_deltas(const ColouredPass& pass, std::size_t part,
                        const std::vector<ContactAction>& deltas, VelocityCache& velocities);
-void apply_overflow_deltas(const ColouredPass& sweep, const std::vector<ContactAction>& deltas,
+void apply_overflow_deltas(const ColouredPass& pass, const std::vector<ContactAction>& deltas,
                            const Contacts& contacts, VelocityCache& velocities);
 
-/// Part p's groups of one sweep, in sweep.group_order, with sums of their own.
-PassSums run_coloured_part(Contacts& contacts, VelocityCache& velocities, const ColouredPass& sweep,
+/// Part p's groups of one pass, in pass.group_order, with sums of their own.
+PassSums run_coloured_part(Contacts& contacts, VelocityCache& velocities, const ColouredPass& pass,
                            std::size_t part);
 
 /// Work a thread does right after it solved the contacts inside slab `part` (0 or 1), on that
@@ -244,10 +244,10 @@ class AfterPart {
   const void* object_ = nullptr;
 };
 
-/// One sweep over the groups in sweep.group_order: part 2, then parts 0 and 1 (each followed by
+/// One pass over the groups in pass.group_order: part 2, then parts 0 and 1 (each followed by
 /// after(part)), their sums added in that order. With `threads`, a cut step's two slabs run
-/// side by side: the same bits. Sets sweep.open_rare for the next sweep from its sums.
-PassSums run_coloured_pass(Contacts& contacts, VelocityCache& velocities, const ColouredPass& sweep,
+/// side by side: the same bits. Sets pass.open_rare for the next pass from its sums.
+PassSums run_coloured_pass(Contacts& contacts, VelocityCache& velocities, const ColouredPass& pass,
                            SlabThreads* threads = nullptr, AfterPart after = {});
 
 }  // namespace cdpowder

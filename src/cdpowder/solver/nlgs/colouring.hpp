@@ -1,4 +1,4 @@
-// colouring.hpp — graph colouring of a step's sphere–sphere contacts for the coloured sweep
+// colouring.hpp — graph colouring of a step's sphere–sphere contacts for the coloured pass
 // kernel (solver.kernel = "coloured", coloured_sweep.hpp): no two contacts of one colour
 // share a sphere, so a colour's contacts can be solved side by side in any order. Greedy in
 // contact storage order, each contact taking the lowest colour free at both its spheres, as
@@ -7,7 +7,7 @@
 // colouring does not know the SIMD lane width.
 // For locality the contacts are coloured in chunks of consecutive contacts (contacts are
 // stored sorted by their spheres, so a chunk touches a compact set of spheres), each chunk
-// with its own colours: a sweep then solves a chunk's colours one after the other while the
+// with its own colours: a pass then solves a chunk's colours one after the other while the
 // chunk's spheres stay in cache, instead of streaming through all spheres once per colour.
 // The contacts may come in parts (the slabs of slabs.hpp: the contacts inside the lower slab,
 // inside the upper one, and across the cut), each part coloured on its own, so that the
@@ -28,7 +28,7 @@ inline constexpr int kMaxColours = 24;
 /// Contacts per chunk: ≈ 600 spheres' velocities (40 kB) stay in L1/L2 across its colours.
 inline constexpr std::size_t kColourChunk = 2048;
 
-/// Parts of a sweep's contacts (slabs.hpp): inside slab 0, inside slab 1, across the cut.
+/// Parts of a pass's contacts (slabs.hpp): inside slab 0, inside slab 1, across the cut.
 inline constexpr std::size_t kPassParts = 3;
 
 struct PairColouring {
@@ -75,8 +75,8 @@ void colour_parts(const std::vector<PairProblem>& pairs, std::span<const Contact
                   std::size_t sphere_count, int max_colours, std::size_t chunk, PairColouring& out,
                   std::vector<std::uint64_t>& masks);
 
-/// One chunk, one contact per colour, in storage order: the coloured sweep in VisitOrder::Fixed
-/// then visits exactly what the scalar sweep visits (for tests).
+/// One chunk, one contact per colour, in storage order: the coloured pass in VisitOrder::Fixed
+/// then visits exactly what the scalar pass visits (for tests).
 void colour_one_per_colour(std::size_t pair_count, PairColouring& out);
 
 }  // namespace cdpowder

@@ -1,4 +1,4 @@
-// kinematic_change.cpp — one pass over the spheres after a sweep, in lanes
+// kinematic_change.cpp — one pass over the spheres after a pass, in lanes
 // (kinematic_lanes.inc, compiled for SSE2 and for AVX2 like the coloured kernel).
 #include "cdpowder/solver/nlgs/kinematic_change.hpp"
 

@@ -1,4 +1,4 @@
-// kinematic_change.hpp — how much the last sweep changed the step's end velocities, against
+// kinematic_change.hpp — how much the last pass changed the step's end velocities, against
 // how fast the packing moves: the measures of the kinematic stopping rule
 // (SolverSettings::kinematic_tolerance, physics.md §7.3).
 #pragma once
@@ -18,29 +18,29 @@
 
 namespace cdpowder {
 
-/// What one sweep did to the end velocities. A sphere's surface velocity is measured as
+/// What one pass did to the end velocities. A sphere's surface velocity is measured as
 /// u = √(|v|² + R²|ω|²), within √2 of the fastest point of its surface |v| + R|ω|.
 struct PassMotion {
   double largest_change = 0.0;     ///< max over the spheres of u(Δv, Δω) [R/t0]
-  double rms_surface_speed = 0.0;  ///< √(mean over the spheres of u(v, ω)²) after the sweep [R/t0]
+  double rms_surface_speed = 0.0;  ///< √(mean over the spheres of u(v, ω)²) after the pass [R/t0]
   double piston_change = 0.0;      ///< |ΔV_P| [R/t0]
 };
 
-/// Compares the velocities after a sweep with those it started from. The snapshot a sweep
-/// is measured against is taken in the same pass that measures the sweep before it, so a
-/// sweep costs one pass over the spheres; only a change of the velocities between sweeps
-/// (the mixing) needs a fresh copy. Buffers are kept from sweep to sweep and step to step
+/// Compares the velocities after a pass with those it started from. The snapshot a pass
+/// is measured against is taken in the same pass that measures the pass before it, so a
+/// pass costs one pass over the spheres; only a change of the velocities between passes
+/// (the mixing) needs a fresh copy. Buffers are kept from pass to pass and step to step
 /// (no allocation in steady state).
 class KinematicChange {
  public:
-  /// Remembers v*, ω*, V_P* before the first sweep of a step, and R² of every sphere from
+  /// Remembers v*, ω*, V_P* before the first pass of a step, and R² of every sphere from
   /// the cache's Δt/m and Δt/I (solid sphere: I = 0.4 m R²). With `slab` (a step cut into
   /// slabs, slabs.hpp) the spheres are taken in two pieces, slab by slab, each slab in index
   /// order, and the pieces' sums are added piece by piece; without, one piece in index order.
   void begin_step(const VelocityCache& velocities, std::span<const std::uint8_t> slab = {});
 
-  /// Remembers the velocities again after something other than a sweep changed them (the
-  /// mixing), so the next sweep is measured from them: copy_piece of every piece, then copied.
+  /// Remembers the velocities again after something other than a pass changed them (the
+  /// mixing), so the next pass is measured from them: copy_piece of every piece, then copied.
   void velocities_changed(const VelocityCache& velocities);
 
   /// The change since the last snapshot, which then moves to the velocities now. The RMS

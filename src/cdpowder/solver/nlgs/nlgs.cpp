@@ -1,4 +1,4 @@
-// nlgs.cpp — the sweep loop and the stopping rules.
+// nlgs.cpp — the pass loop and the stopping rules.
 #include "cdpowder/solver/nlgs/nlgs.hpp"
 
 #include "cdpowder/contact/local_solve.hpp"
@@ -21,25 +21,25 @@ namespace cdpowder {
 
 namespace {
 
-/// Sweeps over which the contraction ρ is measured: long enough to average out the
-/// sweep-to-sweep noise of a random visiting order.
+/// Passes over which the contraction ρ is measured: long enough to average out the
+/// pass-to-pass noise of a random visiting order.
 constexpr int kContractionWindow = 8;
 static_assert(kContractionWindow <= kMaxRootDegree, "nth_root takes roots up to the 8th");
 /// ρ is capped here, so the error estimate is at most 1000 × the residual.
 constexpr double kMaxContraction = 0.999;
 
-/// The last kContractionWindow + 1 values of a per-sweep measure (residual, kinematic
-/// change) and the contraction ρ per sweep they show.
+/// The last kContractionWindow + 1 values of a per-pass measure (residual, kinematic
+/// change) and the contraction ρ per pass they show.
 class ContractionWindow {
  public:
-  /// Adds the measure of sweep `sweep` (1, 2, …) and returns ρ = (x_k / x_{k−w})^{1/w} over
-  /// the last w = min(kContractionWindow, k − 1) sweeps, clamped to [0, kMaxContraction]; the
+  /// Adds the measure of pass `pass` (1, 2, …) and returns ρ = (x_k / x_{k−w})^{1/w} over
+  /// the last w = min(kContractionWindow, k − 1) passes, clamped to [0, kMaxContraction]; the
   /// root from nth_root, whose bits do not depend on the machine or its C library as pow's do.
-  double add(int sweep, double value) {
-    recent_[static_cast<std::size_t>(sweep) % recent_.size()] = value;
-    const int window = std::min(kContractionWindow, sweep - 1);
+  double add(int pass, double value) {
+    recent_[static_cast<std::size_t>(pass) % recent_.size()] = value;
+    const int window = std::min(kContractionWindow, pass - 1);
     if (window == 0) return kMaxContraction;
-    const double earlier = recent_[static_cast<std::size_t>(sweep - window) % recent_.size()];
+    const double earlier = recent_[static_cast<std::size_t>(pass - window) % recent_.size()];
     const double rho = earlier > 0.0 ? nth_root(value / earlier, window) : 0.0;
     return std::clamp(rho, 0.0, kMaxContraction);
   }
@@ -48,13 +48,13 @@ class ContractionWindow {
   std::array<double, kContractionWindow + 1> recent_{};
 };
 
-/// A sweep whose residual exceeds the best of the step by this factor discards the
+/// A pass whose residual exceeds the best of the step by this factor discards the
 /// acceleration history: the active set changed and the old differences mislead.
 constexpr double kRestartGrowth = 10.0;
 
 /// Blocks of the per-step order. Contacts are stored sorted by their bodies, so a block of
 /// consecutive contacts touches a few neighbouring spheres; shuffling blocks instead of
-/// single contacts lets a sweep stream through memory. Beyond cache a fully random order
+/// single contacts lets a pass stream through memory. Beyond cache a fully random order
 /// costs ≈ 370 ns per update, blocks of 256 contacts ≈ 36 ns (bench, 100 000 spheres). The
 /// order stays random at every scale above a block, and a system always has at least
 /// kMinBlocks blocks, so small systems (all in cache) get an almost fully random order.
@@ -198,7 +198,7 @@ SolverStats solve_nlgs(Contacts& contacts, VelocityCache& velocities,
   // a cut step has two pieces to share: a third thread would only spin
   SlabThreads* const pool = work.threads.get(std::min(settings.threads, 2));
 
-  // the workers spin from sweep to sweep within the step and are parked at its end (they spin
+  // the workers spin from pass to pass within the step and are parked at its end (they spin
   // a millisecond more, then sleep), also when the step is left by an exception
   struct ParkAtEnd {
     explicit ParkAtEnd(SlabThreads* pool) : threads(pool) {}
@@ -215,7 +215,7 @@ SolverStats solve_nlgs(Contacts& contacts, VelocityCache& velocities,
     SlabThreads* threads;
   } park_at_end(pool);
 
-  // the pairs are stored in colour order during the sweeps (and the mixing); a cut step on the
+  // the pairs are stored in colour order during the passes (and the mixing); a cut step on the
   // threads or on this one alone, whichever was faster lately: the same bits
   const bool threaded_prepare = pool != nullptr && !slab.empty() && work.thread_choice.threaded();
   prepare_coloured_pass(contacts, velocities, work.coloured, kColourChunk, slab,
@@ -261,35 +261,35 @@ struct ContractionWindows {
   ContractionWindow piston_moved;
 };
 
-/// The stopping gauges of `sweep` from its sums and motion (physics.md §7.2): force scale,
+/// The stopping gauges of `pass` from its sums and motion (physics.md §7.2): force scale,
 /// residual, relative change, contraction and error estimate, and the kinematic rule's
 /// errors once its window is full.
-void measure_pass(int sweep, const PassSums& sums, const PassMotion& motion, bool kinematic_rule,
+void measure_pass(int pass, const PassSums& sums, const PassMotion& motion, bool kinematic_rule,
                   const Contacts& contacts, const VelocityCache& velocities,
                   const SolverSettings& settings, double reference_force,
                   ContractionWindows& windows, SolverStats& stats) {
   const double mean_closed =
       sums.closed > 0 ? sums.sum_closed_normal / static_cast<double>(sums.closed) : 0.0;
   stats.force_scale = std::max({reference_force, mean_closed, 1e-300});
-  stats.sweeps = sweep;
+  stats.sweeps = pass;
   stats.residual = std::sqrt(sums.max_change_sq) / stats.force_scale;
   if (settings.stopping_rule == StoppingRule::RelativeChange) {
     const double size_sq = sum_action_size_sq(contacts);
     stats.relative_change = size_sq > 0.0 ? std::sqrt(sums.sum_change_sq / size_sq) : 0.0;
   }
-  stats.contraction = windows.forces.add(sweep, stats.residual);
+  stats.contraction = windows.forces.add(pass, stats.residual);
   // min() of the two forms: residual/(1 − ρ) ≤ 999.99… × residual when ρ ≤ 0.999, so the
   // default bound of 1000 returns the first form to the last bit
   stats.error_estimate = std::min(stats.residual / (1.0 - stats.contraction),
                                   stats.residual * settings.max_error_amplification);
   if (!kinematic_rule) return;
   const auto estimate = [&](ContractionWindow& window, double change) {
-    const double rho = window.add(sweep, change);
+    const double rho = window.add(pass, change);
     return std::min(change / (1.0 - rho), change * settings.max_error_amplification);
   };
   const double sphere_error = estimate(windows.spheres_moved, motion.largest_change);
   const double piston_error = estimate(windows.piston_moved, motion.piston_change);
-  if (sweep > kContractionWindow) {
+  if (pass > kContractionWindow) {
     // relative to the motion: a packing at rest never stops on this rule (its noise would
     // let it creep), a flowing front stops once its velocities are settled to κ
     stats.kinematic_error = sphere_error / std::max(motion.rms_surface_speed, 1e-300);
@@ -298,21 +298,21 @@ void measure_pass(int sweep, const PassSums& sums, const PassMotion& motion, boo
   }
 }
 
-/// Whether the step may end after `sweep`: at least min_sweeps, and the force rule or the
+/// Whether the step may end after `pass`: at least min_sweeps, and the force rule or the
 /// kinematic rule met.
-bool sweeps_done(int sweep, bool kinematic_rule, const SolverSettings& settings,
+bool sweeps_done(int pass, bool kinematic_rule, const SolverSettings& settings,
                  const SolverStats& stats) {
   const bool forces_done = settings.stopping_rule == StoppingRule::Residual
                                ? stats.error_estimate <= settings.tolerance
                                : stats.relative_change <= settings.tolerance;
-  const bool kinematics_done = kinematic_rule && sweep > kContractionWindow &&
+  const bool kinematics_done = kinematic_rule && pass > kContractionWindow &&
                                stats.kinematic_error <= settings.kinematic_tolerance &&
                                stats.piston_speed_error <= settings.kinematic_tolerance;
-  return sweep >= settings.min_sweeps && (forces_done || kinematics_done);
+  return pass >= settings.min_sweeps && (forces_done || kinematics_done);
 }
 
-/// One Anderson mixing of the actions after a sweep; the next mixing starts from the mixed
-/// actions, or from the sweep's when the fit failed.
+/// One Anderson mixing of the actions after a pass; the next mixing starts from the mixed
+/// actions, or from the pass's when the fit failed.
 void mix_actions(Contacts& contacts, VelocityCache& velocities, SlabThreads* threads,
                  NlgsWorkspace& work, MixedModes modes, bool coloured, bool cut,
                  KinematicChange* kinematic) {
@@ -353,11 +353,11 @@ SolverStats iterate_until_done(Contacts& contacts, VelocityCache& velocities,
   ContractionWindows windows;
   const bool kinematic_rule = settings.kinematic_tolerance > 0.0;
   KinematicChange* const kinematic = kinematic_rule ? &work.kinematic : nullptr;
-  // a step cut into slabs (slabs.hpp) runs its sweeps, the kinematic rule's pass and the
+  // a step cut into slabs (slabs.hpp) runs its passes, the kinematic rule's pass and the
   // mixing slab by slab (slab_solve.hpp)
   const bool cut = coloured && work.coloured.cut();
-  for (int sweep = 1; sweep <= settings.max_sweeps; ++sweep) {
-    // a fresh order every sweep, so corrections spread without a preferred direction (§7.1)
+  for (int pass = 1; pass <= settings.max_sweeps; ++pass) {
+    // a fresh order every pass, so corrections spread without a preferred direction (§7.1)
     if (settings.visit_order == VisitOrder::RandomEachSweep) {
       if (coloured) {
         order_groups(work.coloured, settings.visit_order, work.rng);
@@ -365,13 +365,13 @@ SolverStats iterate_until_done(Contacts& contacts, VelocityCache& velocities,
         shuffle_indices(std::span<ContactIndex>(order), work.rng);
       }
     }
-    if (kinematic_rule && sweep == 1) {
+    if (kinematic_rule && pass == 1) {
       work.kinematic.begin_step(velocities, cut ? slab : std::span<const std::uint8_t>{});
     }
-    // the estimates of the kinematic rule need a full window of sweeps (ρ over two sweeps at the
+    // the estimates of the kinematic rule need a full window of passes (ρ over two passes at the
     // start of a step is optimistic), so its test and the RMS speed wait for it; the windows
-    // fill from sweep 1
-    const bool window_full = sweep > kContractionWindow;
+    // fill from pass 1
+    const bool window_full = pass > kContractionWindow;
     PassMotion motion;
     PassSums sums;
     if (cut) {
@@ -382,21 +382,21 @@ SolverStats iterate_until_done(Contacts& contacts, VelocityCache& velocities,
                       : run_scalar_pass(contacts, velocities);
       if (kinematic_rule) motion = work.kinematic.after_pass(velocities, window_full);
     }
-    measure_pass(sweep, sums, motion, kinematic_rule, contacts, velocities, settings,
+    measure_pass(pass, sums, motion, kinematic_rule, contacts, velocities, settings,
                  reference_force, windows, stats);
-    if (sweeps_done(sweep, kinematic_rule, settings, stats)) {
+    if (sweeps_done(pass, kinematic_rule, settings, stats)) {
       stats.converged = true;
       break;
     }
     if (settings.stop_request != nullptr && *settings.stop_request && (*settings.stop_request)()) {
-      stats.stopped = true;  // on this sweep's output, before any mixing
+      stats.stopped = true;  // on this pass's output, before any mixing
       break;
     }
 
-    // Mixing comes after the test and never after the last sweep: a mixed iterate is an
+    // Mixing comes after the test and never after the last pass: a mixed iterate is an
     // affine combination that need not obey the contact laws (R_n < −F_c, forces outside
-    // the friction cone, forces on open contacts), so a step must end on a sweep's output.
-    if (accelerate && sweep % settings.acceleration_interval == 0 && sweep < settings.max_sweeps) {
+    // the friction cone, forces on open contacts), so a step must end on a pass's output.
+    if (accelerate && pass % settings.acceleration_interval == 0 && pass < settings.max_sweeps) {
       if (stats.residual > kRestartGrowth * best_residual) work.accelerator.reset();
       best_residual = std::min(best_residual, stats.residual);
       mix_actions(contacts, velocities, threads, work, modes, coloured, cut, kinematic);

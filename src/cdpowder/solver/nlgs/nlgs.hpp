@@ -19,18 +19,18 @@
 
 namespace cdpowder {
 
-/// What the sweeps of one step did.
+/// What the passes of one step did.
 struct SolverStats {
-  int sweeps = 0;               ///< sweeps performed
+  int sweeps = 0;               ///< passes performed
   bool converged = false;       ///< the stopping rule was met (false: capped at max_sweeps)
-  double residual = 0.0;        ///< largest force correction of the last sweep / force scale
-  double contraction = 0.0;     ///< ρ, measured ratio of residuals per sweep
+  double residual = 0.0;        ///< largest force correction of the last pass / force scale
+  double contraction = 0.0;     ///< ρ, measured ratio of residuals per pass
   double error_estimate = 0.0;  ///< residual/(1 − ρ): remaining relative force error
   double relative_change =
-      0.0;  ///< √(Σ|ΔX|²/Σ|X|²) of the last sweep ([S+12] criterion II, RMS form)
+      0.0;  ///< √(Σ|ΔX|²/Σ|X|²) of the last pass ([S+12] criterion II, RMS form)
   /// the kinematic rule's estimate of the largest error of a sphere's surface velocity over
   /// the RMS surface speed; 0 unless the rule is on (SolverSettings::kinematic_tolerance) and
-  /// the step ran past the rule's window of sweeps [-]
+  /// the step ran past the rule's window of passes [-]
   double kinematic_error = 0.0;
   double piston_speed_error = 0.0;  ///< the same for the piston, over its speed [-]
   double force_scale = 0.0;         ///< F_ref = max(F_coh, mean |R_n| of closed contacts) [F_coh]
@@ -38,15 +38,15 @@ struct SolverStats {
   bool threaded = false;            ///< solved on more than one thread (ThreadChoice)
 };
 
-/// Scratch state of the solver reused across steps: the sweep-order stream and the
+/// Scratch state of the solver reused across steps: the pass-order stream and the
 /// buffers of the acceleration (no allocation in steady state).
 struct NlgsWorkspace {
   explicit NlgsWorkspace(std::uint64_t seed) : rng(make_rng(seed, RngStream::PassOrder)) {}
 
   Rng rng;
   AndersonAccelerator accelerator;
-  AlignedVector<double> start;  ///< actions the sweep started from, flattened (4–8 per contact)
-  AlignedVector<double> swept;  ///< actions after the sweep
+  AlignedVector<double> start;  ///< actions the pass started from, flattened (4–8 per contact)
+  AlignedVector<double> swept;  ///< actions after the pass
   AlignedVector<double> mixed;  ///< accelerated actions
   std::vector<ContactIndex> blocks;  ///< block permutation of the per-step order
   KinematicChange kinematic;         ///< the kinematic rule's velocity snapshot
@@ -57,12 +57,12 @@ struct NlgsWorkspace {
   std::vector<double> slab_scratch;  ///< scratch of cut_into_slabs
 };
 
-/// Sweeps until the stopping rule holds or max_sweeps is reached. Each visit solves one
+/// Passes until the stopping rule holds or max_sweeps is reached. Each visit solves one
 /// contact exactly with the others held fixed and pushes its change into the velocity
-/// cache at once, so later visits in the same sweep see it (§7.1). With
-/// acceleration_depth > 0, every sweep is followed by an Anderson mixing step.
+/// cache at once, so later visits in the same pass see it (§7.1). With
+/// acceleration_depth > 0, every pass is followed by an Anderson mixing step.
 /// `reference_force` is the force scale below which forces count as small (F_coh).
-/// With the coloured kernel and `slab` giving each sphere's slab (slabs.hpp), a sweep visits
+/// With the coloured kernel and `slab` giving each sphere's slab (slabs.hpp), a pass visits
 /// the contacts across the cut, then inside slab 0 and inside slab 1, and the kinematic rule
 /// and the mixing run in two halves: on two threads (solver.threads = 2) the slabs and the
 /// halves run side by side, with the same bits as on one; ThreadChoice (slab_threads.hpp)
@@ -72,10 +72,10 @@ SolverStats solve_nlgs(Contacts& contacts, VelocityCache& velocities,
                        std::span<const std::uint8_t> slab = {});
 
 /// Fills contacts.visit_order for a new step: storage order, or a random permutation of
-/// blocks (RandomEachStep; RandomEachSweep reshuffles every sweep inside solve_nlgs).
+/// blocks (RandomEachStep; RandomEachSweep reshuffles every pass inside solve_nlgs).
 void prepare_visit_order(Contacts& contacts, VisitOrder policy, NlgsWorkspace& work);
 
-/// One sweep in the given order; returns the sweep's largest change and sums. Exposed for
+/// One pass in the given order; returns the pass's largest change and sums. Exposed for
 /// the benchmark of the kernel.
 PassSums run_scalar_pass(Contacts& contacts, VelocityCache& velocities);
 

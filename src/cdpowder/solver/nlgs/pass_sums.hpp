@@ -1,4 +1,4 @@
-// sweep_sums.hpp — what a sweep reports to the stopping rules, shared by the scalar sweep
+// sweep_sums.hpp — what a pass reports to the stopping rules, shared by the scalar pass
 // (nlgs.cpp) and the coloured one (coloured_sweep.cpp). The scalar visit both use is in
 // visit_contact.hpp, which only the solver's sources include (it brings the contact kernels).
 #pragma once
@@ -8,14 +8,14 @@
 
 namespace cdpowder {
 
-/// One sweep's largest change and sums.
+/// One pass's largest change and sums.
 struct PassSums {
   double max_change_sq = 0.0;  ///< largest squared correction of a visit [F_coh²]
   double sum_change_sq = 0.0;
   double sum_closed_normal = 0.0;
   std::size_t closed = 0;
 
-  /// Adds the sums of the next part of a sweep (coloured_sweep.hpp): adding a part that
+  /// Adds the sums of the next part of a pass (coloured_sweep.hpp): adding a part that
   /// visited nothing leaves the bits (the sums are ≥ +0).
   void add_part(const PassSums& part) {
     max_change_sq = std::max(max_change_sq, part.max_change_sq);

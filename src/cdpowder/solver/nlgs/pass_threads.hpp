@@ -1,14 +1,14 @@
 // sweep_threads.hpp — a small persistent pool of threads for the solve of a step cut into two
-// slabs (solver.threads, slab_threads.hpp). A sweep at paper size is ≈ 30 µs and hands work to
+// slabs (solver.threads, slab_threads.hpp). A pass at paper size is ≈ 30 µs and hands work to
 // the other thread once or twice, so a hand-over must cost a few percent of that at most: the
-// threads spin on atomics (no mutex, no condition variable) while a step's sweeps run, go on
+// threads spin on atomics (no mutex, no condition variable) while a step's passes run, go on
 // spinning for a millisecond after a step (the next one usually starts within a quarter of
 // that), and then sleep (std::atomic::wait, a futex), so a run that stops stepping does not
 // burn a core.
 // Chosen over OpenMP: the pool is created once per workspace, its spinning and parking are
 // under our control (OpenMP's spin-wait policy is an environment setting of the runtime), and
 // the caller never waits for a worker that has no work (an OpenMP parallel region ends with a
-// barrier of all threads: on a loaded machine one descheduled worker stalls every sweep).
+// barrier of all threads: on a loaded machine one descheduled worker stalls every pass).
 #pragma once
 
 #include <atomic>

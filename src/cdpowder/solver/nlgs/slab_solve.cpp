@@ -1,4 +1,4 @@
-// slab_solve.cpp — a cut step's sweep and mixing in pieces (slab_solve.hpp).
+// slab_solve.cpp — a cut step's pass and mixing in pieces (slab_solve.hpp).
 #include "cdpowder/solver/nlgs/slab_solve.hpp"
 
 #include "cdpowder/contact/velocity_change.hpp"
@@ -22,9 +22,9 @@ struct alignas(64) OnItsLine {
 /// The combined contact indices (pairs, then walls) of the mixing's three ranges: slab 0's
 /// pairs, slab 1's pairs, and the rest (the pairs across the cut, the overflow pairs, walls).
 std::array<std::pair<std::size_t, std::size_t>, 3> contact_ranges(const Contacts& contacts,
-                                                                  const ColouredPass& sweep) {
+                                                                  const ColouredPass& pass) {
   // the pairs are stored in colour order during the solve, so a part's members are its pairs
-  const PairColouring& colouring = sweep.colouring;
+  const PairColouring& colouring = pass.colouring;
   return {{{colouring.first_member(0), colouring.first_member(1)},
            {colouring.first_member(1), colouring.first_member(2)},
            {colouring.first_member(2), contacts.size()}}};
@@ -32,12 +32,12 @@ std::array<std::pair<std::size_t, std::size_t>, 3> contact_ranges(const Contacts
 
 }  // namespace
 
-PassSums cut_step_pass(Contacts& contacts, VelocityCache& velocities, const ColouredPass& sweep,
+PassSums cut_step_pass(Contacts& contacts, VelocityCache& velocities, const ColouredPass& pass,
                        SlabThreads* threads, KinematicChange* kinematic, bool with_speed,
                        PassMotion& motion) {
   std::array<OnItsLine<KinematicChange::PieceMotion>, 2> measured{};
   const PassSums sums =
-      run_coloured_pass(contacts, velocities, sweep, threads, [&](std::uint32_t part) {
+      run_coloured_pass(contacts, velocities, pass, threads, [&](std::uint32_t part) {
         if (kinematic != nullptr) {
           measured[part].value = kinematic->measure_piece(velocities, part, with_speed);
         }
@@ -51,10 +51,10 @@ PassSums cut_step_pass(Contacts& contacts, VelocityCache& velocities, const Colo
 
 bool mix_cut_step(const AlignedVector<double>& start, AlignedVector<double>& swept,
                   AlignedVector<double>& mixed, MixedModes modes, AndersonAccelerator& accelerator,
-                  Contacts& contacts, VelocityCache& velocities, ColouredPass& sweep,
+                  Contacts& contacts, VelocityCache& velocities, ColouredPass& pass,
                   SlabThreads* threads, KinematicChange* kinematic) {
   const std::size_t stride = modes.doubles_per_action();
-  const auto ranges = contact_ranges(contacts, sweep);
+  const auto ranges = contact_ranges(contacts, pass);
   swept.resize(stride * contacts.size());
   accelerator.begin(swept.size());
   // two pieces: slab 1's pairs, and slab 0's with the rest (the caller's, which it touches
@@ -75,7 +75,7 @@ bool mix_cut_step(const AlignedVector<double>& start, AlignedVector<double>& swe
   if (!accelerator.fit(std::span(sums))) return false;
 
   mixed.resize(swept.size());
-  std::vector<ContactAction>& deltas = sweep.deltas;
+  std::vector<ContactAction>& deltas = pass.deltas;
   deltas.resize(contacts.pairs.size());
   const std::size_t pairs = contacts.pairs.size();
   with_modes(modes, [&](auto rolling, auto twisting) {
@@ -96,8 +96,8 @@ bool mix_cut_step(const AlignedVector<double>& start, AlignedVector<double>& swe
     // the rest first, on the caller: it touches spheres of both slabs
     const auto [rest, end] = ranges[2];
     take_pairs(rest, end);
-    apply_part_deltas(sweep, 2, deltas, velocities);
-    apply_overflow_deltas(sweep, deltas, contacts, velocities);
+    apply_part_deltas(pass, 2, deltas, velocities);
+    apply_overflow_deltas(pass, deltas, contacts, velocities);
     for (std::size_t k = std::max(rest, pairs); k < end; ++k) {
       const std::size_t w = k - pairs;
       apply_wall_action(
@@ -108,7 +108,7 @@ bool mix_cut_step(const AlignedVector<double>& start, AlignedVector<double>& swe
     // then each slab's pairs, and the kinematic rule's snapshot of its spheres
     run_pieces(threads, 2, [&](std::uint32_t part) {
       take_pairs(ranges[part].first, ranges[part].second);
-      apply_part_deltas(sweep, part, deltas, velocities);
+      apply_part_deltas(pass, part, deltas, velocities);
       if (kinematic != nullptr) kinematic->copy_piece(velocities, part);
     });
   });

@@ -1,6 +1,6 @@
-// slab_solve.hpp — the sweeps and the mixing of a step cut into two slabs (slabs.hpp), in as
+// slab_solve.hpp — the passes and the mixing of a step cut into two slabs (slabs.hpp), in as
 // few hand-overs between the threads as the order of the work allows. On this machine a
-// hand-over (one run of SlabThreads) costs ≈ 2 µs, a tenth of a sweep at paper size, so the
+// hand-over (one run of SlabThreads) costs ≈ 2 µs, a tenth of a pass at paper size, so the
 // work of one slab is one piece: its contacts and then the kinematic rule's pass over its
 // spheres; the mixing is one run for the passes over the vectors and one for the changes it
 // makes. Whatever touches both slabs (the contacts across the cut, the overflow pairs, the
@@ -20,14 +20,14 @@
 
 namespace cdpowder {
 
-/// One sweep of a cut step (run_coloured_pass's order: the contacts across the cut, then each
+/// One pass of a cut step (run_coloured_pass's order: the contacts across the cut, then each
 /// slab's), each slab's contacts followed by the kinematic rule's pass over its spheres when
 /// `kinematic` is given (with the RMS speed when `with_speed`), which sets `motion`.
-PassSums cut_step_pass(Contacts& contacts, VelocityCache& velocities, const ColouredPass& sweep,
+PassSums cut_step_pass(Contacts& contacts, VelocityCache& velocities, const ColouredPass& pass,
                        SlabThreads* threads, KinematicChange* kinematic, bool with_speed,
                        PassMotion& motion);
 
-/// One mixing step of a cut step: `swept` ← the actions after the sweep (flattened), the
+/// One mixing step of a cut step: `swept` ← the actions after the pass (flattened), the
 /// accelerator's passes over the contacts of slab 0, of slab 1 and the rest (across the cut,
 /// overflow, walls), its fit, and when that succeeds `mixed` ← the mixed actions, adopted by
 /// the contacts with the velocity cache moved by the change: the rest first (on the caller),
@@ -35,7 +35,7 @@ PassSums cut_step_pass(Contacts& contacts, VelocityCache& velocities, const Colo
 /// whether the mixing was adopted (false: no history yet, or the fit failed; nothing changed).
 bool mix_cut_step(const AlignedVector<double>& start, AlignedVector<double>& swept,
                   AlignedVector<double>& mixed, MixedModes modes, AndersonAccelerator& accelerator,
-                  Contacts& contacts, VelocityCache& velocities, ColouredPass& sweep,
+                  Contacts& contacts, VelocityCache& velocities, ColouredPass& pass,
                   SlabThreads* threads, KinematicChange* kinematic);
 
 }  // namespace cdpowder

@@ -1,7 +1,7 @@
 // slab_threads.hpp — the two slabs of a step (slabs.hpp) on two threads (solver.threads = 2),
 // and the PieceRunner (core/pieces.hpp) of the stages around the solve: the halves of the
 // next step's detection and build, and of the commit's measures.
-// A sweep hands out its work in a few pieces that touch no common memory they write: the
+// A pass hands out its work in a few pieces that touch no common memory they write: the
 // contacts inside each slab, the two halves of the kinematic rule's pass over the spheres, the
 // two halves of the mixing's passes. Any thread may take any piece (the caller as well as the
 // worker, claimed from one shared counter), so the caller never waits for a piece nobody has
@@ -66,7 +66,7 @@ class SlabThreads final : public PieceRunner {
 /// step, "A faster machine": trying them every 32nd block cost a run up to 6–7 %). A try that
 /// wins, or loses by less, brings the interval back to kTryEvery.
 /// Blocks, not single steps: one step's time is too noisy to choose by (steps differ in their
-/// sweeps, and a step is ≈ 0.5–1.5 ms, the scale of the machine's hiccups).
+/// passes, and a step is ≈ 0.5–1.5 ms, the scale of the machine's hiccups).
 class ThreadChoice {
  public:
   static constexpr std::uint64_t kBlockSteps = 16;
@@ -89,7 +89,7 @@ class ThreadChoice {
   /// Blocks between two tries of the other way at present (kTryEvery … kMaxTryEvery).
   [[nodiscard]] std::uint64_t try_every() const { return try_every_; }
 
-  /// The time this step took [s] for its contact updates (sweeps × contacts); at the end of a
+  /// The time this step took [s] for its contact updates (passes × contacts); at the end of a
   /// block, chooses the way of the next.
   void record(double seconds, double updates) {
     if (always_) return;

@@ -1,8 +1,8 @@
-// slabs.hpp — the two slabs a step's sweeps are cut into, so that two threads can solve them at
+// slabs.hpp — the two slabs a step's passes are cut into, so that two threads can solve them at
 // once (docs/performance.md, "Two slabs"). The spheres are split by height at one horizontal
-// cut: slab 0 below, slab 1 above. A sweep visits the contacts across the cut, then those
+// cut: slab 0 below, slab 1 above. A pass visits the contacts across the cut, then those
 // inside slab 0 and those inside slab 1: the last two touch no common sphere, so on two threads
-// they are solved side by side and the sweep waits once, at its end.
+// they are solved side by side and the pass waits once, at its end.
 // The cut is a function of the state alone (never of the thread count), so the visiting order,
 // and with it every result, is the same on one thread or two.
 #pragma once
@@ -15,12 +15,12 @@
 
 namespace cdpowder {
 
-/// Below this many sphere–sphere contacts a step is not cut: a sweep then takes a few
+/// Below this many sphere–sphere contacts a step is not cut: a pass then takes a few
 /// microseconds, no more than handing work to a second thread costs (≈ 1–2 µs a hand-over,
 /// slab_solve.hpp).
 inline constexpr std::size_t kMinPairsToCut = 256;
 
-/// What a wall contact costs a cut step, in pair visits (its visits in the sweeps and its share
+/// What a wall contact costs a cut step, in pair visits (its visits in the passes and its share
 /// of the mixing), timed slab by slab on the paper's fixtures (docs/performance.md, "Colourings
 /// kept from step to step, and the cut retuned"): a bottom-wall contact is batched like the pairs
 /// (coloured_sweep.hpp) and costs about one; the piston's are solved one at a time along the

@@ -1,5 +1,5 @@
 // visit_contact.hpp — one visit of a contact with the scalar kernels (local_solve.hpp), added
-// to a sweep's sums: the scalar sweep's every visit and the coloured sweep's sequential ones
+// to a pass's sums: the scalar pass's every visit and the coloured pass's sequential ones
 // (the piston's contacts, the overflow pairs). For the solver's sources only.
 #pragma once
 
