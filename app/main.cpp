@@ -318,6 +318,9 @@ int main(int argc, char** argv) {
   // a file-size limit (ulimit -f) then fails the write with EFBIG, reported as any failed
   // write, instead of killing the process without a word
   std::signal(SIGXFSZ, SIG_IGN);
+  // a reader that closed the pipe (`cdpowder compact … | head -0`) loses the result line, not
+  // the run: the write fails with EPIPE instead of killing the process with SIGPIPE
+  std::signal(SIGPIPE, SIG_IGN);
   // run_command_line turns the expected exceptions into messages; building the command line
   // itself may still throw (CLI::ConstructionError, std::bad_alloc): a message, not terminate
   try {

@@ -1,17 +1,34 @@
 // stop_signals.hpp — installs a handler for SIGINT, SIGTERM and SIGHUP for the lifetime of a
 // command and restores the previous handlers on every exit path, exceptions included.
 // The handlers only set atomics; the commands ask them between steps or runs.
+//
+// A run's handler (request_run_stop): every stop keeps the run. The first signal asks the run
+// to stop after its step; it then writes every output and a checkpoint (exit 1). Every later
+// signal is part of the same request: GNU timeout and other supervisors signal the process
+// and then its group, and a scheduler may follow SIGINT with SIGTERM. Only a SIGINT at least
+// a second after the first, a deliberate second Ctrl-C at a terminal, ends the program at
+// once (exit 130); the last checkpoint, written atomically, stays.
 #pragma once
+
+#include <cstdint>
 
 // sigaction and struct sigaction are POSIX, declared by <signal.h> and not by <csignal>
 #include <signal.h>  // NOLINT(modernize-deprecated-headers)
 
 namespace cdpowder::app {
 
+/// How long after the first stop request a SIGINT counts as a deliberate second one [ns].
+inline constexpr std::int64_t kDeliberateSecondStop = 1'000'000'000;
+
+/// The run's handler (above); install it with StopSignals(request_run_stop, 0).
+extern "C" void request_run_stop(int signal);
+
+/// Whether a stop was asked for since the program started.
+bool run_stop_requested();
+
 class StopSignals {
  public:
-  /// `flags` are sigaction flags, e.g. SA_RESETHAND for a one-shot handler (a second
-  /// Ctrl-C then ends the program at once).
+  /// `flags` are sigaction flags (0: the handler stays for every signal).
   StopSignals(void (*handler)(int), int flags) {
     struct sigaction action {};
 

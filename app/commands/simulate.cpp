@@ -32,14 +32,6 @@ namespace cdpowder::app {
 
 namespace {
 
-/// Set by SIGINT/SIGTERM: the run stops after the current step and writes its outputs,
-/// flagged interrupted, instead of losing them.
-std::atomic<bool> g_stop_requested{false};
-
-extern "C" void request_stop(int /*signal*/) {
-  g_stop_requested.store(true);
-}
-
 /// The first line of a run's log, written before any step (stderr is unbuffered), so a
 /// killed run's log says what ran.
 void announce(std::string_view what, const Scene& scene, const std::filesystem::path& out,
@@ -97,12 +89,12 @@ int run_and_write(Session& s) {
   RunResult result;
   for (;;) {
     result = run_simulation(world, work, scene.step, scene.run, s.state, observer,
-                            [&] { return g_stop_requested.load() || world.time >= checkpoint_at; });
+                            [&] { return run_stop_requested() || world.time >= checkpoint_at; });
     if (!result.interrupted) break;
     s.files->save_checkpoint(
         scene, world, work,
         s.state);  // asked for, or stopped by a signal: either way the state is saved
-    if (g_stop_requested.load()) break;
+    if (run_stop_requested()) break;
     checkpoint_at = next_checkpoint();
   }
   progress.finish();
@@ -128,9 +120,9 @@ int run_and_write(Session& s) {
 
 int run_scene(const RunOptions& options, const SceneReadOptions& read_options,
               std::string_view command) {
-  // from the start, so that a signal during setup also ends the run cleanly (first step)
-  // one-shot: a second Ctrl-C during a long step ends the program at once
-  const StopSignals stop_on_signal(request_stop, SA_RESETHAND);
+  // from the start, so that a signal during setup also ends the run cleanly (first step);
+  // every stop keeps the run (stop_signals.hpp)
+  const StopSignals stop_on_signal(request_run_stop, 0);
   // all input is checked before DIR is touched
   refuse_input_among_outputs(options.out, options.scene, "the scene file");
   if (options.particles) refuse_input_among_outputs(options.out, *options.particles, "--particles");
@@ -142,7 +134,7 @@ int run_scene(const RunOptions& options, const SceneReadOptions& read_options,
   s.checkpoint_every = options.checkpoint_every;
   s.quiet = options.quiet;
   const Scene& scene = s.scene;
-  s.world = make_world(scene, [] { return g_stop_requested.load(); });
+  s.world = make_world(scene, [] { return run_stop_requested(); });
   s.work = StepWorkspace(scene.step.solver.seed);
   s.initial_porosity = porosity(s.world);
 
@@ -161,7 +153,7 @@ int run_scene(const RunOptions& options, const SceneReadOptions& read_options,
 }  // namespace
 
 int run_resume(const ResumeOptions& options) {
-  const StopSignals stop_on_signal(request_stop, SA_RESETHAND);
+  const StopSignals stop_on_signal(request_run_stop, 0);
   const std::filesystem::path& out = options.folder;
   const std::filesystem::path checkpoint = checkpoint_path(out);
   require_checkpoint(out);

@@ -202,6 +202,47 @@ TEST_F(CompactCli, InterruptWritesEveryOutputFlaggedInterrupted) {
   }
 }
 
+// The stop of a supervisor: GNU timeout signals the process and then its group, and a
+// scheduler follows SIGINT with SIGTERM. Every signal after the first is part of the same
+// request, so the run still writes every output and a checkpoint (exit 1); before, the second
+// SIGINT ended the program with nothing but scene.toml and initial_particles.csv.
+TEST_F(CompactCli, RepeatedStopSignalsToTheProcessAndItsGroupKeepTheRun) {
+  const fs::path out = scratch_ / "out";
+  const fs::path script = scratch_ / "stop.sh";
+  // set -m: the background job gets a process group of its own, as under timeout
+  std::ofstream(script)
+      << "set -m\n"
+      << CDPOWDER_EXE << " compact " << kQuick.string() << " --out " << out.string()
+      << " --quiet --set run.max_duration=1e5 --set run.blocked.piston_speed=1e-300 &\n"
+      << "pid=$!\n"
+      << "for i in $(seq 1 1200); do [ -f " << (out / "scene.toml").string()
+      << " ] && break; sleep 0.05; done\n"
+      << "sleep 0.5\nkill -INT $pid\nkill -INT -$pid\nsleep 0.05\nkill -INT $pid\n"
+      << "kill -TERM -$pid 2>/dev/null\nwait $pid\n";
+  const ProcessResult r = cdpowder::testing::run_process("sh", script.string(), scratch_);
+  EXPECT_EQ(r.status, 1) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("interrupted=yes"));
+  EXPECT_THAT(r.err, HasSubstr("stopping: the run ends after its step"));
+  EXPECT_TRUE(summary_of(out)["run"]["interrupted"].get<bool>());
+  for (const char* name : {"summary.json", "particles.csv", "contacts.csv", "timeseries.csv",
+                           "particles.vtp", "contacts.vtp", "walls.vtp", "checkpoint.cdps"}) {
+    EXPECT_TRUE(fs::exists(out / name)) << name;
+  }
+}
+
+// A reader that closes the pipe early loses the result line, not the run: exit 0, not 141.
+TEST_F(CompactCli, AClosedPipeOnTheResultLineIsNoFailure) {
+  const fs::path out = scratch_ / "out";
+  const fs::path script = scratch_ / "pipe.sh";
+  std::ofstream(script) << "set -o pipefail\n"
+                        << CDPOWDER_EXE << " compact " << kQuick.string() << " --out "
+                        << out.string() << " " << kShort << " | true\necho status=$?\n";
+  const ProcessResult r = cdpowder::testing::run_process("bash", script.string(), scratch_);
+  // a 5 t0 compaction does not block: exit 4, whatever the pipe did
+  EXPECT_THAT(r.out, HasSubstr("status=4")) << r.err;
+  EXPECT_TRUE(fs::exists(out / "summary.json"));
+}
+
 TEST_F(CompactCli, PaperExampleCarriesThePapersParameters) {
   const ProcessResult d = run_cdpowder(
       "deposit " + kPaper.string() + " --out " + (scratch_ / "deposit").string(), scratch_);
