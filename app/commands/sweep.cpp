@@ -18,6 +18,7 @@
 #include "cdpowder/study/sweep_results.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <atomic>
@@ -148,6 +149,11 @@ int collect_tables(const SweepOptions& options, const SweepState& state) {
                     [](const std::optional<RunSummary>& r) { return r.has_value(); }));
   std::printf("sweep: %zu of %zu runs finished; results in %s\n", finished, state.plan.runs.size(),
               (options.out / "results.csv").string().c_str());
+  for (const auto& [i, missing] : state.incomplete) {
+    std::printf("sweep: %s is incomplete (%s missing): run the sweep again to continue it\n",
+                state.plan.runs[i].folder.generic_string().c_str(),
+                fmt::format("{}", fmt::join(missing, ", ")).c_str());
+  }
   return 0;
 }
 
@@ -167,7 +173,12 @@ int print_dry_run(const SweepOptions& options, const SweepState& state) {
         : has_usable_checkpoint(options.out / plan.runs[i].folder, state.scene_texts[i], why_not)
             ? "resume "
             : "pending";
-    std::printf("%s  %s\n", what, plan.runs[i].folder.generic_string().c_str());
+    const auto incomplete = state.incomplete.find(i);
+    const std::string note =
+        incomplete == state.incomplete.end()
+            ? std::string()
+            : fmt::format("  (incomplete: {} missing)", fmt::join(incomplete->second, ", "));
+    std::printf("%s  %s%s\n", what, plan.runs[i].folder.generic_string().c_str(), note.c_str());
   }
   return 0;
 }

@@ -5,6 +5,7 @@
 #include "cdpowder/config/config_error.hpp"
 #include "cdpowder/config/scene_reader.hpp"
 #include "cdpowder/io/atomic_file.hpp"
+#include "cdpowder/run/run_folder.hpp"
 #include "cdpowder/study/sweep_messages.hpp"
 #include "cdpowder/study/sweep_results.hpp"
 #include "cdpowder/version.hpp"
@@ -65,11 +66,15 @@ SweepState read_sweep_state(const SweepOptions& options) {
   summaries.resize(plan.runs.size());
   std::vector<std::size_t>& pending = state.pending;
   for (std::size_t i = 0; i < plan.runs.size(); ++i) {
-    std::optional<RunSummary> summary =
-        read_run_summary(options.out / plan.runs[i].folder / "summary.json");
-    if (is_reusable(summary, scene_texts[i])) {
+    const std::filesystem::path folder = options.out / plan.runs[i].folder;
+    std::optional<RunSummary> summary = read_run_summary(folder / "summary.json");
+    // a summary beside missing outputs: a build that wrote the summary first was cut short
+    std::vector<std::string> missing;
+    if (summary) missing = missing_run_outputs(folder);
+    if (is_reusable(summary, scene_texts[i]) && missing.empty()) {
       summaries[i] = std::move(summary);
     } else {
+      if (!missing.empty()) state.incomplete.emplace(i, std::move(missing));
       pending.push_back(i);
     }
   }

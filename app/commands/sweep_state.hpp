@@ -25,6 +25,8 @@ struct SweepState {
   std::vector<std::optional<RunSummary>> summaries;
   std::vector<std::size_t> pending;
   std::map<std::size_t, std::filesystem::path> reused;
+  /// runs with a summary but missing outputs (run_folder.hpp, missing_run_outputs): pending
+  std::map<std::size_t, std::vector<std::string>> incomplete;
 };
 
 /// Reads the plan, checks every run's scene (ConfigError, nothing written) and what DIR

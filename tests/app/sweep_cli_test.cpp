@@ -108,6 +108,31 @@ TEST_F(SweepCli, RestartRunsOnlyWhatIsMissing) {
   EXPECT_THAT(changed.out, HasSubstr("0 finished, 0 reused, 8 to run"));
 }
 
+// A run with its summary but without every output (killed while a build that wrote the
+// summary first was writing the rest) is not finished: --dry-run and --collect say it is
+// incomplete, and the sweep runs it again.
+TEST_F(SweepCli, ARunWithASummaryButMissingOutputsIsRunAgain) {
+  const fs::path sweep = write_short_sweep(scratch_);
+  const fs::path out = scratch_ / "out";
+  const std::string command = "sweep " + sweep.string() + " --out " + out.string() + " -j 2";
+  ASSERT_EQ(run_cdpowder(command, scratch_).status, 0);
+  const fs::path cut = out / "runs" / "contact.mu_roll=1.0,contact.mu_twist=0.0" / "seed_2";
+  fs::remove(cut / "particles.csv");
+  fs::remove(cut / "timeseries.csv");
+  const ProcessResult dry = run_cdpowder(command + " --dry-run", scratch_);
+  EXPECT_THAT(dry.out, HasSubstr("7 finished, 0 reused, 1 to run"));
+  EXPECT_THAT(dry.out, HasSubstr("(incomplete: particles.csv, timeseries.csv missing)"));
+  const ProcessResult collect = run_cdpowder(command + " --collect", scratch_);
+  EXPECT_THAT(collect.out, HasSubstr("7 of 8 runs finished"));
+  EXPECT_THAT(collect.out, HasSubstr("is incomplete (particles.csv, timeseries.csv missing)"));
+  const ProcessResult again = run_cdpowder(command, scratch_);
+  ASSERT_EQ(again.status, 0) << again.err;
+  EXPECT_THAT(again.err, HasSubstr("7 already finished"));
+  EXPECT_TRUE(fs::exists(cut / "particles.csv"));
+  EXPECT_TRUE(fs::exists(cut / "timeseries.csv"));
+  EXPECT_EQ(data_rows(out / "results.csv"), 8U);
+}
+
 // A run that cannot write its outputs (here a file-size limit: a full disk fails the same
 // way, measured on a 3 MB tmpfs, docs/sweeps.md) exits with its own status, and the sweep
 // starts no further run, which would fail alike; the same command goes on once it can write.
@@ -121,9 +146,11 @@ TEST_F(SweepCli, AWriteErrorStopsStartingRunsAndTheSameCommandGoesOn) {
   std::ofstream(script) << "ulimit -f 64\nexec " << CDPOWDER_EXE << " " << command << "\n";
   const ProcessResult limited = cdpowder::testing::run_process("sh", script.string(), scratch_);
   EXPECT_EQ(limited.status, 5) << limited.err;
-  // its summary came before the time series failed at its end: its results count
-  EXPECT_THAT(limited.err, HasSubstr("not all its outputs were written, see its log.txt"));
-  EXPECT_THAT(limited.out, HasSubstr("sweep: 1 of 8 runs finished"));
+  // its time series failed at its end, before its summary (written last): not finished
+  EXPECT_THAT(limited.err, HasSubstr("seed 1: FAILED (could not write its outputs)"));
+  EXPECT_FALSE(fs::exists(out / "runs" / "contact.mu_roll=0.0,contact.mu_twist=0.0" / "seed_1" /
+                          "summary.json"));
+  EXPECT_THAT(limited.out, HasSubstr("sweep: 0 of 8 runs finished, 1 failed"));
   EXPECT_THAT(limited.out, HasSubstr("stopped starting runs after a write error (cannot write "));
   EXPECT_THAT(limited.out, HasSubstr("timeseries.csv: File too large)"));
   EXPECT_THAT(limited.out, HasSubstr("7 not started"));
@@ -135,7 +162,7 @@ TEST_F(SweepCli, AWriteErrorStopsStartingRunsAndTheSameCommandGoesOn) {
 
   const ProcessResult again = run_cdpowder(command, scratch_);
   ASSERT_EQ(again.status, 0) << again.err;
-  EXPECT_THAT(again.err, HasSubstr("1 already finished"));
+  EXPECT_THAT(again.err, HasSubstr("0 already finished"));
   EXPECT_EQ(data_rows(out / "results.csv"), 8U);
 }
 

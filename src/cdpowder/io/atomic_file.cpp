@@ -50,6 +50,24 @@ void remove_quietly(const std::filesystem::path& file) {
   std::filesystem::remove(file, ignored);
 }
 
+/// Forces the file's bytes to the disk before it is renamed into place: after a crash of the
+/// machine, a renamed file is whole, never empty. The errno of the failure, or 0 (a file
+/// system that cannot sync, EINVAL, has nothing more to force).
+int sync_file(int fd) {
+  if (::fsync(fd) == 0 || errno == EINVAL) return 0;
+  return errno;
+}
+
+/// Forces the folder's entry for a renamed file to the disk: the rename survives a crash.
+void sync_folder(const std::filesystem::path& file) {
+  const std::filesystem::path folder = file.has_parent_path() ? file.parent_path() : ".";
+  const int fd = ::open(folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd < 0) throw OutputError(failure(file, errno));
+  const int error_number = sync_file(fd);
+  ::close(fd);
+  if (error_number != 0) throw OutputError(failure(file, error_number));
+}
+
 void rename_into_place(const std::filesystem::path& from, const std::filesystem::path& to) {
   std::error_code error;
   std::filesystem::rename(from, to, error);
@@ -57,6 +75,7 @@ void rename_into_place(const std::filesystem::path& from, const std::filesystem:
     remove_quietly(from);  // its own error code: the message keeps the rename's reason
     throw OutputError(fmt::format("cannot write {}: {}", to.string(), error.message()));
   }
+  sync_folder(to);
 }
 
 }  // namespace
@@ -65,6 +84,7 @@ void write_file_atomically(const std::filesystem::path& path, std::string_view c
   const std::filesystem::path temporary = temporary_name(path);
   const int fd = open_for_writing(temporary, path);
   int error_number = write_all(fd, content);
+  if (error_number == 0) error_number = sync_file(fd);
   if (::close(fd) != 0 && error_number == 0) error_number = errno;
   if (error_number != 0) {
     remove_quietly(temporary);
@@ -123,6 +143,10 @@ void AtomicFileStream::commit() {
   flush();
   const int fd = fd_;
   fd_ = -1;
+  if (!failed()) {
+    const int error_number = sync_file(fd);
+    if (error_number != 0) fail(error_number);
+  }
   if (::close(fd) != 0) fail(errno);
   if (failed()) {
     remove_quietly(temporary_);

@@ -1,6 +1,8 @@
 // atomic_file.hpp — outputs appear whole or not at all: every file is written under a
 // temporary name in its destination folder, then renamed over the final name (rename is
-// atomic within a file system). A killed run leaves earlier files intact. Every failure
+// atomic within a file system). A killed run leaves earlier files intact. The file is
+// synced (fsync) before the rename and its folder after it, so that after a crash of the
+// machine a renamed file is whole, never empty, and the rename itself is kept. Every failure
 // says which file and why, in the system's words (a full disk: "No space left on device"),
 // and leaves no temporary file behind.
 #pragma once

@@ -247,12 +247,9 @@ void RunFolder::save_checkpoint(const Scene& scene, const World& world, const St
 
 void RunFolder::finish(const Scene& scene, const World& world, const StepWorkspace& work,
                        const RunState& state, const RunResult& result, double initial_porosity) {
-  // the results first, the summary before the larger files, the time series last: a full
-  // disk then costs the least (measured before: the time series failed first and stopped
-  // everything after it)
-  write_file_atomically(
-      folder_ / "summary.json",
-      run_summary_json(summarise_run(scene, world, work.contacts, result, initial_porosity)));
+  // every output first and the summary last, once the rest is on the disk: a run killed
+  // while it writes them has no summary, so it is not taken for finished (a sweep runs it
+  // again, or resume continues it from its checkpoint)
   write_file_atomically(folder_ / "particles.csv", particles_csv(world.bodies, header_));
   write_file_atomically(folder_ / "contacts.csv", contacts_csv(work.contacts, header_));
   const VtkFormat vtk = scene.run.vtk_format;
@@ -264,16 +261,30 @@ void RunFolder::finish(const Scene& scene, const World& world, const StepWorkspa
   }
   timeseries_->record(world, result.last, /*force=*/true);
   timeseries_->commit();
+  if (result.fault) {
+    // the state at the fault, to look at or to rerun the step from (run/state_file.hpp)
+    save_state(folder_ / "failed_state.cdps", scene.effective_toml, world, work, state);
+  }
+  write_file_atomically(
+      folder_ / "summary.json",
+      run_summary_json(summarise_run(scene, world, work.contacts, result, initial_porosity)));
   // a finished run (done, not blocked, failed) keeps no checkpoint: only an unfinished one
   // can be continued, and the folder ends as a run never stopped leaves it
   if (!result.interrupted) {
     std::filesystem::remove(checkpoint_path(folder_));
     std::filesystem::remove(checkpoint_interval_path(folder_));
   }
-  if (result.fault) {
-    // the state at the fault, to look at or to rerun the step from (run/state_file.hpp)
-    save_state(folder_ / "failed_state.cdps", scene.effective_toml, world, work, state);
+}
+
+std::vector<std::string> missing_run_outputs(const std::filesystem::path& folder) {
+  std::vector<std::string> missing;
+  // a run kept as its summary alone (results/ in git keeps no other file) is a record, not a
+  // run cut short: every run writes scene.toml first
+  if (!std::filesystem::exists(folder / "scene.toml")) return missing;
+  for (const std::string_view name : kFinishedRunOutputs) {
+    if (!std::filesystem::is_regular_file(folder / name)) missing.emplace_back(name);
   }
+  return missing;
 }
 
 }  // namespace cdpowder

@@ -19,6 +19,7 @@
 #include <memory>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace cdpowder {
 
@@ -29,6 +30,17 @@ inline constexpr std::array<std::string_view, 16> kRunOutputs{
     "contacts.csv", "timeseries.csv",    "particles.vtp",         "contacts.vtp",
     "walls.vtp",    "particles.pvd",     "contacts.pvd",          "walls.pvd",
     "snapshots",    "failed_state.cdps", "checkpoint.cdps",       "checkpoint.toml"};
+
+/// The outputs every run writes by its end, the summary last: a folder with a summary and
+/// without one of these was cut short by a build that wrote the summary first.
+inline constexpr std::array<std::string_view, 8> kFinishedRunOutputs{
+    "scene.toml",     "initial_particles.csv", "particles.csv", "contacts.csv",
+    "timeseries.csv", "particles.vtp",         "contacts.vtp",  "walls.vtp"};
+
+/// The outputs of kFinishedRunOutputs missing from `folder`: a run is finished only with none
+/// missing and its summary in place. A folder without scene.toml (which every run writes
+/// first) is a run kept as its summary alone, as results/ keeps them in git: nothing missing.
+std::vector<std::string> missing_run_outputs(const std::filesystem::path& folder);
 
 /// The state of an unfinished run, from which it continues (run/state_file.hpp).
 std::filesystem::path checkpoint_path(const std::filesystem::path& folder);
@@ -97,10 +109,10 @@ class RunFolder {
   void save_checkpoint(const Scene& scene, const World& world, const StepWorkspace& work,
                        const RunState& state);
 
-  /// Every output of the ended run, each written atomically, the results first so a full
-  /// disk costs the least: summary.json, particles.csv, contacts.csv, the .vtp files, the
-  /// last snapshot, timeseries.csv. A finished run (not interrupted) keeps no checkpoint; a
-  /// failed one leaves failed_state.cdps, the state at the fault.
+  /// Every output of the ended run, each written atomically and synced: particles.csv,
+  /// contacts.csv, the .vtp files, the last snapshot, timeseries.csv, a failed run's
+  /// failed_state.cdps (the state at the fault), and summary.json last, once the rest is on
+  /// the disk. A finished run (not interrupted) then drops its checkpoint.
   void finish(const Scene& scene, const World& world, const StepWorkspace& work,
               const RunState& state, const RunResult& result, double initial_porosity);
 
