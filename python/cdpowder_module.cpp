@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include <cdpowder/cdpowder.hpp>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -106,6 +107,32 @@ struct Engine {
   World world;
   StepWorkspace work{1};
   RunState state;
+  bool in_use = false;  ///< a run steps it: a second run on it is refused (EngineInUse)
+};
+
+/// Holds an engine for one run. Python threads may share a World, and a callback is handed
+/// its own World: a second run on it while the first steps would corrupt both, so it is
+/// refused (checked and set under the GIL).
+class EngineInUse {
+ public:
+  explicit EngineInUse(Engine& engine) : engine_(engine) {
+    if (engine_.in_use) {
+      throw std::runtime_error(
+          "this World is in use by a run (another thread's, or the one whose callback this is): "
+          "wait for it to end, or run on a copy");
+    }
+    engine_.in_use = true;
+  }
+
+  ~EngineInUse() { engine_.in_use = false; }
+
+  EngineInUse(const EngineInUse&) = delete;
+  EngineInUse& operator=(const EngineInUse&) = delete;
+  EngineInUse(EngineInUse&&) = delete;
+  EngineInUse& operator=(EngineInUse&&) = delete;
+
+ private:
+  Engine& engine_;
 };
 
 /// A property of World: the n × 3 view of one of the spheres' vectors.
@@ -182,49 +209,120 @@ struct Result {
   }
 };
 
+/// How often a run asks Python for a Ctrl-C: the GIL is taken for it, and another Python
+/// thread may hold it for up to its switch interval (5 ms), so not after every pass [s].
+constexpr double kSignalCheckSeconds = 0.02;
+
+/// The callback's word on the run: its result judged by Python's own truth (None goes on), an
+/// exception (also one a __bool__ raises) kept to be raised when the outputs are written.
+struct CallbackVerdict {
+  bool stop = false;
+  std::optional<py::error_already_set> error;
+
+  void judge(const py::object& callback, const py::object& world, const StepDiagnostics& step) {
+    try {
+      const py::object verdict = callback(world, py::cast(step));
+      if (verdict.is_none()) return;
+      const int truth = PyObject_IsTrue(verdict.ptr());
+      if (truth < 0) throw py::error_already_set();
+      stop = truth == 0;
+    } catch (py::error_already_set& e) {
+      error = std::move(e);
+      stop = true;
+    }
+  }
+};
+
+/// The fault a callback left in the World through its views (a radius of 0, a NaN), as the
+/// run's fault: the run stops there instead of stepping on as if nothing happened.
+std::optional<RunFault> fault_after_callback(const World& world) {
+  const std::optional<std::string> problem = world_problem(world);
+  if (!problem) return std::nullopt;
+  RunFault fault;
+  fault.quantity = "state written by the callback";
+  fault.step = world.step;
+  fault.time = world.time;
+  fault.message = fmt::format("after the callback at step {} (t = {:.6g} t0): {}", world.step,
+                              world.time, *problem);
+  return fault;
+}
+
+/// Raises cdpowder.RunFailed (a RuntimeError) for a run a fault stopped, its outputs written;
+/// the exception's `result` is the run's Result.
+[[noreturn]] void raise_run_failed(const py::object& run_failed, const std::string& message,
+                                   const py::object& result) {
+  const py::object error = run_failed(message);
+  error.attr("result") = result;
+  PyErr_SetObject(run_failed.ptr(), error.ptr());
+  throw py::error_already_set();
+}
+
 /// Runs `scene` on `engine` to its end, calling `callback(world, step)` every `every` steps
-/// (False from it stops the run) and checking for Ctrl-C after every step; writes the command
-/// line's files into `out` when given. A Ctrl-C ends the run as interrupted (outputs written)
-/// and then raises KeyboardInterrupt.
+/// (a false result stops the run) and checking for Ctrl-C every kSignalCheckSeconds; writes the
+/// command line's files into `out` when given, holding the folder's run lock as the command
+/// line does. The GIL is released while the engine steps and taken back for the callback. A
+/// Ctrl-C ends the run as interrupted (outputs written) and then raises KeyboardInterrupt; an
+/// exception in the callback is raised once the outputs are written; a fault raises RunFailed.
 Result run(const Scene& scene, std::shared_ptr<Engine> engine, const py::object& callback,
            int every, const std::optional<std::filesystem::path>& out, double initial_porosity) {
   if (every < 1) throw py::value_error("every: got " + std::to_string(every) + ", expected ≥ 1");
+  const EngineInUse busy(*engine);
+  std::optional<FolderLock> lock;
   std::optional<RunFolder> files;
   if (out) {
     std::filesystem::create_directories(*out);
+    lock.emplace(run_lock_file(*out), "another cdpowder run");  // before the folder is touched
     files = RunFolder::begin(*out, scene, engine->world, engine->work.contacts, {});
   }
   bool interrupted_by_signal = false;
-  bool stopped_by_callback = false;
-  std::optional<py::error_already_set> callback_error;
+  CallbackVerdict verdict;
+  std::optional<RunFault> callback_fault;
   std::int64_t steps = 0;
   const py::object world_object = py::cast(engine);
+  // called without the GIL: only the callback takes it
   const StepObserver observer = [&](const World& world, const StepReport& report, double) {
     if (files) files->after_step(world, report, engine->work.contacts);
     ++steps;
-    if (callback.is_none() || steps % every != 0 || stopped_by_callback) return;
-    try {
-      const py::object verdict = callback(world_object, py::cast(report.diagnostics));
-      if (!verdict.is_none() && !verdict.cast<bool>()) stopped_by_callback = true;
-    } catch (py::error_already_set& e) {
-      callback_error = std::move(e);
-      stopped_by_callback = true;
+    if (callback.is_none() || steps % every != 0 || verdict.stop) return;
+    {
+      const py::gil_scoped_acquire gil;
+      verdict.judge(callback, world_object, report.diagnostics);
     }
+    callback_fault = fault_after_callback(world);
+    if (callback_fault) verdict.stop = true;
   };
+  auto last_check = std::chrono::steady_clock::now();
   const StopRequest stop = [&] {
+    if (interrupted_by_signal || verdict.stop) return true;
+    const auto now = std::chrono::steady_clock::now();
+    if (std::chrono::duration<double>(now - last_check).count() < kSignalCheckSeconds) {
+      return false;
+    }
+    last_check = now;
+    const py::gil_scoped_acquire gil;
     if (PyErr_CheckSignals() != 0) interrupted_by_signal = true;
-    return interrupted_by_signal || stopped_by_callback;
+    return interrupted_by_signal;
   };
   Result result;
-  result.run = run_simulation(engine->world, engine->work, scene.step, scene.run, engine->state,
-                              observer, stop);
+  {
+    const py::gil_scoped_release released;
+    result.run = run_simulation(engine->world, engine->work, scene.step, scene.run, engine->state,
+                                observer, stop);
+    if (callback_fault && !result.run.fault) result.run.fault = callback_fault;
+    if (files) {
+      files->finish(scene, engine->world, engine->work, engine->state, result.run,
+                    initial_porosity);
+    }
+  }
   result.engine = engine;
   result.scene = scene;
   result.initial_porosity = initial_porosity;
-  if (files)
-    files->finish(scene, engine->world, engine->work, engine->state, result.run, initial_porosity);
-  if (callback_error) throw std::move(*callback_error);
+  if (verdict.error) throw std::move(*verdict.error);
   if (interrupted_by_signal) throw py::error_already_set();  // the KeyboardInterrupt
+  if (result.run.fault) {
+    raise_run_failed(py::module_::import("cdpowder").attr("RunFailed"), result.run.fault->message,
+                     py::cast(result));
+  }
   return result;
 }
 
@@ -283,6 +381,7 @@ std::shared_ptr<Engine> world_from_arrays(const PyScene& scene, const py::object
   const Doubles r = Doubles::ensure(radii);
   if (!r || r.ndim() != 1) throw py::value_error("radii: expected a vector of n numbers");
   const py::ssize_t n = r.shape(0);
+  if (n == 0) throw py::value_error("radii: got 0 spheres, expected at least 1");
   const Doubles x = checked_array("positions", positions, n, 3);
   checked_array("radii", r, n, 0, 0.0, /*above=*/true);  // r: converted once
   SceneReadOptions how;
@@ -330,6 +429,13 @@ Result start(const PyScene& scene, const py::object& world, const py::object& ca
 /// ConfigError as cdpowder.ConfigError (a ValueError), Interrupted as KeyboardInterrupt.
 void bind_errors(py::module_& m) {
   static py::exception<ConfigError> config_error(m, "ConfigError", PyExc_ValueError);
+  // a fault stopped the run (the command line's exit 3); its outputs are written, and the
+  // exception's `result` is the run's Result
+  m.attr("RunFailed") = py::reinterpret_steal<py::object>(
+      PyErr_NewExceptionWithDoc("cdpowder.RunFailed",
+                                "A fault stopped the run (a state no physical run reaches); "
+                                "the outputs are written and `result` holds the run",
+                                PyExc_RuntimeError, nullptr));
   // pybind11 takes the translator as void(std::exception_ptr): by value
   py::register_exception_translator(
       [](std::exception_ptr p) {  // NOLINT(performance-unnecessary-value-param)

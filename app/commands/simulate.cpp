@@ -178,7 +178,18 @@ int run_resume(const ResumeOptions& options) {
   s.checkpoint_every = checkpoint_every;
   s.quiet = options.quiet;
   s.scene.effective_toml = saved.scene_toml;  // the summary's scene, as the run began it
-  s.initial_porosity = porosity(make_world(s.scene));
+  // the spheres it started from must be the checkpoint's (another run's file would give
+  // another initial porosity without a word)
+  const World initial = make_world(s.scene);
+  require_same_spheres(initial, saved.world, "scene.toml with initial_particles.csv",
+                       checkpoint.string());
+  if (s.scene.deposition &&
+      static_cast<std::size_t>(s.scene.deposition->spheres) != saved.world.bodies.size()) {
+    throw StateFileError(fmt::format("{}: holds {} spheres, its scene deposits {}",
+                                     checkpoint.string(), saved.world.bodies.size(),
+                                     s.scene.deposition->spheres));
+  }
+  s.initial_porosity = porosity(initial);
   s.work = StepWorkspace(s.scene.step.solver.seed);
   restore_run(std::move(saved), s.scene.run, s.scene.step.solver.dt, s.world, s.work, s.state);
   announce(fmt::format("resume from step {} (t = {} t0)", s.world.step, s.world.time), s.scene, out,

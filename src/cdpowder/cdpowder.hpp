@@ -36,6 +36,8 @@
 #include "cdpowder/contact/contact_view.hpp"
 #include "cdpowder/core/stop_request.hpp"
 #include "cdpowder/model/world.hpp"
+#include "cdpowder/model/world_check.hpp"
+#include "cdpowder/run/folder_lock.hpp"
 #include "cdpowder/run/run_folder.hpp"
 #include "cdpowder/run/run_loop.hpp"
 #include "cdpowder/run/run_messages.hpp"

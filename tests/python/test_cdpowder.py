@@ -165,3 +165,86 @@ def test_bad_arrays_are_named_with_the_entry_and_what_is_allowed():
     # a sphere too large for the cell: the scene's own check, as a ConfigError
     with pytest.raises(cdpowder.ConfigError, match="system.lx"):
         cdpowder.World.from_arrays(scene, good, [1.0, 8.0])
+
+
+def test_a_callback_is_judged_by_pythons_truth_and_outputs_are_kept(tmp_path):
+    calls = []
+
+    def empty_list_stops(world, step):
+        calls.append(world.step)
+        return [] if len(calls) == 2 else ["go on"]  # a list: its truth decides
+
+    result = cdpowder.compact(quick(), callback=empty_list_stops, every=10, out=tmp_path / "a")
+    assert calls == [10, 20] and result.interrupted and result.steps == 20
+
+    class Undecided:
+        def __bool__(self):
+            raise ValueError("cannot say")
+
+    with pytest.raises(ValueError, match="cannot say"):
+        cdpowder.compact(quick(), callback=lambda w, s: Undecided(), every=10, out=tmp_path / "b")
+    # the callback's error ends the run with every output written
+    for name in ("summary.json", "particles.csv", "contacts.csv", "timeseries.csv"):
+        assert (tmp_path / "b" / name).exists(), name
+    assert json.loads((tmp_path / "b" / "summary.json").read_text())["run"]["interrupted"]
+
+
+def test_a_folder_a_run_holds_is_refused_and_left_alone(tmp_path):
+    import fcntl
+    out = tmp_path / "busy"
+    out.mkdir()
+    with open(out / ".run.lock", "w") as held:  # another run's lock on the folder
+        fcntl.flock(held, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        with pytest.raises(RuntimeError, match="is in use by another cdpowder run"):
+            cdpowder.compact(quick(), out=out)
+    assert sorted(p.name for p in out.iterdir()) == [".run.lock"]
+
+
+def test_the_engine_steps_without_the_gil():
+    import threading
+    import time
+    ticks = []
+    done = threading.Event()
+
+    def tick():
+        while not done.is_set():
+            ticks.append(time.monotonic())
+            time.sleep(0.01)
+
+    ticker = threading.Thread(target=tick)
+    ticker.start()
+    start = time.monotonic()
+    cdpowder.compact(cdpowder.Scene.from_toml(QUICK))  # to its blocked state, ≈ 0.4 s
+    seconds = time.monotonic() - start
+    done.set()
+    ticker.join()
+    # a thread ticking every 10 ms ticks through the run (it ticked once in 1.4 s before)
+    assert seconds < 0.2 or len(ticks) >= 0.3 * seconds / 0.01, (len(ticks), seconds)
+
+
+def test_a_world_in_use_refuses_a_second_run():
+    world = cdpowder.deposit(quick())
+
+    def compact_again(w, step):
+        cdpowder.compact(quick(), world=w)
+
+    with pytest.raises(RuntimeError, match="this World is in use by a run"):
+        cdpowder.compact(quick(), world=world, callback=compact_again, every=10)
+    result = cdpowder.compact(quick(), world=world)  # free again once the run has ended
+    assert result.steps > 0
+
+
+def test_a_radius_written_through_a_view_is_a_fault(tmp_path):
+    def shrink(world, step):
+        world.radii[3] = 0.0
+
+    with pytest.raises(cdpowder.RunFailed, match=r"the radius of sphere 3 is 0, expected a finite number > 0") as failed:
+        cdpowder.compact(quick(), callback=shrink, every=10, out=tmp_path)
+    assert failed.value.result.steps == 10
+    summary = json.loads((tmp_path / "summary.json").read_text())
+    assert summary["run"]["failed"] is True and summary["run"]["blocked"] is False
+
+
+def test_a_world_of_no_spheres_is_refused():
+    with pytest.raises(ValueError, match="radii: got 0 spheres, expected at least 1"):
+        cdpowder.World.from_arrays(quick(), np.zeros((0, 3)), np.zeros(0))

@@ -8,9 +8,13 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace cdpowder::testing {
@@ -190,6 +194,66 @@ TEST(StateFile, BadFilesAreRefusedWithTheReason) {
   } catch (const StateFileError& error) {
     EXPECT_NE(std::string(error.what()).find("/nonexistent/state.cdps"), std::string::npos);
   }
+}
+
+// A file whose checksum was fitted again after an edit is refused by its values, as a
+// particles file is: each of these ran to "blocked" before, with a radius of −1 or 0, 1/I = −1,
+// a fixed flag of 2, a time of 1e300 or NaN, or a step of −5.
+TEST(StateFile, ForgedValuesAreRefusedByName) {
+  const Scene scene = quick_scene();
+  Engine engine(scene);
+  run(scene, engine, 5);
+  const auto forged = [&](const std::function<void(World&)>& edit) {
+    World world = engine.world;
+    edit(world);
+    return message_of(encode_state(scene.effective_toml, world, engine.work, engine.state));
+  };
+  const std::vector<std::pair<std::function<void(World&)>, std::string>> cases = {
+      {[](World& w) { w.bodies.radius[7] = -1.0; },
+       "the radius of sphere 7 is -1, expected a finite number > 0"},
+      {[](World& w) { w.bodies.radius[7] = 0.0; }, "the radius of sphere 7 is 0"},
+      {[](World& w) { w.bodies.inverse_inertia[2] = -1.0; },
+       "the inverse inertia of sphere 2 is -1"},
+      {[](World& w) { w.bodies.fixed[4] = 2; }, "the fixed flag of sphere 4 is 2, expected 0 or 1"},
+      {[](World& w) { w.time = 1e300; }, "is too large for Δt"},
+      {[](World& w) { w.time = std::nan(""); }, "the time is nan"},
+      {[](World& w) { w.step = -5; }, "the step is -5"},
+      {[](World& w) { w.bodies.position[1].x() = std::numeric_limits<double>::infinity(); },
+       "the position of sphere 1 is (inf"},
+  };
+  for (const auto& [edit, expected] : cases) {
+    const std::string message = forged(edit);
+    EXPECT_NE(message.find(expected), std::string::npos) << message;
+    EXPECT_NE(message.find("no run reaches this state"), std::string::npos) << message;
+  }
+  EXPECT_EQ(forged([](World&) {}), "no error");  // the untouched state reads back
+}
+
+// The spheres a checkpoint holds must be those of its scene and starting packing: another
+// run's initial_particles.csv would give another initial porosity without a word.
+TEST(StateFile, ASavedRunOfOtherSpheresIsRefused) {
+  const Scene scene = quick_scene();
+  Engine engine(scene);
+  World fewer = engine.world;
+  fewer.bodies = Bodies{};
+  for (std::size_t i = 0; i < 50; ++i) {
+    fewer.bodies.add_sphere(engine.world.bodies.position[i], 1.0, 1.0);
+  }
+  EXPECT_NO_THROW(require_same_spheres(engine.world, engine.world, "scene", "checkpoint"));
+  try {
+    require_same_spheres(fewer, engine.world, "scene.toml with initial_particles.csv",
+                         "checkpoint.cdps");
+    FAIL() << "50 spheres against 100 must be refused";
+  } catch (const StateFileError& error) {
+    EXPECT_NE(std::string(error.what())
+                  .find("checkpoint.cdps holds 100 spheres, scene.toml with "
+                        "initial_particles.csv 50"),
+              std::string::npos)
+        << error.what();
+  }
+  World larger = engine.world;
+  larger.bodies.radius[9] = 1.5;
+  EXPECT_THROW(require_same_spheres(larger, engine.world, "scene", "checkpoint"), StateFileError);
 }
 
 // A saved blocked-state window that cannot belong to this scene's window (a held step older

@@ -3,12 +3,15 @@
 #include "cdpowder/run/state_file.hpp"
 
 #include "cdpowder/io/atomic_file.hpp"
+#include "cdpowder/model/world_check.hpp"
 #include "cdpowder/version.hpp"
 
 #include <fmt/format.h>
 
 #include <array>
+#include <cmath>
 #include <fstream>
+#include <limits>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
@@ -267,6 +270,32 @@ std::string rng_text(const Rng& rng) {
   return rng.text();
 }
 
+/// What no saved run holds: a World value out of its range (model/world_check.hpp), or a Δt
+/// of a started run that is not finite and > 0 or that no longer advances its time.
+std::optional<std::string> saved_state_problem(const SavedRun& saved) {
+  if (std::optional<std::string> problem = world_problem(saved.world)) return problem;
+  if (!saved.started) return std::nullopt;
+  if (!std::isfinite(saved.dt) || saved.dt <= 0.0) {
+    return fmt::format("the next Δt is {}, expected a finite number > 0", saved.dt);
+  }
+  const double time = saved.world.time;
+  // a step must move the time on by about Δt, not by the rounding of a huge time
+  if (std::nextafter(time, std::numeric_limits<double>::infinity()) - time > 1e-6 * saved.dt) {
+    return fmt::format(
+        "the time {} t0 is too large for Δt = {} t0: the time would not advance "
+        "step by step",
+        time, saved.dt);
+  }
+  if (saved.started &&
+      (!std::isfinite(saved.start_time) || saved.start_time < 0.0 || saved.start_time > time)) {
+    return fmt::format(
+        "the run started at t = {} t0, expected a finite time from 0 to the "
+        "state's {} t0",
+        saved.start_time, time);
+  }
+  return std::nullopt;
+}
+
 Rng read_rng(ByteReader& in) {
   std::optional<Rng> rng = Rng::from_text(in.string());
   if (!rng) in.fail("the sweep-order stream cannot be read back");
@@ -373,7 +402,41 @@ SavedRun decode_state(std::string_view bytes, const std::string& source) {
   in.tag("SUM ");
   in.u64();
   if (!in.at_end()) in.fail("unexpected bytes after the checksum");
+  // a file whose checksum was fitted again after an edit: its values are checked as a
+  // particles file's are, so a forged state is refused instead of run
+  if (const std::optional<std::string> problem = saved_state_problem(saved)) {
+    throw StateFileError(
+        fmt::format("{}: {}: no run reaches this state (was the file edited?)", source, *problem));
+  }
   return saved;
+}
+
+void require_same_spheres(const World& initial, const World& saved,
+                          const std::string& initial_source, const std::string& saved_source) {
+  const Bodies& a = initial.bodies;
+  const Bodies& b = saved.bodies;
+  std::string problem;
+  if (a.size() != b.size()) {
+    problem =
+        fmt::format("{} holds {} spheres, {} {}", saved_source, b.size(), initial_source, a.size());
+  } else if (initial.box.lx != saved.box.lx || initial.box.ly != saved.box.ly) {
+    problem = fmt::format("{} has a cell of {} × {}, {} one of {} × {}", saved_source, saved.box.lx,
+                          saved.box.ly, initial_source, initial.box.lx, initial.box.ly);
+  } else {
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      // a run never changes a radius or a fixed flag
+      if (a.radius[i] != b.radius[i] || a.fixed[i] != b.fixed[i]) {
+        problem = fmt::format("sphere {} has radius {} (fixed {}) in {}, {} (fixed {}) in {}", i,
+                              b.radius[i], b.fixed[i], saved_source, a.radius[i], a.fixed[i],
+                              initial_source);
+        break;
+      }
+    }
+  }
+  if (!problem.empty()) {
+    throw StateFileError(
+        fmt::format("{}: the saved run is not the run of these files: {}", saved_source, problem));
+  }
 }
 
 void save_state(const std::filesystem::path& path, std::string_view scene_toml, const World& world,

@@ -71,8 +71,16 @@ std::string encode_state(std::string_view scene_toml, const World& world, const 
 
 /// Decodes a state file's bytes. Throws StateFileError, naming `source`, for anything that
 /// is not a complete state file of kStateFormatVersion (another format is refused with both
-/// version numbers: there is no silent conversion).
+/// version numbers: there is no silent conversion), and for values no run reaches (checked
+/// as a particles file's are, model/world_check.hpp; a started run's Δt finite, > 0 and
+/// still advancing its time), which only an edited file holds.
 SavedRun decode_state(std::string_view bytes, const std::string& source);
+
+/// Throws StateFileError when the saved run's spheres are not those its scene and starting
+/// packing describe (`initial`, e.g. the world of scene.toml and initial_particles.csv): another
+/// number of spheres, another cell, or another radius or fixed flag of a sphere.
+void require_same_spheres(const World& initial, const World& saved,
+                          const std::string& initial_source, const std::string& saved_source);
 
 /// Writes the state atomically (a temporary file renamed into place: a crash while writing
 /// leaves the previous file intact).
