@@ -25,6 +25,7 @@
 #include <chrono>
 #include <csignal>
 #include <cstdio>
+#include <optional>
 #include <stdexcept>
 #include <sys/wait.h>
 #include <thread>
@@ -77,7 +78,8 @@ int list_pending_runs(const SweepOptions& options, const SweepState& state) {
 }
 
 /// --task I: run I of the plan and nothing else, as one of many runners on the folder (no
-/// sweep lock: the run's own folder lock keeps two runners off one run).
+/// sweep lock: the run's own folder lock keeps two runners off one run; a runner that finds
+/// it taken leaves the run to its holder and returns 0).
 int run_task(const SweepOptions& options, const SweepState& state, std::size_t task) {
   const SweepPlan& plan = state.plan;
   if (task >= plan.runs.size()) {
@@ -94,11 +96,24 @@ int run_task(const SweepOptions& options, const SweepState& state, std::size_t t
     if (!options.quiet) std::fprintf(stderr, "%s\n", already_finished_line(name).c_str());
     return 0;
   }
-  if (FolderLock::held(run_lock_file(folder))) {
-    std::fprintf(stderr, "%s\n", run_folder_busy_line(name, folder, false).c_str());
-    return 1;
-  }
   std::filesystem::create_directories(folder);
+  // the run's lock before anything of its folder is touched (its log too), passed down to the
+  // run: a runner that loses the race writes nothing there, and the run is the winner's
+  std::optional<FolderLock> lock;
+  try {
+    lock.emplace(run_lock_file(folder), "another runner");
+  } catch (const OutputError&) {
+    throw;
+  } catch (const std::runtime_error&) {
+    std::fprintf(stderr, "%s\n", run_left_to_its_holder_line(name, folder).c_str());
+    return 0;
+  }
+  // a runner that held the lock until now may have finished the run
+  if (is_reusable(read_run_summary(folder / "summary.json"), state.scene_texts[task]) &&
+      missing_run_outputs(folder).empty()) {
+    if (!options.quiet) std::fprintf(stderr, "%s\n", already_finished_line(name).c_str());
+    return 0;
+  }
   write_file_atomically(options.out / "sweep.toml", read_text(options.sweep));
   signal(SIGCHLD, SIG_DFL);
   setenv(kDieWithParentVariable, std::to_string(getpid()).c_str(), 1);
@@ -111,8 +126,10 @@ int run_task(const SweepOptions& options, const SweepState& state, std::size_t t
     std::fprintf(stderr, "%s\n", continues_line(name).c_str());
   }
   std::string error;
-  const pid_t child =
-      start_run({plan.scene, folder, run.overrides, options.checkpoint_every, resume}, error);
+  const int lock_fd = lock->inheritable_fd();
+  const pid_t child = start_run(
+      {plan.scene, folder, run.overrides, options.checkpoint_every, resume, lock_fd}, error);
+  close(lock_fd);
   if (child == 0) throw std::runtime_error(error);
   int status = 0;
   bool asked_to_stop = false;

@@ -16,8 +16,10 @@
 #include <cerrno>
 #include <csignal>
 #include <cstdio>
+#include <optional>
 #include <sys/wait.h>
 #include <thread>
+#include <unistd.h>
 
 namespace cdpowder::app {
 
@@ -116,18 +118,26 @@ class SweepPool {
     }
     const SweepRun& run = state_.plan.runs[i];
     const std::filesystem::path folder = options_.out / run.folder;
-    // a process of an earlier sweep still writing into the folder (it got SIGTERM when that
-    // sweep died, and is finishing its step): left for the next run of this command
-    if (FolderLock::held(run_lock_file(folder))) {
-      ++held_elsewhere_;
-      std::fprintf(stderr, "%s\n", run_folder_busy_line(run_name(i), folder, true).c_str());
-      return;
-    }
     std::error_code made;
     std::filesystem::create_directories(folder, made);
     if (made) {  // a full disk: no run can start; the running ones end as they can
       write_error_ = fmt::format("cannot create {}: {}", folder.string(), made.message());
       --next_;
+      return;
+    }
+    // the run's lock, taken here and passed down, before anything of its folder is touched;
+    // taken by another process (an earlier sweep's run finishing its step after a SIGTERM,
+    // or an outside runner): left for the next run of this command
+    std::optional<FolderLock> lock;
+    try {
+      lock.emplace(run_lock_file(folder), "another runner");
+    } catch (const OutputError& error) {
+      write_error_ = error.what();
+      --next_;
+      return;
+    } catch (const std::runtime_error&) {
+      ++held_elsewhere_;
+      std::fprintf(stderr, "%s\n", run_folder_busy_line(run_name(i), folder, true).c_str());
       return;
     }
     // an interrupted run goes on from its checkpoint instead of starting again
@@ -137,8 +147,11 @@ class SweepPool {
       std::fprintf(stderr, "%s\n", starts_again_line(run_name(i), why_not).c_str());
     }
     std::string error;
+    const int lock_fd = lock->inheritable_fd();
     const pid_t child = start_run(
-        {state_.plan.scene, folder, run.overrides, options_.checkpoint_every, resume}, error);
+        {state_.plan.scene, folder, run.overrides, options_.checkpoint_every, resume, lock_fd},
+        error);
+    close(lock_fd);  // the run holds the lock now, and this process lets go of its own
     if (child == 0) {
       ++failed_;
       std::fprintf(stderr, "%s\n", run_not_started_line(run_name(i), error).c_str());

@@ -3,6 +3,7 @@
 
 #include "commands/simulate.hpp"
 
+#include "cdpowder/run/folder_lock.hpp"
 #include "cdpowder/run/run_folder.hpp"
 #include "cdpowder/run/state_file.hpp"
 #include "cdpowder/study/sweep_results.hpp"
@@ -16,6 +17,7 @@
 #include <fcntl.h>
 #include <fstream>
 #include <spawn.h>
+#include <string_view>
 #include <sys/wait.h>
 #include <thread>
 #include <unistd.h>
@@ -92,8 +94,21 @@ pid_t start_run(const RunStart& run, std::string& error) {
   posix_spawnattr_init(&attributes);
   posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETPGROUP);
   posix_spawnattr_setpgroup(&attributes, 0);
+  // this environment, and the lock passed down
+  std::vector<std::string> variables;
+  for (char** v = environ; *v != nullptr; ++v) {
+    if (!std::string_view(*v).starts_with(std::string(kInheritedLockVariable) + "=")) {
+      variables.emplace_back(*v);
+    }
+  }
+  if (run.lock_fd >= 0)
+    variables.push_back(fmt::format("{}={}", kInheritedLockVariable, run.lock_fd));
+  std::vector<char*> envp;
+  envp.reserve(variables.size() + 1);
+  for (std::string& v : variables) envp.push_back(v.data());
+  envp.push_back(nullptr);
   pid_t pid = 0;
-  const int failed = posix_spawn(&pid, kSelf, &files, &attributes, argv.data(), environ);
+  const int failed = posix_spawn(&pid, kSelf, &files, &attributes, argv.data(), envp.data());
   posix_spawn_file_actions_destroy(&files);
   posix_spawnattr_destroy(&attributes);
   if (failed != 0) {

@@ -50,11 +50,14 @@ struct RunStart {
   const std::vector<SceneOverride>& overrides;
   std::optional<double> checkpoint_every;
   bool resume = false;
+  /// the run's folder lock, taken by the caller before anything touches the folder
+  /// (FolderLock::inheritable_fd): the run adopts it (kInheritedLockVariable)
+  int lock_fd = -1;
 };
 
 /// Starts the run in its own process group (so a Ctrl-C reaches only the sweep, which
 /// forwards one SIGTERM), stdout and stderr into folder/log.txt (appended to when the run is
-/// continued, so the log keeps its history).
+/// continued, so the log keeps its history), holding the lock the caller took for it.
 /// Returns the process id, or 0 (with `error` set) when it could not be started.
 pid_t start_run(const RunStart& run, std::string& error);
 

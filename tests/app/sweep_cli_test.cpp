@@ -22,6 +22,7 @@ using cdpowder::testing::ProcessResult;
 using cdpowder::testing::run_cdpowder;
 using cdpowder::testing::slurp;
 using ::testing::HasSubstr;
+using ::testing::Not;
 
 const fs::path kQuick = CDPOWDER_SOURCE_DIR "/examples/quick/scene.toml";
 const fs::path kReport = CDPOWDER_SOURCE_DIR "/tools/report.py";
@@ -345,6 +346,46 @@ std::vector<std::string> table_without(const fs::path& csv, const std::string& d
     rows.push_back(kept);
   }
   return rows;
+}
+
+// Runners that race on every run (each --task started twice within milliseconds, as a
+// requeued array job can be): every run is done once, no runner reports a failure, and no
+// log is spliced (the loser takes the lock before it touches the folder, so it writes nothing).
+TEST_F(SweepCli, RunnersRacingOnEveryRunDoEachOnceAndNoneFails) {
+  const fs::path sweep = write_short_sweep(scratch_);
+  const fs::path out = scratch_ / "out";
+  const fs::path script = scratch_ / "race.sh";
+  const std::string task = std::string(CDPOWDER_EXE) + " sweep " + sweep.string() + " --out " +
+                           out.string() + " --task ";
+  std::ofstream file(script);
+  file << "status=0\n";
+  for (int i = 0; i < 8; ++i) {
+    file << task << i << " 2>>" << (scratch_ / "err.txt").string() << " & p" << i << "a=$!\n"
+         << task << i << " 2>>" << (scratch_ / "err.txt").string() << " & p" << i << "b=$!\n";
+  }
+  for (int i = 0; i < 8; ++i) {
+    file << "wait $p" << i << "a || status=1\nwait $p" << i << "b || status=1\n";
+  }
+  file << "exit $status\n";
+  file.close();
+  const ProcessResult r = cdpowder::testing::run_process("sh", script.string(), scratch_);
+  const std::string err = slurp(scratch_ / "err.txt");
+  EXPECT_EQ(r.status, 0) << err;
+  EXPECT_THAT(err, Not(HasSubstr("FAILED")));
+  std::size_t logs = 0;
+  for (const auto& point : fs::directory_iterator(out / "runs")) {
+    for (const auto& run : fs::directory_iterator(point.path())) {
+      ++logs;
+      const std::string log = slurp(run.path() / "log.txt");
+      // one run's log: its opening line once
+      EXPECT_EQ(log.find("compact "), log.rfind("compact ")) << log;
+      EXPECT_TRUE(fs::exists(run.path() / "summary.json")) << run.path();
+    }
+  }
+  EXPECT_EQ(logs, 8U);
+  const ProcessResult collect =
+      run_cdpowder("sweep " + sweep.string() + " --out " + out.string() + " --collect", scratch_);
+  EXPECT_THAT(collect.out, HasSubstr("sweep: 8 of 8 runs finished"));
 }
 
 // --list prints a command per run; an outside runner (xargs -P 2 here, GNU parallel or a

@@ -4,20 +4,50 @@
 
 #include "cdpowder/io/atomic_file.hpp"
 
+#include <climits>
 #include <fmt/format.h>
 
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
 #include <stdexcept>
 
 // open and flock are POSIX
 #include <fcntl.h>
 #include <sys/file.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 namespace cdpowder {
 
+namespace {
+
+/// The descriptor a parent passed down for `lock_file` (kInheritedLockVariable), or −1.
+int inherited_fd(const std::filesystem::path& lock_file) {
+  const char* text = std::getenv(kInheritedLockVariable);
+  if (text == nullptr) return -1;
+  char* end = nullptr;
+  const long fd = std::strtol(text, &end, 10);
+
+  struct stat passed {};
+
+  struct stat named {};
+
+  if (end == text || *end != '\0' || fd < 0 || fd > INT_MAX ||
+      fstat(static_cast<int>(fd), &passed) != 0 || stat(lock_file.c_str(), &named) != 0 ||
+      passed.st_dev != named.st_dev || passed.st_ino != named.st_ino) {
+    return -1;  // not this lock: taken as any other
+  }
+  unsetenv(kInheritedLockVariable);  // adopted once, and not passed on further
+  fcntl(static_cast<int>(fd), F_SETFD, FD_CLOEXEC);
+  return static_cast<int>(fd);
+}
+
+}  // namespace
+
 FolderLock::FolderLock(const std::filesystem::path& lock_file, const std::string& holder) {
+  fd_ = inherited_fd(lock_file);
+  if (fd_ >= 0) return;
   fd_ = open(lock_file.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
   if (fd_ < 0) {  // not a lock held elsewhere: the folder cannot be written
     throw OutputError(fmt::format("cannot write {}: {}", lock_file.string(), std::strerror(errno)));
@@ -32,6 +62,12 @@ FolderLock::FolderLock(const std::filesystem::path& lock_file, const std::string
 
 FolderLock::~FolderLock() {
   close(fd_);
+}
+
+int FolderLock::inheritable_fd() const {
+  const int fd = fcntl(fd_, F_DUPFD, 3);  // a duplicate without FD_CLOEXEC, above stderr
+  if (fd < 0) throw OutputError(fmt::format("cannot pass on a lock: {}", std::strerror(errno)));
+  return fd;
 }
 
 bool FolderLock::held(const std::filesystem::path& lock_file) {

@@ -10,12 +10,23 @@
 
 namespace cdpowder {
 
+/// The environment variable through which a sweep hands a run the lock it took on the run's
+/// folder for it: the number of an open descriptor of the lock file (inheritable_fd).
+inline constexpr const char* kInheritedLockVariable = "CDPOWDER_RUN_LOCK_FD";
+
 class FolderLock {
  public:
   /// Locks `lock_file`; throws std::runtime_error naming `folder`, the lock file and what
   /// holds it (`holder`, e.g. "another sweep") when it is taken, and OutputError with the
-  /// system's reason when the lock file cannot be made (a read-only folder).
+  /// system's reason when the lock file cannot be made (a read-only folder). A process whose
+  /// parent took the lock for it (kInheritedLockVariable names a descriptor of this very
+  /// file) holds it already and adopts it: the folder was never free between the two.
   FolderLock(const std::filesystem::path& lock_file, const std::string& holder);
+
+  /// A duplicate of the lock's descriptor that a child process inherits (no close-on-exec),
+  /// to be named in kInheritedLockVariable of its environment and closed by the caller once
+  /// the child is started: the child then holds the lock for as long as it lives.
+  [[nodiscard]] int inheritable_fd() const;
 
   ~FolderLock();
 

@@ -66,6 +66,12 @@ std::string run_folder_busy_line(std::string_view name, const std::filesystem::p
              : fmt::format("{}: {} is being written by another process", name, folder.string());
 }
 
+std::string run_left_to_its_holder_line(std::string_view name,
+                                        const std::filesystem::path& folder) {
+  return fmt::format("{}: {} is locked by another runner, which runs it; left to it", name,
+                     folder.string());
+}
+
 std::string run_not_started_line(std::string_view name, std::string_view error) {
   return fmt::format("{}: {}", name, error);
 }

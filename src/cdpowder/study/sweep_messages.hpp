@@ -56,6 +56,10 @@ std::string continues_line(std::string_view name);
 std::string run_folder_busy_line(std::string_view name, const std::filesystem::path& folder,
                                  bool left_for_later);
 
+/// --task on a run whose folder lock another runner holds: the run is that runner's, and this
+/// one ends with 0 (both were started on it at once, as a requeued array job can be).
+std::string run_left_to_its_holder_line(std::string_view name, const std::filesystem::path& folder);
+
 /// "NAME: ERROR": a run that could not be started.
 std::string run_not_started_line(std::string_view name, std::string_view error);
 
