@@ -230,6 +230,23 @@ TEST_F(CompactCli, RepeatedStopSignalsToTheProcessAndItsGroupKeepTheRun) {
   }
 }
 
+// Heavy spheres barely move, so the window's tests find them at rest long before they carry
+// the push: their static solves stay out of balance, and the run ends not blocked, saying
+// why (exit 4). It was reported blocked, with σzz/p = 0.62.
+TEST_F(CompactCli, HeavySpheresAtRestButOutOfBalanceAreNotBlocked) {
+  const fs::path out = scratch_ / "out";
+  const ProcessResult r = run_cdpowder("compact " + kQuick.string() + " --out " + out.string() +
+                                           " --quiet --set system.density=1e6",
+                                       scratch_);
+  EXPECT_EQ(r.status, kNotBlocked) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("blocked=no"));
+  EXPECT_THAT(r.err, HasSubstr("the packing came to rest, but its static solve was out of "
+                               "balance in 6 windows in a row: a sphere stays out of balance"));
+  const nlohmann::json s = summary_of(out);
+  EXPECT_FALSE(s["run"]["blocked"].get<bool>());
+  EXPECT_THAT(s["run"]["not_blocked"].get<std::string>(), HasSubstr("largest net force"));
+}
+
 // A reader that closes the pipe early loses the result line, not the run: exit 0, not 141.
 TEST_F(CompactCli, AClosedPipeOnTheResultLineIsNoFailure) {
   const fs::path out = scratch_ / "out";

@@ -2,8 +2,11 @@
 #include "cdpowder/run/run_loop.hpp"
 
 #include "cdpowder/analysis/porosity.hpp"
+#include "cdpowder/analysis/stress.hpp"
 #include "cdpowder/run/blocked_state.hpp"
 #include "cdpowder/solver/time_step_control.hpp"
+
+#include <fmt/format.h>
 
 #include <algorithm>
 #include <chrono>
@@ -47,6 +50,36 @@ StepReport solve_at_rest(World& world, StepWorkspace& work, const StepSettings& 
 /// runs of 100 spheres.
 bool spheres_balanced(const StepReport& at_rest, const BlockedCriteria& criteria, double load) {
   return at_rest.diagnostics.max_net_force <= criteria.force_balance * load;
+}
+
+/// How far σzz/p of a static solve may be from 1 in a blocked packing (physics.md §17, §11.2).
+constexpr double kStressBalance = 0.01;
+
+/// Why the static solve `rest` is not a blocked packing, or nothing: a sphere out of balance
+/// (spheres_balanced), or, without gravity, σzz/p off 1 by more than kStressBalance (the
+/// stress of a packing at rest between the walls equals the push; heavy spheres that barely
+/// move pass the window's tests at 0.62). Under gravity σzz also carries part of the spheres'
+/// weight, and the net force alone decides.
+std::optional<std::string> balance_problem(const World& world, const Contacts& contacts,
+                                           const StepReport& at_rest,
+                                           const BlockedCriteria& criteria, double load) {
+  if (!spheres_balanced(at_rest, criteria, load)) {
+    return fmt::format(
+        "a sphere stays out of balance at rest (largest net force {:.3g} F_coh, "
+        "above run.blocked.force_balance × load = {:.3g} F_coh)",
+        at_rest.diagnostics.max_net_force, criteria.force_balance * load);
+  }
+  const double pressure = load / world.box.area();
+  if (world.gravity.isZero() && pressure > 0.0) {
+    const double ratio = stress_tensors(contacts, packing_volume(world)).total(2, 2) / pressure;
+    if (!(std::abs(ratio - 1.0) <= kStressBalance)) {
+      return fmt::format(
+          "σzz/p = {:.4f} at rest, expected 1 within {} (the packing does not "
+          "carry the push)",
+          ratio, kStressBalance);
+    }
+  }
+  return std::nullopt;
 }
 
 /// One step of an adaptive run: solved, and while it opened a cohesion-active contact by more
@@ -102,6 +135,9 @@ enum class StaticChecks {
   GoOn,     ///< none adopted: the run goes on
   Blocked,  ///< one was adopted: the run ends blocked
   Stopped,  ///< one was cut short by the stop request: asked again when the run continues
+  /// the packing rests but stays out of balance: the run ends not blocked
+  /// (RunResult::not_blocked says why)
+  Unbalanced,
 };
 
 /// A static solve on a copy of the run's state: adopted (world and work replace the run's)
@@ -259,20 +295,27 @@ class RunLoop {
   }
 
   /// Blocked by the window's tests: the packing is measured on a static solve of a copy,
-  /// and adopted unless that solve shows a sphere out of balance; then the run goes on
-  /// unchanged and the test is repeated a window later, at most kMaxDeferredWindows times
-  /// (a packing whose static solve never balances is then measured as it is, and its
-  /// gauges say so; without the bound such a run could go on to max_duration).
+  /// and adopted when that solve is in balance (balance_problem); otherwise the run goes on
+  /// unchanged and the test is repeated a window later. A packing whose static solve is still
+  /// out of balance after kMaxDeferredWindows windows ends the run not blocked, with the
+  /// reason (without the bound such a run could go on to max_duration; before, it was
+  /// reported blocked).
   StaticChecks check_blocked_window(double fraction) {
     RestSolve rest = solve_copy_at_rest();
     if (rest.report.solver.stopped) return StaticChecks::Stopped;
     state_.last_rest_check = world_.time;
-    if (spheres_balanced(rest.report, run_.blocked, load_) ||
-        state_.deferred_windows >= kMaxDeferredWindows) {
-      return adopt(std::move(rest), fraction);
+    const std::optional<std::string> problem =
+        balance_problem(rest.world, rest.work.contacts, rest.report, run_.blocked, load_);
+    if (!problem) return adopt(std::move(rest), fraction);
+    ++result_.unbalanced_rest_solves;
+    if (state_.deferred_windows >= kMaxDeferredWindows) {
+      result_.not_blocked = fmt::format(
+          "the packing came to rest, but its static solve was out of balance in {} windows in "
+          "a row: {}",
+          kMaxDeferredWindows + 1, *problem);
+      return StaticChecks::Unbalanced;
     }
     ++state_.deferred_windows;
-    ++result_.unbalanced_rest_solves;
     return StaticChecks::GoOn;
   }
 
@@ -301,7 +344,7 @@ class RunLoop {
         !(probe.report.diagnostics.piston_imbalance < run_.blocked.force_balance)) {
       return StaticChecks::GoOn;
     }
-    if (!spheres_balanced(probe.report, run_.blocked, load_)) {
+    if (balance_problem(probe.world, probe.work.contacts, probe.report, run_.blocked, load_)) {
       ++result_.unbalanced_rest_solves;
       return StaticChecks::GoOn;
     }

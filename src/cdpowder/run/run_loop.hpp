@@ -13,6 +13,7 @@
 #include <functional>
 #include <limits>
 #include <optional>
+#include <string>
 
 namespace cdpowder {
 
@@ -46,6 +47,11 @@ struct RunResult {
   std::int64_t probe_sweeps = 0;
   double probe_seconds = 0.0;
   bool blocked_by_probe = false;
+  /// Why a compaction that came to rest is not blocked: its static solves stayed out of
+  /// balance (a sphere's net force, or σzz/p off 1 without gravity) in
+  /// kMaxDeferredWindows + 1 blocked windows in a row, and the run ended there. Empty
+  /// otherwise. Not in a state file: such a run has ended.
+  std::string not_blocked;
   /// Static solves (of a blocked window, or probes) not adopted because a sphere was out of
   /// balance in them (net force above force_balance × F); the run went on after each.
   int unbalanced_rest_solves = 0;

@@ -89,6 +89,12 @@ std::optional<RunEndNotice> run_end_notice(const Scene& scene, const World& worl
                                     "continues it",
                                     result.steps, world.time, out.string())};
   }
+  if (scene.run.until_blocked && !result.blocked && !result.not_blocked.empty()) {
+    return RunEndNotice{RunEnding::NotBlocked,
+                        fmt::format("not blocked at t = {:g} t0: {}; the summary says blocked = "
+                                    "false",
+                                    world.time, result.not_blocked)};
+  }
   if (scene.run.until_blocked && !result.blocked) {
     return RunEndNotice{RunEnding::NotBlocked,
                         fmt::format("the packing did not block within {} = {:g} t0 "

@@ -74,6 +74,7 @@ RunSummary::Run run_counts(const Scene& scene, const RunResult& result) {
   r.probe_sweeps = result.probe_sweeps;
   r.probe_seconds = result.probe_seconds;
   r.unbalanced_rest_solves = result.unbalanced_rest_solves;
+  r.not_blocked = result.not_blocked;
   r.interrupted = result.interrupted;
   r.failed = result.fault.has_value();
   r.until_blocked = scene.run.until_blocked;
@@ -186,6 +187,7 @@ json run_json(const RunSummary::Run& r) {
           {"probe_sweeps", r.probe_sweeps},
           {"probe_seconds", r.probe_seconds},
           {"unbalanced_rest_solves", r.unbalanced_rest_solves},
+          {"not_blocked", r.not_blocked.empty() ? json(nullptr) : json(r.not_blocked)},
           {"interrupted", r.interrupted},
           {"failed", r.failed},
           {"until_blocked", r.until_blocked},
@@ -340,6 +342,7 @@ RunSummary::Run read_run(const Fields& r) {
   run.probe_sweeps = r.count<std::int64_t>("probe_sweeps");
   run.probe_seconds = r.number("probe_seconds");
   run.unbalanced_rest_solves = r.count<int>("unbalanced_rest_solves");
+  run.not_blocked = r.text("not_blocked");  // summaries before it: none
   run.interrupted = r.flag("interrupted", true);
   run.failed = r.flag("failed");  // summaries before faults existed: false
   run.until_blocked = r.flag("until_blocked");

@@ -124,6 +124,9 @@ struct RunSummary {
     std::int64_t probe_sweeps = 0;
     double probe_seconds = 0.0;
     int unbalanced_rest_solves = 0;
+    /// why a compaction that came to rest is not blocked (RunResult::not_blocked); empty
+    /// otherwise
+    std::string not_blocked;
     bool interrupted = false;
     bool failed = false;  ///< a fault ended the run (RunSummary::fault says which)
     bool until_blocked = false;
