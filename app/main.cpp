@@ -171,6 +171,9 @@ CLI::App* add_deposit_command(CLI::App& cli, cdpowder::app::DepositOptions& depo
       ->check(output_folder_problem, "FOLDER");
   command->add_option("--set", deposit.overrides,
                       "Override a scene key: --set section.key=value (repeatable)");
+  command->add_flag("--quiet,-q", deposit.quiet,
+                    "No progress on stderr (a deposit draws none; taken as compact and simulate "
+                    "take it)");
   return command;
 }
 
@@ -298,8 +301,10 @@ int run_command_line(int argc, char** argv) {
   try {
     cli.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    const int code = cli.exit(e);
-    return code == 0 ? 0 : kExitBadInput;
+    if (e.get_exit_code() == 0) return cli.exit(e);  // --help, --version
+    // as every other mistake is named: "error: " first
+    std::fprintf(stderr, "error: %s\nRun with --help for more information.\n", e.what());
+    return kExitBadInput;
   }
   return run_reporting_errors([&] {
     if (simulate_cmd->parsed()) return cdpowder::app::run_simulate(simulate);

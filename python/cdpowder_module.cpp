@@ -406,6 +406,10 @@ std::shared_ptr<Engine> world_from_arrays(const PyScene& scene, const py::object
   set_vectors("angular_velocities", angular_velocities, spheres.angular_velocity);
   auto engine = std::make_shared<Engine>();
   engine->world = make_world(resolved, std::move(spheres));
+  // what the arrays' own checks leave: centres beyond the coordinates doubles resolve
+  if (const std::optional<std::string> problem = world_problem(engine->world)) {
+    throw py::value_error(*problem);
+  }
   engine->work = StepWorkspace(resolved.step.solver.seed);
   return engine;
 }

@@ -4,6 +4,7 @@
 #include "stop_signals.hpp"
 
 #include "cdpowder/config/scene_reader.hpp"
+#include "cdpowder/run/folder_lock.hpp"
 #include "cdpowder/run/run_folder.hpp"
 #include "cdpowder/run/run_messages.hpp"
 #include "cdpowder/setup/scene_setup.hpp"
@@ -37,6 +38,9 @@ int run_deposit(const DepositOptions& options) {
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
+  std::filesystem::create_directories(options.out);
+  // one writer per folder, as for a run (run/folder_lock.hpp)
+  const FolderLock lock(run_lock_file(options.out), "another cdpowder run");
   write_deposit_outputs(options.out, scene, world);
 
   std::printf("%s\n", deposit_line(world, seconds).c_str());

@@ -13,6 +13,7 @@ struct DepositOptions {
   std::filesystem::path scene;
   std::filesystem::path out;
   std::vector<std::string> overrides;  ///< --set section.key=value
+  bool quiet = false;                  ///< --quiet: as compact and simulate take it
 };
 
 /// Writes scene.toml, particles.csv, particles.vtp and summary.json (porosity, height,

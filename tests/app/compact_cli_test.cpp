@@ -156,7 +156,8 @@ TEST_F(CompactCli, SameSeedGivesIdenticalSummariesAnotherSeedADifferentOne) {
 
 TEST_F(CompactCli, DepositFeedsACompactionThatStartsFromTheSameSpheres) {
   const ProcessResult d = run_cdpowder(
-      "deposit " + kQuick.string() + " --out " + (scratch_ / "deposit").string(), scratch_);
+      "deposit " + kQuick.string() + " --out " + (scratch_ / "deposit").string() + " --quiet",
+      scratch_);
   ASSERT_EQ(d.status, 0) << d.err;
   EXPECT_THAT(d.out, HasSubstr("porosity="));
   const nlohmann::json deposit = summary_of(scratch_ / "deposit");
@@ -235,9 +236,9 @@ TEST_F(CompactCli, RepeatedStopSignalsToTheProcessAndItsGroupKeepTheRun) {
 // why (exit 4). It was reported blocked, with σzz/p = 0.62.
 TEST_F(CompactCli, HeavySpheresAtRestButOutOfBalanceAreNotBlocked) {
   const fs::path out = scratch_ / "out";
-  const ProcessResult r = run_cdpowder("compact " + kQuick.string() + " --out " + out.string() +
-                                           " --quiet --set system.density=1e6",
-                                       scratch_);
+  const ProcessResult r = run_cdpowder(
+      "compact " + kQuick.string() + " --out " + out.string() + " --quiet --set system.density=1e6",
+      scratch_);
   EXPECT_EQ(r.status, kNotBlocked) << r.err;
   EXPECT_THAT(r.out, HasSubstr("blocked=no"));
   EXPECT_THAT(r.err, HasSubstr("the packing came to rest, but its static solve was out of "

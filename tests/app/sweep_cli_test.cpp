@@ -180,6 +180,10 @@ TEST_F(SweepCli, ABadJobsOrTaskIsNamedWithWhatIsAllowed) {
   const ProcessResult task = run_cdpowder(command + " --task -1", scratch_);
   EXPECT_EQ(task.status, 2);
   EXPECT_THAT(task.err, HasSubstr("--task: got '-1', expected a run index ≥ 0"));
+  // named as every other mistake is: "error: " first
+  const ProcessResult abc = run_cdpowder(command + " --task abc", scratch_);
+  EXPECT_EQ(abc.status, 2);
+  EXPECT_THAT(abc.err, HasSubstr("error: --task: got 'abc', expected a run index ≥ 0"));
   EXPECT_FALSE(fs::exists(scratch_ / "out"));
 }
 

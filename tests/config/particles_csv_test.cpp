@@ -137,6 +137,15 @@ TEST_F(ParticlesCsv, RejectsNonPositiveRadiusAndNonFiniteValues) {
   EXPECT_THAT(found[2], AllOf(HasSubstr(":4: vx: got nan"), HasSubstr("finite")));
 }
 
+// Where doubles are spaced more than a contact's geometry allows (z = 1e17: 16 R apart), or a
+// position would wrap into the cell as 0 (x = 1e300), the file is refused by name.
+TEST_F(ParticlesCsv, RejectsCoordinatesBeyondWhatDoublesResolve) {
+  const auto found = issues("x,y,z,r\n1,2,1e17,1\n1e300,2,3,1\n1,2,3,1\n-999999,2,3,1\n");
+  ASSERT_EQ(found.size(), 2U);
+  EXPECT_THAT(found[0], AllOf(HasSubstr(":2: z: got 1e17"), HasSubstr("within ±1e+06 R")));
+  EXPECT_THAT(found[1], HasSubstr(":3: x: got 1e300"));
+}
+
 TEST_F(ParticlesCsv, RejectsWrongFieldCount) {
   const auto found = issues("x,y,z,r\n1,2,3\n");
   ASSERT_EQ(found.size(), 1U);

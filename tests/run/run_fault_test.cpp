@@ -118,6 +118,10 @@ TEST(RunFault, AnOverlapBeyondTheBoundNamesThePair) {
   EXPECT_EQ(f->other, 1);
   EXPECT_NEAR(f->value, 0.2, 1e-12);
   EXPECT_THAT(f->message, HasSubstr("sphere 0 overlaps sphere 1 by 0.2 R"));
+  // the value named is the one the step's measure found, to the bit
+  StepDiagnostics measured;
+  measure_contacts(s.world, s.work.contacts, measured);
+  EXPECT_EQ(find_fault(s.world, s.work.contacts, measured, limits)->value, measured.max_overlap);
 }
 
 TEST(RunFault, APistonThroughTheWallOrBelowTheGrainsVolumeIsAFault) {

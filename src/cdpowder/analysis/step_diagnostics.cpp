@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <vector>
 
 namespace cdpowder {
 
@@ -33,6 +34,21 @@ struct ContactSums {
   std::size_t cohesive = 0;
 };
 
+/// A contact's overlap from the new positions (c.gap is the step's start), as the pairs'
+/// lanes compute it for a pair.
+double overlap_after_step(const World& world, const ContactView& c) {
+  const Bodies& bodies = world.bodies;
+  if (c.is_pair()) {
+    const Vec3 d_ab = world.box.minimum_image(bodies.position[c.b] - bodies.position[c.a]);
+    return std::max(0.0, bodies.radius[c.a] + bodies.radius[c.b] - d_ab.norm());
+  }
+  // detect_contacts gives a wall contact its sphere's radius
+  const double z = bodies.position[c.b].z();
+  const double r = bodies.radius[c.b];
+  const double gap = *c.wall == WallKind::Bottom ? z - r : world.walls.piston.height - z - r;
+  return std::max(0.0, -gap);
+}
+
 }  // namespace
 
 #define CDP_LANE_CODE "cdpowder/analysis/overlap_lanes.inc"
@@ -40,7 +56,6 @@ struct ContactSums {
 
 void measure_contacts(const World& world, const Contacts& contacts, StepDiagnostics& d) {
   const Bodies& bodies = world.bodies;
-  const Piston& piston = world.walls.piston;
   d.contacts = contacts.size();
   // pairs in blocks of lanes, then the rest of the pairs and the walls one by one: the overlap
   // sum and the piston's force add up in Contacts' order
@@ -54,18 +69,7 @@ void measure_contacts(const World& world, const Contacts& contacts, StepDiagnost
                                    .box = world.box};
   const std::size_t rest = CDP_LANES_FOR_CPU(pair_overlap_lanes)(lanes_in, sums);
   for_each_contact_in(contacts, rest, contacts.size(), [&](const ContactView& c) {
-    // the overlap from the new positions (c.gap is the step's start)
-    double overlap = 0.0;
-    if (c.is_pair()) {
-      const Vec3 d_ab = world.box.minimum_image(bodies.position[c.b] - bodies.position[c.a]);
-      overlap = std::max(0.0, bodies.radius[c.a] + bodies.radius[c.b] - d_ab.norm());
-    } else {
-      // detect_contacts gives a wall contact its sphere's radius
-      const double z = bodies.position[c.b].z();
-      const double r = bodies.radius[c.b];
-      const double gap = *c.wall == WallKind::Bottom ? z - r : piston.height - z - r;
-      overlap = std::max(0.0, -gap);
-    }
+    const double overlap = overlap_after_step(world, c);
     sums.max_overlap = std::max(sums.max_overlap, overlap);
     if (c.cohesive) ++sums.cohesive;
     if (c.closed()) {
@@ -80,6 +84,23 @@ void measure_contacts(const World& world, const Contacts& contacts, StepDiagnost
   d.closed_contacts += sums.closed;
   d.mean_overlap =
       d.closed_contacts > 0 ? sums.overlap_sum / static_cast<double>(d.closed_contacts) : 0.0;
+}
+
+std::vector<double> contact_overlaps(const World& world, const Contacts& contacts) {
+  std::vector<double> overlaps(contacts.size(), 0.0);
+  const Bodies& bodies = world.bodies;
+  const PairOverlapInputs lanes_in{.n = contacts.pairs.size(),
+                                   .pairs = contacts.pairs.data(),
+                                   .actions = contacts.pair_actions.data(),
+                                   .cohesive = contacts.pair_cohesive.data(),
+                                   .position = bodies.position.data(),
+                                   .radius = bodies.radius.data(),
+                                   .box = world.box};
+  const std::size_t rest = CDP_LANES_FOR_CPU(pair_overlaps_lanes)(lanes_in, overlaps.data());
+  std::size_t k = rest;
+  for_each_contact_in(contacts, rest, contacts.size(),
+                      [&](const ContactView& c) { overlaps[k++] = overlap_after_step(world, c); });
+  return overlaps;
 }
 
 StepDiagnostics join_measures(const World& world, const StepDiagnostics& of_contacts,

@@ -8,6 +8,7 @@
 #include "cdpowder/model/world.hpp"
 
 #include <cstddef>
+#include <vector>
 
 namespace cdpowder {
 
@@ -52,5 +53,10 @@ struct StepDiagnostics {
 void measure_contacts(const World& world, const Contacts& contacts, StepDiagnostics& d);
 StepDiagnostics join_measures(const World& world, const StepDiagnostics& of_contacts,
                               const SphereMeasures& of_spheres);
+
+/// Each contact's overlap after the step (Contacts' order, pairs then walls) with
+/// measure_contacts' own operations, so that the largest of them is StepDiagnostics::
+/// max_overlap to the bit: the contact a fault's overlap came from (run/run_fault.cpp).
+std::vector<double> contact_overlaps(const World& world, const Contacts& contacts);
 
 }  // namespace cdpowder

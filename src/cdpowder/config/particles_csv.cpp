@@ -4,6 +4,7 @@
 #include "cdpowder/config/particles_csv.hpp"
 
 #include "cdpowder/config/scene_keys.hpp"
+#include "cdpowder/model/world_check.hpp"
 
 #include <fmt/format.h>
 
@@ -141,6 +142,13 @@ class CsvParser {
         ok = false;
       } else if (column == R && *value <= 0.0) {
         add(line_number, name, fmt::format("got {}, expected a radius > 0", fields[i]));
+        ok = false;
+      } else if ((column == X || column == Y || column == Z || column == R) &&
+                 std::abs(*value) > kMaxCoordinate) {
+        add(line_number, name,
+            fmt::format("got {}, expected a number within ±{:g} R (doubles are too sparse "
+                        "beyond for a contact's geometry)",
+                        fields[i], kMaxCoordinate));
         ok = false;
       } else {
         row[column] = *value;

@@ -64,9 +64,22 @@ std::optional<std::string> fixed_problem(const Bodies& b) {
   return std::nullopt;
 }
 
+std::optional<std::string> far_problem(const std::vector<Vec3>& position) {
+  for (std::size_t i = 0; i < position.size(); ++i) {
+    if (position[i].cwiseAbs().maxCoeff() > kMaxCoordinate) {
+      return fmt::format(
+          "the position of sphere {} is ({}, {}, {}), expected coordinates within "
+          "±{:g} R (doubles are too sparse beyond)",
+          i, position[i].x(), position[i].y(), position[i].z(), kMaxCoordinate);
+    }
+  }
+  return std::nullopt;
+}
+
 std::optional<std::string> bodies_problem(const Bodies& b) {
   if (auto p = size_problem(b)) return p;
   if (auto p = vector_problem(b.position, "position")) return p;
+  if (auto p = far_problem(b.position)) return p;
   if (auto p = vector_problem(b.velocity, "velocity")) return p;
   if (auto p = vector_problem(b.angular_velocity, "angular velocity")) return p;
   if (auto p = vector_problem(b.external_force, "external force")) return p;

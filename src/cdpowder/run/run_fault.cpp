@@ -72,28 +72,21 @@ std::optional<RunFault> non_finite_piston(const World& world) {
   return std::nullopt;
 }
 
-/// The contact with the largest overlap (the step's diagnostics give only its size).
+/// The contact with the largest overlap (the step's diagnostics give only its size), found
+/// with the diagnostics' own operations (contact_overlaps): the value named is the value the
+/// test found, to the bit, and its contact the first that has it in Contacts' order.
 RunFault largest_overlap(const World& world, const Contacts& contacts, double bound) {
-  const Bodies& bodies = world.bodies;
   RunFault f = fault(world, "overlap", -1, 0.0);
   const char* wall = nullptr;
-  // the first contact of the largest overlap in Contacts' order, pairs then walls
+  const std::vector<double> overlaps = contact_overlaps(world, contacts);
+  std::size_t k = 0;
   for_each_contact(contacts, [&](const ContactView& c) {
-    const bool bottom = c.wall == WallKind::Bottom;
-    double overlap = 0.0;
-    if (c.is_pair()) {
-      const Vec3 d = world.box.minimum_image(bodies.position[c.b] - bodies.position[c.a]);
-      overlap = bodies.radius[c.a] + bodies.radius[c.b] - d.norm();
-    } else {
-      const double z = bodies.position[c.b].z();
-      const double r = bodies.radius[c.b];  // a wall contact's radius (detect_contacts)
-      overlap = bottom ? r - z : z + r - world.walls.piston.height;
-    }
+    const double overlap = overlaps[k++];
     if (overlap > f.value) {
       f.value = overlap;
       f.body = static_cast<std::int64_t>(c.is_pair() ? c.a : c.b);
       f.other = c.is_pair() ? static_cast<std::int64_t>(c.b) : -1;
-      wall = c.is_pair() ? nullptr : bottom ? "the bottom wall" : "the piston";
+      wall = c.is_pair() ? nullptr : c.wall == WallKind::Bottom ? "the bottom wall" : "the piston";
     }
   });
   const std::string with = wall != nullptr ? std::string(wall) : fmt::format("sphere {}", f.other);
