@@ -7,6 +7,7 @@
 #include "commands/sweep.hpp"
 #include "die_with_parent.hpp"
 #include "duration.hpp"
+#include "run_phase.hpp"
 
 #include "cdpowder/config/config_error.hpp"
 #include "cdpowder/core/stop_request.hpp"
@@ -26,6 +27,7 @@
 #include <exception>
 #include <filesystem>
 #include <functional>
+#include <new>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -35,6 +37,8 @@ namespace {
 
 constexpr int kExitRunFailed = 1;
 constexpr int kExitBadInput = 2;
+/// std::bad_alloc: the run could not get the memory it needs; its checkpoint, if any, is kept
+constexpr int kExitOutOfMemory = 6;
 
 /// Why `--out` cannot be the output folder, or nothing: it (or a folder above it) is a file.
 /// Checked while the command line is read, so nothing is run or written (once the run's
@@ -268,6 +272,9 @@ int run_reporting_errors(const std::function<int()>& command) {
                             code == std::errc::read_only_file_system ||
                             code.value() == EDQUOT;  // a quota: a cluster's full disk
     return unwritable ? cdpowder::app::kExitOutputFailed : kExitRunFailed;
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "error: %s\n", cdpowder::app::out_of_memory_message().c_str());
+    return kExitOutOfMemory;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
     return kExitRunFailed;

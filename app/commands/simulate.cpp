@@ -3,6 +3,7 @@
 #include "commands/simulate.hpp"
 
 #include "progress.hpp"
+#include "run_phase.hpp"
 #include "stop_signals.hpp"
 
 #include "cdpowder/analysis/porosity.hpp"
@@ -87,18 +88,22 @@ int run_and_write(Session& s) {
   };
   double checkpoint_at = next_checkpoint();
   RunResult result;
+  set_run_phase("stepping", world.bodies.size());
   for (;;) {
     result = run_simulation(world, work, scene.step, scene.run, s.state, observer,
                             [&] { return run_stop_requested() || world.time >= checkpoint_at; });
     if (!result.interrupted) break;
+    set_run_phase("writing a checkpoint");
     s.files->save_checkpoint(
         scene, world, work,
         s.state);  // asked for, or stopped by a signal: either way the state is saved
     if (run_stop_requested()) break;
+    set_run_phase("stepping");
     checkpoint_at = next_checkpoint();
   }
   progress.finish();
   s.progress = nullptr;
+  set_run_phase("writing the outputs");
   s.files->finish(scene, world, work, s.state, result, s.initial_porosity);
 
   std::printf("%s\n", result_line(scene, world, work.contacts, result).c_str());
@@ -129,12 +134,16 @@ int run_scene(const RunOptions& options, const SceneReadOptions& read_options,
   SceneReadOptions how = read_options;
   how.particles_file = options.particles;
   Session s;
+  set_run_phase("reading the scene");
   s.scene = read_scene(options.scene, command_line_overrides(options.overrides), how);
   s.out = options.out;
   s.checkpoint_every = options.checkpoint_every;
   s.quiet = options.quiet;
   const Scene& scene = s.scene;
+  set_run_phase(scene.deposition ? "depositing the spheres" : "reading the spheres",
+                scene.deposition ? static_cast<std::size_t>(scene.deposition->spheres) : 0);
   s.world = make_world(scene, [] { return run_stop_requested(); });
+  set_run_phase("setting up the run", s.world.bodies.size());
   s.work = StepWorkspace(scene.step.solver.seed);
   s.initial_porosity = porosity(s.world);
 
@@ -158,6 +167,7 @@ int run_resume(const ResumeOptions& options) {
   const std::filesystem::path checkpoint = checkpoint_path(out);
   require_checkpoint(out);
   const FolderLock lock(run_lock_file(out), "another cdpowder run");
+  set_run_phase("reading the checkpoint");
   SavedRun saved = load_state(checkpoint);  // the checkpoint's own faults first
   require_initial_particles(out);
   // the run's interval, unless this resume gives another (kept for the next resume)

@@ -248,6 +248,23 @@ TEST_F(CompactCli, HeavySpheresAtRestButOutOfBalanceAreNotBlocked) {
   EXPECT_THAT(s["run"]["not_blocked"].get<std::string>(), HasSubstr("largest net force"));
 }
 
+// Out of memory is named as such, with what the run was doing, its size and the memory held,
+// and its own exit status (6); it was "error: std::bad_alloc" with exit 1.
+TEST_F(CompactCli, OutOfMemoryIsNamedWithWhatTheRunWasDoing) {
+  const fs::path script = scratch_ / "oom.sh";
+  std::ofstream(script) << "ulimit -v 400000\nexec " << CDPOWDER_EXE << " compact "
+                        << kQuick.string() << " --out " << (scratch_ / "out").string()
+                        << " --quiet --set deposition.spheres=5000000 --set system.lx=3000 "
+                           "--set system.ly=3000\n";
+  const ProcessResult r = cdpowder::testing::run_process("sh", script.string(), scratch_);
+  if (r.err.find("Sanitizer") != std::string::npos) {
+    GTEST_SKIP() << "a sanitizer's shadow memory does not fit under ulimit -v";
+  }
+  EXPECT_EQ(r.status, 6) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("error: out of memory while depositing the spheres, 5000000 "
+                               "spheres, about "));
+}
+
 // A reader that closes the pipe early loses the result line, not the run: exit 0, not 141.
 TEST_F(CompactCli, AClosedPipeOnTheResultLineIsNoFailure) {
   const fs::path out = scratch_ / "out";
@@ -259,6 +276,29 @@ TEST_F(CompactCli, AClosedPipeOnTheResultLineIsNoFailure) {
   // a 5 t0 compaction does not block: exit 4, whatever the pipe did
   EXPECT_THAT(r.out, HasSubstr("status=4")) << r.err;
   EXPECT_TRUE(fs::exists(out / "summary.json"));
+}
+
+// A time series whose line was damaged is refused by name when the run is resumed, instead
+// of continuing from the rows before it and dropping the rest without a word.
+TEST_F(CompactCli, ResumeRefusesADamagedTimeSeriesLineByName) {
+  const fs::path out = scratch_ / "out";
+  const fs::path script = scratch_ / "interrupt.sh";
+  std::ofstream(script)
+      << CDPOWDER_EXE << " compact " << kQuick.string() << " --out " << out.string()
+      << " --quiet --set run.max_duration=1e5 --set run.blocked.piston_speed=1e-300 &\n"
+      << "pid=$!\n"
+      << "for i in $(seq 1 1200); do [ -f " << (out / "scene.toml").string()
+      << " ] && break; sleep 0.05; done\n"
+      << "sleep 0.5\nkill -INT $pid\nwait $pid\n";
+  ASSERT_EQ(cdpowder::testing::run_process("sh", script.string(), scratch_).status, 1);
+  std::string text = cdpowder::testing::slurp(out / "timeseries.csv");
+  std::size_t at = 0;
+  for (int line = 1; line < 8; ++line) at = text.find('\n', at) + 1;  // the start of line 8
+  text.insert(at, "garbage\n");
+  std::ofstream(out / "timeseries.csv", std::ios::binary) << text;
+  const ProcessResult r = run_cdpowder("resume " + out.string() + " --quiet", scratch_);
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("timeseries.csv:8: 'garbage' is not a row of the time series"));
 }
 
 TEST_F(CompactCli, PaperExampleCarriesThePapersParameters) {

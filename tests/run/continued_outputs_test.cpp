@@ -78,6 +78,18 @@ TEST_F(ContinuedOutputs, TheTimeSeriesIsCutBeforeTheCheckpointsStep) {
   EXPECT_EQ(cut_short.bytes, series({10, 20, 30, 40}).size());
 }
 
+// A whole line that is not a row (an edit, damage) is named, line and text, for the caller to
+// refuse: the 705 rows after such a line were dropped without a word before.
+TEST_F(ContinuedOutputs, ALineThatIsNotARowIsNamedNotDropped) {
+  const fs::path file = dir_ / "timeseries.csv";
+  write(file, series({10, 20}) + "garbage\n" + "30,3.0,1\n");
+  const TimeseriesCut cut = cut_timeseries(file, 1000);
+  EXPECT_EQ(cut.rows, 2);
+  EXPECT_EQ(cut.bad_line, 5);  // the comment, the columns, two rows, then it
+  EXPECT_EQ(cut.bad_text, "garbage");
+  EXPECT_EQ(cut_timeseries(dir_ / "timeseries.csv", 15).bad_line, 0);  // cut before it
+}
+
 // A file with nothing but a half header (killed at once) has no header to continue.
 TEST_F(ContinuedOutputs, AFileWithoutItsColumnsHasNoHeader) {
   const fs::path file = dir_ / "timeseries.csv";

@@ -180,7 +180,19 @@ TEST(StateFile, BadFilesAreRefusedWithTheReason) {
   EXPECT_NE(message_of(good.substr(0, 10)).find("truncated"), std::string::npos);
   std::string flipped = good;
   flipped[good.size() / 2] = static_cast<char>(flipped[good.size() / 2] ^ 1);
-  EXPECT_NE(message_of(flipped).find("checksum"), std::string::npos);
+  const std::string damaged = message_of(flipped);
+  EXPECT_NE(damaged.find("checksum"), std::string::npos);
+  // the message names where: not "at byte 12" for every damage, as before
+  EXPECT_EQ(damaged.find("at byte 12"), std::string::npos) << damaged;
+  EXPECT_NE(damaged.find("a value in it was changed"), std::string::npos) << damaged;
+  std::string broken_tag = good;
+  const std::size_t rngs = good.find("RNGS");
+  ASSERT_NE(rngs, std::string::npos);
+  broken_tag[rngs] = 'X';
+  const std::string lost = message_of(broken_tag);
+  EXPECT_NE(lost.find("reading stops at byte"), std::string::npos) << lost;
+  EXPECT_NE(message_of(good.substr(0, good.size() / 2)).find("reading stops at byte"),
+            std::string::npos);
   std::string other_format = good;
   other_format[8] = 7;  // the format version's low byte
   const std::string refused = message_of(other_format);

@@ -94,6 +94,8 @@ void ByteReader::tag(std::string_view four_letters) {
     fail(fmt::format("expected the section '{}', found other bytes: corrupted or another format",
                      four_letters));
   }
+  section_ = std::string(four_letters.substr(0, 4));
+  section_offset_ = at;
 }
 
 std::size_t ByteReader::count(std::size_t min_item_bytes) {

@@ -77,6 +77,11 @@ class ByteReader {
 
   [[nodiscard]] const std::string& source() const { return source_; }
 
+  /// The last section tag read, and the byte it began at ("" before the first).
+  [[nodiscard]] const std::string& section() const { return section_; }
+
+  [[nodiscard]] std::size_t section_offset() const { return section_offset_; }
+
   /// Throws StateFileError "SOURCE: at byte N: what".
   [[noreturn]] void fail(std::string_view what) const;
 
@@ -86,6 +91,8 @@ class ByteReader {
   std::string_view bytes_;
   std::string source_;
   std::size_t offset_ = 0;
+  std::string section_;
+  std::size_t section_offset_ = 0;
 };
 
 /// FNV-1a, 64 bit: a fixed, documented function of the bytes, the same on every platform

@@ -38,14 +38,21 @@ TimeseriesCut cut_timeseries(const std::filesystem::path& file, std::int64_t ste
   if (!in) throw std::runtime_error(fmt::format("cannot read {}", file.string()));
   TimeseriesCut cut;
   std::string line;
+  int number = 0;
   while (std::getline(in, line)) {
     if (in.eof()) break;  // no newline: cut short by a killed process
+    ++number;
     if (line.starts_with('#') || line + '\n' == kColumns) {
       if (cut.rows > 0) break;  // a header after rows: not one time series
       cut.has_header = cut.has_header || !line.starts_with('#');
     } else {
       const auto row = row_step_and_time(line);
-      if (!row || !cut.has_header || row->first >= step) break;
+      if (!row || !cut.has_header) {
+        cut.bad_line = number;
+        cut.bad_text = line;
+        break;
+      }
+      if (row->first >= step) break;
       ++cut.rows;
       cut.last_row_time = row->second;
     }

@@ -22,11 +22,16 @@ struct TimeseriesCut {
   std::int64_t rows = 0;                ///< data rows kept
   std::optional<double> last_row_time;  ///< time of the last row kept [t0]
   bool has_header = false;              ///< the column names line was found
+  /// a whole line that is neither a comment, the column names nor a row (an edited or
+  /// damaged file): its number (from 1) and text; the cut ends before it
+  int bad_line = 0;
+  std::string bad_text;
 };
 
 /// Reads `file` (a time series as TimeseriesWriter writes it) up to the first row of step
 /// `step` or later, a line cut short (a process killed while writing) or a line that is not
-/// a row. Throws std::runtime_error when the file cannot be read.
+/// a row (named in bad_line: the caller refuses it, rather than dropping the rows after it).
+/// Throws std::runtime_error when the file cannot be read.
 TimeseriesCut cut_timeseries(const std::filesystem::path& file, std::int64_t step);
 
 class TimeseriesWriter {

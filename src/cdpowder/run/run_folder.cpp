@@ -65,6 +65,13 @@ std::unique_ptr<TimeseriesWriter> continue_timeseries(const std::filesystem::pat
   TimeseriesCut best_cut;
   for (const std::filesystem::path& file : candidates) {
     const TimeseriesCut cut = cut_timeseries(file, world.step);
+    if (cut.bad_line > 0) {  // refused by name: dropping the rows after it would lose them
+      throw ConfigError(
+          {{file.string(), cut.bad_line, 0, "",
+            fmt::format("'{}' is not a row of the time series (an edited or damaged line); "
+                        "mend or remove it, and resume again",
+                        shown(cut.bad_text, 80))}});
+    }
     if (cut.has_header && (!best || cut.rows > best_cut.rows)) {
       best = file;
       best_cut = cut;

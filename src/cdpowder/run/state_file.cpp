@@ -366,6 +366,50 @@ std::string encode_state(std::string_view scene_toml, const World& world, const 
   return bytes;
 }
 
+namespace {
+
+/// Everything after the format version, read into `saved` (the checksum not checked).
+void decode_sections(ByteReader& in, SavedRun& saved) {
+  saved.program_version = in.string();
+  saved.git_commit = in.string();
+  in.tag("SCEN");
+  saved.scene_toml = in.string();
+  saved.world = read_world(in);
+  saved.actions = read_actions(in);
+  in.tag("RNGS");
+  saved.sweep_order = read_rng(in);
+  Decode io{in};
+  bool has_detector = false;
+  BlockedStateDetector::Memory memory;
+  run_fields(io, saved.result, has_detector, memory, saved);
+  if (has_detector) saved.detector = std::move(memory);
+  in.tag("SUM ");
+  in.u64();
+  if (!in.at_end()) in.fail("unexpected bytes after the checksum");
+}
+
+/// Where a file whose checksum fails is damaged, as far as reading it shows: the section a
+/// read of it stops in, or, when every section still reads, a changed value.
+std::string damage_of(std::string_view bytes) {
+  ByteReader in(bytes, "");
+  static_cast<void>(in.u64());  // the magic
+  static_cast<void>(in.u32());  // the format version
+  SavedRun ignored;
+  try {
+    decode_sections(in, ignored);
+  } catch (const StateFileError&) {
+    if (in.section().empty())
+      return fmt::format("its header is damaged (before byte {})", in.offset());
+    return fmt::format(
+        "reading stops at byte {}, in the section '{}' (from byte {}) or where "
+        "the next one should begin",
+        in.offset(), in.section(), in.section_offset());
+  }
+  return "every section still reads: a value in it was changed";
+}
+
+}  // namespace
+
 SavedRun decode_state(std::string_view bytes, const std::string& source) {
   ByteReader in(bytes, source);
   if (bytes.substr(0, kStateFileMagic.size()) != kStateFileMagic) {
@@ -384,24 +428,11 @@ SavedRun decode_state(std::string_view bytes, const std::string& source) {
   if (bytes.size() < 16) in.fail("the file ends early: truncated");
   ByteReader tail(bytes.substr(bytes.size() - 8), source);
   if (tail.u64() != fnv1a64(bytes.substr(0, bytes.size() - 8))) {
-    in.fail("the checksum does not match: the file is truncated or damaged");
+    throw StateFileError(fmt::format(
+        "{}: the checksum does not match: the file is truncated or damaged ({} bytes; {})", source,
+        bytes.size(), damage_of(bytes)));
   }
-  saved.program_version = in.string();
-  saved.git_commit = in.string();
-  in.tag("SCEN");
-  saved.scene_toml = in.string();
-  saved.world = read_world(in);
-  saved.actions = read_actions(in);
-  in.tag("RNGS");
-  saved.sweep_order = read_rng(in);
-  Decode io{in};
-  bool has_detector = false;
-  BlockedStateDetector::Memory memory;
-  run_fields(io, saved.result, has_detector, memory, saved);
-  if (has_detector) saved.detector = std::move(memory);
-  in.tag("SUM ");
-  in.u64();
-  if (!in.at_end()) in.fail("unexpected bytes after the checksum");
+  decode_sections(in, saved);
   // a file whose checksum was fitted again after an edit: its values are checked as a
   // particles file's are, so a forged state is refused instead of run
   if (const std::optional<std::string> problem = saved_state_problem(saved)) {
