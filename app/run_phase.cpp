@@ -38,7 +38,7 @@ double peak_gigabytes() {
 
 }  // namespace
 
-void set_run_phase(std::string what, std::size_t spheres) {
+void set_run_phase(std::string_view what, std::size_t spheres) {
   phase().assign(what);
   if (spheres > 0) g_spheres = spheres;
 }

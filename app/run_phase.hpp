@@ -4,12 +4,13 @@
 
 #include <cstddef>
 #include <string>
+#include <string_view>
 
 namespace cdpowder::app {
 
 /// Records what the command does from now on ("reading the scene", "stepping", …) and, once
 /// known, how many spheres it works on (0: not known yet).
-void set_run_phase(std::string what, std::size_t spheres = 0);
+void set_run_phase(std::string_view what, std::size_t spheres = 0);
 
 /// The message for std::bad_alloc: the phase, the spheres, and the process's peak memory
 /// (VmHWM of /proc/self/status) when it can still be read.

@@ -280,17 +280,37 @@ TEST_F(CompactCli, AClosedPipeOnTheResultLineIsNoFailure) {
 
 // A time series whose line was damaged is refused by name when the run is resumed, instead
 // of continuing from the rows before it and dropping the rest without a word.
-TEST_F(CompactCli, ResumeRefusesADamagedTimeSeriesLineByName) {
-  const fs::path out = scratch_ / "out";
-  const fs::path script = scratch_ / "interrupt.sh";
+/// A quick compaction that cannot end by itself, stopped by SIGINT half a second in: an
+/// interrupted run in `out` with its checkpoint. Returns the exit status (1).
+int interrupted_run(const fs::path& out, const fs::path& scratch, const std::string& extra = "") {
+  const fs::path script = scratch / (out.filename().string() + "_interrupt.sh");
   std::ofstream(script)
       << CDPOWDER_EXE << " compact " << kQuick.string() << " --out " << out.string()
-      << " --quiet --set run.max_duration=1e5 --set run.blocked.piston_speed=1e-300 &\n"
-      << "pid=$!\n"
+      << " --quiet --set run.max_duration=1e5 --set run.blocked.piston_speed=1e-300 " << extra
+      << " &\npid=$!\n"
       << "for i in $(seq 1 1200); do [ -f " << (out / "scene.toml").string()
       << " ] && break; sleep 0.05; done\n"
       << "sleep 0.5\nkill -INT $pid\nwait $pid\n";
-  ASSERT_EQ(cdpowder::testing::run_process("sh", script.string(), scratch_).status, 1);
+  return cdpowder::testing::run_process("sh", script.string(), scratch).status;
+}
+
+// Another run's starting packing (the same scene, another deposit) in initial_particles.csv
+// is refused when the run is resumed: it gave another initial porosity without a word.
+TEST_F(CompactCli, ResumeRefusesAnotherRunsStartingPacking) {
+  const fs::path a = scratch_ / "a";
+  const fs::path b = scratch_ / "b";
+  ASSERT_EQ(interrupted_run(a, scratch_), 1);
+  ASSERT_EQ(interrupted_run(b, scratch_, "--set deposition.seed=2"), 1);
+  fs::copy_file(b / "initial_particles.csv", a / "initial_particles.csv",
+                fs::copy_options::overwrite_existing);
+  const ProcessResult r = run_cdpowder("resume " + a.string() + " --quiet", scratch_);
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("is not the packing this run began with"));
+}
+
+TEST_F(CompactCli, ResumeRefusesADamagedTimeSeriesLineByName) {
+  const fs::path out = scratch_ / "out";
+  ASSERT_EQ(interrupted_run(out, scratch_), 1);
   std::string text = cdpowder::testing::slurp(out / "timeseries.csv");
   std::size_t at = 0;
   for (int line = 1; line < 8; ++line) at = text.find('\n', at) + 1;  // the start of line 8

@@ -3,11 +3,13 @@
 #include "cdpowder/run/run_folder.hpp"
 
 #include "cdpowder/config/config_error.hpp"
+#include "cdpowder/config/scene_reader.hpp"
 #include "cdpowder/io/atomic_file.hpp"
 #include "cdpowder/io/provenance.hpp"
 #include "cdpowder/io/state_csv.hpp"
 #include "cdpowder/run/run_summary.hpp"
 #include "cdpowder/run/state_file.hpp"
+#include "cdpowder/setup/scene_setup.hpp"
 
 #include <fmt/format.h>
 
@@ -122,6 +124,37 @@ void require_initial_particles(const std::filesystem::path& folder) {
   throw ConfigError({{folder.string(), 0, 0, "",
                       "initial_particles.csv is missing: the run's starting packing, which "
                       "resume needs (for the initial porosity); the run cannot be continued"}});
+}
+
+void require_initial_packing(const std::string& scene_toml, const std::filesystem::path& folder,
+                             const World& from_file,
+                             const std::function<void(const std::string&)>& warn) {
+  const std::filesystem::path initial = folder / "initial_particles.csv";
+  World began;
+  try {
+    // the scene as the run began: its deposit again, or its own particles file
+    began = make_world(read_scene_text(scene_toml, (folder / "scene.toml").string(), {}, folder));
+  } catch (const ConfigError& error) {
+    warn(fmt::format("{} could not be checked against the run's own starting packing: {}",
+                     initial.string(), error.what()));
+    return;
+  }
+  const Bodies& a = began.bodies;
+  const Bodies& b = from_file.bodies;
+  for (std::size_t i = 0; i < a.size() && i < b.size(); ++i) {
+    if (a.position[i] != b.position[i] || a.radius[i] != b.radius[i]) {
+      throw StateFileError(fmt::format(
+          "{} is not the packing this run began with: sphere {} is at ({}, {}, {}) with radius "
+          "{} in it, at ({}, {}, {}) with radius {} in the run's own deposit or particles file "
+          "(another run's file would give another initial porosity)",
+          initial.string(), i, b.position[i].x(), b.position[i].y(), b.position[i].z(), b.radius[i],
+          a.position[i].x(), a.position[i].y(), a.position[i].z(), a.radius[i]));
+    }
+  }
+  if (a.size() != b.size()) {
+    throw StateFileError(fmt::format("{} holds {} spheres, the run began with {}", initial.string(),
+                                     b.size(), a.size()));
+  }
 }
 
 void refuse_input_among_outputs(const std::filesystem::path& folder,

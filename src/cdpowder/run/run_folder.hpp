@@ -56,6 +56,15 @@ void require_checkpoint(const std::filesystem::path& folder);
 /// porosity) is gone from `folder`: the run cannot be continued.
 void require_initial_particles(const std::filesystem::path& folder);
 
+/// Throws StateFileError when `from_file`, the world of initial_particles.csv in `folder`, is
+/// not the packing the run began with: the deposit the run's scene (`scene_toml`, the
+/// checkpoint's) makes again, or the particles file it names, compared sphere by sphere, bit
+/// for bit. Another run's initial_particles.csv would give another initial porosity without a
+/// word. When the scene's particles file is gone, `warn` says the check could not be made.
+void require_initial_packing(const std::string& scene_toml, const std::filesystem::path& folder,
+                             const World& from_file,
+                             const std::function<void(const std::string&)>& warn);
+
 /// Throws ConfigError when `input`, a file the run reads (`what`: "the scene file"), is one
 /// of the files a run writes in `folder`: the run would remove or overwrite it (found: a
 /// scene kept as DIR/scene.toml and run with --out DIR was replaced by the resolved one).
