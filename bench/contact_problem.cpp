@@ -1,6 +1,6 @@
 // contact_problem — exports a fixture's contact problems and judges any solver's solution
-// of them by the engine's own residual and gauges (docs/performance.md, "Newton-type
-// solvers: the Siconos experiment").
+// of them by the engine's own residual and gauges
+// (docs/lab/2026-11-25-siconos-newton-solvers.md).
 //   contact_problem export FIXTURE.cdps --skip S --count N --out DIR [--set k=v ...]
 //       steps the fixture S steps, then writes the next N steps' problems, before the
 //       solver stage, to DIR/step_K.json (K = 0..N−1) with what the engine's solver did on

@@ -9,7 +9,8 @@
 // measurement of the threads is not mixed with the blocks the timed choice runs on one thread.
 // With solver.threads ≥ 2 it also prints the round trip of a cache line between CPUs 0 and 1
 // just before and just after the steps: on a virtual machine that path changes while the
-// steps run, and a two-thread time is read beside it (docs/performance.md).
+// steps run, and a two-thread time is read beside it (docs/performance.md, "Two threads";
+// docs/lab/2026-11-27-two-threads-and-the-core-path.md).
 //   fixture_steps FILE.cdps --steps N [--run-loop] [--always-threaded] [--set section.key=value
 //   ...]
 #include "cdpowder/analysis/porosity.hpp"

@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """Two sweeps of the same points side by side, point by point: the rerun of a table against
-the committed one (docs/performance.md, "The paper-scale gate"; issue of the speed work:
+the committed one (docs/lab/2026-11-25-paper-scale-gate.md; issue of the speed work:
 "show point by point that E, σzz+ and σzz− agree within their errors").
 
 For each point both sweeps have (matched by the point's name in points.csv) and each quantity

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# The paper-scale runs of docs/validation.md: examples/paper/scene.toml at
-# (μ_t, μ_n) = (0, 0) and (1, 1), one after the other, into runs/paper_0_0 and
-# runs/paper_1_1, then one table row per run (porosity, σ_zz±/p, steps, sweeps, wall time).
+# The paper-scale runs of docs/lab/2026-11-23-validation-single-runs.md:
+# examples/paper/scene.toml at (μ_t, μ_n) = (0, 0) and (1, 1), one after the other, into
+# runs/paper_0_0 and runs/paper_1_1, then one table row per run (porosity, σ_zz±/p, steps,
+# sweeps, wall time).
 # Extra arguments go to every run, e.g.  tools/paper_runs.sh --set solver.dt=0.05
 # Long: see docs/performance.md for the wall times. Ctrl-C stops the current run after its
 # step and still writes its outputs (flagged interrupted).

@@ -1,6 +1,6 @@
 // factor_delassus — what one step of a direct (Newton-type) contact solver costs at least on
 // an exported step: the sparse factorization of the Delassus matrix W = H (Δt M⁻¹) Hᵀ (3
-// rows per contact, docs/performance.md "Newton-type solvers: the Siconos experiment").
+// rows per contact, docs/lab/2026-11-25-siconos-newton-solvers.md).
 // A semismooth Newton step (Alart–Curnier, Fischer–Burmeister) solves a linear system with
 // W's sparsity pattern; a symmetric positive definite factorization of W + εI is the
 // cheapest direct factorization of that pattern, so its time bounds one Newton iteration

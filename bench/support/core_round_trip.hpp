@@ -1,8 +1,8 @@
 // core_round_trip.hpp — how long a cache line takes to go from one core to another and back,
-// the price of every hand-over between the threads of a two-thread step (docs/performance.md,
-// "Two threads and the path between the cores"). On a virtual machine the two cores' path can
-// change while a process runs: a two-thread timing is read beside this figure, taken just
-// before and just after it.
+// the price of every hand-over between the threads of a two-thread step
+// (docs/lab/2026-11-27-two-threads-and-the-core-path.md; today's figure: docs/performance.md,
+// "Two threads"). On a virtual machine the two cores' path can change while a process runs: a
+// two-thread timing is read beside this figure, taken just before and just after it.
 #pragma once
 
 namespace cdpowder::bench {

@@ -33,7 +33,7 @@ For two equal spheres of radius R (YADE's harmonic means reduce to these):
                 cdpowder's r_eff = R/2; k_r = alpha_kr * k_s R^2.
   twisting      |M_t| <= eta_twist R |F_n|, eta_twist = mu_twist / 2; k_tw = alpha_ktw k_s R^2.
 
-Where this differs from cdpowder's model (docs/performance.md, "Side by side with YADE"):
+Where this differs from cdpowder's model (docs/lab/2026-11-25-yade-side-by-side.md):
 contacts are soft (overlaps of F/k_n); YADE 2023.02a's rolling and twisting thresholds scale
 with |F_n| alone, without the cohesive part F_coh that cdpowder adds (an unloaded bonded
 contact rolls freely here); a bond forms only on touching (cdpowder's "graph" rule also

@@ -8,7 +8,7 @@ seed 1 of results/table1_k2; κ = 1e-4 with the mixing's sums in four lanes gave
 0.63427, seed 1 of the gate in results/gates/anderson_four_sums_paper.md; two lanes gave
 0.88404 and 0.64069, results/gates/coloured_kernel_paper.md; the scalar kernel 0.88395 and 0.63707,
 results/table1_fast_dt02, and the fixed-Δt settings before 0.88403 and 0.63201,
-docs/validation.md) within POROSITY_TOLERANCE.
+docs/lab/2026-11-23-validation-single-runs.md) within POROSITY_TOLERANCE.
 
 usage: paper_scale_test.py --cdpowder EXE --source-dir DIR --point MU_T,MU_N
 Debian python3, standard library only.

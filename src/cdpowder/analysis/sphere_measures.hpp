@@ -10,8 +10,8 @@ namespace cdpowder {
 /// after) would give, to the last bit: the sums add the spheres in index order. (Only the
 /// sign of a NaN energy may differ, on a state that is a fault anyway.) One pass
 /// instead of five (the energies and speeds, the net force, the next Δt's surface speed and
-/// the finiteness check each read every sphere once; docs/performance.md, "One pass over
-/// the spheres").
+/// the finiteness check each read every sphere once;
+/// docs/lab/2026-11-27-one-pass-over-the-spheres.md).
 struct SphereMeasures {
   /// Σ ½ m v² + ½ I ω² over the free spheres, without the piston [F_coh R]
   double kinetic_energy = 0.0;

@@ -125,7 +125,7 @@ inline constexpr std::string_view kThreadsMeaning =
     "the path between the cores is slow, a run falls back to about one thread's speed. After "
     "a step solved on the threads, the next step's detection and building of the local "
     "problems run in two halves on them too. The workers spin during a step and for 1 ms after "
-    "it, then sleep (docs/performance.md, \"Two slabs\")";
+    "it, then sleep (docs/lab/2026-11-26-two-slabs.md)";
 inline constexpr std::string_view kCaptureRuleMeaning =
     "centre_distance: r_capt is the centre-to-centre distance of two mean spheres, capture at a "
     "surface gap r_capt − (radius_min + radius_max) (needs r_capt ≥ radius_min + radius_max; "
@@ -395,8 +395,9 @@ void visit_sweep_keys(auto& solver, auto&& visit) {
                      "contacts in batches of 4 too, overflow and piston contacts one by one; "
                      "\"scalar\": one contact after the other in a permutation of blocks of "
                      "contacts. Different visiting orders, so different "
-                     "(equally converged) results; \"coloured\" is ≈ 1.2–1.3× faster per sweep "
-                     "(docs/performance.md, \"Coloured kernel\")"},
+                     "(equally converged) results; \"coloured\" is 2.4× faster per pass with "
+                     "AVX2 and 3.9× with AVX-512 (docs/performance.md, \"The kernel "
+                     "benchmark\")"},
         solver.kernel);
   visit(SceneKey{.table = table,
                  .name = "threads",
@@ -418,9 +419,10 @@ void visit_sweep_keys(auto& solver, auto&& visit) {
                  .symbol = "k",
                  .minimum = 1,
                  .maximum = 100,
-                 .meaning = "sweeps per Anderson mixing step (the accelerated map is k sweeps in a "
-                            "row); a mixing costs about a sweep on a paper-size packing "
-                            "(docs/performance.md)"},
+                 .meaning = "passes per Anderson mixing step (the accelerated map is k passes in a "
+                            "row); a mixing cost more than a pass on a paper-size packing, "
+                            "so 3 mixed the fastest in its measurement "
+                            "(docs/lab/2026-11-23-kernel-and-mixing-levers.md)"},
         solver.acceleration_interval);
 }
 

@@ -68,7 +68,7 @@ class ActionCache {
   /// records, actions and cohesion flags with the cache's own arrays. `contacts` is left with
   /// the cache's former arrays, whose contents are unspecified: the next detection clears
   /// them. (Copying the actions instead cost ≈ 7 µs of a front step, waiting on memory;
-  /// docs/performance.md, "The warm-start store as block copies".)
+  /// docs/lab/2026-11-28-warm-start-swap-and-whole-run-overhead.md.)
   void take(Contacts& contacts);
 
   /// take() on a copy of `contacts`, for tools and tests that go on reading theirs (it
@@ -101,7 +101,7 @@ class ActionCache {
 
  private:
   /// Inline: the build calls it once per contact per step (as a call of its own it took ≈ 5 %
-  /// of the build's time; docs/performance.md, "The build's pairs in lanes").
+  /// of the build's time; docs/lab/2026-11-28-build-pairs-and-warm-start-store.md).
   template <typename Record>
   static LastAction find(const std::vector<Record>& records,
                          const std::vector<ContactAction>& actions,

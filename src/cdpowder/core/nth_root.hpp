@@ -1,7 +1,7 @@
 // nth_root.hpp — x^(1/n) for n = 1 … 8 from IEEE-754 operations alone, so that its bits are
 // the same on every machine. The C library's pow is not: glibc 2.36 picks an FMA or an SSE2
 // path by CPU, and 6 in 10 000 of its results for these exponents differ by one unit in the
-// last place between the two (docs/performance.md, "A root without the C library"); another
+// last place between the two (docs/lab/2026-11-28-detection-rebuild-and-nth-root.md); another
 // library version may round differently again. The solver's contraction estimate feeds its
 // stopping rule (nlgs.cpp), so it takes this root instead.
 #pragma once

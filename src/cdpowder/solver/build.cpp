@@ -21,7 +21,8 @@ namespace {
 /// the dead band the contact is treated as touching. 1e-6 R is three orders below the
 /// overlap accuracy target (mean overlap ≤ 1e-3 R, physics.md §17) and four below d_coh.
 /// Measured on a 100-sphere compaction at (μ_t, μ_n) = (0, 0): total passes 19.1 M → 9.3 M,
-/// capped steps 6823 → 1944, final porosity 0.69915 → 0.69939 (docs/performance.md).
+/// capped steps 6823 → 1944, final porosity 0.69915 → 0.69939
+/// (docs/lab/2026-11-23-whole-runs-at-paper-scale.md).
 constexpr double kTouchingGap = 1e-6;
 
 /// g_pos/Δt: the approach speed that just closes an open gap within the step [R/t0].
@@ -47,7 +48,7 @@ bool is_cohesive(const ContactLaw& law, CohesionRule rule, double gap, LastActio
 
 /// Warm start: last step's action, with its tangential parts projected onto the new
 /// tangent plane (physics.md §7.4), written into `action`. Always inlined: as a call of its own
-/// it took ≈ 9 % of the build's time (docs/performance.md, "The build's pairs in lanes").
+/// it took ≈ 9 % of the build's time (docs/lab/2026-11-28-build-pairs-and-warm-start-store.md).
 [[gnu::always_inline]] inline void warm_start(const ContactAction& last, const Vec3& n,
                                               double cohesion, ContactAction& action) {
   action = last;

@@ -37,7 +37,7 @@ enum class VisitOrder {
   Fixed,  ///< storage order (sorted by body indices); for tests and benchmarks
 };
 
-/// How a pass solves the contacts (docs/performance.md, "Coloured kernel").
+/// How a pass solves the contacts (docs/lab/2026-11-25-coloured-kernel.md).
 enum class PassKernel {
   /// One contact after the other in the visiting order (two independent ones side by side);
   /// the order is a permutation of blocks of contacts.
@@ -46,8 +46,8 @@ enum class PassKernel {
   /// batches of 4 side by side (the same arithmetic per contact), bottom-wall contacts too;
   /// overflow and piston contacts one by one; the colours visited in a random order per step
   /// (per pass with random_each_sweep, storage order with fixed). Converges differently from
-  /// "scalar" (equally well: the accuracy gate of docs/performance.md) and ≈ 1.3× faster per
-  /// pass.
+  /// "scalar" (equally well: the accuracy gate of docs/lab/2026-11-25-coloured-kernel-default.md)
+  /// and ≈ 1.3× faster per pass.
   Coloured,
 };
 
@@ -62,7 +62,7 @@ struct TimeStepControl {
   bool adaptive = false;  ///< off: every step is SolverSettings::dt
   double dt_min = 1e-4;   ///< [t0]
   /// [t0]; 0.02 and 0.03 passed the accuracy gate at (0,0) and (1,1), 0.05 shifted the (1,1)
-  /// stress split by 2.1 standard errors (docs/performance.md, "Changes gated")
+  /// stress split by 2.1 standard errors (docs/lab/2026-11-25-accuracy-gate.md, "Changes gated")
   double dt_max = 0.03;
   double opening_per_step = 0.05;  ///< target of max V_n Δt / d_coh; the §17 gauge allows 0.1
   /// A step whose largest cohesive opening exceeds this × d_coh is undone and solved again
@@ -102,7 +102,7 @@ struct SolverSettings {
   StoppingRule stopping_rule = StoppingRule::Residual;
   VisitOrder visit_order = VisitOrder::RandomEachStep;
   PassKernel kernel = PassKernel::Coloured;
-  /// Threads of the coloured kernel's solve (docs/performance.md, "Two slabs"): a step cut
+  /// Threads of the coloured kernel's solve (docs/lab/2026-11-26-two-slabs.md): a step cut
   /// into two slabs (slabs.hpp) solves them side by side, the same bits for any count. The
   /// scene reader rejects more than one with the scalar kernel; solve_nlgs runs that on one
   /// thread.

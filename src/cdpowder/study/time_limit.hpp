@@ -14,7 +14,8 @@ namespace cdpowder {
 
 /// A run is expected to take this many times as long as the longest finished run it is
 /// compared with (expected_run_seconds): whole runs of one point vary by tens of per cent
-/// between seeds and with the load of a shared machine (docs/performance.md).
+/// between seeds and with the load of a shared machine
+/// (docs/lab/2026-11-24-what-sweep-wall-times-measure.md).
 inline constexpr double kRunTimeMargin = 1.25;
 
 /// How long run `run` of the plan is expected to take [s]: the wall time of the longest

@@ -493,8 +493,8 @@ SolveWallBatches wall_kernel(bool open_rare) {
 /// Whether at most one visit in kOpenRare of a pass left its contact open (not closed): then
 /// the next pass runs the kernel that skips the open branch where no lane of a call needs it.
 /// The break-even lies between the compaction front (≈ 2.5 % of the visits open: the selects
-/// are cheaper) and mid-run (≈ 0.25 %: the branch is cheaper); docs/performance.md, "Calls
-/// without an open lane".
+/// are cheaper) and mid-run (≈ 0.25 %: the branch is cheaper);
+/// docs/lab/2026-11-28-calls-without-an-open-lane.md.
 constexpr std::size_t kOpenRare = 100;
 
 bool open_contacts_rare(const PassSums& sums, std::size_t visits) {

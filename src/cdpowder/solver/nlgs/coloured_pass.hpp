@@ -1,5 +1,5 @@
 // coloured_sweep.hpp — the coloured pass kernel (solver.kernel = "coloured", the default;
-// docs/performance.md "Coloured kernel"). The step's sphere–sphere contacts are
+// docs/lab/2026-11-25-coloured-kernel.md). The step's sphere–sphere contacts are
 // coloured (colouring.hpp) and each colour is gathered into batches of kBatchLanes contacts
 // in structure-of-arrays form, solved side by side with the same arithmetic per contact as
 // solve_pair: a coloured pass is an exact reordering of a scalar pass. Overflow pairs and

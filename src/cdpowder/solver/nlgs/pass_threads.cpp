@@ -24,8 +24,9 @@ constexpr int kSpinsBeforeYield = 256;
 /// steps' solves (detection, building the local problems, integration, diagnostics) takes
 /// 100–250 µs at paper size; a worker still spinning when the next step starts takes its
 /// first piece at once, where a sleeping one is woken by a system call and scheduled tens of
-/// microseconds later, after the caller has done the first passes alone (docs/performance.md,
-/// "Two slabs"). Past it the worker sleeps: a run that stops stepping does not burn a core.
+/// microseconds later, after the caller has done the first passes alone
+/// (docs/lab/2026-11-26-two-slabs.md). Past it the worker sleeps: a run that stops stepping
+/// does not burn a core.
 constexpr std::chrono::microseconds kSpinAfterPark{1000};
 
 /// Checks the clock every this many spins (a clock read costs ≈ 20 ns, a pause ≈ 10–40 ns).

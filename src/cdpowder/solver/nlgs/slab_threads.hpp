@@ -57,14 +57,14 @@ class SlabThreads final : public PieceRunner {
 /// Whether a step's solve runs on the threads or on the caller alone. The bits are the same
 /// either way (the cut does not depend on it), so the choice is made on time alone: on a
 /// shared machine two threads are not always faster. Runs of the paper example measured in one
-/// session (docs/performance.md, "Two slabs") took 1.2–1.4× less time on two threads in some
+/// session (docs/lab/2026-11-26-two-slabs.md) took 1.2–1.4× less time on two threads in some
 /// minutes and 1.3× more in others, when the second core was not free for this process. The
 /// steps go in blocks of kBlockSteps, each block one way; a block runs the way whose last
 /// block took less time per contact update, and now and then a block tries the other way:
 /// after kTryEvery blocks, and after twice as many (up to kMaxTryEvery) each time the way tried
 /// lost by more than kClearLoss (on a machine whose cores talk slowly two threads lose 2.5× per
-/// step, "A faster machine": trying them every 32nd block cost a run up to 6–7 %). A try that
-/// wins, or loses by less, brings the interval back to kTryEvery.
+/// step, docs/lab/2026-11-28-a-faster-machine.md: trying them every 32nd block cost a run up
+/// to 6–7 %). A try that wins, or loses by less, brings the interval back to kTryEvery.
 /// Blocks, not single steps: one step's time is too noisy to choose by (steps differ in their
 /// passes, and a step is ≈ 0.5–1.5 ms, the scale of the machine's hiccups).
 class ThreadChoice {

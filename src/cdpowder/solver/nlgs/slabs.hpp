@@ -1,5 +1,5 @@
 // slabs.hpp — the two slabs a step's passes are cut into, so that two threads can solve them at
-// once (docs/performance.md, "Two slabs"). The spheres are split by height at one horizontal
+// once (docs/lab/2026-11-26-two-slabs.md). The spheres are split by height at one horizontal
 // cut: slab 0 below, slab 1 above. A pass visits the contacts across the cut, then those
 // inside slab 0 and those inside slab 1: the last two touch no common sphere, so on two threads
 // they are solved side by side and the pass waits once, at its end.
@@ -21,10 +21,10 @@ namespace cdpowder {
 inline constexpr std::size_t kMinPairsToCut = 256;
 
 /// What a wall contact costs a cut step, in pair visits (its visits in the passes and its share
-/// of the mixing), timed slab by slab on the paper's fixtures (docs/performance.md, "Colourings
-/// kept from step to step, and the cut retuned"): a bottom-wall contact is batched like the pairs
-/// (coloured_sweep.hpp) and costs about one; the piston's are solved one at a time along the
-/// piston's velocity and cost about three.
+/// of the mixing), timed slab by slab on the paper's fixtures
+/// (docs/lab/2026-11-27-colourings-kept-cut-retuned.md): a bottom-wall contact is batched like
+/// the pairs (coloured_sweep.hpp) and costs about one; the piston's are solved one at a time
+/// along the piston's velocity and cost about three.
 inline constexpr double kBottomWallVisitCost = 1.0;
 inline constexpr double kPistonVisitCost = 3.0;
 
