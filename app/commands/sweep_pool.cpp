@@ -5,6 +5,7 @@
 #include "commands/simulate.hpp"
 #include "commands/sweep_runs.hpp"
 
+#include "cdpowder/core/cpu_budget.hpp"
 #include "cdpowder/run/folder_lock.hpp"
 #include "cdpowder/run/run_folder.hpp"
 #include "cdpowder/study/sweep_messages.hpp"
@@ -37,6 +38,8 @@ class SweepPool {
   /// Runs until every pending run has ended or been left (a signal, the time limit, a
   /// write error); the running runs are stopped and waited for on every exit path.
   void run(int jobs) {
+    // J runs at once share the cores: each may use its part (at least one)
+    threads_per_run_ = jobs > 1 ? std::max(1, usable_cores() / jobs) : 0;
     while (next_ < state_.pending.size() || !guard_.runs.empty()) {
       const int received = signals_.load();
       check_time_limit();
@@ -148,9 +151,9 @@ class SweepPool {
     }
     std::string error;
     const int lock_fd = lock->inheritable_fd();
-    const pid_t child = start_run(
-        {state_.plan.scene, folder, run.overrides, options_.checkpoint_every, resume, lock_fd},
-        error);
+    const pid_t child = start_run({state_.plan.scene, folder, run.overrides,
+                                   options_.checkpoint_every, resume, lock_fd, threads_per_run_},
+                                  error);
     close(lock_fd);  // the run holds the lock now, and this process lets go of its own
     if (child == 0) {
       ++failed_;
@@ -228,6 +231,7 @@ class SweepPool {
   bool time_up_ = false;
   std::string write_error_;
   int stop_level_sent_ = 0;
+  int threads_per_run_ = 0;  ///< kMaxThreadsVariable of each run (0: as the environment says)
 };
 
 }  // namespace

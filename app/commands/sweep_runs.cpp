@@ -3,6 +3,7 @@
 
 #include "commands/simulate.hpp"
 
+#include "cdpowder/core/cpu_budget.hpp"
 #include "cdpowder/run/folder_lock.hpp"
 #include "cdpowder/run/run_folder.hpp"
 #include "cdpowder/run/state_file.hpp"
@@ -65,6 +66,31 @@ bool has_usable_checkpoint(const std::filesystem::path& folder, const std::strin
   }
 }
 
+namespace {
+
+/// This process's environment for a run: the lock passed down (kInheritedLockVariable) and
+/// the run's share of the cores (kMaxThreadsVariable), unless the user set that for the sweep.
+std::vector<std::string> child_environment(const RunStart& run) {
+  const std::string lock_prefix = std::string(kInheritedLockVariable) + "=";
+  const std::string threads_prefix = std::string(kMaxThreadsVariable) + "=";
+  std::vector<std::string> variables;
+  bool threads_set = false;
+  for (char** v = environ; *v != nullptr; ++v) {
+    const std::string_view variable(*v);
+    threads_set = threads_set || variable.starts_with(threads_prefix);
+    if (!variable.starts_with(lock_prefix)) variables.emplace_back(variable);
+  }
+  if (run.lock_fd >= 0) {
+    variables.push_back(fmt::format("{}={}", kInheritedLockVariable, run.lock_fd));
+  }
+  if (run.max_threads > 0 && !threads_set) {
+    variables.push_back(fmt::format("{}={}", kMaxThreadsVariable, run.max_threads));
+  }
+  return variables;
+}
+
+}  // namespace
+
 pid_t start_run(const RunStart& run, std::string& error) {
   const std::filesystem::path& folder = run.folder;
   std::vector<std::string> args{"cdpowder", "resume", folder.string(), "--quiet"};
@@ -94,15 +120,7 @@ pid_t start_run(const RunStart& run, std::string& error) {
   posix_spawnattr_init(&attributes);
   posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETPGROUP);
   posix_spawnattr_setpgroup(&attributes, 0);
-  // this environment, and the lock passed down
-  std::vector<std::string> variables;
-  for (char** v = environ; *v != nullptr; ++v) {
-    if (!std::string_view(*v).starts_with(std::string(kInheritedLockVariable) + "=")) {
-      variables.emplace_back(*v);
-    }
-  }
-  if (run.lock_fd >= 0)
-    variables.push_back(fmt::format("{}={}", kInheritedLockVariable, run.lock_fd));
+  std::vector<std::string> variables = child_environment(run);
   std::vector<char*> envp;
   envp.reserve(variables.size() + 1);
   for (std::string& v : variables) envp.push_back(v.data());

@@ -53,6 +53,9 @@ struct RunStart {
   /// the run's folder lock, taken by the caller before anything touches the folder
   /// (FolderLock::inheritable_fd): the run adopts it (kInheritedLockVariable)
   int lock_fd = -1;
+  /// the cores the run may use (kMaxThreadsVariable), when it shares the machine with other
+  /// runs of the sweep; 0 leaves the environment's setting, or none
+  int max_threads = 0;
 };
 
 /// Starts the run in its own process group (so a Ctrl-C reaches only the sweep, which

@@ -2,8 +2,10 @@
 // parallel, the tables it writes, the report tool on them, resuming after a lost run, an
 // interrupted sweep, a sweep within a time limit, and bad sweep files refused before
 // anything is written.
+#include "cdpowder/core/cpu_budget.hpp"
 #include "support/cli_process.hpp"
 
+#include <fmt/format.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -89,6 +91,22 @@ TEST_F(SweepCli, RunsEveryPointAndSeedAndTabulatesThem) {
   EXPECT_THAT(md, HasSubstr("E0 = E(0, 0)"));
   EXPECT_THAT(md, HasSubstr("## Table 1"));
   EXPECT_THAT(md, HasSubstr("8 finished runs, 0 blocked"));
+}
+
+// Runs of a sweep share the cores: with -j 2 on a machine of C cores each run's solve may use
+// C / 2 of them (at least one), said in its log; the same runs one at a time may use all.
+TEST_F(SweepCli, RunsAtOnceShareTheCores) {
+  const fs::path sweep = write_short_sweep(scratch_);
+  const fs::path out = scratch_ / "out";
+  ASSERT_EQ(run_cdpowder("sweep " + sweep.string() + " --out " + out.string() +
+                             " -j 2 --quiet --set solver.threads=0",
+                         scratch_)
+                .status,
+            0);
+  const std::string log =
+      slurp(out / "runs" / "contact.mu_roll=0.0,contact.mu_twist=0.0" / "seed_1" / "log.txt");
+  const int share = std::max(1, std::min(2, cdpowder::usable_cores() / 2));
+  EXPECT_THAT(log, HasSubstr(fmt::format(", {} thread{}", share, share == 1 ? "" : "s"))) << log;
 }
 
 TEST_F(SweepCli, RestartRunsOnlyWhatIsMissing) {

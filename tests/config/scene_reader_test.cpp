@@ -309,9 +309,11 @@ TEST_F(SceneReader, RejectsThreadsWithTheScalarKernel) {
   const auto from_set = issues(kParticles, {"solver.kernel=\"scalar\"", "solver.threads=3"});
   ASSERT_EQ(from_set.size(), 1U);
   EXPECT_THAT(from_set[0], HasSubstr("solver.threads: got 3"));
-  const auto zero = issues(std::string(kParticles) + "[solver]\nthreads = 0\n");
-  ASSERT_EQ(zero.size(), 1U);
-  EXPECT_THAT(zero[0], HasSubstr("solver.threads: got 0"));
+  // 0 is every usable core; a negative count is refused
+  EXPECT_EQ(read(std::string(kParticles) + "[solver]\nthreads = 0\n").step.solver.threads, 0);
+  const auto negative = issues(std::string(kParticles) + "[solver]\nthreads = -1\n");
+  ASSERT_EQ(negative.size(), 1U);
+  EXPECT_THAT(negative[0], HasSubstr("solver.threads: got -1"));
 }
 
 TEST_F(SceneReader, RejectsAFinalSolveWithoutSweeps) {

@@ -2,7 +2,7 @@
 # tools/probe/probe.sh: an adversarial probe of the cdpowder command-line program.
 #
 # It gives the program bad inputs and hostile conditions and checks that each ends in a clear
-# refusal, a clean fault or a valid run: never a crash, a hang or lost data. 283 cases in five
+# refusal, a clean fault or a valid run: never a crash, a hang or lost data. 285 cases in five
 # categories, run one after the other; a full probe takes 2.5 to 5 min (2 min 21 s on a 2-core
 # machine at load 3, 4 min 47 s in an earlier run):
 #   scene  bad --set overrides, scene files, particles CSVs and sweep files
@@ -573,6 +573,9 @@ run_case N019 num fault 'solver\.dt'               "cdpowder simulate $Q -q -o o
 run_case N020 num fault 'piston\.mass;1e\+?300'    "$C -o o/N020 --set piston.mass=1e300"
 run_case N021 num fault 'solver\.dt'               "cdpowder simulate $Q -q -o o/N021 --set run.until_blocked=false --set run.duration=10 --set solver.dt=5 --set piston.pressure=1"
 run_case N022 num fault 'fixed'                    "cdpowder compact $L -q --set run.max_duration=300 --particles $IN/p/all_fixed.csv -o o/N022"
+# out of memory (a 400 MB address space for a deposit of 5 million spheres): named, not
+# "std::bad_alloc", with its own exit status (6)
+run_case N023 num reject 'out of memory;depositing;5000000 spheres' "ulimit -v 400000; exec $C -o o/N023 --set deposition.spheres=5000000 --set system.lx=3000 --set system.ly=3000"
 
 ###########################################################################################
 # 5. command line
@@ -834,6 +837,20 @@ if sig_category_enabled; then
   [ "$RC" -eq 1 ] || worse unclear "exit $RC (docs: 1 unless every run finished)"
   awk -v w="$WALL" 'BEGIN{exit !(w > 5)}' && worse unclear "a 2 s time limit took ${WALL}s"
   NOTE="$NOTE; last line (stdout): $(tail -1 "$W/logs/$id.out" | cut -c1-200); orphans: [$(orphans "$W/o/$id")]"
+  record $id sig "$cmd" "$RC" "$WALL" "$W/logs/$id.err" "$V" "$NOTE"
+
+  # S018: GNU timeout's stop: SIGINT to the run and then to its process group (twice in a few
+  # microseconds); every output and a checkpoint must be written (a second delivery once
+  # ended the program with nothing but scene.toml and initial_particles.csv)
+  id=S018; V=ok; NOTE=""
+  cmd="timeout --preserve-status -s INT 1.5 cdpowder compact $Q -q -o $W/o/$id --set run.max_duration=1e5 --set run.blocked.piston_speed=1e-300"
+  bg_start "$cmd" "$W/logs/$id"; bg_wait 120; RC=$BGRC; WALL=$(secs "$BGT0" "$BGEND")
+  generic_checks "$RC" "$W/logs/$id.err" 120
+  [ "$RC" -eq 1 ] || worse unclear "exit $RC (docs: 1, interrupted)"
+  for f in summary.json particles.csv contacts.csv timeseries.csv particles.vtp checkpoint.cdps; do
+    [ -f "$W/o/$id/$f" ] || worse lost "$f missing after the stop"
+  done
+  NOTE="$NOTE; folder after: [$(listing "$W/o/$id")]"
   record $id sig "$cmd" "$RC" "$WALL" "$W/logs/$id.err" "$V" "$NOTE"
 fi
 

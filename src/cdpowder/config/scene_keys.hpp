@@ -112,7 +112,10 @@ inline constexpr Range kAtLeastOne{Range::Kind::AtLeast, 1.0};
 
 // The meanings too long to sit in their list.
 inline constexpr std::string_view kThreadsMeaning =
-    "threads of a step's solve: a step with at least 256 pairs is cut into two slabs of spheres "
+    "threads of a step's solve, 0 for every core the process may use; never more than its "
+    "affinity mask, its CPU quota (cgroup cpu.max) and CDPOWDER_MAX_THREADS allow (a sweep "
+    "running J runs at once gives each its share of the cores). A step with at least 256 pairs "
+    "is cut into two slabs of spheres "
     "at one height, and each slab's contacts, the kinematic rule's pass over its spheres and its "
     "share of the mixing are one piece, the two pieces run side by side; the contacts across the "
     "cut, the wall and overflow contacts that touch both slabs and the mixing's fit run between "
@@ -401,7 +404,7 @@ void visit_sweep_keys(auto& solver, auto&& visit) {
         solver.kernel);
   visit(SceneKey{.table = table,
                  .name = "threads",
-                 .minimum = 1,
+                 .minimum = 0,
                  .maximum = kMaxSolverThreads,
                  .meaning = kThreadsMeaning,
                  .also_allowed = "; > 1 only with `kernel = \"coloured\"` (the default)"},

@@ -3,6 +3,7 @@
 
 #include <fmt/format.h>
 
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <vector>
@@ -35,10 +36,10 @@ std::optional<std::string> scalar_problem(const std::vector<double>& values, con
 
 std::optional<std::string> size_problem(const Bodies& b) {
   const std::size_t n = b.size();
-  const std::size_t sizes[] = {b.velocity.size(),        b.angular_velocity.size(),
-                               b.radius.size(),          b.inverse_mass.size(),
-                               b.inverse_inertia.size(), b.external_force.size(),
-                               b.external_torque.size(), b.fixed.size()};
+  const std::array<std::size_t, 8> sizes = {b.velocity.size(),        b.angular_velocity.size(),
+                                            b.radius.size(),          b.inverse_mass.size(),
+                                            b.inverse_inertia.size(), b.external_force.size(),
+                                            b.external_torque.size(), b.fixed.size()};
   for (const std::size_t size : sizes) {
     if (size != n) {
       return fmt::format(

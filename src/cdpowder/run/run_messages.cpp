@@ -49,6 +49,9 @@ std::string run_announcement(std::string_view what, const Scene& scene,
       fmt::format("cdpowder {} (commit {}): {} --out {}; {} spheres, seed {}", kVersion, kGitCommit,
                   one_line(what), one_line(out.string()), spheres, scene.step.solver.seed);
   if (scene.deposition) line += fmt::format(", deposition seed {}", scene.deposition->seed);
+  // the threads the solve runs on within the process's CPU budget (core/cpu_budget.hpp)
+  const int threads = solve_threads(scene.step.solver);
+  line += fmt::format(", {} thread{}", threads, threads == 1 ? "" : "s");
   return line;
 }
 

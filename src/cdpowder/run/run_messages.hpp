@@ -18,8 +18,9 @@
 namespace cdpowder {
 
 /// "cdpowder 1.2.0 (commit abc): compact examples/quick/scene.toml --out runs/quick; 100
-/// spheres, seed 1, deposition seed 1": what ran, on one line whatever the names hold, written
-/// before any step so that a killed run's log says what ran.
+/// spheres, seed 1, deposition seed 1, 1 thread": what ran, on one line whatever the names
+/// hold, written before any step so that a killed run's log says what ran, and the threads
+/// its solve runs on within the process's CPU budget.
 std::string run_announcement(std::string_view what, const Scene& scene,
                              const std::filesystem::path& out, std::size_t spheres);
 

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "cdpowder/contact/contact_law.hpp"
+#include "cdpowder/core/cpu_budget.hpp"
 #include "cdpowder/core/stop_request.hpp"
 #include "cdpowder/detect/detection_settings.hpp"
 
@@ -103,9 +104,10 @@ struct SolverSettings {
   VisitOrder visit_order = VisitOrder::RandomEachStep;
   PassKernel kernel = PassKernel::Coloured;
   /// Threads of the coloured kernel's solve (docs/lab/2026-11-26-two-slabs.md): a step cut
-  /// into two slabs (slabs.hpp) solves them side by side, the same bits for any count. The
-  /// scene reader rejects more than one with the scalar kernel; solve_nlgs runs that on one
-  /// thread.
+  /// into two slabs (slabs.hpp) solves them side by side, the same bits for any count. 0
+  /// takes every core the process may use; any count is held to that budget
+  /// (core/cpu_budget.hpp, solve_threads). The scene reader rejects more than one with the
+  /// scalar kernel; solve_nlgs runs that on one thread.
   int threads = 1;
   int acceleration_depth = 5;  ///< Anderson acceleration history m; 0 = plain NLGS (anderson.hpp)
   /// Passes between two mixing steps: the accelerated map is k passes in a row. The mixing
@@ -123,6 +125,13 @@ struct SolverSettings {
   /// there, on that pass's output, with SolverStats::stopped. Null: never asked.
   const StopRequest* stop_request = nullptr;
 };
+
+/// The threads a step's solve runs on: the setting within the process's CPU budget
+/// (budgeted_threads), and 2 at most, the pieces a step cut into two slabs has to share.
+inline int solve_threads(const SolverSettings& settings) {
+  if (settings.kernel != PassKernel::Coloured) return 1;
+  return std::min(budgeted_threads(settings.threads), 2);
+}
 
 struct StepSettings {
   SolverSettings solver;

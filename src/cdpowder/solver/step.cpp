@@ -57,8 +57,8 @@ StepReport begin_step(World& world, StepWorkspace& work, const StepSettings& set
   // on the threads where the last step's solve was (a step too small to cut, or one the
   // ThreadChoice keeps on one thread, keeps these stages there too); parked after them, as a
   // caller of begin_step alone may never solve
-  SlabThreads* const threads = work.threaded && settings.solver.threads >= 2
-                                   ? work.solver.threads.get(std::min(settings.solver.threads, 2))
+  SlabThreads* const threads = work.threaded && solve_threads(settings.solver) >= 2
+                                   ? work.solver.threads.get(solve_threads(settings.solver))
                                    : nullptr;
 
   detect_contacts(world, settings.detection(), work.grid, work.contacts, &work.candidates, threads,
@@ -84,8 +84,8 @@ namespace {
 /// was slower lately) keeps its other stages there too.
 SlabThreads* stage_threads(StepWorkspace& work, const StepSettings& settings,
                            const StepReport& report) {
-  if (!report.solver.threaded || settings.solver.threads < 2) return nullptr;
-  return work.solver.threads.get(std::min(settings.solver.threads, 2));
+  if (!report.solver.threaded || solve_threads(settings.solver) < 2) return nullptr;
+  return work.solver.threads.get(solve_threads(settings.solver));
 }
 
 }  // namespace

@@ -196,7 +196,7 @@ SolverStats solve_nlgs(Contacts& contacts, VelocityCache& velocities,
                               mixed_modes(contacts), {});
   }
   // a cut step has two pieces to share: a third thread would only spin
-  SlabThreads* const pool = work.threads.get(std::min(settings.threads, 2));
+  SlabThreads* const pool = work.threads.get(solve_threads(settings));
 
   // the workers spin from pass to pass within the step and are parked at its end (they spin
   // a millisecond more, then sleep), also when the step is left by an exception

@@ -1,0 +1,69 @@
+// cpu_budget.cpp — sched_getaffinity, the cgroup v2 quota, and the environment's cap.
+#include "cdpowder/core/cpu_budget.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <string>
+
+// sched_getaffinity is Linux's
+#include <sched.h>
+
+namespace cdpowder {
+
+namespace {
+
+std::atomic<int> g_usable{0};
+
+int affinity_cores() {
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  if (sched_getaffinity(0, sizeof(set), &set) != 0) return 1;
+  return std::max(1, CPU_COUNT(&set));
+}
+
+/// The cgroup v2 quota ("max 100000" for none, "150000 100000" for 1.5 cores), rounded up;
+/// 0 when there is none or it cannot be read.
+int quota_cores() {
+  std::ifstream file("/sys/fs/cgroup/cpu.max");
+  std::string quota;
+  double period = 0.0;
+  if (!(file >> quota >> period) || quota == "max" || period <= 0.0) return 0;
+  char* end = nullptr;
+  const double q = std::strtod(quota.c_str(), &end);
+  if (end == quota.c_str() || !(q > 0.0)) return 0;
+  return std::max(1, static_cast<int>(std::ceil(q / period)));
+}
+
+/// CDPOWDER_MAX_THREADS, or 0 when unset or not a positive integer.
+int environment_cap() {
+  const char* text = std::getenv(kMaxThreadsVariable);
+  if (text == nullptr) return 0;
+  char* end = nullptr;
+  const long cap = std::strtol(text, &end, 10);
+  return end != text && *end == '\0' && cap > 0 && cap < 1'000'000 ? static_cast<int>(cap) : 0;
+}
+
+}  // namespace
+
+int refresh_usable_cores() {
+  int cores = affinity_cores();
+  if (const int quota = quota_cores(); quota > 0) cores = std::min(cores, quota);
+  if (const int cap = environment_cap(); cap > 0) cores = std::min(cores, cap);
+  g_usable.store(cores);
+  return cores;
+}
+
+int usable_cores() {
+  const int known = g_usable.load();
+  return known > 0 ? known : refresh_usable_cores();
+}
+
+int budgeted_threads(int requested) {
+  const int usable = usable_cores();
+  return requested <= 0 ? usable : std::min(requested, usable);
+}
+
+}  // namespace cdpowder

@@ -1,0 +1,23 @@
+// cpu_budget.hpp — how many cores this process may run on: its affinity mask (taskset, a
+// batch system's cpuset), its CPU quota (a container's cgroup cpu.max) and the cap a parent
+// sets in CDPOWDER_MAX_THREADS (a sweep running J runs at once gives each its share). A run
+// never spins more threads than this: two threads on one core would wait on each other.
+#pragma once
+
+namespace cdpowder {
+
+/// The environment variable that caps the threads of a run (a positive integer).
+inline constexpr const char* kMaxThreadsVariable = "CDPOWDER_MAX_THREADS";
+
+/// The cores this process may use: the count of its affinity mask, at most its CPU quota
+/// rounded up, at most kMaxThreadsVariable; at least 1. Read once and kept (a process's
+/// budget does not change while it runs); refresh_usable_cores reads it again.
+int usable_cores();
+
+/// Reads the budget again (tests that change the affinity).
+int refresh_usable_cores();
+
+/// The threads a run asks for (`requested`, 0 for every usable core) within the budget.
+int budgeted_threads(int requested);
+
+}  // namespace cdpowder
