@@ -5,6 +5,7 @@ find_package(tomlplusplus REQUIRED)
 find_package(CLI11 REQUIRED)
 find_package(nlohmann_json 3 REQUIRED)
 find_package(Threads REQUIRED)  # the workers of solver.threads
+find_package(ZLIB REQUIRED)     # run.vtk_format = "zlib" (vtkZLibDataCompressor's layout)
 # pcg-cpp ships headers only, without a CMake package.
 find_path(PCG_INCLUDE_DIR pcg_random.hpp REQUIRED)
 if(CDPOWDER_BUILD_TESTS)

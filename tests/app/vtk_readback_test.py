@@ -1,12 +1,14 @@
 #!/usr/bin/env python3
 """The VTK files of a short compaction, read back with VTK itself (Debian's python3-vtk9), in
-both formats (run.vtk_format = "ascii" and "binary"), and the README's glyph recipe run on them.
+the three formats (run.vtk_format = "ascii", "binary" and "zlib"), and the README's glyph recipe
+run on them.
 
     vtk_readback_test.py --cdpowder BIN --source-dir DIR
 
-Checks: VTK's own reader loads particles.vtp, contacts.vtp and walls.vtp of either format with
+Checks: VTK's own reader loads particles.vtp, contacts.vtp and walls.vtp of every format with
 the arrays the files declare; the binary files hold the ASCII files' values (which have 9
-significant digits) and the exact sphere centres of particles.csv; the README's recipe (Glyph
+significant digits) and the exact sphere centres of particles.csv; the zlib-compressed files
+hold the binary files' values to the last bit; the README's recipe (Glyph
 filter, sphere glyphs of radius 0.5, scaled by the "radius" array with a scale factor of 2)
 draws every sphere at its true radius (every vertex of a glyph at distance r from its centre); walls.vtp holds
 the cell's four edges and the bottom wall and the piston, the piston at the summary's height.
@@ -89,6 +91,14 @@ def check_same_values(ascii_dir, binary_dir):
     return len(spheres)
 
 
+def check_same_bits(binary_dir, zlib_dir):
+    for name in ("particles.vtp", "contacts.vtp", "walls.vtp"):
+        a = arrays_of(read_vtp(binary_dir / name))
+        b = arrays_of(read_vtp(zlib_dir / name))
+        if set(a) != set(b) or any(not np.array_equal(a[key], b[key]) for key in a):
+            fail(f"{name}: the zlib-compressed file does not hold the binary file's values")
+
+
 def check_glyphs(out):
     """The README's recipe: sphere glyphs (radius 0.5) scaled by "radius" × 2."""
     particles = read_vtp(out / "particles.vtp")
@@ -140,15 +150,16 @@ def main():
     parser.add_argument("--source-dir", required=True, type=Path)
     args = parser.parse_args()
     with tempfile.TemporaryDirectory(prefix="cdpowder_vtk_") as scratch:
-        ascii_dir, binary_dir = Path(scratch) / "ascii", Path(scratch) / "binary"
-        compact(args.cdpowder, args.source_dir, ascii_dir, "ascii")
-        compact(args.cdpowder, args.source_dir, binary_dir, "binary")
-        spheres = check_same_values(ascii_dir, binary_dir)
-        for out in (ascii_dir, binary_dir):
+        dirs = {f: Path(scratch) / f for f in ("ascii", "binary", "zlib")}
+        for vtk_format, out in dirs.items():
+            compact(args.cdpowder, args.source_dir, out, vtk_format)
+        spheres = check_same_values(dirs["ascii"], dirs["binary"])
+        check_same_bits(dirs["binary"], dirs["zlib"])
+        for out in dirs.values():
             check_glyphs(out)
             check_walls(out)
-    print(f"vtk_readback_test: {spheres} spheres; VTK reads both formats alike, and the glyphs "
-          "and walls are where they belong")
+    print(f"vtk_readback_test: {spheres} spheres; VTK reads the three formats alike, and the "
+          "glyphs and walls are where they belong")
 
 
 if __name__ == "__main__":

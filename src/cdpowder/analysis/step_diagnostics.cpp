@@ -34,6 +34,17 @@ struct ContactSums {
   std::size_t cohesive = 0;
 };
 
+/// What the pairs' lanes read of `world` and `contacts`.
+PairOverlapInputs overlap_inputs(const World& world, const Contacts& contacts) {
+  return {.n = contacts.pairs.size(),
+          .pairs = contacts.pairs.data(),
+          .actions = contacts.pair_actions.data(),
+          .cohesive = contacts.pair_cohesive.data(),
+          .position = world.bodies.position.data(),
+          .radius = world.bodies.radius.data(),
+          .box = world.box};
+}
+
 /// A contact's overlap from the new positions (c.gap is the step's start), as the pairs'
 /// lanes compute it for a pair.
 double overlap_after_step(const World& world, const ContactView& c) {
@@ -55,18 +66,11 @@ double overlap_after_step(const World& world, const ContactView& c) {
 #include "cdpowder/core/lanes_instantiate.inc"
 
 void measure_contacts(const World& world, const Contacts& contacts, StepDiagnostics& d) {
-  const Bodies& bodies = world.bodies;
   d.contacts = contacts.size();
   // pairs in blocks of lanes, then the rest of the pairs and the walls one by one: the overlap
   // sum and the piston's force add up in Contacts' order
   ContactSums sums{.max_overlap = d.max_overlap};
-  const PairOverlapInputs lanes_in{.n = contacts.pairs.size(),
-                                   .pairs = contacts.pairs.data(),
-                                   .actions = contacts.pair_actions.data(),
-                                   .cohesive = contacts.pair_cohesive.data(),
-                                   .position = bodies.position.data(),
-                                   .radius = bodies.radius.data(),
-                                   .box = world.box};
+  const PairOverlapInputs lanes_in = overlap_inputs(world, contacts);
   const std::size_t rest = CDP_LANES_FOR_CPU(pair_overlap_lanes)(lanes_in, sums);
   for_each_contact_in(contacts, rest, contacts.size(), [&](const ContactView& c) {
     const double overlap = overlap_after_step(world, c);
@@ -88,14 +92,7 @@ void measure_contacts(const World& world, const Contacts& contacts, StepDiagnost
 
 std::vector<double> contact_overlaps(const World& world, const Contacts& contacts) {
   std::vector<double> overlaps(contacts.size(), 0.0);
-  const Bodies& bodies = world.bodies;
-  const PairOverlapInputs lanes_in{.n = contacts.pairs.size(),
-                                   .pairs = contacts.pairs.data(),
-                                   .actions = contacts.pair_actions.data(),
-                                   .cohesive = contacts.pair_cohesive.data(),
-                                   .position = bodies.position.data(),
-                                   .radius = bodies.radius.data(),
-                                   .box = world.box};
+  const PairOverlapInputs lanes_in = overlap_inputs(world, contacts);
   const std::size_t rest = CDP_LANES_FOR_CPU(pair_overlaps_lanes)(lanes_in, overlaps.data());
   std::size_t k = rest;
   for_each_contact_in(contacts, rest, contacts.size(),

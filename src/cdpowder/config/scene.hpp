@@ -58,7 +58,7 @@ struct BlockedCriteria {
 
 /// How the VTK files hold their arrays: text, one tuple a line (readable, diffable), or
 /// appended base64-encoded binary (smaller, full precision, faster to load).
-enum class VtkFormat { Ascii, Binary };
+enum class VtkFormat { Ascii, Binary, Zlib };
 
 /// [run]: how long to run and how often to record.
 struct RunConfig {

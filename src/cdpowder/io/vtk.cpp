@@ -17,6 +17,8 @@
 #include <stdexcept>
 #include <string_view>
 #include <type_traits>
+#include <vector>
+#include <zlib.h>
 
 namespace cdpowder {
 
@@ -53,13 +55,41 @@ void append_base64(const unsigned char* bytes, std::size_t size, std::string& ou
   }
 }
 
-/// A .vtp document: the XML with each data array inline as text (VtkFormat::Ascii) or, as
-/// binary, referring by offset into an <AppendedData> section of base64 blocks, each the
-/// array's byte count (UInt64, the header_type) and then its bytes, encoded one after the
-/// other. Little-endian, as the file declares (x86-64).
+/// VTK's compressed block size (vtkDataCompressor's default) [bytes].
+constexpr std::size_t kZlibBlockBytes = 32768;
+
+/// `bytes` as VTK's vtkZLibDataCompressor lays it out for header_type UInt64: the block count,
+/// the block size, the size of the last block when it is partial (else 0), the compressed
+/// size of every block, then the compressed blocks, one after the other.
+std::string zlib_blocks(const char* bytes, std::size_t size) {
+  const std::size_t blocks = (size + kZlibBlockBytes - 1) / kZlibBlockBytes;
+  std::vector<std::uint64_t> header{blocks, kZlibBlockBytes, size % kZlibBlockBytes};
+  std::string data;
+  std::vector<Bytef> packed(compressBound(kZlibBlockBytes));
+  for (std::size_t b = 0; b < blocks; ++b) {
+    const std::size_t n = std::min(kZlibBlockBytes, size - b * kZlibBlockBytes);
+    uLongf packed_size = packed.size();
+    if (compress2(packed.data(), &packed_size,
+                  reinterpret_cast<const Bytef*>(bytes + b * kZlibBlockBytes), n, 5) != Z_OK) {
+      throw std::runtime_error("zlib could not compress a VTK array");
+    }
+    header.push_back(packed_size);
+    data.append(reinterpret_cast<const char*>(packed.data()), packed_size);
+  }
+  std::string out(reinterpret_cast<const char*>(header.data()),
+                  header.size() * sizeof(std::uint64_t));
+  return out + data;
+}
+
+/// A .vtp document: the XML with each data array inline as text (VtkFormat::Ascii) or
+/// referring by offset into an <AppendedData> section: base64 blocks (VtkFormat::Binary), each
+/// the array's byte count (UInt64, the header_type) and then its bytes, encoded one after the
+/// other, or raw zlib blocks (VtkFormat::Zlib, vtkZLibDataCompressor's layout: zlib_blocks).
+/// Little-endian, as the file declares (x86-64).
 class VtpDocument {
  public:
-  explicit VtpDocument(VtkFormat format) : binary_(format == VtkFormat::Binary) {}
+  explicit VtpDocument(VtkFormat format)
+      : binary_(format != VtkFormat::Ascii), zlib_(format == VtkFormat::Zlib) {}
 
   /// XML text, as it is.
   template <typename... Args>
@@ -74,8 +104,12 @@ class VtpDocument {
       xml("<DataArray type=\"{}\" Name=\"{}\" NumberOfComponents=\"{}\" format=\"appended\" "
           "offset=\"{}\"/>\n",
           type, name, components, appended_.size());
-      // the byte count and the bytes, encoded as one block
       const std::uint64_t bytes = values.size() * sizeof(T);
+      if (zlib_) {
+        appended_ += zlib_blocks(reinterpret_cast<const char*>(values.data()), bytes);
+        return;
+      }
+      // the byte count and the bytes, encoded as one block
       std::string block(reinterpret_cast<const char*>(&bytes), sizeof(bytes));
       if (bytes > 0) block.append(reinterpret_cast<const char*>(values.data()), bytes);
       append_base64(reinterpret_cast<const unsigned char*>(block.data()), block.size(), appended_);
@@ -130,17 +164,21 @@ class VtpDocument {
                       std::size_t polys = 0) {
     xml("<?xml version=\"1.0\"?>\n"
         "<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\" "
-        "header_type=\"UInt64\">\n"
+        "header_type=\"UInt64\"{}>\n"
         "<PolyData>\n"
         "<Piece NumberOfPoints=\"{}\" NumberOfVerts=\"{}\" NumberOfLines=\"{}\" "
         "NumberOfStrips=\"0\" NumberOfPolys=\"{}\">\n",
-        points, verts, lines, polys);
+        zlib_ ? " compressor=\"vtkZLibDataCompressor\"" : "", points, verts, lines, polys);
   }
 
   /// Closes the Piece and the document (with the appended data of a binary one).
   std::string finish() {
     xml("</Piece>\n</PolyData>\n");
-    if (binary_) xml("<AppendedData encoding=\"base64\">\n_{}\n</AppendedData>\n", appended_);
+    if (zlib_) {  // raw bytes after the underscore, as VTK's own writer appends them
+      xml("<AppendedData encoding=\"raw\">\n_{}\n</AppendedData>\n", appended_);
+    } else if (binary_) {
+      xml("<AppendedData encoding=\"base64\">\n_{}\n</AppendedData>\n", appended_);
+    }
     xml("</VTKFile>\n");
     return fmt::to_string(out_);
   }
@@ -149,6 +187,7 @@ class VtpDocument {
   Buffer out_;
   std::string appended_;
   bool binary_;
+  bool zlib_;
 };
 
 /// One closed contact of the network, in output form.
