@@ -26,7 +26,8 @@
     stages, never the other way round.
 (e) machine paths: no text file under results/, docs/ or examples/ records a file by the
     absolute path of the machine that wrote it (`/…/examples/paper/scene.toml`): provenance
-    names a file as the user named it, or relative to the repository.
+    names a file as the user named it, or relative to the repository; and nothing under
+    results/ names a scratch file of /tmp (a gate's binaries are named by commit and sha256).
 (f) citation: CITATION.cff's `version:` is the project's (CMakeLists.txt) and LICENSE exists.
 (g) stages: the section "## One time step" of docs/architecture.md has a subsection "### N. …"
     per member of the Stage enum of src/cdpowder/solver/step.hpp, in its order, and every
@@ -394,6 +395,9 @@ PATH_SCOPE = ["results", "docs", "examples"]
 # (not a URL's //host/…, not part of a longer word or relative path)
 MACHINE_PATH = re.compile(r"(?<![\w.:/~-])/(?:[\w.+-]+/)+?"
                           r"(?:examples|results|src|tests|tools|bench|docs|app)/[\w.=,+-]")
+# in a recorded result: a scratch file of the machine that ran it (a gate's binaries); the docs'
+# commands may name /tmp as a place to write to
+SCRATCH_PATH = re.compile(r"(?<![\w.:/~-])/tmp/[\w.+-]")
 
 
 def tracked_files(root, tops):
@@ -414,6 +418,8 @@ def check_machine_paths(root):
             for number, line in enumerate(path.read_text(encoding="utf-8",
                                                          errors="replace").splitlines(), 1):
                 match = MACHINE_PATH.search(line)
+                if not match and path.relative_to(root).parts[0] == "results":
+                    match = SCRATCH_PATH.search(line)
                 if match:
                     problems.append(f"{path.relative_to(root)}:{number}: records the machine "
                                     f"path '{match.group(0)}…'; name files relative to the "
@@ -550,6 +556,10 @@ class SelfTest(unittest.TestCase):
         text = "\n".join(problems)
         for fragment in fragments:
             self.assertIn(fragment, text, f"not reported: {fragment!r}; got:\n{text}")
+
+    def test_a_scratch_path_in_a_gate_record(self):
+        problems = self.problems(results__gates__x_DOT_md=lambda t: "- base: `/tmp/cdp_head`\n")
+        self.assert_reported(problems, "results/gates/x.md:1: records the machine path '/tmp/c")
 
     def test_a_machine_path_in_a_result(self):
         text = ("# scene: /home/me/repo/examples/q/scene.toml\n"
