@@ -153,8 +153,8 @@ void refill_part(const std::vector<PairProblem>& pairs, const Contacts& contacts
       fill_lane(pairs, velocities, pair.x_row[lane] / kRecordDoubles, lane, pair);
     }
   }
-  for (std::uint32_t i = pass.part_wall_batches[part] / 2;
-       i < pass.part_wall_batches[part + 1] / 2; ++i) {
+  for (std::uint32_t i = pass.part_wall_batches[part] / 2; i < pass.part_wall_batches[part + 1] / 2;
+       ++i) {
     WallBatchPair& pair = pass.wall_batch_pairs[i];
     for (std::size_t lane = 0; lane < kPairLanes; ++lane) {
       fill_wall_lane(contacts, velocities, pair.x_row[lane] / kRecordDoubles, lane, pair);
@@ -233,8 +233,8 @@ void build_batches(const Contacts& contacts, const VelocityCache& velocities, Co
   for (std::size_t p = 0; p < kPassParts; ++p) {
     pass.part_sequential[p] = static_cast<std::uint32_t>(pass.sequential.size());
     pass.sequential.insert(pass.sequential.end(),
-                            colouring.overflow.begin() + colouring.part_overflow[p],
-                            colouring.overflow.begin() + colouring.part_overflow[p + 1]);
+                           colouring.overflow.begin() + colouring.part_overflow[p],
+                           colouring.overflow.begin() + colouring.part_overflow[p + 1]);
     const auto bottom_first = static_cast<std::uint32_t>(pass.sequential.size());
     std::uint32_t bottom_last = bottom_first;
     for (std::size_t w = 0; w < contacts.walls.size(); ++w) {
