@@ -29,7 +29,7 @@ std::string sweep_header(const SweepPlan& plan) {
 }  // namespace
 
 SweepState read_sweep_state(const SweepOptions& options) {
-  SweepState state{read_sweep_plan(options.sweep, options.overrides), {}, {}, {}, {}};
+  SweepState state{read_sweep_plan(options.sweep, options.overrides), {}, {}, {}, {}, {}};
   const SweepPlan& plan = state.plan;
   std::vector<std::string>& scene_texts = state.scene_texts;
   scene_texts.resize(plan.runs.size());
