@@ -38,14 +38,18 @@ constexpr std::string_view kQuitting =
 
 extern "C" void request_run_stop(int signal) {
   const std::int64_t now = now_ns();
-  if (!g_requested.exchange(true)) {
-    g_first_ns.store(now);
+  // the first signal's time and the request in one step: a second signal handled at once on
+  // another thread (timeout signals the process and then its group) finds the time already
+  // there, never 0
+  std::int64_t first = 0;
+  if (g_first_ns.compare_exchange_strong(first, now)) {
+    g_requested.store(true);
     say(kStopping);
     return;
   }
   // the same request again (timeout signals the process and its group; a scheduler follows
   // SIGINT with SIGTERM), unless it is a deliberate second Ctrl-C
-  if (signal == SIGINT && now - g_first_ns.load() >= kDeliberateSecondStop) {
+  if (signal == SIGINT && now - first >= kDeliberateSecondStop) {
     say(kQuitting);
     _exit(130);  // 128 + SIGINT, as the shell reports a program ended by it
   }
