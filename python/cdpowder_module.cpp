@@ -4,6 +4,7 @@
 // with the command line's messages; a sphere's state is a NumPy view of the World's own arrays.
 #include <fmt/format.h>
 
+#include <atomic>
 #include <cdpowder/cdpowder.hpp>
 #include <chrono>
 #include <cmath>
@@ -108,7 +109,22 @@ struct Engine {
   StepWorkspace work{1};
   RunState state;
   bool in_use = false;  ///< a run steps it: a second run on it is refused (EngineInUse)
+  /// the run is stepping it without the GIL (not paused in its callback): the World's
+  /// computed properties refuse to read it meanwhile (idle)
+  std::atomic<bool> stepping{false};
 };
+
+/// `engine`, when no run is stepping it. A property read from another Python thread while a
+/// run steps the World would read contacts being rebuilt: refused (a run's own callback reads
+/// it paused, between two steps).
+const Engine& idle(const Engine& engine) {
+  if (engine.stepping.load()) {
+    throw std::runtime_error(
+        "this World is being stepped by a run on another thread: read it from the run's "
+        "callback, or after the run");
+  }
+  return engine;
+}
 
 /// Holds an engine for one run. Python threads may share a World, and a callback is handed
 /// its own World: a second run on it while the first steps would corrupt both, so it is
@@ -150,7 +166,8 @@ auto body_scalars(std::vector<double> Bodies::*field) {
 }
 
 /// The contacts of the engine's last step as a dict of NumPy arrays (copies).
-py::dict contacts_of(const Engine& engine) {
+py::dict contacts_of(const Engine& running) {
+  const Engine& engine = idle(running);
   std::vector<long long> a;
   std::vector<long long> b;
   std::vector<double> normal;
@@ -199,12 +216,14 @@ struct Result {
   double initial_porosity = 0.0;
 
   [[nodiscard]] StressTensors stress() const {
-    return stress_tensors(engine->work.contacts, packing_volume(engine->world));
+    const Engine& e = idle(*engine);
+    return stress_tensors(e.work.contacts, packing_volume(e.world));
   }
 
   [[nodiscard]] py::dict summary() const {
-    const std::string json = run_summary_json(
-        summarise_run(scene, engine->world, engine->work.contacts, run, initial_porosity));
+    const Engine& e = idle(*engine);
+    const std::string json =
+        run_summary_json(summarise_run(scene, e.world, e.work.contacts, run, initial_porosity));
     return py::module_::import("json").attr("loads")(json);
   }
 };
@@ -266,7 +285,6 @@ std::optional<RunFault> fault_after_callback(const World& world) {
 Result run(const Scene& scene, std::shared_ptr<Engine> engine, const py::object& callback,
            int every, const std::optional<std::filesystem::path>& out, double initial_porosity) {
   if (every < 1) throw py::value_error("every: got " + std::to_string(every) + ", expected ≥ 1");
-  const EngineInUse busy(*engine);
   std::optional<FolderLock> lock;
   std::optional<RunFolder> files;
   if (out) {
@@ -285,8 +303,10 @@ Result run(const Scene& scene, std::shared_ptr<Engine> engine, const py::object&
     ++steps;
     if (callback.is_none() || steps % every != 0 || verdict.stop) return;
     {
+      engine->stepping.store(false);  // paused: other threads may read the World now
       const py::gil_scoped_acquire gil;
       verdict.judge(callback, world_object, report.diagnostics);
+      engine->stepping.store(true);  // still holding the GIL: no reader is in between
     }
     callback_fault = fault_after_callback(world);
     if (callback_fault) verdict.stop = true;
@@ -305,6 +325,19 @@ Result run(const Scene& scene, std::shared_ptr<Engine> engine, const py::object&
   };
   Result result;
   {
+    // while the GIL is released, the World's computed properties refuse to read it
+    struct Stepping {
+      explicit Stepping(Engine& e) : engine(e) { engine.stepping.store(true); }
+
+      ~Stepping() { engine.stepping.store(false); }
+
+      Stepping(const Stepping&) = delete;
+      Stepping& operator=(const Stepping&) = delete;
+      Stepping(Stepping&&) = delete;
+      Stepping& operator=(Stepping&&) = delete;
+      Engine& engine;
+    } const stepping(*engine);
+
     const py::gil_scoped_release released;
     result.run = run_simulation(engine->world, engine->work, scene.step, scene.run, engine->state,
                                 observer, stop);
@@ -419,10 +452,13 @@ std::shared_ptr<Engine> world_from_arrays(const PyScene& scene, const py::object
 Result start(const PyScene& scene, const py::object& world, const py::object& callback, int every,
              const std::optional<std::filesystem::path>& out) {
   std::shared_ptr<Engine> engine;
+  std::optional<EngineInUse> busy;
   if (world.is_none()) {
     engine = fresh_engine(scene.scene);
+    busy.emplace(*engine);
   } else {
     engine = world.cast<std::shared_ptr<Engine>>();
+    busy.emplace(*engine);  // before anything of the World changes: a run in progress keeps it
     Piston& piston = engine->world.walls.piston;
     piston.force = scene.scene.piston.push(engine->world.box.area());
     engine->state = RunState{};  // a new run on the packing as it is
@@ -504,26 +540,28 @@ void bind_world(py::module_& m) {
       .def_property_readonly("angular_velocities", body_vectors(&Bodies::angular_velocity),
                              "n × 3 [1/t0] (a view)")
       .def_property_readonly("radii", body_scalars(&Bodies::radius), "n [R] (a view)")
-      .def_property_readonly("time", [](const Engine& e) { return e.world.time; })
-      .def_property_readonly("step", [](const Engine& e) { return e.world.step; })
+      .def_property_readonly("time", [](const Engine& e) { return idle(e).world.time; })
+      .def_property_readonly("step", [](const Engine& e) { return idle(e).world.step; })
       .def_property_readonly("piston_height",
-                             [](const Engine& e) { return e.world.walls.piston.height; })
-      .def_property_readonly("porosity", [](const Engine& e) { return porosity(e.world); })
+                             [](const Engine& e) { return idle(e).world.walls.piston.height; })
+      .def_property_readonly("porosity", [](const Engine& e) { return porosity(idle(e).world); })
       .def_property_readonly("coordination_number",
                              [](const Engine& e) {
-                               return coordination_number(e.work.contacts, e.world.bodies.size());
+                               const Engine& i = idle(e);
+                               return coordination_number(i.work.contacts, i.world.bodies.size());
                              })
       .def("contacts", &contacts_of,
            "The last step's contacts: a dict of arrays a, b (−1 bottom wall, −2 piston), "
            "normal, force, normal_force, gap, closed, cohesive")
-      .def("__len__", [](const Engine& e) { return e.world.bodies.size(); });
+      .def("__len__", [](const Engine& e) { return idle(e).world.bodies.size(); });
 }
 
 /// cdpowder.Result: the end of a run, its stress and summary.
 void bind_result(py::module_& m) {
   py::class_<Result>(m, "Result", "The end of a run")
       .def_property_readonly("world", [](const Result& r) { return r.engine; })
-      .def_property_readonly("porosity", [](const Result& r) { return porosity(r.engine->world); })
+      .def_property_readonly("porosity",
+                             [](const Result& r) { return porosity(idle(*r.engine).world); })
       .def_property_readonly("blocked", [](const Result& r) { return r.run.blocked; })
       .def_property_readonly("interrupted", [](const Result& r) { return r.run.interrupted; })
       .def_property_readonly("steps", [](const Result& r) { return r.run.steps; })

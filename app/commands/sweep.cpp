@@ -10,6 +10,7 @@
 #include "stop_signals.hpp"
 
 #include "cdpowder/config/config_error.hpp"
+#include "cdpowder/core/cpu_budget.hpp"
 #include "cdpowder/io/atomic_file.hpp"
 #include "cdpowder/run/folder_lock.hpp"
 #include "cdpowder/run/run_folder.hpp"
@@ -253,7 +254,7 @@ int run_sweep(const SweepOptions& options) {
 
   const int jobs = options.jobs > 0
                        ? options.jobs
-                       : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+                       : usable_cores();  // the cores this process may use (cpu_budget.hpp)
   if (!options.quiet) {
     const SweepPlan& plan = state.plan;
     std::fprintf(stderr, "%s\n",

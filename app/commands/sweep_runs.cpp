@@ -142,8 +142,8 @@ RunExit run_exit(int status, const std::optional<RunSummary>& summary,
   RunExit out;
   out.fault = code == kExitFault;
   out.unwritten = code == kExitOutputFailed;
-  out.counts =
-      (code == 0 || code == kExitNotBlocked || out.unwritten) && is_reusable(summary, scene_text);
+  // a run whose output failed wrote its summary, but its folder lacks an output: not finished
+  out.counts = (code == 0 || code == kExitNotBlocked) && is_reusable(summary, scene_text);
   return out;
 }
 

@@ -70,8 +70,8 @@ struct RunExit {
   bool fault = false;      ///< exit kExitFault: a fault stopped it
   bool unwritten = false;  ///< exit kExitOutputFailed: an output could not be written
   /// Its results count: it ended (a compaction that did not block is finished, blocked = 0
-  /// in the tables), or an output failed after its summary was written (the time series, at
-  /// the end), and the summary is one of this run's scene.
+  /// in the tables) with every output written, and the summary is one of this run's scene. A
+  /// run whose output failed is not finished: it runs again when the sweep can write.
   bool counts = false;
 };
 

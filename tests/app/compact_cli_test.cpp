@@ -242,7 +242,7 @@ TEST_F(CompactCli, HeavySpheresAtRestButOutOfBalanceAreNotBlocked) {
   EXPECT_EQ(r.status, kNotBlocked) << r.err;
   EXPECT_THAT(r.out, HasSubstr("blocked=no"));
   EXPECT_THAT(r.err, HasSubstr("the packing came to rest, but its static solve was out of "
-                               "balance in 6 windows in a row: a sphere stays out of balance"));
+                               "balance in 6 blocked windows: a sphere stays out of balance"));
   const nlohmann::json s = summary_of(out);
   EXPECT_FALSE(s["run"]["blocked"].get<bool>());
   EXPECT_THAT(s["run"]["not_blocked"].get<std::string>(), HasSubstr("largest net force"));
@@ -306,6 +306,34 @@ TEST_F(CompactCli, ResumeRefusesAnotherRunsStartingPacking) {
   const ProcessResult r = run_cdpowder("resume " + a.string() + " --quiet", scratch_);
   EXPECT_EQ(r.status, 2) << r.err;
   EXPECT_THAT(r.err, HasSubstr("is not the packing this run began with"));
+}
+
+// A run from a particles file outside its folder: when that file changed since the run
+// began, resume warns and goes on from the folder's own initial_particles.csv (a deposit, made
+// again exactly, is refused instead: the test above).
+TEST_F(CompactCli, ResumeGoesOnWhenTheOutsideParticlesFileChanged) {
+  const fs::path deposit = scratch_ / "deposit";
+  ASSERT_EQ(run_cdpowder("deposit " + kQuick.string() + " --out " + deposit.string() + " --quiet",
+                         scratch_)
+                .status,
+            0);
+  const fs::path particles = scratch_ / "mine.csv";
+  fs::copy_file(deposit / "particles.csv", particles);
+  const fs::path out = scratch_ / "out";
+  ASSERT_EQ(interrupted_run(out, scratch_, "--particles " + particles.string()), 1);
+  std::string text = cdpowder::testing::slurp(particles);
+  // the last sphere moved: its y (the third field, after id and x) becomes 50
+  const std::size_t line = text.rfind('\n', text.size() - 2) + 1;
+  const std::size_t y = text.find(',', text.find(',', line) + 1) + 1;
+  text = text.substr(0, y) + "50" + text.substr(text.find(',', y));
+  std::ofstream(particles) << text;
+  // the run cannot end by itself: stopped half a second into its resume
+  const fs::path script = scratch_ / "resume.sh";
+  std::ofstream(script) << CDPOWDER_EXE << " resume " << out.string()
+                        << " --quiet &\npid=$!\nsleep 0.5\nkill -INT $pid\nwait $pid\n";
+  const ProcessResult resumed = cdpowder::testing::run_process("sh", script.string(), scratch_);
+  EXPECT_EQ(resumed.status, 1) << resumed.err;  // interrupted, not refused (2)
+  EXPECT_THAT(resumed.err, HasSubstr("differs from the particles file the run's scene names"));
 }
 
 TEST_F(CompactCli, ResumeRefusesADamagedTimeSeriesLineByName) {

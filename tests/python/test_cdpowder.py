@@ -234,6 +234,45 @@ def test_a_world_in_use_refuses_a_second_run():
     assert result.steps > 0
 
 
+def test_a_refused_second_run_leaves_the_first_untouched():
+    world = cdpowder.deposit(quick())
+    refused = []
+
+    def try_again(w, step):
+        try:
+            cdpowder.compact(quick(), world=w)
+        except RuntimeError as error:
+            refused.append(str(error))
+
+    # the refused call changed the World's piston and loop state before: the run then failed
+    result = cdpowder.compact(quick(), world=world, callback=try_again, every=10)
+    assert refused and result.steps == 500
+
+
+def test_a_world_being_stepped_is_not_read_from_another_thread():
+    import threading
+    world = cdpowder.deposit(quick())
+    seen = {"refused": 0, "read": 0}
+    done = threading.Event()
+
+    def reader():
+        while not done.is_set():
+            try:
+                world.contacts()
+                seen["read"] += 1
+            except RuntimeError as error:
+                assert "being stepped by a run on another thread" in str(error)
+                seen["refused"] += 1
+
+    thread = threading.Thread(target=reader)
+    thread.start()
+    cdpowder.compact(quick(), world=world)  # segfaulted with a reader before the guard
+    done.set()
+    thread.join()
+    assert seen["refused"] > 0
+    assert len(world.contacts()["a"]) > 0  # free again
+
+
 def test_a_radius_written_through_a_view_is_a_fault(tmp_path):
     def shrink(world, step):
         world.radii[3] = 0.0

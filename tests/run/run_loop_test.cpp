@@ -162,7 +162,7 @@ TEST(RunLoop, ASphereOutOfBalanceDefersTheBlockedState) {
   EXPECT_FALSE(bounded.interrupted);
   EXPECT_EQ(bounded.unbalanced_rest_solves, 6);
   EXPECT_EQ(bounded.steps, 300);
-  EXPECT_NE(bounded.not_blocked.find("out of balance in 6 windows in a row: a sphere stays out "
+  EXPECT_NE(bounded.not_blocked.find("out of balance in 6 blocked windows: a sphere stays out "
                                      "of balance at rest (largest net force 0.01 F_coh"),
             std::string::npos)
       << bounded.not_blocked;

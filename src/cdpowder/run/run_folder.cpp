@@ -141,8 +141,20 @@ void require_initial_packing(const std::string& scene_toml, const std::filesyste
   }
   const Bodies& a = began.bodies;
   const Bodies& b = from_file.bodies;
+  // a particles file outside the folder may have changed since the run began: only a deposit,
+  // which the scene makes again exactly, decides
+  const bool from_a_deposit =
+      began.bodies.size() > 0 && read_scene_text(scene_toml, "", {}, folder).deposition.has_value();
   for (std::size_t i = 0; i < a.size() && i < b.size(); ++i) {
     if (a.position[i] != b.position[i] || a.radius[i] != b.radius[i]) {
+      if (!from_a_deposit) {
+        warn(
+            fmt::format("{} differs from the particles file the run's scene names (sphere {}): "
+                        "that file changed since the run began, or this is another run's; "
+                        "going on with {}",
+                        initial.string(), i, initial.string()));
+        return;
+      }
       throw StateFileError(fmt::format(
           "{} is not the packing this run began with: sphere {} is at ({}, {}, {}) with radius "
           "{} in it, at ({}, {}, {}) with radius {} in the run's own deposit or particles file "
@@ -300,7 +312,17 @@ void RunFolder::finish(const Scene& scene, const World& world, const StepWorkspa
     snapshots_.write(world, work.contacts);
   }
   timeseries_->record(world, result.last, /*force=*/true);
-  timeseries_->commit();
+  try {
+    timeseries_->commit();
+  } catch (const OutputError&) {
+    // the run's results are not lost with its time series: the summary is written, and the
+    // folder, without timeseries.csv, reads as incomplete (missing_run_outputs); a sweep runs
+    // it again once it can write
+    write_file_atomically(
+        folder_ / "summary.json",
+        run_summary_json(summarise_run(scene, world, work.contacts, result, initial_porosity)));
+    throw;
+  }
   if (result.fault) {
     // the state at the fault, to look at or to rerun the step from (run/state_file.hpp)
     save_state(folder_ / "failed_state.cdps", scene.effective_toml, world, work, state);

@@ -19,7 +19,7 @@ namespace cdpowder {
 
 namespace {
 
-/// How many blocked windows in a row a sphere out of balance may defer (run_simulation).
+/// How many blocked windows a sphere out of balance may defer in a run (run_simulation).
 constexpr int kMaxDeferredWindows = 5;
 
 /// The packing measured in static equilibrium: all velocities set to zero and one step
@@ -310,8 +310,8 @@ class RunLoop {
     ++result_.unbalanced_rest_solves;
     if (state_.deferred_windows >= kMaxDeferredWindows) {
       result_.not_blocked = fmt::format(
-          "the packing came to rest, but its static solve was out of balance in {} windows in "
-          "a row: {}",
+          "the packing came to rest, but its static solve was out of balance in {} blocked "
+          "windows: {}",
           kMaxDeferredWindows + 1, *problem);
       return StaticChecks::Unbalanced;
     }

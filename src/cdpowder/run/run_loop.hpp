@@ -49,7 +49,7 @@ struct RunResult {
   bool blocked_by_probe = false;
   /// Why a compaction that came to rest is not blocked: its static solves stayed out of
   /// balance (a sphere's net force, or σzz/p off 1 without gravity) in
-  /// kMaxDeferredWindows + 1 blocked windows in a row, and the run ended there. Empty
+  /// kMaxDeferredWindows + 1 blocked windows of the run, and it ended there. Empty
   /// otherwise. Not in a state file: such a run has ended.
   std::string not_blocked;
   /// Static solves (of a blocked window, or probes) not adopted because a sphere was out of
