@@ -9,6 +9,7 @@
 #include "cdpowder/run/folder_lock.hpp"
 #include "cdpowder/run/run_folder.hpp"
 #include "cdpowder/study/sweep_messages.hpp"
+#include "cdpowder/study/sweep_results.hpp"
 #include "cdpowder/study/time_limit.hpp"
 
 #include <fmt/format.h>
@@ -141,6 +142,13 @@ class SweepPool {
     } catch (const std::runtime_error&) {
       ++held_elsewhere_;
       std::fprintf(stderr, "%s\n", run_folder_busy_line(run_name(i), folder, true).c_str());
+      return;
+    }
+    // an outside runner (--task) that held the lock until now may have finished the run
+    if (std::optional<RunSummary> summary = read_run_summary(folder / "summary.json");
+        is_reusable(summary, state_.scene_texts[i]) && missing_run_outputs(folder).empty()) {
+      state_.summaries[i] = std::move(summary);
+      ++done_now_;
       return;
     }
     // an interrupted run goes on from its checkpoint instead of starting again

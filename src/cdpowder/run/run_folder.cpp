@@ -128,12 +128,15 @@ void require_initial_particles(const std::filesystem::path& folder) {
 
 void require_initial_packing(const std::string& scene_toml, const std::filesystem::path& folder,
                              const World& from_file,
-                             const std::function<void(const std::string&)>& warn) {
+                             const std::function<void(const std::string&)>& warn,
+                             const StopRequest& stop_requested) {
   const std::filesystem::path initial = folder / "initial_particles.csv";
   World began;
   try {
-    // the scene as the run began: its deposit again, or its own particles file
-    began = make_world(read_scene_text(scene_toml, (folder / "scene.toml").string(), {}, folder));
+    // the scene as the run began: its deposit again (stopped by Ctrl-C as any deposit), or its
+    // own particles file
+    began = make_world(read_scene_text(scene_toml, (folder / "scene.toml").string(), {}, folder),
+                       stop_requested);
   } catch (const ConfigError& error) {
     warn(fmt::format("{} could not be checked against the run's own starting packing: {}",
                      initial.string(), error.what()));

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "cdpowder/config/scene.hpp"
+#include "cdpowder/core/stop_request.hpp"
 #include "cdpowder/io/cadence.hpp"
 #include "cdpowder/io/timeseries.hpp"
 #include "cdpowder/io/vtk.hpp"
@@ -63,7 +64,8 @@ void require_initial_particles(const std::filesystem::path& folder);
 /// word. When the scene's particles file is gone, `warn` says the check could not be made.
 void require_initial_packing(const std::string& scene_toml, const std::filesystem::path& folder,
                              const World& from_file,
-                             const std::function<void(const std::string&)>& warn);
+                             const std::function<void(const std::string&)>& warn,
+                             const StopRequest& stop_requested = {});
 
 /// Throws ConfigError when `input`, a file the run reads (`what`: "the scene file"), is one
 /// of the files a run writes in `folder`: the run would remove or overwrite it (found: a
