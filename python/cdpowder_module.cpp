@@ -451,14 +451,11 @@ std::shared_ptr<Engine> world_from_arrays(const PyScene& scene, const py::object
 /// piston gets this scene's push) or on the scene's own spheres.
 Result start(const PyScene& scene, const py::object& world, const py::object& callback, int every,
              const std::optional<std::filesystem::path>& out) {
-  std::shared_ptr<Engine> engine;
-  std::optional<EngineInUse> busy;
-  if (world.is_none()) {
-    engine = fresh_engine(scene.scene);
-    busy.emplace(*engine);
-  } else {
-    engine = world.cast<std::shared_ptr<Engine>>();
-    busy.emplace(*engine);  // before anything of the World changes: a run in progress keeps it
+  const std::shared_ptr<Engine> engine =
+      world.is_none() ? fresh_engine(scene.scene) : world.cast<std::shared_ptr<Engine>>();
+  // before anything of the World changes: a run in progress keeps it
+  const EngineInUse busy(*engine);
+  if (!world.is_none()) {
     Piston& piston = engine->world.walls.piston;
     piston.force = scene.scene.piston.push(engine->world.box.area());
     engine->state = RunState{};  // a new run on the packing as it is

@@ -110,8 +110,7 @@ int run_task(const SweepOptions& options, const SweepState& state, std::size_t t
     return 0;
   }
   // a runner that held the lock until now may have finished the run
-  if (is_reusable(read_run_summary(folder / "summary.json"), state.scene_texts[task]) &&
-      missing_run_outputs(folder).empty()) {
+  if (finished_summary(folder, state.scene_texts[task])) {
     if (!options.quiet) std::fprintf(stderr, "%s\n", already_finished_line(name).c_str());
     return 0;
   }

@@ -145,8 +145,7 @@ class SweepPool {
       return;
     }
     // an outside runner (--task) that held the lock until now may have finished the run
-    if (std::optional<RunSummary> summary = read_run_summary(folder / "summary.json");
-        is_reusable(summary, state_.scene_texts[i]) && missing_run_outputs(folder).empty()) {
+    if (std::optional<RunSummary> summary = finished_summary(folder, state_.scene_texts[i])) {
       state_.summaries[i] = std::move(summary);
       ++done_now_;
       return;

@@ -104,6 +104,13 @@ SweepState read_sweep_state(const SweepOptions& options) {
   return state;
 }
 
+std::optional<RunSummary> finished_summary(const std::filesystem::path& folder,
+                                           const std::string& scene_text) {
+  std::optional<RunSummary> summary = read_run_summary(folder / "summary.json");
+  if (!is_reusable(summary, scene_text) || !missing_run_outputs(folder).empty()) return {};
+  return summary;
+}
+
 void write_tables(const SweepOptions& options, const SweepPlan& plan,
                   const std::vector<std::optional<RunSummary>>& summaries) {
   const std::string header = sweep_header(plan);

@@ -131,12 +131,13 @@ void require_initial_packing(const std::string& scene_toml, const std::filesyste
                              const std::function<void(const std::string&)>& warn,
                              const StopRequest& stop_requested) {
   const std::filesystem::path initial = folder / "initial_particles.csv";
+  Scene scene;
   World began;
   try {
     // the scene as the run began: its deposit again (stopped by Ctrl-C as any deposit), or its
     // own particles file
-    began = make_world(read_scene_text(scene_toml, (folder / "scene.toml").string(), {}, folder),
-                       stop_requested);
+    scene = read_scene_text(scene_toml, (folder / "scene.toml").string(), {}, folder);
+    began = make_world(scene, stop_requested);
   } catch (const ConfigError& error) {
     warn(fmt::format("{} could not be checked against the run's own starting packing: {}",
                      initial.string(), error.what()));
@@ -144,32 +145,33 @@ void require_initial_packing(const std::string& scene_toml, const std::filesyste
   }
   const Bodies& a = began.bodies;
   const Bodies& b = from_file.bodies;
+  std::size_t differs = 0;
+  while (differs < a.size() && differs < b.size() && a.position[differs] == b.position[differs] &&
+         a.radius[differs] == b.radius[differs]) {
+    ++differs;
+  }
+  if (differs == a.size() && a.size() == b.size()) return;
   // a particles file outside the folder may have changed since the run began: only a deposit,
   // which the scene makes again exactly, decides
-  const bool from_a_deposit =
-      began.bodies.size() > 0 && read_scene_text(scene_toml, "", {}, folder).deposition.has_value();
-  for (std::size_t i = 0; i < a.size() && i < b.size(); ++i) {
-    if (a.position[i] != b.position[i] || a.radius[i] != b.radius[i]) {
-      if (!from_a_deposit) {
-        warn(
-            fmt::format("{} differs from the particles file the run's scene names (sphere {}): "
-                        "that file changed since the run began, or this is another run's; "
-                        "going on with {}",
-                        initial.string(), i, initial.string()));
-        return;
-      }
-      throw StateFileError(fmt::format(
-          "{} is not the packing this run began with: sphere {} is at ({}, {}, {}) with radius "
-          "{} in it, at ({}, {}, {}) with radius {} in the run's own deposit or particles file "
-          "(another run's file would give another initial porosity)",
-          initial.string(), i, b.position[i].x(), b.position[i].y(), b.position[i].z(), b.radius[i],
-          a.position[i].x(), a.position[i].y(), a.position[i].z(), a.radius[i]));
-    }
+  if (!scene.deposition) {
+    warn(
+        fmt::format("{} differs from the particles file the run's scene names (sphere {}): "
+                    "that file changed since the run began, or this is another run's; going "
+                    "on with {}",
+                    initial.string(), differs, initial.string()));
+    return;
   }
   if (a.size() != b.size()) {
     throw StateFileError(fmt::format("{} holds {} spheres, the run began with {}", initial.string(),
                                      b.size(), a.size()));
   }
+  const std::size_t i = differs;
+  throw StateFileError(fmt::format(
+      "{} is not the packing this run began with: sphere {} is at ({}, {}, {}) with radius {} in "
+      "it, at ({}, {}, {}) with radius {} in the deposit the run's scene makes again (another "
+      "run's file would give another initial porosity)",
+      initial.string(), i, b.position[i].x(), b.position[i].y(), b.position[i].z(), b.radius[i],
+      a.position[i].x(), a.position[i].y(), a.position[i].z(), a.radius[i]));
 }
 
 void refuse_input_among_outputs(const std::filesystem::path& folder,
@@ -315,24 +317,25 @@ void RunFolder::finish(const Scene& scene, const World& world, const StepWorkspa
     snapshots_.write(world, work.contacts);
   }
   timeseries_->record(world, result.last, /*force=*/true);
+  const auto write_summary = [&] {
+    write_file_atomically(
+        folder_ / "summary.json",
+        run_summary_json(summarise_run(scene, world, work.contacts, result, initial_porosity)));
+  };
   try {
     timeseries_->commit();
   } catch (const OutputError&) {
     // the run's results are not lost with its time series: the summary is written, and the
     // folder, without timeseries.csv, reads as incomplete (missing_run_outputs); a sweep runs
     // it again once it can write
-    write_file_atomically(
-        folder_ / "summary.json",
-        run_summary_json(summarise_run(scene, world, work.contacts, result, initial_porosity)));
+    write_summary();
     throw;
   }
   if (result.fault) {
     // the state at the fault, to look at or to rerun the step from (run/state_file.hpp)
     save_state(folder_ / "failed_state.cdps", scene.effective_toml, world, work, state);
   }
-  write_file_atomically(
-      folder_ / "summary.json",
-      run_summary_json(summarise_run(scene, world, work.contacts, result, initial_porosity)));
+  write_summary();
   // a finished run (done, not blocked, failed) keeps no checkpoint: only an unfinished one
   // can be continued, and the folder ends as a run never stopped leaves it
   if (!result.interrupted) {

@@ -46,6 +46,18 @@ void take_last_step(StepWorkspace& work) {
   work.last_step_in_contacts = false;
 }
 
+namespace {
+
+/// The workers of the stages around a solve: those of the solve when it ran on them
+/// (`threaded`), nullptr otherwise. A step the ThreadChoice keeps on one thread (the second
+/// core was slower lately) keeps its other stages there too.
+SlabThreads* step_threads(StepWorkspace& work, const StepSettings& settings, bool threaded) {
+  const int threads = solve_threads(settings.solver);
+  return threaded && threads >= 2 ? work.solver.threads.get(threads) : nullptr;
+}
+
+}  // namespace
+
 StepReport begin_step(World& world, StepWorkspace& work, const StepSettings& settings) {
   StepReport report;
   report.dt = settings.solver.dt;
@@ -57,9 +69,7 @@ StepReport begin_step(World& world, StepWorkspace& work, const StepSettings& set
   // on the threads where the last step's solve was (a step too small to cut, or one the
   // ThreadChoice keeps on one thread, keeps these stages there too); parked after them, as a
   // caller of begin_step alone may never solve
-  SlabThreads* const threads = work.threaded && solve_threads(settings.solver) >= 2
-                                   ? work.solver.threads.get(solve_threads(settings.solver))
-                                   : nullptr;
+  SlabThreads* const threads = step_threads(work, settings, work.threaded);
 
   detect_contacts(world, settings.detection(), work.grid, work.contacts, &work.candidates, threads,
                   &work.detection);
@@ -77,19 +87,6 @@ void finish_step(World& world, StepWorkspace& work, const StepSettings& settings
   commit_step(world, work, settings, report);
 }
 
-namespace {
-
-/// The workers of a step whose solve ran on them (report.solver.threaded), for the stages
-/// after it; nullptr otherwise. A step the ThreadChoice keeps on one thread (the second core
-/// was slower lately) keeps its other stages there too.
-SlabThreads* stage_threads(StepWorkspace& work, const StepSettings& settings,
-                           const StepReport& report) {
-  if (!report.solver.threaded || solve_threads(settings.solver) < 2) return nullptr;
-  return work.solver.threads.get(solve_threads(settings.solver));
-}
-
-}  // namespace
-
 void solve_step(const World& world, StepWorkspace& work, const StepSettings& settings,
                 StepReport& report) {
   StageClock clock;
@@ -102,7 +99,7 @@ void solve_step(const World& world, StepWorkspace& work, const StepSettings& set
   clock.lap(Stage::SolveNlgs, report.times);
 
   // the opening gauge, on both threads of a threaded step
-  SlabThreads* const threads = stage_threads(work, settings, report);
+  SlabThreads* const threads = step_threads(work, settings, report.solver.threaded);
   const CohesiveOpening opening = cohesive_opening(world, work.contacts, work.velocities,
                                                    settings.laws, settings.solver.dt, threads);
   if (threads != nullptr) threads->park();
