@@ -13,6 +13,7 @@
 #include "cdpowder/core/stop_request.hpp"
 #include "cdpowder/io/atomic_file.hpp"
 #include "cdpowder/io/byte_stream.hpp"
+#include "cdpowder/solver/settings.hpp"
 #include "cdpowder/study/time_limit.hpp"
 #include "cdpowder/version.hpp"
 
@@ -162,6 +163,12 @@ CLI::App* add_resume_command(CLI::App& cli, cdpowder::app::ResumeOptions& resume
       ->check(CLI::ExistingDirectory);
   command->add_flag("--quiet,-q", resume.quiet, "No progress line on stderr");
   add_checkpoint_option(*command, resume.checkpoint_every);
+  command
+      ->add_option("--threads", resume.threads,
+                   "Solve on N threads from here on (0: every core the process may use) instead "
+                   "of the run's solver.threads; the results are the same bits for any count")
+      ->check(CLI::Range(0, cdpowder::kMaxSolverThreads))
+      ->type_name("N");
   return command;
 }
 

@@ -144,19 +144,20 @@ int main(int argc, char** argv) {
           "(walls {})\n",
           work.contacts.size(), work.candidates.pairs().size(), coloured.colours(),
           coloured.batches(), coloured.sequential.size(), work.contacts.walls.size());
-      // the parts of a step cut into slabs (slabs.hpp): batched pairs + sequential contacts
+      // the parts of a tiled step (tiles.hpp): batched pairs + sequential contacts, phase by
+      // phase, then the hub
       const PairColouring& colouring = coloured.colouring;
       std::string parts;
-      for (std::size_t p = 0; p < kPassParts; ++p) {
-        parts += fmt::format(" {}+{}", colouring.first_member(p + 1) - colouring.first_member(p),
+      for (std::size_t p = 0; p < coloured.parts(); ++p) {
+        const bool new_phase = std::find(coloured.phase_parts.begin(), coloured.phase_parts.end(),
+                                         p) != coloured.phase_parts.end();
+        parts += fmt::format("{}{}+{}", new_phase ? " |" : " ",
+                             colouring.first_member(p + 1) - colouring.first_member(p),
                              coloured.part_sequential[p + 1] - coloured.part_sequential[p]);
       }
-      fmt::print("last step: parts (inside slab 0, inside slab 1, across){}\n", parts);
-      const std::vector<std::uint8_t>& slab = work.solver.slab;
-      if (!slab.empty()) {
-        const auto above = static_cast<std::size_t>(std::count(slab.begin(), slab.end(), 1));
-        fmt::print("last step: spheres in slab 0, slab 1: {}, {}\n", slab.size() - above, above);
-      }
+      const TileGrid grid = work.solver.tiles.grid;
+      fmt::print("last step: {} × {} tiles; parts (| a phase, the hub last){}\n", grid.nx, grid.ny,
+                 parts);
     }
     fmt::print(
         "per step [us]: detect {:.0f}, build {:.0f}, solve {:.0f}, integrate {:.0f}, "

@@ -1,7 +1,7 @@
 // Benchmarks of the NLGS stage (physics.md §7): ns per contact update of one sweep, and the
 // sweeps a cold-started solve of a frozen packing needs (a counter, not a time).
 #include "cdpowder/solver/nlgs/nlgs.hpp"
-#include "cdpowder/solver/nlgs/slabs.hpp"
+#include "cdpowder/solver/nlgs/tiles.hpp"
 #include "support/packings.hpp"
 
 #include <benchmark/benchmark.h>
@@ -60,6 +60,7 @@ void BM_NlgsPassColoured(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(contacts.size()));
   state.counters["contacts"] = static_cast<double>(contacts.size());
   state.counters["colours"] = static_cast<double>(sweep.colours());
+  state.counters["tiles"] = static_cast<double>(work.solver.tiles.grid.tiles());
   state.counters["sequential"] =
       static_cast<double>(sweep.sequential.size()) / static_cast<double>(contacts.size());
   state.counters["idle_lanes"] =
@@ -79,9 +80,9 @@ BENCHMARK(BM_NlgsPassColoured)
     ->Args({100000, 8192})
     ->Unit(benchmark::kMicrosecond);
 
-// The coloured sweep on range(1) threads (solver.threads), the step cut into two slabs
-// (range(2) = 1, slabs.hpp) or not: the same bits for any thread count, so only the time
-// differs. {n, 1, 0} against {n, 1, 1} is the cost of the cut on one thread.
+// The coloured pass on range(1) threads (solver.threads), the step in tiles of the default
+// width (range(2) = 1, tiles.hpp) or not: the same bits for any thread count, so only the time
+// differs. {n, 1, 0} against {n, 1, 1} is the cost of the tiles on one thread.
 void BM_NlgsPassColouredThreads(benchmark::State& state) {
   Packing packing = fcc_packing_with_vacancies(static_cast<int>(state.range(0)));
   StepWorkspace work(1);
@@ -89,17 +90,18 @@ void BM_NlgsPassColouredThreads(benchmark::State& state) {
   Contacts& contacts = work.contacts;
   ColouredPass& sweep = work.solver.coloured;
   if (state.range(2) != 0) {
-    cut_into_slabs(packing.world.bodies.position, contacts, work.solver.slab,
-                   work.solver.slab_scratch);
+    assign_tiles(packing.world.bodies.position, packing.world.box,
+                 packing.world.bodies.max_radius(), 0.0, contacts, work.solver.tiles);
   }
-  prepare_coloured_pass(contacts, work.velocities, sweep, kColourChunk, work.solver.slab);
+  prepare_coloured_pass(contacts, work.velocities, sweep, kColourChunk, &work.solver.tiles);
   order_groups(sweep, VisitOrder::RandomEachStep, work.solver.rng);
-  SlabThreads threads(static_cast<int>(state.range(1)));
+  TileThreads threads(static_cast<int>(state.range(1)));
   for (auto _ : state) {
     benchmark::DoNotOptimize(run_coloured_pass(contacts, work.velocities, sweep, &threads));
   }
   state.counters["contacts"] = static_cast<double>(contacts.size());
   state.counters["colours"] = static_cast<double>(sweep.colours());
+  state.counters["tiles"] = static_cast<double>(work.solver.tiles.grid.tiles());
   state.counters["ns_per_update"] = benchmark::Counter(
       static_cast<double>(state.iterations()) * static_cast<double>(contacts.size()),
       benchmark::Counter::kIsRate | benchmark::Counter::kInvert);

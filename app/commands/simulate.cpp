@@ -188,6 +188,8 @@ int run_resume(const ResumeOptions& options) {
   s.checkpoint_every = checkpoint_every;
   s.quiet = options.quiet;
   s.scene.effective_toml = saved.scene_toml;  // the summary's scene, as the run began it
+  // the threads change no bit (solver/nlgs/tiles.hpp), so a resume may take others
+  if (options.threads) s.scene.step.solver.threads = *options.threads;
   // the spheres it started from must be the checkpoint's (another run's file would give
   // another initial porosity without a word)
   const World initial = make_world(s.scene);

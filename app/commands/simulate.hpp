@@ -35,6 +35,8 @@ struct ResumeOptions {
   std::filesystem::path folder;  ///< the run's output folder, holding checkpoint.cdps
   bool quiet = false;
   std::optional<double> checkpoint_every;  ///< as RunOptions::checkpoint_every
+  /// solver.threads from here on (the bits do not depend on it); unset: the run's own
+  std::optional<int> threads;
 };
 
 /// Runs the scene and writes to `out`: scene.toml, initial_particles.csv, particles.csv,

@@ -4,7 +4,7 @@
 // threaded step (whose constants take Δt/m, Δt/I from the bodies, not the velocity cache).
 #include "cdpowder/solver/build.hpp"
 
-#include "cdpowder/solver/nlgs/slab_threads.hpp"
+#include "cdpowder/solver/nlgs/tile_threads.hpp"
 #include "support/small_packing.hpp"
 
 #include <gtest/gtest.h>
@@ -60,7 +60,7 @@ TEST(BuildLocalProblems, PairConstantsAreTheFormulasOfW) {
   bool touches_fixed = false;
   for (const PairProblem& p : contacts.pairs) touches_fixed |= p.a == 0 || p.a == 5;
   EXPECT_TRUE(touches_fixed);
-  SlabThreads pieces(1);  // the two pieces, one after the other on this thread
+  TileThreads pieces(1);  // the two pieces, one after the other on this thread
   for (PieceRunner* runner :
        {static_cast<PieceRunner*>(nullptr), static_cast<PieceRunner*>(&pieces)}) {
     SCOPED_TRACE(::testing::Message() << "in pieces " << (runner != nullptr));

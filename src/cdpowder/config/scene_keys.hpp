@@ -115,20 +115,22 @@ inline constexpr std::string_view kThreadsMeaning =
     "threads of a step's solve, 0 for every core the process may use; never more than its "
     "affinity mask, its CPU quota (cgroup cpu.max) and CDPOWDER_MAX_THREADS allow (a sweep "
     "running J runs at once gives each its share of the cores). A step with at least 256 pairs "
-    "is cut into two slabs of spheres "
-    "at one height, and each slab's contacts, the kinematic rule's pass over its spheres and its "
-    "share of the mixing are one piece, the two pieces run side by side; the contacts across the "
-    "cut, the wall and overflow contacts that touch both slabs and the mixing's fit run between "
-    "them on one thread. The cut does not depend on the thread count, so the results are the "
-    "same bits for any count; only 2 threads have pieces to share, and a larger count uses 2. "
-    "Since the bits do not depend on it, steps go in blocks of 16 on the threads or on the "
-    "calling thread alone, whichever took less time per contact update in its last block "
-    "(a block tries the other way after 32 blocks, and after twice as many, up to 128, each "
-    "time that way lost by more than 25 %): when the second core is busy with other work, or "
-    "the path between the cores is slow, a run falls back to about one thread's speed. After "
-    "a step solved on the threads, the next step's detection and building of the local "
-    "problems run in two halves on them too. The workers spin during a step and for 1 ms after "
-    "it, then sleep (docs/lab/2026-11-26-two-slabs.md)";
+    "is cut into the tiles of `tile_width`, solved in four phases of a 2 × 2 checkerboard (the "
+    "tiles of a phase share no sphere and run side by side) and the hub of the piston's "
+    "contacts on one thread, the five in an order drawn per step. The tiles do not depend on the "
+    "thread count, so the results are the same bits "
+    "for any count. Since the bits do not depend on it, steps go in blocks of 16 on the threads "
+    "or on the calling thread alone, whichever took less time per contact update in its last "
+    "block (a block tries the other way after 32 blocks, and after twice as many, up to 128, "
+    "each time that way lost by more than 25 %): when the other cores are busy, a run falls "
+    "back to about one thread's speed. After a step solved on the threads, the next step's "
+    "detection and building of the local problems run in two halves on them too. The workers "
+    "spin during a step and for 1 ms after it, then sleep";
+inline constexpr std::string_view kTileWidthMeaning =
+    "the width the x–y tiles of a step aim at (docs/architecture.md, \"Scale\"); 0 for "
+    "12 × the largest radius. A period L gets the largest even number of tiles n with L/n ≥ "
+    "the width, or one tile where L is less than twice it. The tiles fix the order of a pass, "
+    "so another width gives other (equally converged) results; the thread count does not";
 inline constexpr std::string_view kCaptureRuleMeaning =
     "centre_distance: r_capt is the centre-to-centre distance of two mean spheres, capture at a "
     "surface gap r_capt − (radius_min + radius_max) (needs r_capt ≥ radius_min + radius_max; "
@@ -411,6 +413,12 @@ void visit_sweep_keys(auto& solver, auto&& visit) {
                  .meaning = kThreadsMeaning,
                  .also_allowed = "; > 1 only with `kernel = \"coloured\"` (the default)"},
         solver.threads);
+  visit(SceneKey{.table = table,
+                 .name = "tile_width",
+                 .unit = "R",
+                 .range = kNonNegative,
+                 .meaning = kTileWidthMeaning},
+        solver.tile_width);
   visit(SceneKey{.table = table,
                  .name = "acceleration_depth",
                  .symbol = "m",

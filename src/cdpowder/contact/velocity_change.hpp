@@ -39,7 +39,7 @@ inline void apply_pair_delta(const PairProblem& p, const Vec3& dR, const Vec3& d
 /// piston moves, along z) alone, from a change (ΔR, ΔT) of the action on the sphere. A
 /// bottom-wall contact leaves V_P alone (not even adding 0): it neither reads (solve_wall) nor
 /// writes V_P, so it may be solved on another thread than the piston's contacts
-/// (solver/nlgs/slabs.hpp).
+/// (solver/nlgs/tiles.hpp: a tile's bottom-wall contacts, the hub's piston contacts).
 inline void apply_wall_delta_to_sphere(const WallProblem& w, const Vec3& dR, const Vec3& dT,
                                        SphereVelocity& s) {
   s.linear += s.dt_inverse_mass * dR;

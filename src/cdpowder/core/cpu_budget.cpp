@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <string>
+#include <string_view>
 
 // sched_getaffinity is Linux's
 #include <sched.h>
@@ -62,6 +63,10 @@ int usable_cores() {
 }
 
 int budgeted_threads(int requested) {
+  const char* oversubscribe = std::getenv(kOversubscribeVariable);
+  if (requested > 0 && oversubscribe != nullptr && std::string_view(oversubscribe) == "1") {
+    return requested;
+  }
   const int usable = usable_cores();
   return requested <= 0 ? usable : std::min(requested, usable);
 }

@@ -9,6 +9,10 @@ namespace cdpowder {
 /// The environment variable that caps the threads of a run (a positive integer).
 inline constexpr const char* kMaxThreadsVariable = "CDPOWDER_MAX_THREADS";
 
+/// The environment variable that lets a run spin more threads than its cores ("1"): for
+/// tests of the bits at thread counts beyond the machine's cores (mpirun's --oversubscribe).
+inline constexpr const char* kOversubscribeVariable = "CDPOWDER_OVERSUBSCRIBE";
+
 /// The cores this process may use: the count of its affinity mask, at most its CPU quota
 /// rounded up, at most kMaxThreadsVariable; at least 1. Read once and kept (a process's
 /// budget does not change while it runs); refresh_usable_cores reads it again.
@@ -17,7 +21,8 @@ int usable_cores();
 /// Reads the budget again (tests that change the affinity).
 int refresh_usable_cores();
 
-/// The threads a run asks for (`requested`, 0 for every usable core) within the budget.
+/// The threads a run asks for (`requested`, 0 for every usable core) within the budget; a
+/// positive count as asked when kOversubscribeVariable is "1".
 int budgeted_threads(int requested);
 
 }  // namespace cdpowder

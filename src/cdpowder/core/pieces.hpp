@@ -1,5 +1,5 @@
 // pieces.hpp — work cut into a few pieces that write no common memory, run side by side on
-// whatever threads the caller has (solver/nlgs/slab_threads.hpp) or one after the other. The
+// whatever threads the caller has (solver/nlgs/tile_threads.hpp) or one after the other. The
 // stages of a step take a PieceRunner, so a lower layer (detection) runs on the solver's
 // threads without knowing them. The pieces are fixed by the work, never by the thread count:
 // every result that combines pieces is combined in piece order by the caller, so it has the

@@ -103,12 +103,14 @@ struct SolverSettings {
   StoppingRule stopping_rule = StoppingRule::Residual;
   VisitOrder visit_order = VisitOrder::RandomEachStep;
   PassKernel kernel = PassKernel::Coloured;
-  /// Threads of the coloured kernel's solve (docs/lab/2026-11-26-two-slabs.md): a step cut
-  /// into two slabs (slabs.hpp) solves them side by side, the same bits for any count. 0
-  /// takes every core the process may use; any count is held to that budget
-  /// (core/cpu_budget.hpp, solve_threads). The scene reader rejects more than one with the
-  /// scalar kernel; solve_nlgs runs that on one thread.
+  /// Threads of the coloured kernel's solve: the tiles of a phase (solver/nlgs/tiles.hpp) are
+  /// solved side by side, the same bits for any count. 0 takes every core the process may
+  /// use; any count is held to that budget (core/cpu_budget.hpp, solve_threads). The scene
+  /// reader rejects more than one with the scalar kernel; solve_nlgs runs that on one thread.
   int threads = 1;
+  /// Width the tiles of a step aim at (solver/nlgs/tiles.hpp); 0: kTileWidthRadii × R_max. It
+  /// fixes the visiting order, so the results depend on it [R]
+  double tile_width = 0.0;
   int acceleration_depth = 5;  ///< Anderson acceleration history m; 0 = plain NLGS (anderson.hpp)
   /// Passes between two mixing steps: the accelerated map is k passes in a row. The mixing
   /// moves ≈ 2m + 10 doubles per force component, about a pass's cost on a paper-size
@@ -127,10 +129,10 @@ struct SolverSettings {
 };
 
 /// The threads a step's solve runs on: the setting within the process's CPU budget
-/// (budgeted_threads), and 2 at most, the pieces a step cut into two slabs has to share.
+/// (budgeted_threads); one for the scalar kernel.
 inline int solve_threads(const SolverSettings& settings) {
   if (settings.kernel != PassKernel::Coloured) return 1;
-  return std::min(budgeted_threads(settings.threads), 2);
+  return budgeted_threads(settings.threads);
 }
 
 struct StepSettings {

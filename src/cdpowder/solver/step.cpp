@@ -6,7 +6,7 @@
 #include "cdpowder/detect/detect_contacts.hpp"
 #include "cdpowder/solver/build.hpp"
 #include "cdpowder/solver/integrate.hpp"
-#include "cdpowder/solver/nlgs/slabs.hpp"
+#include "cdpowder/solver/nlgs/tiles.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -51,7 +51,7 @@ namespace {
 /// The workers of the stages around a solve: those of the solve when it ran on them
 /// (`threaded`), nullptr otherwise. A step the ThreadChoice keeps on one thread (the second
 /// core was slower lately) keeps its other stages there too.
-SlabThreads* step_threads(StepWorkspace& work, const StepSettings& settings, bool threaded) {
+TileThreads* step_threads(StepWorkspace& work, const StepSettings& settings, bool threaded) {
   const int threads = solve_threads(settings.solver);
   return threaded && threads >= 2 ? work.solver.threads.get(threads) : nullptr;
 }
@@ -69,7 +69,7 @@ StepReport begin_step(World& world, StepWorkspace& work, const StepSettings& set
   // on the threads where the last step's solve was (a step too small to cut, or one the
   // ThreadChoice keeps on one thread, keeps these stages there too); parked after them, as a
   // caller of begin_step alone may never solve
-  SlabThreads* const threads = step_threads(work, settings, work.threaded);
+  TileThreads* const threads = step_threads(work, settings, work.threaded);
 
   detect_contacts(world, settings.detection(), work.grid, work.contacts, &work.candidates, threads,
                   &work.detection);
@@ -92,14 +92,15 @@ void solve_step(const World& world, StepWorkspace& work, const StepSettings& set
   StageClock clock;
   const double reference_force = settings.laws.spheres.cohesion_force;
   NlgsWorkspace& solver = work.solver;
-  cut_into_slabs(world.bodies.position, work.contacts, solver.slab, solver.slab_scratch);
+  assign_tiles(world.bodies.position, world.box, world.bodies.max_radius(),
+               settings.solver.tile_width, work.contacts, solver.tiles);
   report.solver = solve_nlgs(work.contacts, work.velocities, settings.solver, reference_force,
-                             solver, solver.slab);
+                             solver, &solver.tiles);
   work.threaded = report.solver.threaded;
   clock.lap(Stage::SolveNlgs, report.times);
 
   // the opening gauge, on both threads of a threaded step
-  SlabThreads* const threads = step_threads(work, settings, report.solver.threaded);
+  TileThreads* const threads = step_threads(work, settings, report.solver.threaded);
   const CohesiveOpening opening = cohesive_opening(world, work.contacts, work.velocities,
                                                    settings.laws, settings.solver.dt, threads);
   if (threads != nullptr) threads->park();

@@ -8,7 +8,8 @@
 #include "cdpowder/core/lanes.hpp"
 #include "cdpowder/detect/detect_contacts.hpp"
 #include "cdpowder/solver/nlgs/nlgs.hpp"
-#include "cdpowder/solver/nlgs/slab_threads.hpp"
+#include "cdpowder/solver/nlgs/tile_threads.hpp"
+#include "cdpowder/solver/nlgs/tiles.hpp"
 #include "support/small_packing.hpp"
 
 #include <gtest/gtest.h>
@@ -17,6 +18,7 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <numbers>
 #include <numeric>
 #include <set>
 
@@ -379,29 +381,32 @@ TEST(ColouredPass, StoringThePairsInColourOrderChangesNoBit) {
   expect_same_state(in_place, in_place_v, moved, moved_v);
 }
 
-/// Each sphere's slab: 1 at or above the median height of the packing, else 0.
-std::vector<std::uint8_t> slabs_at_median(const World& world) {
-  std::vector<double> z;
-  for (const Vec3& p : world.bodies.position) z.push_back(p.z());
-  std::vector<double> sorted = z;
-  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
-  const double cut = sorted[sorted.size() / 2];
-  std::vector<std::uint8_t> slab;
-  for (const double h : z) slab.push_back(h >= cut ? 1 : 0);
-  return slab;
+/// The packing in tiles of 2.83 R (a 4 × 4 grid of its 11.3 R cell), or not tiled.
+StepTiles tiles_of(const World& world, const Contacts& contacts, bool tiled) {
+  StepTiles tiles;
+  if (tiled) {
+    assign_tiles(world.bodies.position, world.box, world.bodies.max_radius(),
+                 2.0 * std::numbers::sqrt2, contacts, tiles);
+  }
+  return tiles;
+}
+
+/// Sphere i moved to the next tile along x.
+void move_to_next_tile(StepTiles& tiles, BodyIndex i) {
+  tiles.sphere_x[i] = (tiles.sphere_x[i] + 1) % tiles.grid.nx;
+  tiles.sphere_part[i] = tiles.part_of_tile[tiles.sphere_y[i] * tiles.grid.nx + tiles.sphere_x[i]];
 }
 
 /// Prepares a step as the solver does with `reused` (its colouring kept when the inputs are
 /// those of its last build; the parts refilled on `pieces`) and afresh, and expects the same
 /// structure, batches, sweeps and end state; the step's contacts and velocities end restored.
-void expect_same_preparation(Contacts& contacts, VelocityCache& velocities,
-                             const std::vector<std::uint8_t>& slab, ColouredPass& reused,
-                             PieceRunner* pieces) {
+void expect_same_preparation(Contacts& contacts, VelocityCache& velocities, const StepTiles& tiles,
+                             ColouredPass& reused, PieceRunner* pieces) {
   Contacts fresh_contacts = contacts;
   VelocityCache fresh_velocities = velocities;
   ColouredPass fresh;
-  prepare_coloured_pass(fresh_contacts, fresh_velocities, fresh, 256, slab);
-  prepare_coloured_pass(contacts, velocities, reused, 256, slab, pieces);
+  prepare_coloured_pass(fresh_contacts, fresh_velocities, fresh, 256, &tiles);
+  prepare_coloured_pass(contacts, velocities, reused, 256, &tiles, pieces);
   ASSERT_EQ(reused.colours(), fresh.colours());
   EXPECT_EQ(reused.colouring.members, fresh.colouring.members);
   EXPECT_EQ(reused.colouring.colour_start, fresh.colouring.colour_start);
@@ -438,21 +443,22 @@ void move_a_little(Contacts& contacts, VelocityCache& velocities, Rng& rng) {
   }
 }
 
-// A step with the pairs, walls and slabs of the last keeps its colouring and the batches' rows
-// and fills in only the values (part by part, on two threads for a cut step): the structure,
-// batches, sweeps and end state of a fresh preparation, bit for bit; a step whose pairs, slabs or
+// A step with the pairs, walls and tiles of the last keeps its colouring and the batches' rows
+// and fills in only the values (part by part, on two threads for a tiled step): the structure,
+// batches, sweeps and end state of a fresh preparation, bit for bit; a step whose pairs, tiles or
 // walls differ is coloured afresh, again as a fresh preparation. With a sphere of many contacts,
 // so that there are overflow pairs.
 TEST(ColouredPass, AStepWithTheLastStepsContactsReusesItsColouring) {
-  for (const bool cut : {false, true}) {
+  for (const bool tiled : {false, true}) {
     SmallPacking packing(0.1);
     Contacts contacts = packing.scene.work.contacts;
     VelocityCache velocities = packing.scene.work.velocities;
-    // sphere 0 in 40 more (made-up) pairs: more than kMaxColours contacts, so some overflow
+    // sphere 0 in 80 more (made-up) pairs: more than kMaxColours contacts, also in the hub of
+    // a tiled step (where the pairs between distant tiles go), so some overflow
     const std::size_t spheres = velocities.spheres.size();
-    ASSERT_GT(spheres, 41U);
+    ASSERT_GT(spheres, 81U);
     const PairProblem model = contacts.pairs.front();
-    for (BodyIndex b = 1; b <= 40; ++b) {
+    for (BodyIndex b = 1; b <= 80; ++b) {
       PairProblem p = model;
       p.a = 0;
       p.b = b;
@@ -460,42 +466,42 @@ TEST(ColouredPass, AStepWithTheLastStepsContactsReusesItsColouring) {
       contacts.pair_actions.push_back(contacts.pair_actions.front());
       contacts.pair_cohesive.push_back(0);
     }
-    std::vector<std::uint8_t> slab =
-        cut ? slabs_at_median(packing.scene.world) : std::vector<std::uint8_t>{};
-    SlabThreads threads(2);
-    PieceRunner* const pieces = cut ? &threads : nullptr;
+    StepTiles tiles = tiles_of(packing.scene.world, contacts, tiled);
+    const std::span<const std::uint32_t> parts = tiles.sphere_part;
+    TileThreads threads(2);
+    PieceRunner* const pieces = tiled ? &threads : nullptr;
     ColouredPass reused;
-    expect_same_preparation(contacts, velocities, slab, reused, pieces);
+    expect_same_preparation(contacts, velocities, tiles, reused, pieces);
     EXPECT_FALSE(reused.colouring.overflow.empty());
-    EXPECT_EQ(reused.cut(), cut);
-    ASSERT_TRUE(reused.built_from.match(contacts.pairs, contacts.walls, slab, 256));
+    EXPECT_EQ(reused.tiled(), tiled);
+    ASSERT_TRUE(reused.built_from.match(contacts.pairs, contacts.walls, parts, 256));
     Rng rng = make_rng(3, RngStream::Deposition);
     // the same contacts with other values: the colouring is kept
     move_a_little(contacts, velocities, rng);
-    expect_same_preparation(contacts, velocities, slab, reused, pieces);
-    // a pair fewer, a wall of another kind, a sphere in the other slab: coloured afresh
+    expect_same_preparation(contacts, velocities, tiles, reused, pieces);
+    // a pair fewer, a wall of another kind, a sphere in another tile: coloured afresh
     contacts.pairs.erase(contacts.pairs.begin() + 3);
     contacts.pair_actions.erase(contacts.pair_actions.begin() + 3);
     contacts.pair_cohesive.erase(contacts.pair_cohesive.begin() + 3);
-    EXPECT_FALSE(reused.built_from.match(contacts.pairs, contacts.walls, slab, 256));
-    expect_same_preparation(contacts, velocities, slab, reused, pieces);
+    EXPECT_FALSE(reused.built_from.match(contacts.pairs, contacts.walls, parts, 256));
+    expect_same_preparation(contacts, velocities, tiles, reused, pieces);
     ASSERT_FALSE(contacts.walls.empty());
     WallProblem& wall = contacts.walls.back();
     wall.wall = wall.wall == WallKind::Piston ? WallKind::Bottom : WallKind::Piston;
-    EXPECT_FALSE(reused.built_from.match(contacts.pairs, contacts.walls, slab, 256));
-    expect_same_preparation(contacts, velocities, slab, reused, pieces);
-    if (cut) {
-      slab[contacts.pairs[5].a] ^= 1;
-      EXPECT_FALSE(reused.built_from.match(contacts.pairs, contacts.walls, slab, 256));
-      expect_same_preparation(contacts, velocities, slab, reused, pieces);
+    EXPECT_FALSE(reused.built_from.match(contacts.pairs, contacts.walls, parts, 256));
+    expect_same_preparation(contacts, velocities, tiles, reused, pieces);
+    if (tiled) {
+      move_to_next_tile(tiles, contacts.pairs[5].a);
+      EXPECT_FALSE(reused.built_from.match(contacts.pairs, contacts.walls, parts, 256));
+      expect_same_preparation(contacts, velocities, tiles, reused, pieces);
     }
     move_a_little(contacts, velocities, rng);
-    expect_same_preparation(contacts, velocities, slab, reused, pieces);
+    expect_same_preparation(contacts, velocities, tiles, reused, pieces);
     // another chunk, or a build by other means (the tests' colourings): not the last build
-    EXPECT_FALSE(reused.built_from.match(contacts.pairs, contacts.walls, slab, 512));
-    EXPECT_TRUE(reused.built_from.match(contacts.pairs, contacts.walls, slab, 256));
+    EXPECT_FALSE(reused.built_from.match(contacts.pairs, contacts.walls, parts, 512));
+    EXPECT_TRUE(reused.built_from.match(contacts.pairs, contacts.walls, parts, 256));
     build_batches(contacts, velocities, reused);
-    EXPECT_FALSE(reused.built_from.match(contacts.pairs, contacts.walls, slab, 256));
+    EXPECT_FALSE(reused.built_from.match(contacts.pairs, contacts.walls, parts, 256));
   }
 }
 

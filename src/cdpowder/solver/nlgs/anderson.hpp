@@ -60,7 +60,7 @@ class AndersonAccelerator {
   };
 
   /// The mixing in stages, so that disjoint ranges of the vectors can be passed over by
-  /// different threads (slabs.hpp): begin(n) once; pass(x, g, first, last) over ranges that
+  /// different threads (tiles.hpp): begin(n) once; pass(x, g, first, last) over ranges that
   /// cover [0, n) once each; fit(sums of the ranges, in a fixed order) — false while there is
   /// no history yet or the fit failed; then, if it returned true, mix(g, next, first, last)
   /// over ranges that cover [0, n). `next` must hold n doubles.

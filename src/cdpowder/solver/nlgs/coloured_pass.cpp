@@ -166,10 +166,11 @@ void refill_part(const std::vector<PairProblem>& pairs, const Contacts& contacts
 
 bool ColouringInputs::match(const std::vector<PairProblem>& pairs,
                             const std::vector<WallProblem>& walls,
-                            std::span<const std::uint8_t> slab, std::size_t chunk) const {
+                            std::span<const std::uint32_t> sphere_part, std::size_t chunk) const {
   if (!recorded_ || chunk != chunk_ || pairs.size() != pairs_.size() ||
       walls.size() != walls_.size() ||
-      !std::equal(slab.begin(), slab.end(), slab_.begin(), slab_.end())) {
+      !std::equal(sphere_part.begin(), sphere_part.end(), sphere_part_.begin(),
+                  sphere_part_.end())) {
     return false;
   }
   for (std::size_t k = 0; k < pairs_.size(); ++k) {
@@ -183,12 +184,12 @@ bool ColouringInputs::match(const std::vector<PairProblem>& pairs,
 
 void ColouringInputs::record(const std::vector<PairProblem>& pairs,
                              const std::vector<WallProblem>& walls,
-                             std::span<const std::uint8_t> slab, std::size_t chunk) {
+                             std::span<const std::uint32_t> sphere_part, std::size_t chunk) {
   pairs_.resize(pairs.size());
   for (std::size_t k = 0; k < pairs_.size(); ++k) pairs_[k] = pair_key_of(pairs[k]);
   walls_.resize(walls.size());
   for (std::size_t w = 0; w < walls_.size(); ++w) walls_[w] = wall_key_of(walls[w]);
-  slab_.assign(slab.begin(), slab.end());
+  sphere_part_.assign(sphere_part.begin(), sphere_part.end());
   chunk_ = chunk;
   recorded_ = true;
 }
@@ -227,10 +228,15 @@ void build_batches(const Contacts& contacts, const VelocityCache& velocities, Co
   // part p's sequential group: its overflow pairs, then its wall contacts; of these, the
   // bottom-wall contacts before the first piston contact go into wall batches
   const auto n_pairs = static_cast<ContactIndex>(contacts.pairs.size());
+  const std::size_t parts = colouring.parts();
   pass.sequential.clear();
   pass.group_order.clear();
+  pass.part_sequential.resize(parts + 1);
+  pass.bottom_walls.resize(parts);
+  pass.part_groups.resize(parts + 1);
+  pass.part_wall_batches.resize(parts + 1);
   std::size_t wall_batch_count = 0;
-  for (std::size_t p = 0; p < kPassParts; ++p) {
+  for (std::size_t p = 0; p < parts; ++p) {
     pass.part_sequential[p] = static_cast<std::uint32_t>(pass.sequential.size());
     pass.sequential.insert(pass.sequential.end(),
                            colouring.overflow.begin() + colouring.part_overflow[p],
@@ -264,22 +270,22 @@ void build_batches(const Contacts& contacts, const VelocityCache& velocities, Co
     }
     pass.group_order.push_back(static_cast<std::uint32_t>(colours + p));
   }
-  pass.part_sequential[kPassParts] = static_cast<std::uint32_t>(pass.sequential.size());
-  pass.part_groups[kPassParts] = static_cast<std::uint32_t>(pass.group_order.size());
+  pass.part_sequential[parts] = static_cast<std::uint32_t>(pass.sequential.size());
+  pass.part_groups[parts] = static_cast<std::uint32_t>(pass.group_order.size());
   // the bottom-wall batches, part by part
   pass.wall_batch_pairs.resize(wall_batch_count / 2);
   const auto fill_wall = [&](ContactIndex w, std::size_t lane, WallBatchPair& pair) {
     fill_wall_lane(contacts, velocities, w, lane, pair);
   };
   std::size_t next_wall = 0;
-  for (std::size_t p = 0; p < kPassParts; ++p) {
+  for (std::size_t p = 0; p < parts; ++p) {
     pass.part_wall_batches[p] = static_cast<std::uint32_t>(next_wall);
     fill_batches(
         pass.bottom_walls[p].first, pass.bottom_walls[p].second,
         [&](std::uint32_t j) { return pass.sequential[j] - n_pairs; }, fill_wall,
         pass.wall_batch_pairs, next_wall);
   }
-  pass.part_wall_batches[kPassParts] = static_cast<std::uint32_t>(next_wall);
+  pass.part_wall_batches[parts] = static_cast<std::uint32_t>(next_wall);
   CDP_ASSERT(next_wall == wall_batch_count, "every wall batch filled");
 }
 
@@ -314,27 +320,19 @@ void scatter_back(std::vector<T>& v, const std::vector<ContactIndex>& from,
 
 namespace {
 
-/// The part of pair p (slab.empty(): 0): 0 or 1 inside a slab, 2 across the cut.
-std::uint8_t part_of(const PairProblem& p, std::span<const std::uint8_t> slab) {
-  if (slab.empty()) return 0;
-  return slab[p.a] == slab[p.b] ? slab[p.a] : 2;
+/// The part of pair p (not tiled: 0).
+std::uint32_t part_of(const PairProblem& p, const StepTiles* tiles) {
+  return tiles == nullptr ? 0 : tiles->pair_part(p);
 }
 
-/// Each wall contact's part: a bottom-wall contact is in its sphere's slab; the piston's
-/// contacts share the piston's velocity, so all of them are in slab 1 when all their spheres
-/// are, else across the cut.
-void assign_wall_parts(const Contacts& contacts, std::span<const std::uint8_t> slab,
-                       std::vector<std::uint8_t>& wall_part) {
+/// Each wall contact's part (tiles.hpp); empty when the step is not tiled.
+void assign_wall_parts(const Contacts& contacts, const StepTiles* tiles,
+                       std::vector<std::uint32_t>& wall_part) {
   wall_part.clear();
-  if (slab.empty()) return;
+  if (tiles == nullptr) return;
   wall_part.resize(contacts.walls.size());
-  std::uint8_t piston = 1;
-  for (const WallProblem& w : contacts.walls) {
-    if (w.wall == WallKind::Piston && slab[w.sphere] != 1) piston = 2;
-  }
   for (std::size_t k = 0; k < contacts.walls.size(); ++k) {
-    const WallProblem& w = contacts.walls[k];
-    wall_part[k] = w.wall == WallKind::Piston ? piston : slab[w.sphere];
+    wall_part[k] = tiles->wall_part(contacts.walls[k]);
   }
 }
 
@@ -342,10 +340,10 @@ void assign_wall_parts(const Contacts& contacts, std::span<const std::uint8_t> s
 
 namespace {
 
-/// A step whose colouring is kept (ColouringInputs): part by part (on two threads when `pieces`
-/// has them), the part's pairs and actions into colour order (its members, and for the part
-/// across the cut also the overflow pairs, are a range of it), then its batches' values from
-/// them. The members are colour-order indices already (set by the build from these inputs).
+/// A step whose colouring is kept (ColouringInputs): part by part (on the threads of `pieces`
+/// when given), the part's pairs and actions into colour order (its members, and for the last
+/// part also the overflow pairs, are a range of it), then its batches' values from them. The
+/// members are colour-order indices already (set by the build from these inputs).
 void refill_kept_colouring(Contacts& contacts, const VelocityCache& velocities, ColouredPass& pass,
                            PieceRunner* pieces) {
   const PairColouring& colouring = pass.colouring;
@@ -354,10 +352,11 @@ void refill_kept_colouring(Contacts& contacts, const VelocityCache& velocities, 
   std::vector<ContactAction>& actions = pass.action_scratch;
   pairs.resize(contacts.pairs.size());
   actions.resize(contacts.pair_actions.size());
-  run_pieces(pieces, kPassParts, [&](std::uint32_t part) {
+  const auto parts = static_cast<std::uint32_t>(colouring.parts());
+  run_pieces(pieces, parts, [&](std::uint32_t part) {
     const std::size_t first = colouring.first_member(part);
     const std::size_t last =
-        part + 1 < kPassParts ? colouring.first_member(part + 1) : contacts.pairs.size();
+        part + 1 < parts ? colouring.first_member(part + 1) : contacts.pairs.size();
     gather_range(contacts.pairs, from, first, last, pairs);
     gather_range(contacts.pair_actions, from, first, last, actions);
     refill_part(pairs, contacts, velocities, part, pass);
@@ -369,12 +368,16 @@ void refill_kept_colouring(Contacts& contacts, const VelocityCache& velocities, 
 }  // namespace
 
 void prepare_coloured_pass(Contacts& contacts, const VelocityCache& velocities, ColouredPass& pass,
-                           std::size_t chunk, std::span<const std::uint8_t> slab,
-                           PieceRunner* pieces) {
+                           std::size_t chunk, const StepTiles* tiles, PieceRunner* pieces) {
+  if (tiles != nullptr && !tiles->tiled()) tiles = nullptr;
+  const std::span<const std::uint32_t> sphere_part =
+      tiles == nullptr ? std::span<const std::uint32_t>{} : std::span(tiles->sphere_part);
+  pass.phase_parts = tiles == nullptr ? std::array<std::uint32_t, kTilePhases + 1>{0, 1, 1, 1, 1}
+                                      : tiles->phase_parts;
   // the pairs are only read while they are in colour order: their storage order stays in
   // stored_pairs and comes back by a swap; the cohesion flags are not read by the passes and
   // stay in storage order
-  if (pass.built_from.match(contacts.pairs, contacts.walls, slab, chunk)) {
+  if (pass.built_from.match(contacts.pairs, contacts.walls, sphere_part, chunk)) {
     refill_kept_colouring(contacts, velocities, pass, pieces);
     pass.in_colour_order = true;
     return;
@@ -382,19 +385,27 @@ void prepare_coloured_pass(Contacts& contacts, const VelocityCache& velocities, 
   // whatever the record described is overwritten from here on
   pass.built_from.forget();
   // the pairs part by part, each part in storage order (a counting sort)
-  std::array<std::uint32_t, kPassParts + 1> part_start{};
-  for (const PairProblem& p : contacts.pairs) ++part_start[part_of(p, slab) + 1];
-  for (std::size_t p = 0; p < kPassParts; ++p) part_start[p + 1] += part_start[p];
+  const std::size_t parts = tiles == nullptr ? 1 : tiles->parts();
+  std::vector<std::uint32_t>& part_start = pass.part_start;
+  part_start.assign(parts + 1, 0);
+  std::vector<std::uint32_t>& pair_part = pass.pair_part;
+  pair_part.resize(contacts.pairs.size());
+  for (std::size_t k = 0; k < contacts.pairs.size(); ++k) {
+    pair_part[k] = part_of(contacts.pairs[k], tiles);
+    ++part_start[pair_part[k] + 1];
+  }
+  for (std::size_t p = 0; p < parts; ++p) part_start[p + 1] += part_start[p];
   std::vector<ContactIndex>& order = pass.part_order;
   order.resize(contacts.pairs.size());
-  std::array<std::uint32_t, kPassParts + 1> next = part_start;
+  std::vector<std::uint32_t>& next = pass.part_next;
+  next.assign(part_start.begin(), part_start.end() - 1);
   for (std::size_t k = 0; k < contacts.pairs.size(); ++k) {
-    order[next[part_of(contacts.pairs[k], slab)]++] = static_cast<ContactIndex>(k);
+    order[next[pair_part[k]]++] = static_cast<ContactIndex>(k);
   }
   PairColouring& colouring = pass.colouring;
   colour_parts(contacts.pairs, order, part_start, velocities.spheres.size(), kMaxColours, chunk,
                colouring, pass.masks);
-  assign_wall_parts(contacts, slab, pass.wall_part);
+  assign_wall_parts(contacts, tiles, pass.wall_part);
   // store the pairs in the order the batches visit them, overflow last
   std::vector<ContactIndex>& from = pass.storage_index;
   from.assign(colouring.members.begin(), colouring.members.end());
@@ -407,7 +418,7 @@ void prepare_coloured_pass(Contacts& contacts, const VelocityCache& velocities, 
             static_cast<ContactIndex>(colouring.members.size()));
   build_batches(contacts, velocities, pass);
   // (the pairs in storage order are in stored_pairs now)
-  pass.built_from.record(pass.stored_pairs, contacts.walls, slab, chunk);
+  pass.built_from.record(pass.stored_pairs, contacts.walls, sphere_part, chunk);
 }
 
 void restore_storage_order(Contacts& contacts, ColouredPass& pass) {
@@ -434,7 +445,9 @@ void order_groups(ColouredPass& pass, VisitOrder policy, Rng& rng) {
   const bool shuffle = policy != VisitOrder::Fixed;
   constexpr std::uint32_t kSequential = ~std::uint32_t{0};
   pass.group_order.clear();
-  for (std::size_t p = 0; p < kPassParts; ++p) {
+  const std::size_t parts = colouring.parts();
+  pass.part_groups.resize(parts + 1);
+  for (std::size_t p = 0; p < parts; ++p) {
     // the part's chunks and its sequential group in a random order, and each chunk's colours
     // in a random order
     pass.chunk_order.clear();
@@ -458,7 +471,10 @@ void order_groups(ColouredPass& pass, VisitOrder policy, Rng& rng) {
       }
     }
   }
-  pass.part_groups[kPassParts] = static_cast<std::uint32_t>(pass.group_order.size());
+  pass.part_groups[parts] = static_cast<std::uint32_t>(pass.group_order.size());
+  std::iota(pass.slot_order.begin(), pass.slot_order.end(), std::uint32_t{0});
+  // one part (no tiles) draws nothing more: its order is that of a step before the tiles
+  if (shuffle && parts > 1) shuffle_indices(std::span<std::uint32_t>(pass.slot_order), rng);
 }
 
 bool allow_kernel_isa(lanes::Isa widest) {
@@ -531,7 +547,7 @@ void apply_pair_deltas(const ColouredPass& pass, const std::vector<ContactAction
                        const Contacts& contacts, VelocityCache& velocities) {
   // colour by colour in storage order: each sphere gets its changes in the order of the
   // scalar loop over the pairs (no sphere twice in a colour), so the same bits
-  for (std::size_t p = 0; p < kPassParts; ++p) apply_part_deltas(pass, p, deltas, velocities);
+  for (std::size_t p = 0; p < pass.parts(); ++p) apply_part_deltas(pass, p, deltas, velocities);
   apply_overflow_deltas(pass, deltas, contacts, velocities);
 }
 
@@ -568,21 +584,25 @@ PassSums run_coloured_part(Contacts& contacts, VelocityCache& velocities, const 
 }
 
 PassSums run_coloured_pass(Contacts& contacts, VelocityCache& velocities, const ColouredPass& pass,
-                           SlabThreads* threads, AfterPart after) {
-  // across the cut first, so that each slab's spheres are final when its piece ends
-  PassSums sums = run_coloured_part(contacts, velocities, pass, 2);
-
-  struct alignas(64) PartSums {
-    PassSums sums;
-  };
-
-  std::array<PartSums, 2> inside{};
-  run_pieces(pass.cut() ? threads : nullptr, 2, [&](std::uint32_t p) {
-    inside[p].sums = run_coloured_part(contacts, velocities, pass, p);
-    after(p);
-  });
-  sums.add_part(inside[0].sums);
-  sums.add_part(inside[1].sums);
+                           TileThreads* threads) {
+  const std::size_t parts = pass.parts();
+  std::vector<PartSums>& part_sums = pass.part_sums;
+  part_sums.resize(parts);
+  for (const std::uint32_t slot : pass.slot_order) {
+    if (slot == kTilePhases) {
+      // the hub: its contacts touch spheres of any tile
+      for (std::size_t p = pass.phase_parts[kTilePhases]; p < parts; ++p) {
+        part_sums[p].sums = run_coloured_part(contacts, velocities, pass, p);
+      }
+      continue;
+    }
+    const std::uint32_t first = pass.phase_parts[slot];
+    run_pieces(threads, pass.phase_parts[slot + 1] - first, [&](std::uint32_t i) {
+      part_sums[first + i].sums = run_coloured_part(contacts, velocities, pass, first + i);
+    });
+  }
+  PassSums sums;
+  for (const PartSums& part : part_sums) sums.add_part(part.sums);
   pass.open_rare = open_contacts_rare(sums, contacts.size());
   return sums;
 }

@@ -8,11 +8,11 @@
 // sphere, so they are batched too (WallBatchPair) and solved side by side with solve_wall's
 // arithmetic, in their place in the group. A pass visits the groups in an order drawn from
 // the pass-order stream (physics.md §7.1, at the level of colours).
-// When the step is cut into two slabs (slabs.hpp) the contacts come in three parts (inside
-// slab 0, inside slab 1, across the cut), each with its own colours and sequential group; a
-// pass visits part 2 (across the cut), then part 0 and part 1, and adds each part's visits to
-// sums of its own, which are then added in that order (PassSums::add_part), so the bits do
-// not depend on whether parts 0 and 1 ran one after the other or side by side.
+// When the step is tiled (tiles.hpp) the contacts come in parts (the tiles in pass order, then
+// the hub), each with its own colours and sequential group; a pass visits the four phases'
+// tiles and then the hub, and adds each part's visits to sums of its own, which are then added
+// in part order (PassSums::add_part), so the bits do not depend on whether a phase's tiles ran
+// one after the other or side by side.
 #pragma once
 
 #include "cdpowder/contact/local_problem.hpp"
@@ -21,7 +21,8 @@
 #include "cdpowder/core/rng.hpp"
 #include "cdpowder/solver/nlgs/colouring.hpp"
 #include "cdpowder/solver/nlgs/pass_sums.hpp"
-#include "cdpowder/solver/nlgs/slab_threads.hpp"
+#include "cdpowder/solver/nlgs/tile_threads.hpp"
+#include "cdpowder/solver/nlgs/tiles.hpp"
 #include "cdpowder/solver/settings.hpp"
 
 #include <array>
@@ -88,19 +89,20 @@ struct alignas(64) WallBatchPair {
 };
 
 /// What a step's colouring, storage order and batch rows are built from: the pairs' spheres and
-/// the wall contacts (sphere and wall) in storage order, each sphere's slab and the colouring
-/// chunk. They are a function of these alone, so a step whose inputs match the
+/// the wall contacts (sphere and wall) in storage order, each sphere's part (its tile) and the
+/// colouring chunk. They are a function of these alone, so a step whose inputs match the
 /// last build's (most steps: the candidate lists are reused and contacts seldom open or close
 /// from one step to the next) keeps them and only refills the batches' values: the same bits.
 class ColouringInputs {
  public:
-  /// Whether the pairs and walls (in storage order), `slab` and `chunk` are those recorded.
+  /// Whether the pairs and walls (in storage order), the spheres' parts `sphere_part` and
+  /// `chunk` are those recorded.
   [[nodiscard]] bool match(const std::vector<PairProblem>& pairs,
                            const std::vector<WallProblem>& walls,
-                           std::span<const std::uint8_t> slab, std::size_t chunk) const;
+                           std::span<const std::uint32_t> sphere_part, std::size_t chunk) const;
   /// Records them, after a build from them.
   void record(const std::vector<PairProblem>& pairs, const std::vector<WallProblem>& walls,
-              std::span<const std::uint8_t> slab, std::size_t chunk);
+              std::span<const std::uint32_t> sphere_part, std::size_t chunk);
 
   /// After the colouring or the batches were changed by other means.
   void forget() { recorded_ = false; }
@@ -108,9 +110,14 @@ class ColouringInputs {
  private:
   std::vector<std::uint64_t> pairs_;  ///< a << 32 | b
   std::vector<std::uint64_t> walls_;  ///< sphere << 32 | wall kind
-  std::vector<std::uint8_t> slab_;
+  std::vector<std::uint32_t> sphere_part_;
   std::size_t chunk_ = 0;
   bool recorded_ = false;
+};
+
+/// A part's sums of a pass, on a cache line of its own (threads write them side by side).
+struct alignas(64) PartSums {
+  PassSums sums;
 };
 
 /// The step's colours, batches and group order; reused from step to step.
@@ -123,21 +130,33 @@ struct ColouredPass {
   std::vector<std::uint32_t> colour_batches;
   /// part p's overflow pairs, then its walls (n_pairs + w): sequential[ps[p], ps[p + 1])
   std::vector<ContactIndex> sequential;
-  std::array<std::uint32_t, kPassParts + 1> part_sequential{};
+  std::vector<std::uint32_t> part_sequential{0, 0};
   /// part p's sequential group holds its bottom-wall contacts at sequential[bottom_walls[p].first,
   /// bottom_walls[p].second), right after its overflow pairs: they are solved side by side as
   /// wall batches [part_wall_batches[p], part_wall_batches[p + 1]) of wall_batch_pairs (even,
   /// with padding), the others of the group one by one
-  std::array<std::pair<std::uint32_t, std::uint32_t>, kPassParts> bottom_walls{};
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> bottom_walls{{0, 0}};
   std::vector<WallBatchPair> wall_batch_pairs;
-  std::array<std::uint32_t, kPassParts + 1> part_wall_batches{};
+  std::vector<std::uint32_t> part_wall_batches{0, 0};
   /// colours 0..C−1, and C + p = part p's sequential group; part p's groups are
   /// group_order[part_groups[p], part_groups[p + 1])
   std::vector<std::uint32_t> group_order;
-  std::array<std::uint32_t, kPassParts + 1> part_groups{};
-  std::vector<std::uint8_t> wall_part;      ///< each wall contact's part (empty: all in part 0)
-  std::vector<std::uint32_t> chunk_order;   ///< scratch of order_groups
-  std::vector<ContactIndex> part_order;     ///< scratch: the pairs part by part
+  std::vector<std::uint32_t> part_groups{0, 0};
+  std::vector<std::uint32_t> wall_part;  ///< each wall contact's part (empty: all in part 0)
+  /// phase f runs parts [phase_parts[f], phase_parts[f + 1]) side by side; the parts from
+  /// phase_parts[kTilePhases] on (the hub of a tiled step) run after them on the caller
+  std::array<std::uint32_t, kTilePhases + 1> phase_parts{0, 1, 1, 1, 1};
+  /// the order of a pass's slots: slot f < kTilePhases runs phase f, slot kTilePhases the hub;
+  /// drawn per step with the groups (order_groups), so no phase and not the hub always comes
+  /// first (a fixed order would sweep the cell in one direction every pass)
+  std::array<std::uint32_t, kTilePhases + 1> slot_order{0, 1, 2, 3, 4};
+  std::vector<std::uint32_t> chunk_order;  ///< scratch of order_groups
+  std::vector<ContactIndex> part_order;    ///< scratch: the pairs part by part
+  std::vector<std::uint32_t> part_start;   ///< scratch: part p's pairs start in part_order
+  std::vector<std::uint32_t> part_next;    ///< scratch of the counting sort
+  std::vector<std::uint32_t> pair_part;    ///< scratch: each pair's part
+  /// each part's sums of the last pass (run_coloured_pass), added in part order
+  mutable std::vector<PartSums> part_sums;
   std::vector<ContactIndex> storage_index;  ///< pair i is stored pair storage_index[i] of the step
   /// whether Contacts holds the pairs in colour order (from prepare_coloured_pass to
   /// restore_storage_order)
@@ -171,21 +190,23 @@ struct ColouredPass {
     return colour_batches.empty() ? 0 : colour_batches.size() - 1;
   }
 
-  /// whether the step is cut: parts 1 and 2 have a colour between them (each part has a
-  /// sequential group, empty or not, so two groups hold no colour)
-  [[nodiscard]] bool cut() const { return part_groups[1] + 2 < part_groups[kPassParts]; }
+  /// Parts of the pass (one when the step is not tiled).
+  [[nodiscard]] std::size_t parts() const { return part_groups.size() - 1; }
+
+  /// Whether the step is tiled: more than one part.
+  [[nodiscard]] bool tiled() const { return parts() > 1; }
 };
 
 /// Colours the step's pairs greedily (chunks of kColourChunk contacts), part by part when
-/// `slab` gives each sphere's slab (slabs.hpp; empty: one part), stores the pairs and their
+/// `tiles` tiles the step (tiles.hpp; null or not tiled: one part), stores the pairs and their
 /// actions in the order the pass visits them (so a pass streams through them;
 /// restore_storage_order undoes it) and builds the batches. The cohesion flags stay in storage
-/// order: nothing reads them until the pairs are back. When the pairs, walls and slabs are the
+/// order: nothing reads them until the pairs are back. When the pairs, walls and tiles are the
 /// last build's (ColouringInputs), the colouring and the batches' rows are kept and only the
 /// batches' values are filled again, part by part, on the threads of `pieces` if given.
 void prepare_coloured_pass(Contacts& contacts, const VelocityCache& velocities, ColouredPass& pass,
-                           std::size_t chunk = kColourChunk,
-                           std::span<const std::uint8_t> slab = {}, PieceRunner* pieces = nullptr);
+                           std::size_t chunk = kColourChunk, const StepTiles* tiles = nullptr,
+                           PieceRunner* pieces = nullptr);
 
 /// Puts the pairs and their actions back in storage order (sorted by sphere pair), as the rest
 /// of the step expects them.
@@ -197,7 +218,7 @@ void build_batches(const Contacts& contacts, const VelocityCache& velocities, Co
 
 /// Group order, part by part: storage order for VisitOrder::Fixed, else the part's chunks (and
 /// its sequential group) in a fresh random order from `rng`, each chunk's colours in a random
-/// order.
+/// order; for a tiled step then the order of the phases and the hub (slot_order).
 void order_groups(ColouredPass& pass, VisitOrder policy, Rng& rng);
 
 /// Lets the pass use kernels up to `widest` where the CPU has them (default: AVX-512, two
@@ -212,8 +233,8 @@ bool allow_kernel_isa(lanes::Isa widest);
 void apply_pair_deltas(const ColouredPass& pass, const std::vector<ContactAction>& deltas,
                        const Contacts& contacts, VelocityCache& velocities);
 
-/// apply_pair_deltas of part p's batches alone (parts 0 and 1 touch no common sphere);
-/// apply_pair_deltas is parts 0, 1, 2 and then apply_overflow_deltas.
+/// apply_pair_deltas of part p's batches alone (the parts of a phase touch no common sphere);
+/// apply_pair_deltas is every part in order and then apply_overflow_deltas.
 void apply_part_deltas(const ColouredPass& pass, std::size_t part,
                        const std::vector<ContactAction>& deltas, VelocityCache& velocities);
 void apply_overflow_deltas(const ColouredPass& pass, const std::vector<ContactAction>& deltas,
@@ -223,31 +244,11 @@ void apply_overflow_deltas(const ColouredPass& pass, const std::vector<ContactAc
 PassSums run_coloured_part(Contacts& contacts, VelocityCache& velocities, const ColouredPass& pass,
                            std::size_t part);
 
-/// Work a thread does right after it solved the contacts inside slab `part` (0 or 1), on that
-/// slab's spheres: a reference to a callable, not owned (no allocation).
-class AfterPart {
- public:
-  AfterPart() = default;
-
-  template <typename F>
-  AfterPart(const F& f)  // NOLINT(google-explicit-constructor): a lambda at the call
-      : call_(
-            [](const void* object, std::uint32_t part) { (*static_cast<const F*>(object))(part); }),
-        object_(&f) {}
-
-  void operator()(std::uint32_t part) const {
-    if (call_ != nullptr) call_(object_, part);
-  }
-
- private:
-  void (*call_)(const void*, std::uint32_t) = nullptr;
-  const void* object_ = nullptr;
-};
-
-/// One pass over the groups in pass.group_order: part 2, then parts 0 and 1 (each followed by
-/// after(part)), their sums added in that order. With `threads`, a cut step's two slabs run
-/// side by side: the same bits. Sets pass.open_rare for the next pass from its sums.
+/// One pass over the groups in pass.group_order, part by part: the phases' parts (side by
+/// side on `threads` when given) and the rest (the hub) in pass.slot_order, their sums added in
+/// part order: the same bits on any number of threads. Sets pass.open_rare for the next pass from
+/// its sums.
 PassSums run_coloured_pass(Contacts& contacts, VelocityCache& velocities, const ColouredPass& pass,
-                           SlabThreads* threads = nullptr, AfterPart after = {});
+                           TileThreads* threads = nullptr);
 
 }  // namespace cdpowder

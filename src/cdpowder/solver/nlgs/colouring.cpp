@@ -60,8 +60,8 @@ void colour_range(const std::vector<PairProblem>& pairs, std::span<const Contact
 }  // namespace
 
 void colour_parts(const std::vector<PairProblem>& pairs, std::span<const ContactIndex> order,
-                  const std::array<std::uint32_t, kPassParts + 1>& part_start,
-                  std::size_t sphere_count, int max_colours, std::size_t chunk, PairColouring& out,
+                  std::span<const std::uint32_t> part_start, std::size_t sphere_count,
+                  int max_colours, std::size_t chunk, PairColouring& out,
                   std::vector<std::uint64_t>& masks) {
   assert(max_colours > 0 && max_colours <= 64);
   masks.assign(sphere_count, 0);
@@ -72,9 +72,10 @@ void colour_parts(const std::vector<PairProblem>& pairs, std::span<const Contact
   out.colour_start.assign(1, 0);
   out.chunk_colours.assign(1, 0);
   out.colour_of.resize(order.size());
-  out.part_chunks[0] = 0;
-  out.part_overflow[0] = 0;
-  for (std::size_t p = 0; p < kPassParts; ++p) {
+  const std::size_t parts = part_start.size() - 1;
+  out.part_chunks.assign(parts + 1, 0);
+  out.part_overflow.assign(parts + 1, 0);
+  for (std::size_t p = 0; p < parts; ++p) {
     colour_range(pairs, order, part_start[p], part_start[p + 1], allowed, chunk, out, masks);
     out.part_chunks[p + 1] = static_cast<std::uint32_t>(out.chunks());
     out.part_overflow[p + 1] = static_cast<std::uint32_t>(out.overflow.size());
@@ -86,7 +87,8 @@ void colour_pairs(const std::vector<PairProblem>& pairs, std::size_t sphere_coun
   std::vector<ContactIndex> order(pairs.size());
   std::iota(order.begin(), order.end(), ContactIndex{0});
   const auto n = static_cast<std::uint32_t>(pairs.size());
-  colour_parts(pairs, order, {0, n, n, n}, sphere_count, max_colours, chunk, out, masks);
+  const std::array<std::uint32_t, 2> one_part{0, n};
+  colour_parts(pairs, order, one_part, sphere_count, max_colours, chunk, out, masks);
 }
 
 void colour_one_per_colour(std::size_t pair_count, PairColouring& out) {
@@ -96,8 +98,8 @@ void colour_one_per_colour(std::size_t pair_count, PairColouring& out) {
   std::iota(out.colour_start.begin(), out.colour_start.end(), std::uint32_t{0});
   out.chunk_colours = {0, static_cast<std::uint32_t>(pair_count)};
   out.overflow.clear();
-  out.part_chunks = {0, 1, 1, 1};
-  out.part_overflow = {0, 0, 0, 0};
+  out.part_chunks = {0, 1};
+  out.part_overflow = {0, 0};
 }
 
 }  // namespace cdpowder

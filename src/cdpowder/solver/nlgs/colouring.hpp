@@ -9,9 +9,9 @@
 // stored sorted by their spheres, so a chunk touches a compact set of spheres), each chunk
 // with its own colours: a pass then solves a chunk's colours one after the other while the
 // chunk's spheres stay in cache, instead of streaming through all spheres once per colour.
-// The contacts may come in parts (the slabs of slabs.hpp: the contacts inside the lower slab,
-// inside the upper one, and across the cut), each part coloured on its own, so that the
-// parts' colours never mix and two parts can be solved on two threads at once.
+// The contacts may come in parts (the tiles of tiles.hpp and their hub), each part coloured on
+// its own, so that the parts' colours never mix and the tiles of a phase can be solved on
+// threads at once.
 #pragma once
 
 #include "cdpowder/contact/local_problem.hpp"
@@ -28,9 +28,6 @@ inline constexpr int kMaxColours = 24;
 /// Contacts per chunk: ≈ 600 spheres' velocities (40 kB) stay in L1/L2 across its colours.
 inline constexpr std::size_t kColourChunk = 2048;
 
-/// Parts of a pass's contacts (slabs.hpp): inside slab 0, inside slab 1, across the cut.
-inline constexpr std::size_t kPassParts = 3;
-
 struct PairColouring {
   std::vector<ContactIndex> members;         ///< pair indices grouped by colour, storage order
   std::vector<std::uint32_t> colour_start;   ///< colour c is members[start[c], start[c + 1])
@@ -38,13 +35,16 @@ struct PairColouring {
   std::vector<ContactIndex> overflow;        ///< pairs left without a colour, storage order
   /// part p has chunks [part_chunks[p], part_chunks[p + 1]) and overflow pairs
   /// overflow[part_overflow[p], part_overflow[p + 1]); without parts everything is part 0
-  std::array<std::uint32_t, kPassParts + 1> part_chunks{};
-  std::array<std::uint32_t, kPassParts + 1> part_overflow{};
+  std::vector<std::uint32_t> part_chunks{0, 0};
+  std::vector<std::uint32_t> part_overflow{0, 0};
   std::vector<std::uint8_t> colour_of;  ///< scratch: each pair's colour
 
   [[nodiscard]] std::size_t colours() const {
     return colour_start.empty() ? 0 : colour_start.size() - 1;
   }
+
+  /// Parts of the colouring (one without parts).
+  [[nodiscard]] std::size_t parts() const { return part_chunks.size() - 1; }
 
   [[nodiscard]] std::size_t chunks() const {
     return chunk_colours.empty() ? 0 : chunk_colours.size() - 1;
@@ -67,12 +67,12 @@ struct PairColouring {
 void colour_pairs(const std::vector<PairProblem>& pairs, std::size_t sphere_count, int max_colours,
                   std::size_t chunk, PairColouring& out, std::vector<std::uint64_t>& masks);
 
-/// Colours the pairs part by part: part p is the pair indices
+/// Colours the pairs part by part: part p < part_start.size() − 1 is the pair indices
 /// order[part_start[p], part_start[p + 1]), coloured in that order as colour_pairs colours
 /// all pairs. With one part holding 0 … n − 1 it is colour_pairs.
 void colour_parts(const std::vector<PairProblem>& pairs, std::span<const ContactIndex> order,
-                  const std::array<std::uint32_t, kPassParts + 1>& part_start,
-                  std::size_t sphere_count, int max_colours, std::size_t chunk, PairColouring& out,
+                  std::span<const std::uint32_t> part_start, std::size_t sphere_count,
+                  int max_colours, std::size_t chunk, PairColouring& out,
                   std::vector<std::uint64_t>& masks);
 
 /// One chunk, one contact per colour, in storage order: the coloured pass in VisitOrder::Fixed

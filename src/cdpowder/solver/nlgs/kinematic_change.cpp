@@ -13,47 +13,30 @@ namespace cdpowder {
 #define CDP_LANE_CODE "cdpowder/solver/nlgs/kinematic_lanes.inc"
 #include "cdpowder/core/lanes_instantiate.inc"
 
-void KinematicChange::begin_step(const VelocityCache& velocities,
-                                 std::span<const std::uint8_t> slab) {
+void KinematicChange::begin_step(const VelocityCache& velocities, bool in_pieces) {
   const std::vector<SphereVelocity>& spheres = velocities.spheres;
   const std::size_t n = spheres.size();
-  order_.clear();
-  slab_block_ = 0;
-  if (!slab.empty()) {
-    const auto at_rest = static_cast<BodyIndex>(n);
-    for (std::uint8_t s = 0; s < 2; ++s) {
-      for (std::size_t i = 0; i < n; ++i) {
-        if (slab[i] == s) order_.push_back(static_cast<BodyIndex>(i));
-      }
-      order_.resize(blocks_of(order_.size()) * kBlock, at_rest);
-      if (s == 0) slab_block_ = order_.size() / kBlock;
-    }
-  }
-  const std::size_t places = order_.empty() ? blocks_of(n) * kBlock : order_.size();
-  radius_sq_.assign(places, 0.0);
-  for (std::size_t place = 0; place < places; ++place) {
-    const std::size_t i = order_.empty() ? place : order_[place];
-    if (i >= n) continue;
+  const std::size_t blocks = blocks_of(n);
+  // pieces of kPieceBlocks blocks (the last one shorter), or one piece
+  const std::size_t pieces =
+      in_pieces ? std::max<std::size_t>(1, (blocks + kPieceBlocks - 1) / kPieceBlocks) : 1;
+  piece_blocks_.resize(pieces + 1);
+  for (std::size_t p = 0; p < pieces; ++p) piece_blocks_[p] = p * kPieceBlocks;
+  piece_blocks_[pieces] = blocks;
+  radius_sq_.assign(blocks * kBlock, 0.0);
+  for (std::size_t i = 0; i < n; ++i) {
     // I/m = (Δt/m)/(Δt/I) = 0.4 R²; a fixed sphere (Δt/I = 0) does not turn
     const SphereVelocity& s = spheres[i];
-    radius_sq_[place] =
+    radius_sq_[i] =
         s.dt_inverse_inertia > 0.0 ? 2.5 * s.dt_inverse_mass / s.dt_inverse_inertia : 0.0;
   }
   velocities_changed(velocities);
 }
 
-std::pair<std::size_t, std::size_t> KinematicChange::blocks_of_piece(std::uint32_t piece) const {
-  const std::size_t blocks = radius_sq_.size() / kBlock;
-  if (order_.empty()) return {0, blocks};
-  return piece == 0 ? std::pair<std::size_t, std::size_t>{0, slab_block_}
-                    : std::pair<std::size_t, std::size_t>{slab_block_, blocks};
-}
-
 void KinematicChange::copy_piece(const VelocityCache& velocities, std::uint32_t piece) {
   const auto [first, last] = blocks_of_piece(piece);  // start_ sized by velocities_changed
   CDP_LANES_FOR_CPU(copy_into)
-  (velocities.spheres.data(), velocities.spheres.size(), order_.empty() ? nullptr : order_.data(),
-   first, last, start_.data());
+  (velocities.spheres.data(), velocities.spheres.size(), first, last, start_.data());
 }
 
 void KinematicChange::velocities_changed(const VelocityCache& velocities) {
@@ -68,9 +51,8 @@ KinematicChange::PieceMotion KinematicChange::measure_piece(const VelocityCache&
       with_speed ? CDP_LANES_FOR_CPU(measure<true>) : CDP_LANES_FOR_CPU(measure<false>);
   const auto [first, last] = blocks_of_piece(piece);
   PieceMotion out;
-  measure(velocities.spheres.data(), velocities.spheres.size(),
-          order_.empty() ? nullptr : order_.data(), first, last, start_.data(), radius_sq_.data(),
-          out.largest_sq, out.sum_sq);
+  measure(velocities.spheres.data(), velocities.spheres.size(), first, last, start_.data(),
+          radius_sq_.data(), out.largest_sq, out.sum_sq);
   return out;
 }
 
@@ -92,11 +74,11 @@ PassMotion KinematicChange::combine(const VelocityCache& velocities,
 }
 
 PassMotion KinematicChange::after_pass(const VelocityCache& velocities, bool with_speed) {
-  std::array<PieceMotion, 2> measured{};
+  measured_.resize(pieces());
   for (std::uint32_t piece = 0; piece < pieces(); ++piece) {
-    measured[piece] = measure_piece(velocities, piece, with_speed);
+    measured_[piece] = measure_piece(velocities, piece, with_speed);
   }
-  return combine(velocities, std::span<const PieceMotion>(measured.data(), pieces()));
+  return combine(velocities, measured_);
 }
 
 }  // namespace cdpowder

@@ -34,10 +34,15 @@ struct PassMotion {
 class KinematicChange {
  public:
   /// Remembers v*, ω*, V_P* before the first pass of a step, and R² of every sphere from
-  /// the cache's Δt/m and Δt/I (solid sphere: I = 0.4 m R²). With `slab` (a step cut into
-  /// slabs, slabs.hpp) the spheres are taken in two pieces, slab by slab, each slab in index
-  /// order, and the pieces' sums are added piece by piece; without, one piece in index order.
-  void begin_step(const VelocityCache& velocities, std::span<const std::uint8_t> slab = {});
+  /// the cache's Δt/m and Δt/I (solid sphere: I = 0.4 m R²). With `in_pieces` (a tiled step,
+  /// tiles.hpp) the spheres are taken in pieces of consecutive indices, kPieceBlocks blocks
+  /// each (their count fixed by the sphere count alone), and the pieces' sums are added piece
+  /// by piece; without, one piece.
+  void begin_step(const VelocityCache& velocities, bool in_pieces = false);
+
+  /// Blocks of a piece when the spheres are taken in pieces: 4 096 spheres, 200 kB of velocity
+  /// records.
+  static constexpr std::size_t kPieceBlocks = 1024;
 
   /// Remembers the velocities again after something other than a pass changed them (the
   /// mixing), so the next pass is measured from them: copy_piece of every piece, then copied.
@@ -48,13 +53,15 @@ class KinematicChange {
   /// otherwise it is 0. measure_piece of every piece, then combine.
   [[nodiscard]] PassMotion after_pass(const VelocityCache& velocities, bool with_speed);
 
-  /// The pass in pieces, for two threads (slab_solve.hpp): pieces touch disjoint spheres.
+  /// The pass in pieces, for threads (tile_solve.hpp): pieces touch disjoint spheres.
   struct PieceMotion {
     double largest_sq = 0.0;
     double sum_sq = 0.0;
   };
 
-  [[nodiscard]] std::uint32_t pieces() const { return order_.empty() ? 1 : 2; }
+  [[nodiscard]] std::uint32_t pieces() const {
+    return static_cast<std::uint32_t>(piece_blocks_.size() - 1);
+  }
 
   [[nodiscard]] PieceMotion measure_piece(const VelocityCache& velocities, std::uint32_t piece,
                                           bool with_speed);
@@ -82,15 +89,15 @@ class KinematicChange {
   };
 
  private:
-  /// the blocks of slab 0, then of slab 1: [0, slab_block_) and [slab_block_, blocks)
-  [[nodiscard]] std::pair<std::size_t, std::size_t> blocks_of_piece(std::uint32_t piece) const;
+  /// piece p's blocks: [piece_blocks_[p], piece_blocks_[p + 1])
+  [[nodiscard]] std::pair<std::size_t, std::size_t> blocks_of_piece(std::uint32_t piece) const {
+    return {piece_blocks_[piece], piece_blocks_[piece + 1]};
+  }
 
   std::vector<Block> start_;
   AlignedVector<double> radius_sq_;  ///< R² per place in the blocks, zeros to a whole block
-  /// the sphere at each place of the blocks when cut (slab 0's, padded with spheres at rest
-  /// (index n) to a whole block, then slab 1's); empty: sphere i at place i
-  std::vector<BodyIndex> order_;
-  std::size_t slab_block_ = 0;
+  std::vector<std::size_t> piece_blocks_{0, 0};
+  std::vector<PieceMotion> measured_;  ///< scratch of after_pass
   double piston_start_ = 0.0;
 };
 

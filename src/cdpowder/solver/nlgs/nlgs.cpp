@@ -5,7 +5,8 @@
 #include "cdpowder/contact/velocity_change.hpp"
 #include "cdpowder/core/nth_root.hpp"
 #include "cdpowder/solver/nlgs/mixed_actions.hpp"
-#include "cdpowder/solver/nlgs/slab_solve.hpp"
+#include "cdpowder/solver/nlgs/tile_order.hpp"
+#include "cdpowder/solver/nlgs/tile_solve.hpp"
 #include "cdpowder/solver/nlgs/visit_contact.hpp"
 
 #include <algorithm>
@@ -183,25 +184,25 @@ namespace {
 
 SolverStats iterate_until_done(Contacts& contacts, VelocityCache& velocities,
                                const SolverSettings& settings, double reference_force,
-                               SlabThreads* threads, NlgsWorkspace& work, MixedModes modes,
-                               std::span<const std::uint8_t> slab);
+                               TileThreads* threads, NlgsWorkspace& work, MixedModes modes,
+                               const StepTiles* tiles);
 }  // namespace
 
 SolverStats solve_nlgs(Contacts& contacts, VelocityCache& velocities,
                        const SolverSettings& settings, double reference_force, NlgsWorkspace& work,
-                       std::span<const std::uint8_t> slab) {
+                       const StepTiles* tiles) {
   if (settings.kernel != PassKernel::Coloured) {
     prepare_visit_order(contacts, settings.visit_order, work);
     return iterate_until_done(contacts, velocities, settings, reference_force, nullptr, work,
-                              mixed_modes(contacts), {});
+                              mixed_modes(contacts), nullptr);
   }
-  // a cut step has two pieces to share: a third thread would only spin
-  SlabThreads* const pool = work.threads.get(solve_threads(settings));
+  if (tiles != nullptr && !tiles->tiled()) tiles = nullptr;
+  TileThreads* const pool = work.threads.get(solve_threads(settings));
 
   // the workers spin from pass to pass within the step and are parked at its end (they spin
   // a millisecond more, then sleep), also when the step is left by an exception
   struct ParkAtEnd {
-    explicit ParkAtEnd(SlabThreads* pool) : threads(pool) {}
+    explicit ParkAtEnd(TileThreads* pool) : threads(pool) {}
 
     ParkAtEnd(const ParkAtEnd&) = delete;
     ParkAtEnd(ParkAtEnd&&) = delete;
@@ -212,28 +213,32 @@ SolverStats solve_nlgs(Contacts& contacts, VelocityCache& velocities,
       if (threads != nullptr) threads->park();
     }
 
-    SlabThreads* threads;
+    TileThreads* threads;
   } park_at_end(pool);
 
-  // the pairs are stored in colour order during the passes (and the mixing); a cut step on the
-  // threads or on this one alone, whichever was faster lately: the same bits
-  const bool threaded_prepare = pool != nullptr && !slab.empty() && work.thread_choice.threaded();
-  prepare_coloured_pass(contacts, velocities, work.coloured, kColourChunk, slab,
+  // the pairs are stored in colour order during the passes (and the mixing); a tiled step on
+  // the threads or on this one alone, whichever was faster lately: the same bits
+  const bool threaded_prepare =
+      pool != nullptr && tiles != nullptr && work.thread_choice.threaded();
+  prepare_coloured_pass(contacts, velocities, work.coloured, kColourChunk, tiles,
                         threaded_prepare ? pool : nullptr);
   const MixedModes modes = mixed_modes(contacts);
   work.coloured.torques = modes.rolling || modes.twisting;
   order_groups(work.coloured, settings.visit_order, work.rng);
-  const bool choose = pool != nullptr && work.coloured.cut();
+  const bool choose = pool != nullptr && work.coloured.tiled();
   const bool threaded = choose && work.thread_choice.threaded();
   const auto start = std::chrono::steady_clock::now();
+  // the records tile by tile during the passes (tile_order.hpp): the same bits
+  if (tiles != nullptr) enter_tile_order(*tiles, contacts, velocities, work.coloured, work.order);
   SolverStats stats = iterate_until_done(contacts, velocities, settings, reference_force,
-                                         threaded ? pool : nullptr, work, modes, slab);
+                                         threaded ? pool : nullptr, work, modes, tiles);
   if (choose) {
     const std::chrono::duration<double> took = std::chrono::steady_clock::now() - start;
     work.thread_choice.record(
         took.count(), static_cast<double>(stats.sweeps) * static_cast<double>(contacts.size()));
   }
   stats.threaded = threaded;
+  leave_tile_order(contacts, velocities, work.coloured, work.order);
   restore_storage_order(contacts, work.coloured);
   return stats;
 }
@@ -313,13 +318,13 @@ bool sweeps_done(int pass, bool kinematic_rule, const SolverSettings& settings,
 
 /// One Anderson mixing of the actions after a pass; the next mixing starts from the mixed
 /// actions, or from the pass's when the fit failed.
-void mix_actions(Contacts& contacts, VelocityCache& velocities, SlabThreads* threads,
-                 NlgsWorkspace& work, MixedModes modes, bool coloured, bool cut,
+void mix_actions(Contacts& contacts, VelocityCache& velocities, TileThreads* threads,
+                 NlgsWorkspace& work, MixedModes modes, bool coloured, bool tiled,
                  KinematicChange* kinematic) {
   bool mixed = false;
-  if (cut) {
-    mixed = mix_cut_step(work.start, work.swept, work.mixed, modes, work.accelerator, contacts,
-                         velocities, work.coloured, threads, kinematic);
+  if (tiled) {
+    mixed = mix_tiled_step(work.start, work.swept, work.mixed, modes, work.accelerator, contacts,
+                           velocities, work.coloured, threads, kinematic, work.tile_scratch);
   } else {
     flatten(contacts, modes, work.swept);
     mixed = work.accelerator.extrapolate(work.start, work.swept, work.mixed);
@@ -337,8 +342,8 @@ void mix_actions(Contacts& contacts, VelocityCache& velocities, SlabThreads* thr
 
 SolverStats iterate_until_done(Contacts& contacts, VelocityCache& velocities,
                                const SolverSettings& settings, double reference_force,
-                               SlabThreads* threads, NlgsWorkspace& work, MixedModes modes,
-                               std::span<const std::uint8_t> slab) {
+                               TileThreads* threads, NlgsWorkspace& work, MixedModes modes,
+                               const StepTiles* tiles) {
   std::vector<ContactIndex>& order = contacts.visit_order;
   const bool coloured = settings.kernel == PassKernel::Coloured;
   const bool accelerate = settings.acceleration_depth > 0;
@@ -353,9 +358,9 @@ SolverStats iterate_until_done(Contacts& contacts, VelocityCache& velocities,
   ContractionWindows windows;
   const bool kinematic_rule = settings.kinematic_tolerance > 0.0;
   KinematicChange* const kinematic = kinematic_rule ? &work.kinematic : nullptr;
-  // a step cut into slabs (slabs.hpp) runs its passes, the kinematic rule's pass and the
-  // mixing slab by slab (slab_solve.hpp)
-  const bool cut = coloured && work.coloured.cut();
+  // a tiled step (tiles.hpp) runs its passes, the kinematic rule's pass and the mixing tile by
+  // tile (tile_solve.hpp)
+  const bool tiled = coloured && work.coloured.tiled();
   for (int pass = 1; pass <= settings.max_sweeps; ++pass) {
     // a fresh order every pass, so corrections spread without a preferred direction (§7.1)
     if (settings.visit_order == VisitOrder::RandomEachSweep) {
@@ -366,7 +371,7 @@ SolverStats iterate_until_done(Contacts& contacts, VelocityCache& velocities,
       }
     }
     if (kinematic_rule && pass == 1) {
-      work.kinematic.begin_step(velocities, cut ? slab : std::span<const std::uint8_t>{});
+      work.kinematic.begin_step(velocities, tiled);
     }
     // the estimates of the kinematic rule need a full window of passes (ρ over two passes at the
     // start of a step is optimistic), so its test and the RMS speed wait for it; the windows
@@ -374,9 +379,9 @@ SolverStats iterate_until_done(Contacts& contacts, VelocityCache& velocities,
     const bool window_full = pass > kContractionWindow;
     PassMotion motion;
     PassSums sums;
-    if (cut) {
-      sums = cut_step_pass(contacts, velocities, work.coloured, threads, kinematic, window_full,
-                           motion);
+    if (tiled) {
+      sums = tiled_pass(contacts, velocities, work.coloured, threads, kinematic, window_full,
+                        motion, work.tile_scratch);
     } else {
       sums = coloured ? run_coloured_pass(contacts, velocities, work.coloured)
                       : run_scalar_pass(contacts, velocities);
@@ -399,7 +404,7 @@ SolverStats iterate_until_done(Contacts& contacts, VelocityCache& velocities,
     if (accelerate && pass % settings.acceleration_interval == 0 && pass < settings.max_sweeps) {
       if (stats.residual > kRestartGrowth * best_residual) work.accelerator.reset();
       best_residual = std::min(best_residual, stats.residual);
-      mix_actions(contacts, velocities, threads, work, modes, coloured, cut, kinematic);
+      mix_actions(contacts, velocities, threads, work, modes, coloured, tiled, kinematic);
     }
   }
   return stats;

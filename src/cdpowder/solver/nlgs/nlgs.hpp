@@ -10,7 +10,10 @@
 #include "cdpowder/solver/nlgs/coloured_pass.hpp"
 #include "cdpowder/solver/nlgs/kinematic_change.hpp"
 #include "cdpowder/solver/nlgs/pass_sums.hpp"
-#include "cdpowder/solver/nlgs/slab_threads.hpp"
+#include "cdpowder/solver/nlgs/tile_order.hpp"
+#include "cdpowder/solver/nlgs/tile_solve.hpp"
+#include "cdpowder/solver/nlgs/tile_threads.hpp"
+#include "cdpowder/solver/nlgs/tiles.hpp"
 #include "cdpowder/solver/settings.hpp"
 
 #include <cstdint>
@@ -51,10 +54,11 @@ struct NlgsWorkspace {
   std::vector<ContactIndex> blocks;  ///< block permutation of the per-step order
   KinematicChange kinematic;         ///< the kinematic rule's velocity snapshot
   ColouredPass coloured;             ///< colours and batches of solver.kernel = "coloured"
-  SlabThreadsSlot threads;           ///< the worker of solver.threads ≥ 2 (one: two pieces)
-  ThreadChoice thread_choice;        ///< whether a cut step runs on them (slab_threads.hpp)
-  std::vector<std::uint8_t> slab;    ///< each sphere's slab this step (slabs.hpp), or empty
-  std::vector<double> slab_scratch;  ///< scratch of cut_into_slabs
+  TileThreadsSlot threads;           ///< the workers of solver.threads ≥ 2
+  ThreadChoice thread_choice;        ///< whether a tiled step runs on them (tile_threads.hpp)
+  StepTiles tiles;                   ///< the step's tiling (tiles.hpp)
+  TileScratch tile_scratch;          ///< per-tile sums of a tiled step (tile_solve.hpp)
+  TileOrder order;                   ///< the records in tile order (tile_order.hpp)
 };
 
 /// Passes until the stopping rule holds or max_sweeps is reached. Each visit solves one
@@ -62,14 +66,14 @@ struct NlgsWorkspace {
 /// cache at once, so later visits in the same pass see it (§7.1). With
 /// acceleration_depth > 0, every pass is followed by an Anderson mixing step.
 /// `reference_force` is the force scale below which forces count as small (F_coh).
-/// With the coloured kernel and `slab` giving each sphere's slab (slabs.hpp), a pass visits
-/// the contacts across the cut, then inside slab 0 and inside slab 1, and the kinematic rule
-/// and the mixing run in two halves: on two threads (solver.threads = 2) the slabs and the
-/// halves run side by side, with the same bits as on one; ThreadChoice (slab_threads.hpp)
-/// decides, block by block, whether a cut step uses the threads.
+/// With the coloured kernel and `tiles` tiling the step (tiles.hpp), a pass visits the four
+/// phases' tiles and the hub in an order drawn per step, and the kinematic rule and the mixing
+/// run in pieces (tile_solve.hpp): on threads (solver.threads ≥ 2) a phase's tiles and the
+/// pieces run side by side, with the same bits as on one; ThreadChoice (tile_threads.hpp) decides,
+/// block by block, whether a tiled step uses the threads.
 SolverStats solve_nlgs(Contacts& contacts, VelocityCache& velocities,
                        const SolverSettings& settings, double reference_force, NlgsWorkspace& work,
-                       std::span<const std::uint8_t> slab = {});
+                       const StepTiles* tiles = nullptr);
 
 /// Fills contacts.visit_order for a new step: storage order, or a random permutation of
 /// blocks (RandomEachStep; RandomEachSweep reshuffles every pass inside solve_nlgs).

@@ -1,6 +1,6 @@
-// sweep_threads.hpp — a small persistent pool of threads for the solve of a step cut into two
-// slabs (solver.threads, slab_threads.hpp). A pass at paper size is ≈ 30 µs and hands work to
-// the other thread once or twice, so a hand-over must cost a few percent of that at most: the
+// pass_threads.hpp — a small persistent pool of threads for the solve of a tiled step
+// (solver.threads, tile_threads.hpp). A pass at paper size is ≈ 30 µs and hands work to the
+// other threads once per phase, so a hand-over must cost a few percent of that at most: the
 // threads spin on atomics (no mutex, no condition variable) while a step's passes run, go on
 // spinning for a millisecond after a step (the next one usually starts within a quarter of
 // that), and then sleep (std::atomic::wait, a futex), so a run that stops stepping does not

@@ -1,14 +1,14 @@
-// slab_threads.hpp — the two slabs of a step (slabs.hpp) on two threads (solver.threads = 2),
-// and the PieceRunner (core/pieces.hpp) of the stages around the solve: the halves of the
-// next step's detection and build, and of the commit's measures.
-// A pass hands out its work in a few pieces that touch no common memory they write: the
-// contacts inside each slab, the two halves of the kinematic rule's pass over the spheres, the
-// two halves of the mixing's passes. Any thread may take any piece (the caller as well as the
-// worker, claimed from one shared counter), so the caller never waits for a piece nobody has
-// begun: on a loaded machine a descheduled worker's pieces are taken by the caller (a worker
-// descheduled in the middle of a piece is waited for, up to a time slice). The
-// pieces are fixed by the state, not by the thread count, and every sum over pieces is added
-// in piece order by the caller, so the results are the same bits on one thread or two.
+// tile_threads.hpp — the tiles of a step (tiles.hpp) on threads (solver.threads), and the
+// PieceRunner (core/pieces.hpp) of the stages around the solve: the halves of the next step's
+// detection and build, and of the commit's measures.
+// A pass hands out its work in pieces that touch no common memory they write: the tiles of a
+// phase, the tiles' parts of the kinematic rule's pass over the spheres and of the mixing. Any
+// thread may take any piece (the caller as well as the workers, claimed from one shared
+// counter), so the caller never waits for a piece nobody has begun: on a loaded machine a
+// descheduled worker's pieces are taken by the others (a worker descheduled in the middle of a
+// piece is waited for, up to a time slice). The pieces are fixed by the state, not by the
+// thread count, and every sum over pieces is added in piece order by the caller, so the
+// results are the same bits on any number of threads.
 #pragma once
 
 #include "cdpowder/core/pieces.hpp"
@@ -23,15 +23,19 @@
 
 namespace cdpowder {
 
-class SlabThreads final : public PieceRunner {
+class TileThreads final : public PieceRunner {
  public:
   /// Starts threads − 1 workers (threads ≥ 1).
-  explicit SlabThreads(int threads) : pool_(threads) {}
+  explicit TileThreads(int threads)
+      : ranges_(std::make_unique<Range[]>(static_cast<std::size_t>(threads))), pool_(threads) {}
 
   [[nodiscard]] int size() const { return pool_.size(); }
 
-  /// Runs task(context, piece) for piece = 0 … pieces − 1, each exactly once, on whichever
-  /// thread claims it first, and returns when all are done.
+  /// Runs task(context, piece) for piece = 0 … pieces − 1, each exactly once, and returns when
+  /// all are done. Thread k (the caller is 0) has the pieces [k P/T, (k + 1) P/T) of its own,
+  /// so a tile (and its data in that core's cache) goes to the same thread in every pass;
+  /// a thread done with its own takes the others' that nobody has begun (one descheduled
+  /// worker does not hold the pass back).
   void run_pieces(std::uint32_t pieces, Task task, const void* context) override;
 
   /// Lets the workers sleep until the next run (between steps).
@@ -39,15 +43,19 @@ class SlabThreads final : public PieceRunner {
 
  private:
   static void work(void* self, int thread);
-  bool claim(std::uint32_t& piece);
-  void solve_claimed();
+  bool claim(int range, std::uint32_t& piece);
+  void solve_claimed(int thread);
 
-  /// id (32 bits) | pieces (16 bits) | next piece (16 bits): a claim is one compare-exchange,
-  /// and a late worker's claim on an earlier run fails on the id
-  alignas(64) std::atomic<std::uint64_t> claim_{0};
+  /// A thread's pieces: id (32 bits) | end (16 bits) | next piece (16 bits). A claim is one
+  /// compare-exchange, and a late worker's claim on an earlier run fails on the id.
+  struct alignas(64) Range {
+    std::atomic<std::uint64_t> word{0};
+  };
+
+  std::unique_ptr<Range[]> ranges_;                 // NOLINT(*-avoid-c-arrays): one cache line each
   alignas(64) std::atomic<std::uint32_t> done_{0};  ///< pieces done in this run
   alignas(64) std::uint32_t run_id_ = 0;
-  // the run's task, written before claim_ publishes it and read by a thread after a claim
+  // the run's task, written before the ranges publish it and read by a thread after a claim
   Task task_ = nullptr;
   const void* context_ = nullptr;
   /// last member: its workers are stopped before the state above is destroyed
@@ -55,7 +63,7 @@ class SlabThreads final : public PieceRunner {
 };
 
 /// Whether a step's solve runs on the threads or on the caller alone. The bits are the same
-/// either way (the cut does not depend on it), so the choice is made on time alone: on a
+/// either way (the tiles do not depend on it), so the choice is made on time alone: on a
 /// shared machine two threads are not always faster. Runs of the paper example measured in one
 /// session (docs/lab/2026-11-26-two-slabs.md) took 1.2–1.4× less time on two threads in some
 /// minutes and 1.3× more in others, when the second core was not free for this process. The
@@ -132,26 +140,26 @@ class ThreadChoice {
   std::uint64_t try_every_ = kTryEvery;
 };
 
-/// A workspace's SlabThreads, started at the first step that asks for more than one thread
+/// A workspace's TileThreads, started at the first step that asks for more than one thread
 /// and kept for the run. Scratch, not state: a copy of a workspace (the run loop solves a copy
 /// at rest) starts its own threads when it needs them, and an assignment keeps the target's.
-class SlabThreadsSlot {
+class TileThreadsSlot {
  public:
-  SlabThreadsSlot() = default;
-  ~SlabThreadsSlot() = default;
+  TileThreadsSlot() = default;
+  ~TileThreadsSlot() = default;
 
-  SlabThreadsSlot(const SlabThreadsSlot& /*other*/) {}
+  TileThreadsSlot(const TileThreadsSlot& /*other*/) {}
 
-  SlabThreadsSlot& operator=(const SlabThreadsSlot& /*other*/) { return *this; }
+  TileThreadsSlot& operator=(const TileThreadsSlot& /*other*/) { return *this; }
 
-  SlabThreadsSlot(SlabThreadsSlot&&) noexcept = default;
-  SlabThreadsSlot& operator=(SlabThreadsSlot&&) noexcept = default;
+  TileThreadsSlot(TileThreadsSlot&&) noexcept = default;
+  TileThreadsSlot& operator=(TileThreadsSlot&&) noexcept = default;
 
   /// The threads of `threads` (started or resized here); nullptr for one thread.
-  SlabThreads* get(int threads);
+  TileThreads* get(int threads);
 
  private:
-  std::unique_ptr<SlabThreads> threads_;
+  std::unique_ptr<TileThreads> threads_;
 };
 
 }  // namespace cdpowder

@@ -1,11 +1,12 @@
-// Two slabs on two threads (slabs.hpp, slab_threads.hpp): the cut, the parts of a sweep, the
-// pieces a team runs, and the bits of one thread against two and three: a solve, steps and a
-// paper-size step.
-#include "cdpowder/solver/nlgs/slab_threads.hpp"
+// Tiles on threads (tiles.hpp, tile_solve.hpp, tile_threads.hpp): the grid, the parts of a
+// pass, the pieces a team runs, and the bits of one thread against two, three and four: a
+// solve, steps and a paper-size step.
+#include "cdpowder/solver/nlgs/tile_threads.hpp"
 
+#include "cdpowder/core/cpu_budget.hpp"
 #include "cdpowder/core/lanes.hpp"
 #include "cdpowder/run/state_hash.hpp"
-#include "cdpowder/solver/nlgs/slabs.hpp"
+#include "cdpowder/solver/nlgs/tiles.hpp"
 #include "cdpowder/solver/step.hpp"
 #include "support/fixture_hash.hpp"
 #include "support/small_packing.hpp"
@@ -17,13 +18,18 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
+#include <numbers>
 #include <set>
 #include <string>
 #include <vector>
 
 namespace cdpowder::testing {
 namespace {
+
+// up to four threads on any machine: the bits are compared, not the times
+[[maybe_unused]] const int kOversubscribed = ::setenv(kOversubscribeVariable, "1", 1);
 
 template <typename T>
 bool same_bits(const std::vector<T>& x, const std::vector<T>& y) {
@@ -36,9 +42,9 @@ bool same_bits(double x, double y) {
 
 // Every piece runs exactly once per run, on one, two and three threads, run after run (the
 // worker spins between runs and may come late to one).
-TEST(SlabThreads, RunsEveryPieceOnce) {
+TEST(TileThreads, RunsEveryPieceOnce) {
   for (const int n : {1, 2, 3}) {
-    SlabThreads team(n);
+    TileThreads team(n);
     for (std::uint32_t run = 0; run < 2000; ++run) {
       const std::uint32_t pieces = 1 + run % 5;
       std::array<std::atomic<int>, 5> count{};
@@ -135,65 +141,60 @@ TEST(ThreadChoice, AlwaysThreadedIgnoresTheTimes) {
   }
 }
 
-// The cut balances the work of the two slabs (pairs, and wall contacts at kBottomWallVisitCost
-// or kPistonVisitCost each) up to the pairs across it; every sphere on its side of the cut; too few
-// contacts: no cut.
-TEST(Slabs, TheCutBalancesTheWorkOfTheTwoSlabs) {
-  const SmallPacking packing(0.1);
-  const std::vector<Vec3>& position = packing.scene.world.bodies.position;
-  const Contacts& contacts = packing.scene.work.contacts;
-  ASSERT_GE(contacts.pairs.size(), kMinPairsToCut);
-  std::vector<std::uint8_t> slab;
-  std::vector<double> scratch;
-  cut_into_slabs(position, contacts, slab, scratch);
-  ASSERT_EQ(slab.size(), position.size());
-  std::array<double, 3> work{};
-  for (const PairProblem& p : contacts.pairs) work[slab[p.a] == slab[p.b] ? slab[p.a] : 2] += 1;
-  const double across = work[2];
-  for (const WallProblem& w : contacts.walls) {
-    EXPECT_EQ(slab[w.sphere], w.wall == WallKind::Piston ? 1 : 0);
-    work[slab[w.sphere]] += w.wall == WallKind::Piston ? kPistonVisitCost : kBottomWallVisitCost;
-  }
-  EXPECT_GT(work[0], 0.3 * static_cast<double>(contacts.pairs.size()));
-  EXPECT_LE(std::abs(work[0] - work[1]), across + std::max(kPistonVisitCost, kBottomWallVisitCost));
-  EXPECT_LT(across, 0.3 * static_cast<double>(contacts.pairs.size()));
-  double top_of_0 = -1e300;
-  double bottom_of_1 = 1e300;
-  for (std::size_t i = 0; i < position.size(); ++i) {
-    if (slab[i] == 0) top_of_0 = std::max(top_of_0, position[i].z());
-    if (slab[i] == 1) bottom_of_1 = std::min(bottom_of_1, position[i].z());
-  }
-  EXPECT_LT(top_of_0, bottom_of_1);
+/// Tiles of 2.83 R: the SmallPacking's 11.3 R cell (too small for the default width) in a
+/// 4 × 4 grid, four tiles a phase.
+constexpr double kSmallTileWidth = 2.0 * std::numbers::sqrt2;
 
-  Contacts few = contacts;
-  few.pairs.resize(kMinPairsToCut - 1);
-  cut_into_slabs(position, few, slab, scratch);
-  EXPECT_TRUE(slab.empty());
+// The grid: an even count of tiles at least the width wide along each period, or one; the
+// default width 12 R_max; the paper's 25 R cell in 2 × 2 tiles.
+TEST(Tiles, TheGridIsEvenAndFixedByTheCell) {
+  const auto grid = [](double lx, double ly, double width) {
+    const TileGrid g = tile_grid(PeriodicBox{lx, ly}, 1.0, width);
+    return std::array<std::uint32_t, 2>{g.nx, g.ny};
+  };
+  EXPECT_EQ(grid(25.0, 25.0, 0.0), (std::array<std::uint32_t, 2>{2, 2}));
+  EXPECT_EQ(grid(100.0, 100.0, 0.0), (std::array<std::uint32_t, 2>{8, 8}));
+  EXPECT_EQ(grid(15.0, 15.0, 0.0), (std::array<std::uint32_t, 2>{1, 1}));
+  EXPECT_EQ(grid(30.0, 72.0, 0.0), (std::array<std::uint32_t, 2>{2, 6}));
+  EXPECT_EQ(grid(20.0, 47.9, 0.0), (std::array<std::uint32_t, 2>{1, 2}));
+  EXPECT_EQ(grid(25.0, 25.0, 3.0), (std::array<std::uint32_t, 2>{8, 8}));
+  EXPECT_EQ(grid(25.0, 5.0, 3.0), (std::array<std::uint32_t, 2>{8, 1}));
 }
 
-// The parts of a cut sweep: no sphere in both slabs' batches, the piston's contacts in one
-// part, every contact visited once.
-TEST(Slabs, TheTwoSlabsShareNoSphere) {
+/// The SmallPacking's first step in tiles of kSmallTileWidth.
+StepTiles small_tiles(const SmallPacking& packing) {
+  StepTiles tiles;
+  const World& world = packing.scene.world;
+  assign_tiles(world.bodies.position, world.box, world.bodies.max_radius(), kSmallTileWidth,
+               packing.scene.work.contacts, tiles);
+  return tiles;
+}
+
+// The parts of a tiled pass: the four phases' tiles, then the hub; no sphere in two tiles of one
+// phase, every piston contact in the hub, every contact visited once; too few contacts: no tiles.
+TEST(Tiles, ThePhasesTilesShareNoSphere) {
   SmallPacking packing(0.1);
   Contacts contacts = packing.scene.work.contacts;
   const VelocityCache& velocities = packing.scene.work.velocities;
-  std::vector<std::uint8_t> slab;
-  std::vector<double> scratch;
-  cut_into_slabs(packing.scene.world.bodies.position, contacts, slab, scratch);
-  ColouredPass sweep;
-  prepare_coloured_pass(contacts, velocities, sweep, kColourChunk, slab);
-  ASSERT_TRUE(sweep.cut());
-  std::array<std::set<BodyIndex>, kPassParts> spheres;
-  std::array<std::set<std::size_t>, kPassParts> piston_parts;
+  const StepTiles tiles = small_tiles(packing);
+  ASSERT_TRUE(tiles.tiled());
+  EXPECT_EQ(tiles.grid.tiles(), 16U);
+  EXPECT_EQ(tiles.phase_parts, (std::array<std::uint32_t, kTilePhases + 1>{0, 4, 8, 12, 16}));
+  ColouredPass pass;
+  prepare_coloured_pass(contacts, velocities, pass, kColourChunk, &tiles);
+  ASSERT_TRUE(pass.tiled());
+  ASSERT_EQ(pass.parts(), 17U);
+  std::vector<std::set<BodyIndex>> spheres(pass.parts());
   std::size_t visits = 0;
-  const std::size_t colours = sweep.colours();
-  for (std::size_t p = 0; p < kPassParts; ++p) {
-    for (std::uint32_t i = sweep.part_groups[p]; i < sweep.part_groups[p + 1]; ++i) {
-      const std::uint32_t group = sweep.group_order[i];
+  std::size_t piston_contacts = 0;
+  const std::size_t colours = pass.colours();
+  for (std::size_t p = 0; p < pass.parts(); ++p) {
+    for (std::uint32_t i = pass.part_groups[p]; i < pass.part_groups[p + 1]; ++i) {
+      const std::uint32_t group = pass.group_order[i];
       if (group >= colours) {
-        for (std::uint32_t j = sweep.part_sequential[group - colours];
-             j < sweep.part_sequential[group - colours + 1]; ++j) {
-          const ContactIndex k = sweep.sequential[j];
+        for (std::uint32_t j = pass.part_sequential[group - colours];
+             j < pass.part_sequential[group - colours + 1]; ++j) {
+          const ContactIndex k = pass.sequential[j];
           ++visits;
           if (k < contacts.pairs.size()) {
             spheres[p].insert({contacts.pairs[k].a, contacts.pairs[k].b});
@@ -201,13 +202,15 @@ TEST(Slabs, TheTwoSlabsShareNoSphere) {
           }
           const WallProblem& w = contacts.walls[k - contacts.pairs.size()];
           spheres[p].insert(w.sphere);
-          if (w.wall == WallKind::Piston) piston_parts[0].insert(p);
+          if (w.wall == WallKind::Piston) {
+            EXPECT_EQ(p, tiles.hub());
+            ++piston_contacts;
+          }
         }
         continue;
       }
-      for (std::uint32_t b = sweep.colour_batches[group]; b < sweep.colour_batches[group + 1];
-           ++b) {
-        const BatchPair& pair = sweep.batch_pairs[b / 2];
+      for (std::uint32_t b = pass.colour_batches[group]; b < pass.colour_batches[group + 1]; ++b) {
+        const BatchPair& pair = pass.batch_pairs[b / 2];
         for (std::uint32_t l = 0; l < pair.lanes[b % 2]; ++l) {
           const std::size_t lane = (b % 2) * kBatchLanes + l;
           spheres[p].insert({pair.a_row[lane] / kRecordDoubles, pair.b_row[lane] / kRecordDoubles});
@@ -217,48 +220,64 @@ TEST(Slabs, TheTwoSlabsShareNoSphere) {
     }
   }
   EXPECT_EQ(visits, contacts.size());
-  std::vector<BodyIndex> common;
-  std::set_intersection(spheres[0].begin(), spheres[0].end(), spheres[1].begin(), spheres[1].end(),
-                        std::back_inserter(common));
-  EXPECT_TRUE(common.empty());
-  EXPECT_EQ(piston_parts[0].size(), 1U);  // all piston contacts in one part
-  EXPECT_FALSE(spheres[2].empty());
+  EXPECT_GT(piston_contacts, 0U);
+  std::size_t tiles_with_contacts = 0;
+  for (std::size_t phase = 0; phase < kTilePhases; ++phase) {
+    for (std::uint32_t p = tiles.phase_parts[phase]; p < tiles.phase_parts[phase + 1]; ++p) {
+      tiles_with_contacts += spheres[p].empty() ? 0 : 1;
+      for (std::uint32_t q = p + 1; q < tiles.phase_parts[phase + 1]; ++q) {
+        std::vector<BodyIndex> common;
+        std::set_intersection(spheres[p].begin(), spheres[p].end(), spheres[q].begin(),
+                              spheres[q].end(), std::back_inserter(common));
+        EXPECT_TRUE(common.empty()) << "parts " << p << " and " << q;
+      }
+    }
+  }
+  EXPECT_EQ(tiles_with_contacts, 16U);
+
+  Contacts few = contacts;
+  few.pairs.resize(kMinPairsToTile - 1);
+  StepTiles none;
+  const World& world = packing.scene.world;
+  assign_tiles(world.bodies.position, world.box, 1.0, kSmallTileWidth, few, none);
+  EXPECT_FALSE(none.tiled());
+  EXPECT_EQ(none.parts(), 1U);
 }
 
-/// Solves the SmallPacking's first step, cut into slabs, on `threads` threads.
-struct CutSolve {
+/// Solves the SmallPacking's first step, in tiles, on `threads` threads.
+struct TiledSolve {
   Contacts contacts;
   VelocityCache velocities;
   SolverStats stats;
 };
 
-CutSolve cut_solve(int threads, lanes::Isa isa) {
+TiledSolve tiled_solve(int threads, lanes::Isa isa) {
   allow_kernel_isa(isa);
   SmallPacking packing(0.1);
-  CutSolve out{packing.scene.work.contacts, packing.scene.work.velocities, {}};
-  std::vector<std::uint8_t> slab;
-  std::vector<double> scratch;
-  cut_into_slabs(packing.scene.world.bodies.position, out.contacts, slab, scratch);
+  TiledSolve out{packing.scene.work.contacts, packing.scene.work.velocities, {}};
+  const StepTiles tiles = small_tiles(packing);
   SolverSettings settings = packing.scene.settings.solver;
   settings.threads = threads;
   settings.kinematic_tolerance = 1e-3;  // the kinematic rule's pass too
-  settings.min_sweeps = 40;             // sweeps and mixings enough to use every piece
+  settings.min_sweeps = 40;             // passes and mixings enough to use every piece
   settings.max_sweeps = 40;
   NlgsWorkspace work(5);
-  out.stats = solve_nlgs(out.contacts, out.velocities, settings, 1.0, work, slab);
+  work.thread_choice.always_threaded();
+  out.stats = solve_nlgs(out.contacts, out.velocities, settings, 1.0, work, &tiles);
+  EXPECT_EQ(out.stats.threaded, threads > 1);
   allow_kernel_isa(lanes::Isa::Avx512);
   return out;
 }
 
-// A cut step's solve (sweeps, kinematic rule, mixing) on two and three threads leaves the bits
-// of one thread, with both instruction sets.
-TEST(SlabThreads, ASolveGivesTheBitsOfOneThread) {
+// A tiled step's solve (passes, kinematic rule, mixing) on two, three and four threads leaves
+// the bits of one thread, with every instruction set.
+TEST(TileThreads, ASolveGivesTheBitsOfOneThread) {
   for (const lanes::Isa isa : {lanes::Isa::Sse2, lanes::Isa::Avx2, lanes::Isa::Avx512}) {
     if (!allow_kernel_isa(isa)) continue;  // not on this CPU
-    const CutSolve one = cut_solve(1, isa);
+    const TiledSolve one = tiled_solve(1, isa);
     EXPECT_EQ(one.stats.sweeps, 40);
-    for (const int n : {2, 3}) {
-      const CutSolve many = cut_solve(n, isa);
+    for (const int n : {2, 3, 4}) {
+      const TiledSolve many = tiled_solve(n, isa);
       EXPECT_EQ(many.stats.sweeps, one.stats.sweeps);
       EXPECT_TRUE(same_bits(many.stats.residual, one.stats.residual));
       EXPECT_TRUE(same_bits(many.stats.kinematic_error, one.stats.kinematic_error));
@@ -295,7 +314,7 @@ TEST(StagesInPieces, DetectionGivesTheContactsOfOnePiece) {
   Contacts contacts_one;
   Contacts contacts_two;
   DetectionScratch scratch;
-  SlabThreads threads(2);
+  TileThreads threads(2);
   for (int step = 0; step < 40; ++step) {
     detect_contacts(one, settings, grid_one, contacts_one, &list_one);
     detect_contacts(two, settings, grid_two, contacts_two, &list_two, &threads, &scratch);
@@ -335,7 +354,7 @@ TEST(StagesInPieces, BuildGivesTheProblemsOfOnePiece) {
     ActionCache cache_two = scene.work.action_cache;
     VelocityCache velocities_one;
     VelocityCache velocities_two;
-    SlabThreads threads(2);
+    TileThreads threads(2);
     build_local_problems(scene.world, scene.settings, cache_one, contacts_one, velocities_one);
     build_local_problems(scene.world, scene.settings, cache_two, contacts_two, velocities_two,
                          &threads);
@@ -357,35 +376,40 @@ TEST(StagesInPieces, BuildGivesTheProblemsOfOnePiece) {
   }
 }
 
-// Whole steps (mixing and stopping rules included) with solver.threads = 1, 2, 3: one state hash.
-TEST(SlabThreads, StepsGiveTheSameStateHashForAnyThreadCount) {
+// Whole steps (mixing and stopping rules included) in 16 tiles with solver.threads = 1, 2, 3, 4:
+// one state hash.
+TEST(TileThreads, StepsGiveTheSameStateHashForAnyThreadCount) {
   std::vector<std::string> hashes;
-  for (const int n : {1, 2, 3}) {
+  for (const int n : {1, 2, 3, 4}) {
     SmallPacking packing(0.1);
     packing.scene.settings.solver.kernel = PassKernel::Coloured;
+    packing.scene.settings.solver.tile_width = kSmallTileWidth;
     packing.scene.settings.solver.threads = n;
+    packing.scene.work.solver.thread_choice.always_threaded();
     packing.scene.settings.solver.kinematic_tolerance = 1e-3;  // the kinematic rule's pass too
     const StepReport last = packing.scene.run(6);
     EXPECT_TRUE(last.solver.converged);
     hashes.push_back(hash_text(state_hash(packing.scene.world, packing.scene.work)));
   }
-  EXPECT_EQ(hashes[1], hashes[0]);
-  EXPECT_EQ(hashes[2], hashes[0]);
+  for (std::size_t k = 1; k < hashes.size(); ++k) EXPECT_EQ(hashes[k], hashes[0]) << k + 1;
 }
 
-// Two steps of the paper's (0,0) compaction front (≈ 1 000 spheres, cut into two slabs, and
-// the piston): the hash of one thread with two.
-TEST(SlabThreads, APaperSizeStepGivesTheSameStateHashOnTwoThreads) {
-  const std::vector<SceneOverride> settings{"solver.kinematic_tolerance=1e-4"};
-  std::vector<SceneOverride> two = settings;
-  two.emplace_back("solver.threads=2");
-  EXPECT_EQ(fixture_hash("paper_front_mu00_t350.cdps", 2, two),
-            fixture_hash("paper_front_mu00_t350.cdps", 2, settings));
+// Two steps of the paper's (0,0) compaction front (≈ 1 000 spheres in 8 × 8 tiles of 3.125 R,
+// and the piston): the hash of one thread with two and four.
+TEST(TileThreads, APaperSizeStepGivesTheSameStateHashOnTwoAndFourThreads) {
+  const std::vector<SceneOverride> settings{"solver.kinematic_tolerance=1e-4",
+                                            "solver.tile_width=3.0"};
+  const auto one = fixture_hash("paper_front_mu00_t350.cdps", 2, settings);
+  for (const char* threads : {"solver.threads=2", "solver.threads=4"}) {
+    std::vector<SceneOverride> many = settings;
+    many.emplace_back(threads);
+    EXPECT_EQ(fixture_hash("paper_front_mu00_t350.cdps", 2, many), one) << threads;
+  }
 }
 
 // The stages after a threaded solve run their halves side by side (step.cpp): each step's
 // diagnostics on two threads have the bits of one.
-TEST(SlabThreads, AThreadedStepsDiagnosticsHaveTheBitsOfOneThread) {
+TEST(TileThreads, AThreadedStepsDiagnosticsHaveTheBitsOfOneThread) {
   const auto reports = [](int threads) {
     const std::filesystem::path file =
         std::filesystem::path(CDPOWDER_SOURCE_DIR) / "bench/fixtures/paper_front_mu00_t350.cdps";

@@ -1,0 +1,94 @@
+// tiles.hpp — the fixed grid of x–y tiles a step's passes are cut into, so that threads (and
+// later ranks) solve tiles side by side (docs/architecture.md, "Scale: one tile grid").
+// The grid is a function of the cell and the largest radius alone, never of the thread count:
+// the visiting order, and with it every result, is the same on any number of threads.
+//
+// - A sphere belongs to the tile of its centre at the start of the step.
+// - A pair contact belongs to the tile of its "lower-left" sphere per axis, so it touches the
+//   2 × 2 block of tiles starting at its own. A pair whose spheres are not in one such block
+//   (spheres larger than a tile allows) goes to the hub.
+// - A bottom-wall contact belongs to its sphere's tile. The piston's contacts share the
+//   piston's velocity: they form the hub, solved after the tiles.
+// - The tiles are coloured in a 2 × 2 checkerboard (i mod 2, j mod 2). Two tiles of one colour
+//   are two tiles apart, so their blocks are disjoint: a phase's tiles share no sphere and are
+//   solved at once. A pass is the four phases and the hub, in an order drawn per step
+//   (ColouredPass::slot_order).
+//
+// Parts number the tiles in pass order (phase, then tile index), the hub last: the pass
+// visits parts 0, 1, …, and a part's contacts are coloured and batched on their own.
+#pragma once
+
+#include "cdpowder/contact/local_problem.hpp"
+#include "cdpowder/core/vec3.hpp"
+#include "cdpowder/model/periodic_box.hpp"
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace cdpowder {
+
+/// Below this many sphere–sphere contacts a step is one part (no tiles, no hub): a pass then
+/// takes a few microseconds, no more than handing work to another thread costs.
+inline constexpr std::size_t kMinPairsToTile = 256;
+
+/// The width a tile aims at, in largest radii: a contact spans 2 R_max plus a small gap, so a
+/// tile holds every contact in its 2 × 2 block with room to spare. Narrower tiles give more of
+/// them to share among threads but colour into smaller batches: at 16 240 spheres (a 100 R
+/// cell) tiles of 8.3 R made a run on one thread about 5 % slower than tiles of 12.5 R, and both
+/// shared well between two threads (docs/lab/2026-11-29-tiles.md). The paper's 25 R cell gets
+/// 2 × 2 tiles of 12.5 R.
+inline constexpr double kTileWidthRadii = 12.0;
+
+/// Colour phases of a pass: the 2 × 2 checkerboard.
+inline constexpr std::size_t kTilePhases = 4;
+
+/// Tiles along each periodic direction: even (the checkerboard wraps), or 1 where the cell is
+/// narrower than two tiles.
+struct TileGrid {
+  std::uint32_t nx = 1;
+  std::uint32_t ny = 1;
+
+  [[nodiscard]] std::uint32_t tiles() const { return nx * ny; }
+};
+
+/// The grid of `box` for tiles of `width` (0: kTileWidthRadii × `max_radius`).
+TileGrid tile_grid(const PeriodicBox& box, double max_radius, double width);
+
+/// A step's tiling: each sphere's part, the parts of each phase and the hub.
+struct StepTiles {
+  TileGrid grid;
+  /// each sphere's tile as its part (pass order); empty: the step is not tiled (one part)
+  std::vector<std::uint32_t> sphere_part;
+  /// the tile coordinates of each sphere (ix, iy), for the owner of a pair
+  std::vector<std::uint32_t> sphere_x;
+  std::vector<std::uint32_t> sphere_y;
+  /// tile index iy·nx + ix → part
+  std::vector<std::uint32_t> part_of_tile;
+  /// phase f is parts [phase_parts[f], phase_parts[f + 1]); the hub is part phase_parts[4]
+  std::array<std::uint32_t, kTilePhases + 1> phase_parts{};
+
+  [[nodiscard]] bool tiled() const { return !sphere_part.empty(); }
+
+  /// Parts of a pass: the tiles and the hub, or one when not tiled.
+  [[nodiscard]] std::uint32_t parts() const { return tiled() ? grid.tiles() + 1 : 1; }
+
+  /// The hub's part (tiled steps only).
+  [[nodiscard]] std::uint32_t hub() const { return grid.tiles(); }
+
+  /// The part of pair p: its lower-left sphere's tile, or the hub.
+  [[nodiscard]] std::uint32_t pair_part(const PairProblem& p) const;
+
+  /// The part of wall contact w: its sphere's tile for the bottom wall, the hub for the piston.
+  [[nodiscard]] std::uint32_t wall_part(const WallProblem& w) const {
+    return w.wall == WallKind::Piston ? hub() : sphere_part[w.sphere];
+  }
+};
+
+/// Sets the step's tiling from the spheres' positions (wrapped into the cell) and the grid of
+/// tile_grid(box, max_radius, width): not tiled below kMinPairsToTile pairs or with a grid of
+/// one tile.
+void assign_tiles(const std::vector<Vec3>& positions, const PeriodicBox& box, double max_radius,
+                  double width, const Contacts& contacts, StepTiles& tiles);
+
+}  // namespace cdpowder
