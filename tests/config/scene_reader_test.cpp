@@ -296,6 +296,14 @@ TEST_F(SceneReader, ReadsThreadsWithTheColouredKernelAndWritesThemBack) {
   EXPECT_EQ(s.step.solver.threads, 2);
   EXPECT_THAT(s.effective_toml, HasSubstr("threads = 2\n"));
   EXPECT_EQ(read(kParticles).step.solver.threads, 1);
+  // "auto" is 0, every usable core, written back as 0; another word is refused by name
+  const Scene automatic = read(std::string(kParticles) + "[solver]\nthreads = \"auto\"\n");
+  EXPECT_EQ(automatic.step.solver.threads, 0);
+  EXPECT_THAT(automatic.effective_toml, HasSubstr("threads = 0\n"));
+  EXPECT_EQ(read(kParticles, {"solver.threads=\"auto\""}).step.solver.threads, 0);
+  const auto word = issues(std::string(kParticles) + "[solver]\nthreads = \"all\"\n");
+  ASSERT_EQ(word.size(), 1U);
+  EXPECT_THAT(word[0], AllOf(HasSubstr("solver.threads"), HasSubstr("\"auto\"")));
 }
 
 TEST_F(SceneReader, RejectsThreadsWithTheScalarKernel) {

@@ -411,7 +411,8 @@ void visit_sweep_keys(auto& solver, auto&& visit) {
                  .minimum = 0,
                  .maximum = kMaxSolverThreads,
                  .meaning = kThreadsMeaning,
-                 .also_allowed = "; > 1 only with `kernel = \"coloured\"` (the default)"},
+                 .also_allowed = ", or \"auto\" (0); > 1 only with `kernel = \"coloured\"` "
+                                 "(the default)"},
         solver.threads);
   visit(SceneKey{.table = table,
                  .name = "tile_width",

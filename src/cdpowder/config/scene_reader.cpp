@@ -375,6 +375,25 @@ void apply_read_options(toml::table& root, const SceneReadOptions& options) {
   }
 }
 
+/// Names a key may take for a number: solver.threads = "auto" is 0 (every usable core).
+/// Another word is reported here, with the name it may take, and left out of the read.
+void read_named_values(toml::table& root, TableReader& in) {
+  const Scene defaults;
+  const detail::SceneKey threads = detail::key_of(defaults, defaults.step.solver.threads);
+  toml::table* solver = root[threads.table].as_table();
+  if (solver == nullptr) return;
+  const toml::node* node = solver->get(threads.name);
+  if (node == nullptr || !node->is_string()) return;
+  if (node->as_string()->get() != "auto") {
+    in.add_issue(detail::key_name(defaults, defaults.step.solver.threads), node->source(),
+                 fmt::format("got {}, expected an integer from 0 to {} or \"auto\"",
+                             detail::describe(*node), kMaxSolverThreads));
+    solver->erase(threads.name);
+    return;
+  }
+  solver->insert_or_assign(threads.name, std::int64_t{0});
+}
+
 }  // namespace
 
 /// The TOML parser's description of a syntax error as the message shows it (it quotes the
@@ -400,6 +419,7 @@ Scene read_scene_text(std::string_view toml_text, std::string_view source_name,
   detail::apply_overrides(root, overrides, issues);
   apply_read_options(root, options);
   TableReader in(root, std::string(source_name), issues);
+  read_named_values(root, in);
   if (options.particles_file) {
     const Scene defaults;
     in.set_origin(detail::key_name(defaults, defaults.particles_file),
