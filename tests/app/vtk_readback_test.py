@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """The VTK files of a short compaction, read back with VTK itself (Debian's python3-vtk9), in
 the three formats (run.vtk_format = "ascii", "binary" and "zlib"), and the README's glyph recipe
-run on them.
+run on them; the default ("auto") on deposits of 9 999 and 10 000 spheres.
 
     vtk_readback_test.py --cdpowder BIN --source-dir DIR
 
@@ -144,6 +144,25 @@ def check_walls(out):
         fail(f"walls.vtp: the piston is not drawn flat at z = {piston}, the summary's height")
 
 
+def check_auto_format(cdpowder, source, scratch):
+    """run.vtk_format = "auto" (the default): text below 10 000 spheres, zlib from there on,
+    read back by VTK with every sphere."""
+    for spheres, compressed in ((9999, False), (10000, True)):
+        out = Path(scratch) / f"auto_{spheres}"
+        command = [cdpowder, "deposit", str(source / "examples/paper/scene.toml"), "--out",
+                   str(out), "--quiet", "--set", f"deposition.spheres={spheres}",
+                   "--set", "system.lx=80", "--set", "system.ly=80"]
+        result = subprocess.run(command, capture_output=True, text=True)
+        if result.returncode != 0:
+            fail(f"{' '.join(command)} exited {result.returncode}: {result.stderr}")
+        text = (out / "particles.vtp").read_bytes()
+        if (b'compressor="vtkZLibDataCompressor"' in text) != compressed:
+            fail(f"{out}/particles.vtp: {spheres} spheres should be "
+                 f"{'zlib' if compressed else 'text'} by default")
+        if read_vtp(out / "particles.vtp").GetNumberOfPoints() != spheres:
+            fail(f"{out}/particles.vtp: VTK does not read {spheres} spheres")
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--cdpowder", required=True)
@@ -158,8 +177,9 @@ def main():
         for out in dirs.values():
             check_glyphs(out)
             check_walls(out)
-    print(f"vtk_readback_test: {spheres} spheres; VTK reads the three formats alike, and the "
-          "glyphs and walls are where they belong")
+        check_auto_format(args.cdpowder, args.source_dir, scratch)
+    print(f"vtk_readback_test: {spheres} spheres; VTK reads the three formats alike, the "
+          "glyphs and walls are where they belong, and \"auto\" compresses from 10 000 spheres")
 
 
 if __name__ == "__main__":

@@ -59,8 +59,10 @@ inline constexpr EnumNames<CohesionRule, 2> kCohesionRuleNames = {
     {{"graph", CohesionRule::Graph}, {"history", CohesionRule::History}}};
 inline constexpr EnumNames<StoppingRule, 2> kStoppingRuleNames = {
     {{"residual", StoppingRule::Residual}, {"relative_change", StoppingRule::RelativeChange}}};
-inline constexpr EnumNames<VtkFormat, 3> kVtkFormatNames = {
-    {{"ascii", VtkFormat::Ascii}, {"binary", VtkFormat::Binary}, {"zlib", VtkFormat::Zlib}}};
+inline constexpr EnumNames<VtkFormat, 4> kVtkFormatNames = {{{"auto", VtkFormat::Auto},
+                                                             {"ascii", VtkFormat::Ascii},
+                                                             {"binary", VtkFormat::Binary},
+                                                             {"zlib", VtkFormat::Zlib}}};
 inline constexpr EnumNames<CaptureRule, 2> kCaptureRuleNames = {
     {{"centre_distance", CaptureRule::CentreDistance}, {"surface_gap", CaptureRule::SurfaceGap}}};
 inline constexpr EnumNames<VisitOrder, 3> kVisitOrderNames = {
@@ -140,7 +142,8 @@ inline constexpr std::string_view kVtkFormatMeaning =
     "a line (readable and diffable); \"binary\", appended base64-encoded little-endian binary "
     "at full precision (smaller, faster for ParaView to load); \"zlib\", appended raw binary "
     "compressed with zlib in VTK's own layout (vtkZLibDataCompressor; the smallest, for large "
-    "packings; VTK 9 and ParaView read it)";
+    "packings; VTK 9 and ParaView read it); \"auto\", \"ascii\" below 10 000 spheres and "
+    "\"zlib\" from there on";
 
 // ---------------------------------------------------------------------------------------------
 // The lists, one function per table, in file order. Each takes the part of a Scene (or of a

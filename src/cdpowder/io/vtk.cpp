@@ -89,7 +89,8 @@ std::string zlib_blocks(const char* bytes, std::size_t size) {
 class VtpDocument {
  public:
   explicit VtpDocument(VtkFormat format)
-      : binary_(format != VtkFormat::Ascii), zlib_(format == VtkFormat::Zlib) {}
+      : binary_(format == VtkFormat::Binary || format == VtkFormat::Zlib),
+        zlib_(format == VtkFormat::Zlib) {}
 
   /// XML text, as it is.
   template <typename... Args>

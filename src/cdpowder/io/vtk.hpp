@@ -1,7 +1,9 @@
 // vtk.hpp — VTK XML PolyData (.vtp) files that ParaView opens, and .pvd collections of
-// them over time. ASCII by default, so the files are readable and diffable (a 100 000-sphere
-// snapshot is ≈ 15 MB), or binary (VtkFormat::Binary, run.vtk_format = "binary": appended
-// base64 at full precision). Every file is written atomically (io/atomic_file.hpp).
+// them over time. ASCII, readable and diffable (a 100 000-sphere snapshot is ≈ 15 MB), binary
+// (VtkFormat::Binary: appended base64 at full precision) or zlib (VtkFormat::Zlib: appended raw
+// binary compressed in vtkZLibDataCompressor's layout). The run's folder resolves
+// VtkFormat::Auto by the sphere count (vtk_format_for, config/scene.hpp); here it is ASCII.
+// Every file is written atomically (io/atomic_file.hpp).
 //
 // Particles: one point per sphere (a vertex cell each) with point data id, radius [R],
 // velocity [R/t0], angular_velocity [1/t0], coordination (closed contacts incl. walls).

@@ -213,7 +213,7 @@ void write_deposit_outputs(const std::filesystem::path& folder, const Scene& sce
   const std::string header = provenance_header(scene);
   write_file_atomically(folder / "scene.toml", scene.effective_toml);
   write_file_atomically(folder / "particles.csv", particles_csv(world.bodies, header));
-  const VtkFormat vtk = scene.run.vtk_format;
+  const VtkFormat vtk = vtk_format_for(scene.run.vtk_format, world.bodies.size());
   write_file_atomically(folder / "particles.vtp", particles_vtp(world, nullptr, vtk));
   write_file_atomically(folder / "walls.vtp", walls_vtp(world, vtk));
   write_file_atomically(folder / "summary.json", deposit_summary_json(scene, world));
@@ -236,7 +236,8 @@ RunFolder RunFolder::begin(const std::filesystem::path& folder, const Scene& sce
                            const World& world, const Contacts& contacts, Warn warn) {
   std::filesystem::create_directories(folder);
   clear_earlier_run(folder);
-  RunFolder f(folder, provenance_header(scene), std::move(warn), scene.run.vtk_format);
+  RunFolder f(folder, provenance_header(scene), std::move(warn),
+              vtk_format_for(scene.run.vtk_format, world.bodies.size()));
   write_file_atomically(folder / "scene.toml", scene.effective_toml);
   write_file_atomically(folder / "initial_particles.csv", particles_csv(world.bodies, f.header_));
   f.timeseries_ = std::make_unique<TimeseriesWriter>(folder / "timeseries.csv", f.header_,
@@ -253,7 +254,7 @@ RunFolder RunFolder::begin(const std::filesystem::path& folder, const Scene& sce
 RunFolder RunFolder::resume(const std::filesystem::path& folder, const Scene& scene,
                             const World& world, const RunState& state, Warn warn) {
   RunFolder f(folder, leading_comments(folder / "initial_particles.csv"), std::move(warn),
-              scene.run.vtk_format);
+              vtk_format_for(scene.run.vtk_format, world.bodies.size()));
   remove_stale_temporaries(folder);  // e.g. a .pvd a killed run was writing
   if (std::filesystem::is_directory(folder / "snapshots")) {
     remove_stale_temporaries(folder / "snapshots");
@@ -309,7 +310,7 @@ void RunFolder::finish(const Scene& scene, const World& world, const StepWorkspa
   // again, or resume continues it from its checkpoint)
   write_file_atomically(folder_ / "particles.csv", particles_csv(world.bodies, header_));
   write_file_atomically(folder_ / "contacts.csv", contacts_csv(work.contacts, header_));
-  const VtkFormat vtk = scene.run.vtk_format;
+  const VtkFormat vtk = vtk_format_for(scene.run.vtk_format, world.bodies.size());
   write_file_atomically(folder_ / "particles.vtp", particles_vtp(world, &work.contacts, vtk));
   write_file_atomically(folder_ / "contacts.vtp", contacts_vtp(world, work.contacts, vtk));
   write_file_atomically(folder_ / "walls.vtp", walls_vtp(world, vtk));
