@@ -409,14 +409,31 @@ TEST(TileThreads, APaperSizeStepGivesTheSameStateHashOnTwoAndFourThreads) {
 
 // The stages after a threaded solve run their halves side by side (step.cpp): each step's
 // diagnostics on two threads have the bits of one.
+// The paper's 25 R cell in the default tiles (2 × 2: one tile a phase) has nothing to share:
+// its steps stay on one thread whatever solver.threads says.
+TEST(TileThreads, AStepWithOneTileAPhaseStaysOnOneThread) {
+  SmallPacking packing(0.1);
+  packing.scene.settings.solver.threads = 2;
+  packing.scene.settings.solver.tile_width = 5.0;  // 11.3 R: 2 × 2 tiles
+  packing.scene.work.solver.thread_choice.always_threaded();
+  const StepReport report = packing.scene.run(1);
+  EXPECT_TRUE(packing.scene.work.solver.tiles.tiled());
+  EXPECT_FALSE(packing.scene.work.solver.tiles.tiles_to_share());
+  EXPECT_FALSE(report.solver.threaded);
+  packing.scene.settings.solver.tile_width = 2.8;  // 4 × 4: four a phase
+  EXPECT_TRUE(packing.scene.run(1).solver.threaded);
+}
+
 TEST(TileThreads, AThreadedStepsDiagnosticsHaveTheBitsOfOneThread) {
   const auto reports = [](int threads) {
     const std::filesystem::path file =
         std::filesystem::path(CDPOWDER_SOURCE_DIR) / "bench/fixtures/paper_front_mu00_t350.cdps";
     SavedRun saved = load_state(file);
     const Scene saved_scene = read_scene_text(saved.scene_toml, file.string(), {}, ".");
-    const Scene scene = read_scene_text(saved.scene_toml, file.string(),
-                                        {"solver.threads=" + std::to_string(threads)}, ".");
+    // tiles of 3.1 R (8 × 8): the default's 2 × 2 have one tile a phase, nothing to share
+    const Scene scene = read_scene_text(
+        saved.scene_toml, file.string(),
+        {"solver.threads=" + std::to_string(threads), "solver.tile_width=3.0"}, ".");
     World world;
     StepWorkspace work(scene.step.solver.seed);
     RunState run;

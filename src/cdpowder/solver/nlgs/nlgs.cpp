@@ -216,17 +216,16 @@ SolverStats solve_nlgs(Contacts& contacts, VelocityCache& velocities,
     TileThreads* threads;
   } park_at_end(pool);
 
-  // the pairs are stored in colour order during the passes (and the mixing); a tiled step on
-  // the threads or on this one alone, whichever was faster lately: the same bits
-  const bool threaded_prepare =
-      pool != nullptr && tiles != nullptr && work.thread_choice.threaded();
+  // the pairs are stored in colour order during the passes (and the mixing); a step whose
+  // phases have tiles to share runs on the threads or on this one alone, whichever was faster
+  // lately: the same bits
+  const bool choose = pool != nullptr && tiles != nullptr && tiles->tiles_to_share();
+  const bool threaded = choose && work.thread_choice.threaded();
   prepare_coloured_pass(contacts, velocities, work.coloured, kColourChunk, tiles,
-                        threaded_prepare ? pool : nullptr);
+                        threaded ? pool : nullptr);
   const MixedModes modes = mixed_modes(contacts);
   work.coloured.torques = modes.rolling || modes.twisting;
   order_groups(work.coloured, settings.visit_order, work.rng);
-  const bool choose = pool != nullptr && work.coloured.tiled();
-  const bool threaded = choose && work.thread_choice.threaded();
   const auto start = std::chrono::steady_clock::now();
   // the records tile by tile during the passes (tile_order.hpp): the same bits
   if (tiles != nullptr) enter_tile_order(*tiles, contacts, velocities, work.coloured, work.order);
