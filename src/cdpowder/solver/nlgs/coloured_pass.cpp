@@ -194,6 +194,78 @@ void ColouringInputs::record(const std::vector<PairProblem>& pairs,
   recorded_ = true;
 }
 
+namespace {
+
+/// Each part's sequential group (its overflow pairs, then its wall contacts in storage order;
+/// of these, the bottom-wall contacts before the first piston contact go into wall batches)
+/// and its groups in storage order (its colours, then the sequential group). Returns the wall
+/// batches the bottom-wall contacts need.
+std::size_t build_sequential_groups(const Contacts& contacts, ColouredPass& pass) {
+  const PairColouring& colouring = pass.colouring;
+  const std::size_t colours = colouring.colours();
+  const auto n_pairs = static_cast<ContactIndex>(contacts.pairs.size());
+  const std::size_t parts = colouring.parts();
+  // the walls part by part, each part's in storage order (a counting sort)
+  std::vector<std::uint32_t>& wall_start = pass.wall_start;
+  wall_start.assign(parts + 1, 0);
+  const auto part_of_wall = [&](std::size_t w) -> std::size_t {
+    return pass.wall_part.empty() ? 0 : pass.wall_part[w];
+  };
+  for (std::size_t w = 0; w < contacts.walls.size(); ++w) ++wall_start[part_of_wall(w) + 1];
+  for (std::size_t p = 0; p < parts; ++p) wall_start[p + 1] += wall_start[p];
+  std::vector<ContactIndex>& walls = pass.wall_order;
+  walls.resize(contacts.walls.size());
+  for (std::size_t w = 0; w < contacts.walls.size(); ++w) {
+    walls[wall_start[part_of_wall(w)]++] = static_cast<ContactIndex>(w);
+  }
+  pass.sequential.clear();
+  pass.group_order.clear();
+  pass.part_sequential.resize(parts + 1);
+  pass.bottom_walls.resize(parts);
+  pass.part_groups.resize(parts + 1);
+  pass.part_wall_batches.resize(parts + 1);
+  std::size_t wall_batch_count = 0;
+  std::size_t first_wall = 0;
+  for (std::size_t p = 0; p < parts; ++p) {
+    pass.part_sequential[p] = static_cast<std::uint32_t>(pass.sequential.size());
+    pass.sequential.insert(pass.sequential.end(),
+                           colouring.overflow.begin() + colouring.part_overflow[p],
+                           colouring.overflow.begin() + colouring.part_overflow[p + 1]);
+    const auto bottom_first = static_cast<std::uint32_t>(pass.sequential.size());
+    std::uint32_t bottom_last = bottom_first;
+    for (; first_wall < wall_start[p]; ++first_wall) {  // wall_start[p] is now part p's end
+      const ContactIndex w = walls[first_wall];
+      if (contacts.walls[w].wall == WallKind::Bottom &&
+          bottom_last == static_cast<std::uint32_t>(pass.sequential.size())) {
+        ++bottom_last;
+      }
+      pass.sequential.push_back(n_pairs + w);
+    }
+    pass.bottom_walls[p] = {bottom_first, bottom_last};
+    // side by side only if no two share a sphere: detection lists them in sphere order, one
+    // per sphere at most (debug builds check it)
+    CDP_ASSERT(std::adjacent_find(pass.sequential.begin() + bottom_first,
+                                  pass.sequential.begin() + bottom_last,
+                                  [&](ContactIndex k, ContactIndex after) {
+                                    return contacts.walls[k - n_pairs].sphere >=
+                                           contacts.walls[after - n_pairs].sphere;
+                                  }) == pass.sequential.begin() + bottom_last,
+               "bottom-wall contacts in increasing sphere order");
+    wall_batch_count += batches_for(bottom_last - bottom_first);
+    // the part's colours in storage order, then its sequential group
+    pass.part_groups[p] = static_cast<std::uint32_t>(pass.group_order.size());
+    for (std::uint32_t c = colouring.first_colour(p); c < colouring.first_colour(p + 1); ++c) {
+      pass.group_order.push_back(c);
+    }
+    pass.group_order.push_back(static_cast<std::uint32_t>(colours + p));
+  }
+  pass.part_sequential[parts] = static_cast<std::uint32_t>(pass.sequential.size());
+  pass.part_groups[parts] = static_cast<std::uint32_t>(pass.group_order.size());
+  return wall_batch_count;
+}
+
+}  // namespace
+
 void build_batches(const Contacts& contacts, const VelocityCache& velocities, ColouredPass& pass) {
   pass.built_from.forget();
   const PairColouring& colouring = pass.colouring;
@@ -225,53 +297,9 @@ void build_batches(const Contacts& contacts, const VelocityCache& velocities, Co
     pass.colour_batches[c + 1] = static_cast<std::uint32_t>(next);
   }
   CDP_ASSERT(next == batch_count, "every batch filled");
-  // part p's sequential group: its overflow pairs, then its wall contacts; of these, the
-  // bottom-wall contacts before the first piston contact go into wall batches
+  const std::size_t wall_batch_count = build_sequential_groups(contacts, pass);
   const auto n_pairs = static_cast<ContactIndex>(contacts.pairs.size());
   const std::size_t parts = colouring.parts();
-  pass.sequential.clear();
-  pass.group_order.clear();
-  pass.part_sequential.resize(parts + 1);
-  pass.bottom_walls.resize(parts);
-  pass.part_groups.resize(parts + 1);
-  pass.part_wall_batches.resize(parts + 1);
-  std::size_t wall_batch_count = 0;
-  for (std::size_t p = 0; p < parts; ++p) {
-    pass.part_sequential[p] = static_cast<std::uint32_t>(pass.sequential.size());
-    pass.sequential.insert(pass.sequential.end(),
-                           colouring.overflow.begin() + colouring.part_overflow[p],
-                           colouring.overflow.begin() + colouring.part_overflow[p + 1]);
-    const auto bottom_first = static_cast<std::uint32_t>(pass.sequential.size());
-    std::uint32_t bottom_last = bottom_first;
-    for (std::size_t w = 0; w < contacts.walls.size(); ++w) {
-      const std::size_t part = pass.wall_part.empty() ? 0 : pass.wall_part[w];
-      if (part != p) continue;
-      if (contacts.walls[w].wall == WallKind::Bottom &&
-          bottom_last == static_cast<std::uint32_t>(pass.sequential.size())) {
-        ++bottom_last;
-      }
-      pass.sequential.push_back(n_pairs + static_cast<ContactIndex>(w));
-    }
-    pass.bottom_walls[p] = {bottom_first, bottom_last};
-    // side by side only if no two share a sphere: detection lists them in sphere order, one
-    // per sphere at most (debug builds check it)
-    CDP_ASSERT(std::adjacent_find(pass.sequential.begin() + bottom_first,
-                                  pass.sequential.begin() + bottom_last,
-                                  [&](ContactIndex k, ContactIndex after) {
-                                    return contacts.walls[k - n_pairs].sphere >=
-                                           contacts.walls[after - n_pairs].sphere;
-                                  }) == pass.sequential.begin() + bottom_last,
-               "bottom-wall contacts in increasing sphere order");
-    wall_batch_count += batches_for(bottom_last - bottom_first);
-    // the part's colours in storage order, then its sequential group
-    pass.part_groups[p] = static_cast<std::uint32_t>(pass.group_order.size());
-    for (std::uint32_t c = colouring.first_colour(p); c < colouring.first_colour(p + 1); ++c) {
-      pass.group_order.push_back(c);
-    }
-    pass.group_order.push_back(static_cast<std::uint32_t>(colours + p));
-  }
-  pass.part_sequential[parts] = static_cast<std::uint32_t>(pass.sequential.size());
-  pass.part_groups[parts] = static_cast<std::uint32_t>(pass.group_order.size());
   // the bottom-wall batches, part by part
   pass.wall_batch_pairs.resize(wall_batch_count / 2);
   const auto fill_wall = [&](ContactIndex w, std::size_t lane, WallBatchPair& pair) {

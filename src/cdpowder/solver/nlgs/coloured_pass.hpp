@@ -155,6 +155,8 @@ struct ColouredPass {
   std::vector<std::uint32_t> part_start;   ///< scratch: part p's pairs start in part_order
   std::vector<std::uint32_t> part_next;    ///< scratch of the counting sort
   std::vector<std::uint32_t> pair_part;    ///< scratch: each pair's part
+  std::vector<std::uint32_t> wall_start;   ///< scratch: part p's walls start in wall_order
+  std::vector<ContactIndex> wall_order;    ///< scratch: the walls part by part
   /// each part's sums of the last pass (run_coloured_pass), added in part order
   mutable std::vector<PartSums> part_sums;
   std::vector<ContactIndex> storage_index;  ///< pair i is stored pair storage_index[i] of the step

@@ -184,8 +184,7 @@ namespace {
 
 SolverStats iterate_until_done(Contacts& contacts, VelocityCache& velocities,
                                const SolverSettings& settings, double reference_force,
-                               TileThreads* threads, NlgsWorkspace& work, MixedModes modes,
-                               const StepTiles* tiles);
+                               TileThreads* threads, NlgsWorkspace& work, MixedModes modes);
 }  // namespace
 
 SolverStats solve_nlgs(Contacts& contacts, VelocityCache& velocities,
@@ -194,7 +193,7 @@ SolverStats solve_nlgs(Contacts& contacts, VelocityCache& velocities,
   if (settings.kernel != PassKernel::Coloured) {
     prepare_visit_order(contacts, settings.visit_order, work);
     return iterate_until_done(contacts, velocities, settings, reference_force, nullptr, work,
-                              mixed_modes(contacts), nullptr);
+                              mixed_modes(contacts));
   }
   if (tiles != nullptr && !tiles->tiled()) tiles = nullptr;
   TileThreads* const pool = work.threads.get(solve_threads(settings));
@@ -230,7 +229,7 @@ SolverStats solve_nlgs(Contacts& contacts, VelocityCache& velocities,
   // the records tile by tile during the passes (tile_order.hpp): the same bits
   if (tiles != nullptr) enter_tile_order(*tiles, contacts, velocities, work.coloured, work.order);
   SolverStats stats = iterate_until_done(contacts, velocities, settings, reference_force,
-                                         threaded ? pool : nullptr, work, modes, tiles);
+                                         threaded ? pool : nullptr, work, modes);
   if (choose) {
     const std::chrono::duration<double> took = std::chrono::steady_clock::now() - start;
     work.thread_choice.record(
@@ -341,8 +340,7 @@ void mix_actions(Contacts& contacts, VelocityCache& velocities, TileThreads* thr
 
 SolverStats iterate_until_done(Contacts& contacts, VelocityCache& velocities,
                                const SolverSettings& settings, double reference_force,
-                               TileThreads* threads, NlgsWorkspace& work, MixedModes modes,
-                               const StepTiles* tiles) {
+                               TileThreads* threads, NlgsWorkspace& work, MixedModes modes) {
   std::vector<ContactIndex>& order = contacts.visit_order;
   const bool coloured = settings.kernel == PassKernel::Coloured;
   const bool accelerate = settings.acceleration_depth > 0;

@@ -20,14 +20,14 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <vector>
 
 namespace cdpowder {
 
 class TileThreads final : public PieceRunner {
  public:
   /// Starts threads − 1 workers (threads ≥ 1).
-  explicit TileThreads(int threads)
-      : ranges_(std::make_unique<Range[]>(static_cast<std::size_t>(threads))), pool_(threads) {}
+  explicit TileThreads(int threads) : ranges_(static_cast<std::size_t>(threads)), pool_(threads) {}
 
   [[nodiscard]] int size() const { return pool_.size(); }
 
@@ -52,7 +52,7 @@ class TileThreads final : public PieceRunner {
     std::atomic<std::uint64_t> word{0};
   };
 
-  std::unique_ptr<Range[]> ranges_;                 // NOLINT(*-avoid-c-arrays): one cache line each
+  std::vector<Range> ranges_;  ///< one a thread, each on a cache line of its own
   alignas(64) std::atomic<std::uint32_t> done_{0};  ///< pieces done in this run
   alignas(64) std::uint32_t run_id_ = 0;
   // the run's task, written before the ranges publish it and read by a thread after a claim
