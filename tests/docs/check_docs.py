@@ -29,7 +29,8 @@
     names a file as the user named it, or relative to the repository; and nothing under
     results/ names a scratch file of /tmp (a gate's binaries are named by commit and sha256).
 (f) citation: CITATION.cff's `version:` is the project's (CMakeLists.txt) and LICENSE exists.
-(h) results: results/index.csv names every folder of results/ once, with its sweep file (which
+(h) results: results/index.csv names every folder of results/ (and of results/paper/, as
+    paper/NAME) once, with its sweep file (which
     exists), the commit of its results.csv header, and a status: record, superseded,
     exploratory or gates.
 (g) stages: the section "## One time step" of docs/architecture.md has a subsection "### N. …"
@@ -450,7 +451,11 @@ def check_results_index(root):
     with open(index, encoding="utf-8", newline="") as f:
         rows = list(csv.DictReader(f))
     problems = []
-    folders = sorted(p.name for p in results.iterdir() if p.is_dir())
+    # a folder of results is a folder of results/, or one level down in results/paper/ (the
+    # results of record: results/paper/table1, …)
+    folders = sorted(p.name for p in results.iterdir() if p.is_dir() and p.name != "paper")
+    if (results / "paper").is_dir():
+        folders += sorted(f"paper/{p.name}" for p in (results / "paper").iterdir() if p.is_dir())
     listed = [row.get("folder", "") for row in rows]
     for folder in folders:
         if listed.count(folder) != 1:
@@ -616,6 +621,14 @@ class SelfTest(unittest.TestCase):
                                                "a,,abc999,record,\n"))
         self.assert_reported(problems, "lists results/b/ 0 times",
                              "program commit 'abc999', but results/a/results.csv names abc123")
+
+    def test_a_record_in_results_paper(self):
+        problems = self.problems(
+            results__paper__table1__results_DOT_csv=lambda t: "# cdpowder 0.1.0 (commit abc123)\nx\n",
+            results__index_DOT_csv=lambda t: ("folder,sweep file,program commit,status,note\n"
+                                               "paper/fig5,,abc123,record,\n"))
+        self.assert_reported(problems, "lists results/paper/table1/ 0 times",
+                             "results/paper/fig5/ does not exist")
 
     def test_a_scratch_path_in_a_gate_record(self):
         problems = self.problems(results__gates__x_DOT_md=lambda t: "- base: `/tmp/cdp_head`\n")
