@@ -10,9 +10,9 @@
 // the pass-order stream (physics.md §7.1, at the level of colours).
 // When the step is tiled (tiles.hpp) the contacts come in parts (the tiles in pass order, then
 // the hub), each with its own colours and sequential group; a pass visits the four phases'
-// tiles and then the hub, and adds each part's visits to sums of its own, which are then added
-// in part order (PassSums::add_part), so the bits do not depend on whether a phase's tiles ran
-// one after the other or side by side.
+// tiles and the hub in the step's slot order, and adds each part's visits to sums of its own,
+// which are then added in part order (PassSums::add_part), so the bits do not depend on
+// whether a phase's tiles ran one after the other or side by side.
 #pragma once
 
 #include "cdpowder/contact/local_problem.hpp"
@@ -144,7 +144,7 @@ struct ColouredPass {
   std::vector<std::uint32_t> part_groups{0, 0};
   std::vector<std::uint32_t> wall_part;  ///< each wall contact's part (empty: all in part 0)
   /// phase f runs parts [phase_parts[f], phase_parts[f + 1]) side by side; the parts from
-  /// phase_parts[kTilePhases] on (the hub of a tiled step) run after them on the caller
+  /// phase_parts[kTilePhases] on (the hub of a tiled step) run alone, on the caller
   std::array<std::uint32_t, kTilePhases + 1> phase_parts{0, 1, 1, 1, 1};
   /// the order of a pass's slots: slot f < kTilePhases runs phase f, slot kTilePhases the hub;
   /// drawn per step with the groups (order_groups), so no phase and not the hub always comes
