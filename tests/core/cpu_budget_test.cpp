@@ -14,6 +14,7 @@ namespace {
 struct BudgetRestored {
   ~BudgetRestored() {
     unsetenv(kMaxThreadsVariable);
+    unsetenv(kOversubscribeVariable);
     refresh_usable_cores();
   }
 };
@@ -36,6 +37,20 @@ TEST(CpuBudget, TheEnvironmentsCapHoldsEveryCount) {
   setenv(kMaxThreadsVariable, "not a number", 1);  // ignored, as an unset one
   unsetenv(kMaxThreadsVariable);
   EXPECT_GE(refresh_usable_cores(), 1);
+}
+
+// CDPOWDER_OVERSUBSCRIBE=1, read with the budget, grants a positive count as asked (tests of
+// the bits on more threads than cores); 0 still means the usable cores.
+TEST(CpuBudget, OversubscriptionGrantsTheCountAskedFor) {
+  const BudgetRestored restore;
+  setenv(kMaxThreadsVariable, "1", 1);
+  setenv(kOversubscribeVariable, "1", 1);
+  EXPECT_EQ(refresh_usable_cores(), 1);
+  EXPECT_EQ(budgeted_threads(4), 4);
+  EXPECT_EQ(budgeted_threads(0), 1);
+  setenv(kOversubscribeVariable, "yes", 1);  // only "1" oversubscribes
+  refresh_usable_cores();
+  EXPECT_EQ(budgeted_threads(4), 1);
 }
 
 // A process given one core (taskset -c 0) runs one thread, whatever it asks for.

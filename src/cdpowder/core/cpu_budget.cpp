@@ -17,6 +17,7 @@ namespace cdpowder {
 namespace {
 
 std::atomic<int> g_usable{0};
+std::atomic<bool> g_oversubscribe{false};  ///< kOversubscribeVariable, read with the budget
 
 int affinity_cores() {
   cpu_set_t set;
@@ -50,6 +51,8 @@ int environment_cap() {
 }  // namespace
 
 int refresh_usable_cores() {
+  const char* oversubscribe = std::getenv(kOversubscribeVariable);
+  g_oversubscribe.store(oversubscribe != nullptr && std::string_view(oversubscribe) == "1");
   int cores = affinity_cores();
   if (const int quota = quota_cores(); quota > 0) cores = std::min(cores, quota);
   if (const int cap = environment_cap(); cap > 0) cores = std::min(cores, cap);
@@ -63,11 +66,8 @@ int usable_cores() {
 }
 
 int budgeted_threads(int requested) {
-  const char* oversubscribe = std::getenv(kOversubscribeVariable);
-  if (requested > 0 && oversubscribe != nullptr && std::string_view(oversubscribe) == "1") {
-    return requested;
-  }
-  const int usable = usable_cores();
+  const int usable = usable_cores();  // reads the budget, oversubscription included, once
+  if (requested > 0 && g_oversubscribe.load()) return requested;
   return requested <= 0 ? usable : std::min(requested, usable);
 }
 

@@ -22,7 +22,7 @@ int usable_cores();
 int refresh_usable_cores();
 
 /// The threads a run asks for (`requested`, 0 for every usable core) within the budget; a
-/// positive count as asked when kOversubscribeVariable is "1".
+/// positive count as asked when kOversubscribeVariable was "1" when the budget was read.
 int budgeted_threads(int requested);
 
 }  // namespace cdpowder
