@@ -196,6 +196,21 @@ void ColouringInputs::record(const std::vector<PairProblem>& pairs,
 
 namespace {
 
+/// order ← 0 … n − 1 grouped by part (part_of(i) < parts), each part's in index order (a
+/// counting sort); start[p] ← where part p begins in `order`, start[parts] = n. `next` is
+/// scratch.
+template <typename PartOf>
+void group_by_part(std::size_t n, std::size_t parts, const PartOf& part_of,
+                   std::vector<std::uint32_t>& start, std::vector<std::uint32_t>& next,
+                   std::vector<ContactIndex>& order) {
+  start.assign(parts + 1, 0);
+  for (std::size_t i = 0; i < n; ++i) ++start[part_of(i) + 1];
+  for (std::size_t p = 0; p < parts; ++p) start[p + 1] += start[p];
+  next.assign(start.begin(), start.end() - 1);
+  order.resize(n);
+  for (std::size_t i = 0; i < n; ++i) order[next[part_of(i)]++] = static_cast<ContactIndex>(i);
+}
+
 /// Each part's sequential group (its overflow pairs, then its wall contacts in storage order;
 /// of these, the bottom-wall contacts before the first piston contact go into wall batches)
 /// and its groups in storage order (its colours, then the sequential group). Returns the wall
@@ -205,19 +220,12 @@ std::size_t build_sequential_groups(const Contacts& contacts, ColouredPass& pass
   const std::size_t colours = colouring.colours();
   const auto n_pairs = static_cast<ContactIndex>(contacts.pairs.size());
   const std::size_t parts = colouring.parts();
-  // the walls part by part, each part's in storage order (a counting sort)
-  std::vector<std::uint32_t>& wall_start = pass.wall_start;
-  wall_start.assign(parts + 1, 0);
-  const auto part_of_wall = [&](std::size_t w) -> std::size_t {
-    return pass.wall_part.empty() ? 0 : pass.wall_part[w];
-  };
-  for (std::size_t w = 0; w < contacts.walls.size(); ++w) ++wall_start[part_of_wall(w) + 1];
-  for (std::size_t p = 0; p < parts; ++p) wall_start[p + 1] += wall_start[p];
-  std::vector<ContactIndex>& walls = pass.wall_order;
-  walls.resize(contacts.walls.size());
-  for (std::size_t w = 0; w < contacts.walls.size(); ++w) {
-    walls[wall_start[part_of_wall(w)]++] = static_cast<ContactIndex>(w);
-  }
+  // the walls part by part, each part's in storage order
+  const std::vector<ContactIndex>& walls = pass.wall_order;
+  group_by_part(
+      contacts.walls.size(), parts,
+      [&](std::size_t w) -> std::size_t { return pass.wall_part.empty() ? 0 : pass.wall_part[w]; },
+      pass.wall_start, pass.part_next, pass.wall_order);
   pass.sequential.clear();
   pass.group_order.clear();
   pass.part_sequential.resize(parts + 1);
@@ -225,7 +233,6 @@ std::size_t build_sequential_groups(const Contacts& contacts, ColouredPass& pass
   pass.part_groups.resize(parts + 1);
   pass.part_wall_batches.resize(parts + 1);
   std::size_t wall_batch_count = 0;
-  std::size_t first_wall = 0;
   for (std::size_t p = 0; p < parts; ++p) {
     pass.part_sequential[p] = static_cast<std::uint32_t>(pass.sequential.size());
     pass.sequential.insert(pass.sequential.end(),
@@ -233,8 +240,8 @@ std::size_t build_sequential_groups(const Contacts& contacts, ColouredPass& pass
                            colouring.overflow.begin() + colouring.part_overflow[p + 1]);
     const auto bottom_first = static_cast<std::uint32_t>(pass.sequential.size());
     std::uint32_t bottom_last = bottom_first;
-    for (; first_wall < wall_start[p]; ++first_wall) {  // wall_start[p] is now part p's end
-      const ContactIndex w = walls[first_wall];
+    for (std::uint32_t j = pass.wall_start[p]; j < pass.wall_start[p + 1]; ++j) {
+      const ContactIndex w = walls[j];
       if (contacts.walls[w].wall == WallKind::Bottom &&
           bottom_last == static_cast<std::uint32_t>(pass.sequential.size())) {
         ++bottom_last;
@@ -414,25 +421,17 @@ void prepare_coloured_pass(Contacts& contacts, const VelocityCache& velocities, 
   pass.built_from.forget();
   // the pairs part by part, each part in storage order (a counting sort)
   const std::size_t parts = tiles == nullptr ? 1 : tiles->parts();
-  std::vector<std::uint32_t>& part_start = pass.part_start;
-  part_start.assign(parts + 1, 0);
   std::vector<std::uint32_t>& pair_part = pass.pair_part;
   pair_part.resize(contacts.pairs.size());
   for (std::size_t k = 0; k < contacts.pairs.size(); ++k) {
     pair_part[k] = part_of(contacts.pairs[k], tiles);
-    ++part_start[pair_part[k] + 1];
   }
-  for (std::size_t p = 0; p < parts; ++p) part_start[p + 1] += part_start[p];
-  std::vector<ContactIndex>& order = pass.part_order;
-  order.resize(contacts.pairs.size());
-  std::vector<std::uint32_t>& next = pass.part_next;
-  next.assign(part_start.begin(), part_start.end() - 1);
-  for (std::size_t k = 0; k < contacts.pairs.size(); ++k) {
-    order[next[pair_part[k]]++] = static_cast<ContactIndex>(k);
-  }
+  group_by_part(
+      contacts.pairs.size(), parts, [&](std::size_t k) { return pair_part[k]; }, pass.part_start,
+      pass.part_next, pass.part_order);
   PairColouring& colouring = pass.colouring;
-  colour_parts(contacts.pairs, order, part_start, velocities.spheres.size(), kMaxColours, chunk,
-               colouring, pass.masks);
+  colour_parts(contacts.pairs, pass.part_order, pass.part_start, velocities.spheres.size(),
+               kMaxColours, chunk, colouring, pass.masks);
   assign_wall_parts(contacts, tiles, pass.wall_part);
   // store the pairs in the order the batches visit them, overflow last
   std::vector<ContactIndex>& from = pass.storage_index;

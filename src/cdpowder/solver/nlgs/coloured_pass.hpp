@@ -153,7 +153,7 @@ struct ColouredPass {
   std::vector<std::uint32_t> chunk_order;  ///< scratch of order_groups
   std::vector<ContactIndex> part_order;    ///< scratch: the pairs part by part
   std::vector<std::uint32_t> part_start;   ///< scratch: part p's pairs start in part_order
-  std::vector<std::uint32_t> part_next;    ///< scratch of the counting sort
+  std::vector<std::uint32_t> part_next;    ///< scratch of the counting sorts (group_by_part)
   std::vector<std::uint32_t> pair_part;    ///< scratch: each pair's part
   std::vector<std::uint32_t> wall_start;   ///< scratch: part p's walls start in wall_order
   std::vector<ContactIndex> wall_order;    ///< scratch: the walls part by part

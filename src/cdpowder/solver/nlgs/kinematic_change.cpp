@@ -39,10 +39,10 @@ void KinematicChange::copy_piece(const VelocityCache& velocities, std::uint32_t 
   (velocities.spheres.data(), velocities.spheres.size(), first, last, start_.data());
 }
 
-void KinematicChange::velocities_changed(const VelocityCache& velocities) {
+void KinematicChange::velocities_changed(const VelocityCache& velocities, PieceRunner* runner) {
   start_.resize(radius_sq_.size() / kBlock);
-  for (std::uint32_t piece = 0; piece < pieces(); ++piece) copy_piece(velocities, piece);
-  copied(velocities);
+  run_pieces(runner, pieces(), [&](std::uint32_t piece) { copy_piece(velocities, piece); });
+  piston_start_ = velocities.piston_velocity;
 }
 
 KinematicChange::PieceMotion KinematicChange::measure_piece(const VelocityCache& velocities,
@@ -56,13 +56,18 @@ KinematicChange::PieceMotion KinematicChange::measure_piece(const VelocityCache&
   return out;
 }
 
-PassMotion KinematicChange::combine(const VelocityCache& velocities,
-                                    std::span<const PieceMotion> measured) {
-  double largest_sq = measured.front().largest_sq;
-  double sum_sq = measured.front().sum_sq;
-  for (std::size_t p = 1; p < measured.size(); ++p) {
-    largest_sq = std::max(largest_sq, measured[p].largest_sq);
-    sum_sq += measured[p].sum_sq;
+PassMotion KinematicChange::after_pass(const VelocityCache& velocities, bool with_speed,
+                                       PieceRunner* runner) {
+  measured_.resize(pieces());
+  run_pieces(runner, pieces(), [&](std::uint32_t piece) {
+    measured_[piece] = measure_piece(velocities, piece, with_speed);
+  });
+  // the pieces' sums in piece order: the same bits on any number of threads
+  double largest_sq = measured_.front().largest_sq;
+  double sum_sq = measured_.front().sum_sq;
+  for (std::size_t p = 1; p < measured_.size(); ++p) {
+    largest_sq = std::max(largest_sq, measured_[p].largest_sq);
+    sum_sq += measured_[p].sum_sq;
   }
   const std::size_t n = velocities.spheres.size();
   PassMotion motion;
@@ -71,14 +76,6 @@ PassMotion KinematicChange::combine(const VelocityCache& velocities,
   motion.piston_change = std::abs(velocities.piston_velocity - piston_start_);
   piston_start_ = velocities.piston_velocity;
   return motion;
-}
-
-PassMotion KinematicChange::after_pass(const VelocityCache& velocities, bool with_speed) {
-  measured_.resize(pieces());
-  for (std::uint32_t piece = 0; piece < pieces(); ++piece) {
-    measured_[piece] = measure_piece(velocities, piece, with_speed);
-  }
-  return combine(velocities, measured_);
 }
 
 }  // namespace cdpowder

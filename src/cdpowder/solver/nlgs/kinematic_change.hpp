@@ -6,6 +6,7 @@
 #include "cdpowder/contact/velocity_cache.hpp"
 #include "cdpowder/core/aligned_vector.hpp"
 #include "cdpowder/core/index.hpp"
+#include "cdpowder/core/pieces.hpp"
 #include "cdpowder/core/vec3.hpp"
 
 #include <array>
@@ -40,38 +41,26 @@ class KinematicChange {
   /// by piece; without, one piece.
   void begin_step(const VelocityCache& velocities, bool in_pieces = false);
 
-  /// Blocks of a piece when the spheres are taken in pieces: 4 096 spheres, 200 kB of velocity
+  /// Blocks of a piece when the spheres are taken in pieces: 4 096 spheres, 256 kB of velocity
   /// records.
   static constexpr std::size_t kPieceBlocks = 1024;
 
   /// Remembers the velocities again after something other than a pass changed them (the
-  /// mixing), so the next pass is measured from them: copy_piece of every piece, then copied.
-  void velocities_changed(const VelocityCache& velocities);
+  /// mixing), so the next pass is measured from them; the pieces on the threads of `runner`
+  /// when given.
+  void velocities_changed(const VelocityCache& velocities, PieceRunner* runner = nullptr);
 
   /// The change since the last snapshot, which then moves to the velocities now. The RMS
   /// speed is summed only when `with_speed` (the rule reads it once its window is full);
-  /// otherwise it is 0. measure_piece of every piece, then combine.
-  [[nodiscard]] PassMotion after_pass(const VelocityCache& velocities, bool with_speed);
+  /// otherwise it is 0. The pieces run on the threads of `runner` when given; their sums are
+  /// added in piece order, so the bits do not depend on it.
+  [[nodiscard]] PassMotion after_pass(const VelocityCache& velocities, bool with_speed,
+                                      PieceRunner* runner = nullptr);
 
-  /// The pass in pieces, for threads (tile_solve.hpp): pieces touch disjoint spheres.
-  struct PieceMotion {
-    double largest_sq = 0.0;
-    double sum_sq = 0.0;
-  };
-
+  /// Pieces the spheres are taken in (begin_step).
   [[nodiscard]] std::uint32_t pieces() const {
     return static_cast<std::uint32_t>(piece_blocks_.size() - 1);
   }
-
-  [[nodiscard]] PieceMotion measure_piece(const VelocityCache& velocities, std::uint32_t piece,
-                                          bool with_speed);
-  /// The motion from every piece's measure, added in piece order.
-  [[nodiscard]] PassMotion combine(const VelocityCache& velocities,
-                                   std::span<const PieceMotion> measured);
-  void copy_piece(const VelocityCache& velocities, std::uint32_t piece);
-
-  /// After copy_piece of every piece: V_P* too.
-  void copied(const VelocityCache& velocities) { piston_start_ = velocities.piston_velocity; }
 
   /// Spheres side by side: a block holds four, field by field (lane l = sphere 4b + l), so
   /// the pass runs 2 (SSE2) or 4 (AVX2) lanes at a time (lanes.hpp).
@@ -89,6 +78,17 @@ class KinematicChange {
   };
 
  private:
+  /// One piece's largest squared change and sum of squared speeds, on a cache line of its own
+  /// (threads write them side by side).
+  struct alignas(64) PieceMotion {
+    double largest_sq = 0.0;
+    double sum_sq = 0.0;
+  };
+
+  [[nodiscard]] PieceMotion measure_piece(const VelocityCache& velocities, std::uint32_t piece,
+                                          bool with_speed);
+  void copy_piece(const VelocityCache& velocities, std::uint32_t piece);
+
   /// piece p's blocks: [piece_blocks_[p], piece_blocks_[p + 1])
   [[nodiscard]] std::pair<std::size_t, std::size_t> blocks_of_piece(std::uint32_t piece) const {
     return {piece_blocks_[piece], piece_blocks_[piece + 1]};

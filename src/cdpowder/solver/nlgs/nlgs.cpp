@@ -322,7 +322,7 @@ void mix_actions(Contacts& contacts, VelocityCache& velocities, TileThreads* thr
   bool mixed = false;
   if (tiled) {
     mixed = mix_tiled_step(work.start, work.swept, work.mixed, modes, work.accelerator, contacts,
-                           velocities, work.coloured, threads, kinematic, work.tile_scratch);
+                           velocities, work.coloured, threads, kinematic, work.range_sums);
   } else {
     flatten(contacts, modes, work.swept);
     mixed = work.accelerator.extrapolate(work.start, work.swept, work.mixed);
@@ -355,8 +355,8 @@ SolverStats iterate_until_done(Contacts& contacts, VelocityCache& velocities,
   ContractionWindows windows;
   const bool kinematic_rule = settings.kinematic_tolerance > 0.0;
   KinematicChange* const kinematic = kinematic_rule ? &work.kinematic : nullptr;
-  // a tiled step (tiles.hpp) runs its passes, the kinematic rule's pass and the mixing tile by
-  // tile (tile_solve.hpp)
+  // a tiled step (tiles.hpp) runs its passes phase by phase, the kinematic rule's pass in pieces
+  // of spheres and the mixing in pieces (tile_solve.hpp)
   const bool tiled = coloured && work.coloured.tiled();
   for (int pass = 1; pass <= settings.max_sweeps; ++pass) {
     // a fresh order every pass, so corrections spread without a preferred direction (§7.1)
@@ -376,14 +376,10 @@ SolverStats iterate_until_done(Contacts& contacts, VelocityCache& velocities,
     const bool window_full = pass > kContractionWindow;
     PassMotion motion;
     PassSums sums;
-    if (tiled) {
-      sums = tiled_pass(contacts, velocities, work.coloured, threads, kinematic, window_full,
-                        motion, work.tile_scratch);
-    } else {
-      sums = coloured ? run_coloured_pass(contacts, velocities, work.coloured)
-                      : run_scalar_pass(contacts, velocities);
-      if (kinematic_rule) motion = work.kinematic.after_pass(velocities, window_full);
-    }
+    // a tiled step's phases and the kinematic rule's pieces on the threads
+    sums = coloured ? run_coloured_pass(contacts, velocities, work.coloured, threads)
+                    : run_scalar_pass(contacts, velocities);
+    if (kinematic_rule) motion = work.kinematic.after_pass(velocities, window_full, threads);
     measure_pass(pass, sums, motion, kinematic_rule, contacts, velocities, settings,
                  reference_force, windows, stats);
     if (sweeps_done(pass, kinematic_rule, settings, stats)) {

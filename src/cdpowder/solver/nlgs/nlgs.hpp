@@ -11,7 +11,6 @@
 #include "cdpowder/solver/nlgs/kinematic_change.hpp"
 #include "cdpowder/solver/nlgs/pass_sums.hpp"
 #include "cdpowder/solver/nlgs/tile_order.hpp"
-#include "cdpowder/solver/nlgs/tile_solve.hpp"
 #include "cdpowder/solver/nlgs/tile_threads.hpp"
 #include "cdpowder/solver/nlgs/tiles.hpp"
 #include "cdpowder/solver/settings.hpp"
@@ -57,8 +56,8 @@ struct NlgsWorkspace {
   TileThreadsSlot threads;           ///< the workers of solver.threads ≥ 2
   ThreadChoice thread_choice;        ///< whether a tiled step runs on them (tile_threads.hpp)
   StepTiles tiles;                   ///< the step's tiling (tiles.hpp)
-  TileScratch tile_scratch;          ///< per-tile sums of a tiled step (tile_solve.hpp)
-  TileOrder order;                   ///< the records in tile order (tile_order.hpp)
+  std::vector<AndersonAccelerator::PassSums> range_sums;  ///< of a tiled step (tile_solve.hpp)
+  TileOrder order;  ///< the records in tile order (tile_order.hpp)
 };
 
 /// Passes until the stopping rule holds or max_sweeps is reached. Each visit solves one
@@ -68,9 +67,9 @@ struct NlgsWorkspace {
 /// `reference_force` is the force scale below which forces count as small (F_coh).
 /// With the coloured kernel and `tiles` tiling the step (tiles.hpp), a pass visits the four
 /// phases' tiles and the hub in an order drawn per step, and the kinematic rule and the mixing
-/// run in pieces (tile_solve.hpp): on threads (solver.threads ≥ 2) a phase's tiles and the
-/// pieces run side by side, with the same bits as on one; ThreadChoice (tile_threads.hpp) decides,
-/// block by block, whether a tiled step uses the threads.
+/// run in pieces (kinematic_change.hpp, tile_solve.hpp): on threads (solver.threads ≥ 2) a phase's
+/// tiles and the pieces run side by side, with the same bits as on one; ThreadChoice
+/// (tile_threads.hpp) decides, block by block, whether a tiled step uses the threads.
 SolverStats solve_nlgs(Contacts& contacts, VelocityCache& velocities,
                        const SolverSettings& settings, double reference_force, NlgsWorkspace& work,
                        const StepTiles* tiles = nullptr);

@@ -11,27 +11,11 @@
 
 namespace cdpowder {
 
-PassSums tiled_pass(Contacts& contacts, VelocityCache& velocities, const ColouredPass& pass,
-                    TileThreads* threads, KinematicChange* kinematic, bool with_speed,
-                    PassMotion& motion, TileScratch& scratch) {
-  const PassSums sums = run_coloured_pass(contacts, velocities, pass, threads);
-  if (kinematic != nullptr) {
-    // after the whole pass: a tile's spheres are touched by its neighbours' phases and the hub,
-    // so the spheres go in pieces of consecutive indices (contiguous records) instead
-    scratch.motion.resize(kinematic->pieces());
-    run_pieces(threads, kinematic->pieces(), [&](std::uint32_t piece) {
-      scratch.motion[piece] = kinematic->measure_piece(velocities, piece, with_speed);
-    });
-    motion = kinematic->combine(velocities, scratch.motion);
-  }
-  return sums;
-}
-
 bool mix_tiled_step(const AlignedVector<double>& start, AlignedVector<double>& swept,
                     AlignedVector<double>& mixed, MixedModes modes,
                     AndersonAccelerator& accelerator, Contacts& contacts, VelocityCache& velocities,
                     ColouredPass& pass, TileThreads* threads, KinematicChange* kinematic,
-                    TileScratch& scratch) {
+                    std::vector<AndersonAccelerator::PassSums>& range_sums) {
   const std::size_t stride = modes.doubles_per_action();
   // the combined contact indices (pairs, then walls) of range r: part r's batched pairs for
   // r < parts (the pairs are stored in colour order during the solve), then the rest
@@ -45,13 +29,13 @@ bool mix_tiled_step(const AlignedVector<double>& start, AlignedVector<double>& s
   };
   swept.resize(stride * contacts.size());
   accelerator.begin(swept.size());
-  scratch.mixing.resize(parts + 1);
+  range_sums.resize(parts + 1);
   run_pieces(threads, parts + 1, [&](std::uint32_t r) {
     const auto [first, last] = range(r);
     flatten_range(contacts, modes, first, last, swept);
-    scratch.mixing[r] = accelerator.pass(start.data(), swept.data(), first * stride, last * stride);
+    range_sums[r] = accelerator.pass(start.data(), swept.data(), first * stride, last * stride);
   });
-  if (!accelerator.fit(std::span<const AndersonAccelerator::PassSums>(scratch.mixing))) {
+  if (!accelerator.fit(std::span<const AndersonAccelerator::PassSums>(range_sums))) {
     return false;
   }
 
@@ -100,11 +84,7 @@ bool mix_tiled_step(const AlignedVector<double>& start, AlignedVector<double>& s
                  [&](std::uint32_t i) { take_part(first + i); });
     }
   });
-  if (kinematic != nullptr) {
-    run_pieces(threads, kinematic->pieces(),
-               [&](std::uint32_t piece) { kinematic->copy_piece(velocities, piece); });
-    kinematic->copied(velocities);
-  }
+  if (kinematic != nullptr) kinematic->velocities_changed(velocities, threads);
   return true;
 }
 

@@ -1,8 +1,9 @@
-// tile_solve.hpp — the passes and the mixing of a tiled step (tiles.hpp), phase by phase on
-// the threads. A phase's tiles touch no common sphere, so each is one piece; whatever touches
-// spheres of any tile (the hub's contacts, the overflow pairs, the walls, the mixing's small
-// fit) runs on the caller between the phases. The pieces are the same on any number of
-// threads, and every sum over pieces is added in piece order: the same bits.
+// tile_solve.hpp — the mixing of a tiled step (tiles.hpp) in pieces on the threads; the passes
+// are run_coloured_pass's (coloured_pass.hpp). A phase's tiles touch no common sphere, so each
+// is one piece; whatever touches spheres of any tile (the hub's contacts, the overflow pairs,
+// the walls, the mixing's small fit) runs on the caller between the phases. The pieces are the
+// same on any number of threads, and every sum over pieces is added in piece order: the same
+// bits.
 #pragma once
 
 #include "cdpowder/contact/local_problem.hpp"
@@ -11,39 +12,27 @@
 #include "cdpowder/solver/nlgs/anderson.hpp"
 #include "cdpowder/solver/nlgs/coloured_pass.hpp"
 #include "cdpowder/solver/nlgs/kinematic_change.hpp"
-#include "cdpowder/solver/nlgs/pass_sums.hpp"
 #include "cdpowder/solver/nlgs/tile_threads.hpp"
+
+#include <vector>
 
 namespace cdpowder {
 
 struct MixedModes;  // mixed_actions.hpp (it brings the contact kernels, which only the solver's
                     // sources include)
 
-/// What a tiled step keeps from pass to pass (no allocation in steady state).
-struct TileScratch {
-  std::vector<KinematicChange::PieceMotion> motion;   ///< per piece of spheres, in order
-  std::vector<AndersonAccelerator::PassSums> mixing;  ///< per range, in range order
-};
-
-/// One pass of a tiled step (run_coloured_pass), then, when `kinematic` is given, the
-/// kinematic rule's pass over the spheres piece by piece (KinematicChange::kPieceBlocks; with
-/// the RMS speed when `with_speed`), which sets `motion`.
-PassSums tiled_pass(Contacts& contacts, VelocityCache& velocities, const ColouredPass& pass,
-                    TileThreads* threads, KinematicChange* kinematic, bool with_speed,
-                    PassMotion& motion, TileScratch& scratch);
-
 /// One mixing step of a tiled step: `swept` ← the actions after the pass (flattened), the
 /// accelerator's passes over each part's batched pairs and over the rest (overflow pairs,
 /// walls), its fit, and when that succeeds `mixed` ← the mixed actions, adopted by the
 /// contacts with the velocity cache moved by the change: the rest and the hub first (on the
 /// caller), then the tiles phase by phase, and the kinematic rule's new snapshot piece by
-/// piece.
+/// piece. `range_sums` is scratch (the accelerator's sums of each range, in range order).
 /// Returns whether the mixing was adopted (false: no history yet, or the fit failed; nothing
 /// changed).
 bool mix_tiled_step(const AlignedVector<double>& start, AlignedVector<double>& swept,
                     AlignedVector<double>& mixed, MixedModes modes,
                     AndersonAccelerator& accelerator, Contacts& contacts, VelocityCache& velocities,
                     ColouredPass& pass, TileThreads* threads, KinematicChange* kinematic,
-                    TileScratch& scratch);
+                    std::vector<AndersonAccelerator::PassSums>& range_sums);
 
 }  // namespace cdpowder
