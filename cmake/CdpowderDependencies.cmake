@@ -4,7 +4,8 @@ find_package(fmt REQUIRED)
 find_package(tomlplusplus REQUIRED)
 find_package(CLI11 REQUIRED)
 find_package(nlohmann_json 3 REQUIRED)
-find_package(Threads REQUIRED)  # the workers of solver.threads
+find_package(Threads REQUIRED)
+find_package(OpenMP REQUIRED COMPONENTS CXX)  # the threads of solver.threads (the compiler's)
 find_package(ZLIB REQUIRED)     # run.vtk_format = "zlib" (vtkZLibDataCompressor's layout)
 # pcg-cpp ships headers only, without a CMake package.
 find_path(PCG_INCLUDE_DIR pcg_random.hpp REQUIRED)

@@ -313,7 +313,7 @@ TEST_F(SceneReader, RejectsThreadsWithTheScalarKernel) {
   EXPECT_THAT(found[0],
               AllOf(HasSubstr("scene.toml:5:11: solver.threads: got 2"),
                     HasSubstr("solver.kernel = \"scalar\""),
-                    HasSubstr("expected 1, or solver.kernel = \"coloured\" for 1 to 64")));
+                    HasSubstr("expected 1, or solver.kernel = \"coloured\" for 1 to 1024")));
   const auto from_set = issues(kParticles, {"solver.kernel=\"scalar\"", "solver.threads=3"});
   ASSERT_EQ(from_set.size(), 1U);
   EXPECT_THAT(from_set[0], HasSubstr("solver.threads: got 3"));

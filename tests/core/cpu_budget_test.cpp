@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <sched.h>
 
@@ -15,6 +16,7 @@ struct BudgetRestored {
   ~BudgetRestored() {
     unsetenv(kMaxThreadsVariable);
     unsetenv(kOversubscribeVariable);
+    unsetenv(kOpenMpThreadsVariable);
     refresh_usable_cores();
   }
 };
@@ -51,6 +53,25 @@ TEST(CpuBudget, OversubscriptionGrantsTheCountAskedFor) {
   setenv(kOversubscribeVariable, "yes", 1);  // only "1" oversubscribes
   refresh_usable_cores();
   EXPECT_EQ(budgeted_threads(4), 1);
+}
+
+// OMP_NUM_THREADS gives "auto" its count (its first, for the outer level), within the budget;
+// an explicit count is not changed by it.
+TEST(CpuBudget, OpenMpsThreadCountIsTheCountOfAuto) {
+  const BudgetRestored restore;
+  setenv(kOversubscribeVariable, "1", 1);
+  setenv(kMaxThreadsVariable, "3", 1);
+  setenv(kOpenMpThreadsVariable, "2,1", 1);
+  refresh_usable_cores();
+  const int usable = usable_cores();
+  EXPECT_EQ(budgeted_threads(0), std::min(2, usable));
+  EXPECT_EQ(budgeted_threads(4), 4);
+  setenv(kOpenMpThreadsVariable, "8", 1);
+  refresh_usable_cores();
+  EXPECT_EQ(budgeted_threads(0), usable);    // never beyond the budget
+  setenv(kOpenMpThreadsVariable, "two", 1);  // ignored, as an unset one
+  refresh_usable_cores();
+  EXPECT_EQ(budgeted_threads(0), usable);
 }
 
 // A process given one core (taskset -c 0) runs one thread, whatever it asks for.

@@ -114,7 +114,8 @@ inline constexpr Range kAtLeastOne{Range::Kind::AtLeast, 1.0};
 
 // The meanings too long to sit in their list.
 inline constexpr std::string_view kThreadsMeaning =
-    "threads of a step's solve, 0 for every core the process may use; never more than its "
+    "threads of a step's solve, 0 for every core the process may use (OMP_NUM_THREADS's count "
+    "when it is set); never more than its "
     "affinity mask, its CPU quota (cgroup cpu.max) and CDPOWDER_MAX_THREADS allow (a sweep "
     "running J runs at once gives each its share of the cores). A step with at least 256 pairs "
     "is cut into the tiles of `tile_width`, solved in four phases of a 2 × 2 checkerboard (the "
@@ -126,8 +127,9 @@ inline constexpr std::string_view kThreadsMeaning =
     "block (a block tries the other way after 32 blocks, and after twice as many, up to 128, "
     "each time that way lost by more than 25 %): when the other cores are busy, a run falls "
     "back to about one thread's speed. After a step solved on the threads, the next step's "
-    "detection and building of the local problems run in two halves on them too. The workers "
-    "spin during a step and for 1 ms after it, then sleep";
+    "detection and building of the local problems run in two halves on them too. The threads "
+    "are OpenMP's: OMP_WAIT_POLICY, OMP_PROC_BIND and OMP_PLACES set how they wait and where "
+    "they run";
 inline constexpr std::string_view kTileWidthMeaning =
     "the width the x–y tiles of a step aim at (docs/architecture.md, \"Scale\"); 0 for "
     "12 × the largest radius. A period L gets the largest even number of tiles n with L/n ≥ "

@@ -18,6 +18,7 @@ namespace {
 
 std::atomic<int> g_usable{0};
 std::atomic<bool> g_oversubscribe{false};  ///< kOversubscribeVariable, read with the budget
+std::atomic<int> g_openmp_threads{0};      ///< kOpenMpThreadsVariable's first count, or 0
 
 int affinity_cores() {
   cpu_set_t set;
@@ -39,13 +40,15 @@ int quota_cores() {
   return std::max(1, static_cast<int>(std::ceil(q / period)));
 }
 
-/// CDPOWDER_MAX_THREADS, or 0 when unset or not a positive integer.
-int environment_cap() {
-  const char* text = std::getenv(kMaxThreadsVariable);
+/// The positive integer that `variable` holds (up to `last`, the end of its text or a comma:
+/// OMP_NUM_THREADS may list one count per nesting level), or 0 when unset or not one.
+int environment_count(const char* variable, char last) {
+  const char* text = std::getenv(variable);
   if (text == nullptr) return 0;
   char* end = nullptr;
-  const long cap = std::strtol(text, &end, 10);
-  return end != text && *end == '\0' && cap > 0 && cap < 1'000'000 ? static_cast<int>(cap) : 0;
+  const long count = std::strtol(text, &end, 10);
+  const bool whole = end != text && (*end == '\0' || *end == last);
+  return whole && count > 0 && count < 1'000'000 ? static_cast<int>(count) : 0;
 }
 
 }  // namespace
@@ -55,7 +58,10 @@ int refresh_usable_cores() {
   g_oversubscribe.store(oversubscribe != nullptr && std::string_view(oversubscribe) == "1");
   int cores = affinity_cores();
   if (const int quota = quota_cores(); quota > 0) cores = std::min(cores, quota);
-  if (const int cap = environment_cap(); cap > 0) cores = std::min(cores, cap);
+  if (const int cap = environment_count(kMaxThreadsVariable, '\0'); cap > 0) {
+    cores = std::min(cores, cap);
+  }
+  g_openmp_threads.store(environment_count(kOpenMpThreadsVariable, ','));
   g_usable.store(cores);
   return cores;
 }
@@ -68,7 +74,11 @@ int usable_cores() {
 int budgeted_threads(int requested) {
   const int usable = usable_cores();  // reads the budget, oversubscription included, once
   if (requested > 0 && g_oversubscribe.load()) return requested;
-  return requested <= 0 ? usable : std::min(requested, usable);
+  if (requested <= 0) {
+    const int openmp = g_openmp_threads.load();
+    return openmp > 0 ? std::min(openmp, usable) : usable;
+  }
+  return std::min(requested, usable);
 }
 
 }  // namespace cdpowder

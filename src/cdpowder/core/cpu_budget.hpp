@@ -13,6 +13,11 @@ inline constexpr const char* kMaxThreadsVariable = "CDPOWDER_MAX_THREADS";
 /// tests of the bits at thread counts beyond the machine's cores (mpirun's --oversubscribe).
 inline constexpr const char* kOversubscribeVariable = "CDPOWDER_OVERSUBSCRIBE";
 
+/// OpenMP's standard variable: the first of its comma-separated counts is the thread count of
+/// `solver.threads = 0` ("auto"), within the budget (a hybrid run of ranks × threads sets it
+/// per rank). An explicit count is not changed by it.
+inline constexpr const char* kOpenMpThreadsVariable = "OMP_NUM_THREADS";
+
 /// The cores this process may use: the count of its affinity mask, at most its CPU quota
 /// rounded up, at most kMaxThreadsVariable; at least 1. Read once and kept (a process's
 /// budget does not change while it runs); refresh_usable_cores reads it again.
@@ -21,8 +26,9 @@ int usable_cores();
 /// Reads the budget again (tests that change the affinity).
 int refresh_usable_cores();
 
-/// The threads a run asks for (`requested`, 0 for every usable core) within the budget; a
-/// positive count as asked when kOversubscribeVariable was "1" when the budget was read.
+/// The threads a run asks for (`requested`; 0 for every usable core, or kOpenMpThreadsVariable's
+/// count when set) within the budget; a positive count as asked when kOversubscribeVariable was
+/// "1" when the budget was read.
 int budgeted_threads(int requested);
 
 }  // namespace cdpowder

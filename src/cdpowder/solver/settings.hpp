@@ -74,9 +74,9 @@ struct TimeStepControl {
   double growth = 1.2;                 ///< largest ratio of two consecutive steps
 };
 
-/// Largest solver.threads: the workers spin during a step, so more threads than cores only
-/// slow a run down; 64 is a sanity bound, not a tested size.
-inline constexpr int kMaxSolverThreads = 64;
+/// Largest solver.threads: a sanity bound, not a tested size (the budget holds a count to the
+/// cores the process may use; core/cpu_budget.hpp).
+inline constexpr int kMaxSolverThreads = 1024;
 
 /// Largest solver.acceleration_depth: the Anderson fit is a kMaxAndersonDepth ×
 /// kMaxAndersonDepth problem at most (solver/nlgs/anderson.hpp).

@@ -67,8 +67,7 @@ StepReport begin_step(World& world, StepWorkspace& work, const StepSettings& set
   // them out of the way. A step solved again with a shorter Δt finds them taken already.
   take_last_step(work);
   // on the threads where the last step's solve was (a step too small to cut, or one the
-  // ThreadChoice keeps on one thread, keeps these stages there too); parked after them, as a
-  // caller of begin_step alone may never solve
+  // ThreadChoice keeps on one thread, keeps these stages there too)
   TileThreads* const threads = step_threads(work, settings, work.threaded);
 
   detect_contacts(world, settings.detection(), work.grid, work.contacts, &work.candidates, threads,
@@ -76,7 +75,6 @@ StepReport begin_step(World& world, StepWorkspace& work, const StepSettings& set
   clock.lap(Stage::DetectContacts, report.times);
 
   build_local_problems(world, settings, work.action_cache, work.contacts, work.velocities, threads);
-  if (threads != nullptr) threads->park();
   clock.lap(Stage::BuildLocalProblems, report.times);
   return report;
 }
@@ -103,7 +101,6 @@ void solve_step(const World& world, StepWorkspace& work, const StepSettings& set
   TileThreads* const threads = step_threads(work, settings, report.solver.threaded);
   const CohesiveOpening opening = cohesive_opening(world, work.contacts, work.velocities,
                                                    settings.laws, settings.solver.dt, threads);
-  if (threads != nullptr) threads->park();
   report.diagnostics.max_cohesive_opening_speed = opening.speed;
   report.diagnostics.max_cohesive_opening_per_range = opening.per_range;
   clock.lap(Stage::Analyse, report.times);

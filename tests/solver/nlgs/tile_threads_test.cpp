@@ -41,8 +41,7 @@ bool same_bits(double x, double y) {
   return std::bit_cast<std::uint64_t>(x) == std::bit_cast<std::uint64_t>(y);
 }
 
-// Every piece runs exactly once per run, on one, two and three threads, run after run (the
-// worker spins between runs and may come late to one).
+// Every piece runs exactly once per run, on one, two and three threads, run after run.
 TEST(TileThreads, RunsEveryPieceOnce) {
   for (const int n : {1, 2, 3}) {
     TileThreads team(n);
@@ -51,9 +50,21 @@ TEST(TileThreads, RunsEveryPieceOnce) {
       std::array<std::atomic<int>, 5> count{};
       run_pieces(&team, pieces, [&](std::uint32_t p) { count[p].fetch_add(1); });
       for (std::uint32_t p = 0; p < 5; ++p) ASSERT_EQ(count[p].load(), p < pieces ? 1 : 0);
-      if (run % 500 == 499) team.park();
     }
   }
+}
+
+// Called inside a parallel region of the caller's own (nested regions off, OpenMP's default),
+// the team is the caller alone: every piece still runs exactly once.
+TEST(TileThreads, ATeamSmallerThanAskedForRunsEveryPiece) {
+  TileThreads team(3);
+  std::array<std::atomic<int>, 7> count{};
+#pragma omp parallel num_threads(2)
+  {
+#pragma omp single
+    run_pieces(&team, 7, [&](std::uint32_t p) { count[p].fetch_add(1); });
+  }
+  for (const std::atomic<int>& c : count) EXPECT_EQ(c.load(), 1);
 }
 
 /// Runs one block of `choice` at `threads_ns` per contact update on the threads and `alone_ns`

@@ -198,23 +198,6 @@ SolverStats solve_nlgs(Contacts& contacts, VelocityCache& velocities,
   if (tiles != nullptr && !tiles->tiled()) tiles = nullptr;
   TileThreads* const pool = work.threads.get(solve_threads(settings));
 
-  // the workers spin from pass to pass within the step and are parked at its end (they spin
-  // a millisecond more, then sleep), also when the step is left by an exception
-  struct ParkAtEnd {
-    explicit ParkAtEnd(TileThreads* pool) : threads(pool) {}
-
-    ParkAtEnd(const ParkAtEnd&) = delete;
-    ParkAtEnd(ParkAtEnd&&) = delete;
-    ParkAtEnd& operator=(const ParkAtEnd&) = delete;
-    ParkAtEnd& operator=(ParkAtEnd&&) = delete;
-
-    ~ParkAtEnd() {
-      if (threads != nullptr) threads->park();
-    }
-
-    TileThreads* threads;
-  } park_at_end(pool);
-
   // the pairs are stored in colour order during the passes (and the mixing); a step whose
   // phases have tiles to share runs on the threads or on this one alone, whichever was faster
   // lately: the same bits

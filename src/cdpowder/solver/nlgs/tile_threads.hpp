@@ -1,18 +1,18 @@
 // tile_threads.hpp — the tiles of a step (tiles.hpp) on threads (solver.threads), and the
 // PieceRunner (core/pieces.hpp) of the stages around the solve: the halves of the next step's
 // detection and build, and of the commit's measures.
+// The threads are OpenMP's (the compiler's runtime): a run of pieces is one parallel region.
+// Its waiting and pinning are the runtime's standard environment (OMP_WAIT_POLICY,
+// OMP_PROC_BIND, OMP_PLACES; docs/performance.md), not settings of ours.
 // A pass hands out its work in pieces that touch no common memory they write: the tiles of a
 // phase, the tiles' parts of the kinematic rule's pass over the spheres and of the mixing. Any
-// thread may take any piece (the caller as well as the workers, claimed from one shared
-// counter), so the caller never waits for a piece nobody has begun: on a loaded machine a
-// descheduled worker's pieces are taken by the others (a worker descheduled in the middle of a
-// piece is waited for, up to a time slice). The pieces are fixed by the state, not by the
-// thread count, and every sum over pieces is added in piece order by the caller, so the
-// results are the same bits on any number of threads.
+// thread may take any piece, so a thread of the team that starts late finds its pieces taken
+// by the others. The pieces are fixed by the state, not by the thread count, and every sum over
+// pieces is added in piece order by the caller, so the results are the same bits on any number
+// of threads.
 #pragma once
 
 #include "cdpowder/core/pieces.hpp"
-#include "cdpowder/solver/nlgs/pass_threads.hpp"
 
 #include <algorithm>
 #include <array>
@@ -26,40 +26,34 @@ namespace cdpowder {
 
 class TileThreads final : public PieceRunner {
  public:
-  /// Starts threads − 1 workers (threads ≥ 1).
-  explicit TileThreads(int threads) : ranges_(static_cast<std::size_t>(threads)), pool_(threads) {}
+  /// A team of `threads` (≥ 1), the caller among them.
+  explicit TileThreads(int threads)
+      : threads_(std::max(threads, 1)), ranges_(static_cast<std::size_t>(threads_)) {}
 
-  [[nodiscard]] int size() const { return pool_.size(); }
+  [[nodiscard]] int size() const { return threads_; }
 
   /// Runs task(context, piece) for piece = 0 … pieces − 1, each exactly once, and returns when
-  /// all are done. Thread k (the caller is 0) has the pieces [k P/T, (k + 1) P/T) of its own,
-  /// so a tile (and its data in that core's cache) goes to the same thread in every pass;
-  /// a thread done with its own takes the others' that nobody has begun (one descheduled
-  /// worker does not hold the pass back).
+  /// all are done. Thread k of the team (the caller is 0) has the pieces [k P/T, (k + 1) P/T)
+  /// of its own, so a tile (and its data in that core's cache) goes to the same thread in every
+  /// pass; a thread done with its own takes the others' that nobody has begun. A team smaller
+  /// than asked for (OMP_THREAD_LIMIT, OMP_DYNAMIC) still runs every piece.
   void run_pieces(std::uint32_t pieces, Task task, const void* context) override;
 
-  /// Lets the workers sleep until the next run (between steps).
-  void park() { pool_.park(); }
-
  private:
-  static void work(void* self, int thread);
-  bool claim(int range, std::uint32_t& piece);
   void solve_claimed(int thread);
 
-  /// A thread's pieces: id (32 bits) | end (16 bits) | next piece (16 bits). A claim is one
-  /// compare-exchange, and a late worker's claim on an earlier run fails on the id.
+  /// A thread's pieces: the next to claim (one fetch-add) and the end, on a cache line of its
+  /// own. Set before the parallel region, which orders them before every claim.
   struct alignas(64) Range {
-    std::atomic<std::uint64_t> word{0};
+    std::atomic<std::uint32_t> next{0};
+    std::uint32_t end = 0;
   };
 
-  std::vector<Range> ranges_;  ///< one a thread, each on a cache line of its own
-  alignas(64) std::atomic<std::uint32_t> done_{0};  ///< pieces done in this run
-  alignas(64) std::uint32_t run_id_ = 0;
-  // the run's task, written before the ranges publish it and read by a thread after a claim
+  int threads_;
+  std::vector<Range> ranges_;  ///< one a thread
+  // the run's task, set before the parallel region
   Task task_ = nullptr;
   const void* context_ = nullptr;
-  /// last member: its workers are stopped before the state above is destroyed
-  PassThreads pool_;
 };
 
 /// Whether a step's solve runs on the threads or on the caller alone. The bits are the same
@@ -140,9 +134,9 @@ class ThreadChoice {
   std::uint64_t try_every_ = kTryEvery;
 };
 
-/// A workspace's TileThreads, started at the first step that asks for more than one thread
-/// and kept for the run. Scratch, not state: a copy of a workspace (the run loop solves a copy
-/// at rest) starts its own threads when it needs them, and an assignment keeps the target's.
+/// A workspace's TileThreads, made at the first step that asks for more than one thread and
+/// kept for the run. Scratch, not state: a copy of a workspace (the run loop solves a copy at
+/// rest) makes its own when it needs one, and an assignment keeps the target's.
 class TileThreadsSlot {
  public:
   TileThreadsSlot() = default;
@@ -155,7 +149,7 @@ class TileThreadsSlot {
   TileThreadsSlot(TileThreadsSlot&&) noexcept = default;
   TileThreadsSlot& operator=(TileThreadsSlot&&) noexcept = default;
 
-  /// The threads of `threads` (started or resized here); nullptr for one thread.
+  /// The team of `threads` (made or resized here); nullptr for one thread.
   TileThreads* get(int threads);
 
  private:
