@@ -103,6 +103,7 @@ TEST_F(SceneReader, ReadsValuesAndAcceptsIntegersForNumbers) {
                        "[system]\nlx = 30\ngravity = [0, 0, -1.5]\n"
                        "[contact]\nmu_roll = 0.25\ncohesion_rule = \"history\"\n"
                        "[solver]\nstopping_rule = \"relative_change\"\n"
+                       "kinematic_norm = \"rms\"\n"
                        "visit_order = \"random_each_sweep\"\nacceleration_depth = 0\n"
                        "acceleration_interval = 2\n"
                        "seed = 7\nwarm_start = false\n"
@@ -112,6 +113,7 @@ TEST_F(SceneReader, ReadsValuesAndAcceptsIntegersForNumbers) {
   EXPECT_EQ(s.step.laws.spheres.mu_roll, 0.25);
   EXPECT_EQ(s.step.laws.cohesion_rule, CohesionRule::History);
   EXPECT_EQ(s.step.solver.stopping_rule, StoppingRule::RelativeChange);
+  EXPECT_EQ(s.step.solver.kinematic_norm, KinematicNorm::Rms);
   EXPECT_EQ(s.step.solver.visit_order, VisitOrder::RandomEachSweep);
   EXPECT_EQ(s.step.solver.acceleration_depth, 0);
   EXPECT_EQ(s.step.solver.acceleration_interval, 2);
@@ -251,13 +253,16 @@ TEST_F(SceneReader, RejectsUnknownKeysWithSuggestion) {
 TEST_F(SceneReader, RejectsBadEnumStringListingTheAllowedOnes) {
   const auto found = issues(std::string(kParticles) +
                             "[contact]\ncohesion_rule = \"grpah\"\n"
-                            "[solver]\nvisit_order = \"sorted\"\n");
-  ASSERT_EQ(found.size(), 2U);
+                            "[solver]\nvisit_order = \"sorted\"\n"
+                            "kinematic_norm = \"mean\"\n");
+  ASSERT_EQ(found.size(), 3U);
   EXPECT_EQ(found[0],
             "scene.toml:4:17: contact.cohesion_rule: got \"grpah\", expected one of "
             "\"graph\", \"history\"; did you mean 'graph'?");
   EXPECT_THAT(found[1], HasSubstr("expected one of \"random_each_step\", \"random_each_sweep\", "
                                   "\"fixed\""));
+  EXPECT_THAT(found[2], HasSubstr("solver.kinematic_norm: got \"mean\", expected one of \"max\", "
+                                  "\"rms\""));
 }
 
 TEST_F(SceneReader, RejectsPressureAndForceTogether) {

@@ -59,6 +59,8 @@ inline constexpr EnumNames<CohesionRule, 2> kCohesionRuleNames = {
     {{"graph", CohesionRule::Graph}, {"history", CohesionRule::History}}};
 inline constexpr EnumNames<StoppingRule, 2> kStoppingRuleNames = {
     {{"residual", StoppingRule::Residual}, {"relative_change", StoppingRule::RelativeChange}}};
+inline constexpr EnumNames<KinematicNorm, 2> kKinematicNormNames = {
+    {{"max", KinematicNorm::Max}, {"rms", KinematicNorm::Rms}}};
 inline constexpr EnumNames<VtkFormat, 4> kVtkFormatNames = {{{"auto", VtkFormat::Auto},
                                                              {"ascii", VtkFormat::Ascii},
                                                              {"binary", VtkFormat::Binary},
@@ -79,6 +81,10 @@ constexpr const auto& choices_of(CohesionRule /*unused*/) {
 
 constexpr const auto& choices_of(StoppingRule /*unused*/) {
   return kStoppingRuleNames;
+}
+
+constexpr const auto& choices_of(KinematicNorm /*unused*/) {
+  return kKinematicNormNames;
 }
 
 constexpr const auto& choices_of(VtkFormat /*unused*/) {
@@ -370,6 +376,15 @@ void visit_stopping_keys(auto& solver, auto&& visit) {
                      "0 = off. A packing at rest never meets it; the static final solve, whose "
                      "forces give the stress, does not use it"},
         solver.kinematic_tolerance);
+  visit(SceneKey{.table = table,
+                 .name = "kinematic_norm",
+                 .meaning =
+                     "what the kinematic rule measures of the spheres' velocity changes: max, "
+                     "the largest change (it grows with the sphere count, so a wider cell takes "
+                     "more passes a step); rms, the RMS change, a relative change of the "
+                     "velocity field that does not grow with it (κ/10 takes about the passes "
+                     "of max at the paper's 1 015 spheres; physics.md §7.3)"},
+        solver.kinematic_norm);
   visit(SceneKey{.table = table,
                  .name = "min_sweeps",
                  .symbol = "N_min",

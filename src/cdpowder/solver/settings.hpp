@@ -24,6 +24,20 @@ enum class StoppingRule {
   RelativeChange,
 };
 
+/// What the kinematic rule (SolverSettings::kinematic_tolerance, physics.md §7.3) measures of
+/// a pass's change of the spheres' surface velocities u(Δv, Δω).
+enum class KinematicNorm {
+  /// Default. The largest change over the spheres. A maximum over N spheres grows with N (an
+  /// extreme of more samples), so a wider cell takes more passes a step for the same κ
+  /// (docs/lab/2026-11-29-what-grows-the-passes.md).
+  Max,
+  /// The RMS change over the spheres, √(Σ u(Δv, Δω)² / N): relative to the RMS speed it is a
+  /// relative change of the velocity field, which does not grow with N. The same κ is a
+  /// looser test than with Max (the RMS is below the largest); κ/10 takes about as many passes
+  /// as Max at the paper's 1 015 spheres.
+  Rms,
+};
+
 /// Order in which a pass visits the contacts (physics.md §7.1).
 enum class VisitOrder {
   /// A fresh seeded permutation of blocks of contacts every step (≥ 1024 blocks, ≤ 256
@@ -98,7 +112,8 @@ struct SolverSettings {
   /// the velocities no longer move, and the velocities are what a step passes on. Relative,
   /// so a packing at rest is left to the residual rule. 0 = off [-]
   double kinematic_tolerance = 0.0;
-  int min_sweeps = 3;     ///< never stop before this many passes
+  KinematicNorm kinematic_norm = KinematicNorm::Max;  ///< what the kinematic rule measures
+  int min_sweeps = 3;                                 ///< never stop before this many passes
   int max_sweeps = 2000;  ///< N_max; a capped step is flagged in its report
   StoppingRule stopping_rule = StoppingRule::Residual;
   VisitOrder visit_order = VisitOrder::RandomEachStep;

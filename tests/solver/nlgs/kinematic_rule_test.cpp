@@ -64,6 +64,20 @@ TEST(KinematicChange, MeasuresTheSweepsLargestSurfaceChangeAndTheRmsSurfaceSpeed
   EXPECT_EQ(motion.piston_change, 0.0);
 }
 
+// The RMS change (solver.kinematic_norm = "rms"): √(mean over the spheres of u(Δv, Δω)²).
+TEST(KinematicChange, MeasuresTheRmsSurfaceChangeWhenAskedFor) {
+  const double dt = 0.01;
+  VelocityCache cache;
+  cache.spheres = {sphere_of_radius(1.0, dt), sphere_of_radius(2.0, dt)};
+  KinematicChange change;
+  change.begin_step(cache, false, true);
+  cache.spheres[0].linear = Vec3(3e-4, 0.0, 4e-4);  // u(Δv, Δω) = 5e-4
+  cache.spheres[1].angular = Vec3(0.0, 0.0, 4e-4);  // R |Δω| = 8e-4
+  const PassMotion motion = change.after_pass(cache, false);
+  EXPECT_NEAR(motion.largest_change, 8e-4, 1e-15);
+  EXPECT_NEAR(motion.rms_change, std::sqrt((25e-8 + 64e-8) / 2), 1e-15);
+}
+
 TEST(KinematicChange, AFixedSphereCountsOnlyItsTranslation) {
   VelocityCache cache;
   cache.spheres.resize(1);  // Δt/m = Δt/I = 0
@@ -97,25 +111,35 @@ TEST(KinematicChange, TheLanesGiveTheBitsOfOneSphereAtATime) {
       const VelocityCache before = cache;
       KinematicChange change;
       KinematicChange change_alone;  // the pass without the RMS speed
+      KinematicChange change_rms;    // with the RMS change (solver.kinematic_norm = "rms")
       change.begin_step(cache);
       change_alone.begin_step(cache);
+      change_rms.begin_step(cache, false, true);
       fill(1.1);
       const PassMotion motion = change.after_pass(cache, true);
       const PassMotion motion_alone = change_alone.after_pass(cache, false);
+      const PassMotion motion_rms = change_rms.after_pass(cache, false);
       double largest_sq = 0.0;
       double sum_sq = 0.0;
+      double change_sum_sq = 0.0;
       for (std::size_t i = 0; i < n; ++i) {
         const SphereVelocity& s = cache.spheres[i];
         const SphereVelocity& was = before.spheres[i];
         const double r_sq = 2.5 * s.dt_inverse_mass / s.dt_inverse_inertia;
-        largest_sq = std::max(largest_sq, (s.linear - was.linear).squaredNorm() +
-                                              r_sq * (s.angular - was.angular).squaredNorm());
+        const double change_sq =
+            (s.linear - was.linear).squaredNorm() + r_sq * (s.angular - was.angular).squaredNorm();
+        largest_sq = std::max(largest_sq, change_sq);
+        change_sum_sq += change_sq;
         sum_sq += s.linear.squaredNorm() + r_sq * s.angular.squaredNorm();
       }
       EXPECT_EQ(motion.largest_change, std::sqrt(largest_sq)) << n << " spheres, avx2 " << avx2;
       EXPECT_EQ(motion_alone.largest_change, std::sqrt(largest_sq))
           << n << " spheres, avx2 " << avx2;
       EXPECT_EQ(motion.rms_surface_speed, std::sqrt(sum_sq / static_cast<double>(n)))
+          << n << " spheres, avx2 " << avx2;
+      EXPECT_EQ(motion.rms_change, 0.0) << "not asked for";
+      EXPECT_EQ(motion_rms.largest_change, std::sqrt(largest_sq));
+      EXPECT_EQ(motion_rms.rms_change, std::sqrt(change_sum_sq / static_cast<double>(n)))
           << n << " spheres, avx2 " << avx2;
     }
   }

@@ -331,28 +331,34 @@ TEST(KinematicChange, PiecesOnThreadsGiveTheBitsOfOneThread) {
   TileThreads threads(3);
   KinematicChange alone;
   KinematicChange on_threads;
-  alone.begin_step(cache, true);
-  on_threads.begin_step(cache, true);
+  alone.begin_step(cache, true, true);
+  on_threads.begin_step(cache, true, true);
   ASSERT_EQ(alone.pieces(), 3U);
   fill(1.1);
   const PassMotion a = alone.after_pass(cache, true);
   const PassMotion b = on_threads.after_pass(cache, true, &threads);
   EXPECT_EQ(a.largest_change, b.largest_change);
   EXPECT_EQ(a.rms_surface_speed, b.rms_surface_speed);
+  EXPECT_EQ(a.rms_change, b.rms_change);
   double largest_sq = 0.0;
   std::array<double, 3> piece_sum{};
+  std::array<double, 3> piece_change_sum{};
   for (std::size_t i = 0; i < kSpheres; ++i) {
     const SphereVelocity& v = cache.spheres[i];
     const SphereVelocity& was = before.spheres[i];
     const double r_sq = 2.5 * v.dt_inverse_mass / v.dt_inverse_inertia;
-    largest_sq = std::max(largest_sq, (v.linear - was.linear).squaredNorm() +
-                                          r_sq * (v.angular - was.angular).squaredNorm());
+    const double change_sq =
+        (v.linear - was.linear).squaredNorm() + r_sq * (v.angular - was.angular).squaredNorm();
+    largest_sq = std::max(largest_sq, change_sq);
     piece_sum[i / (4 * KinematicChange::kPieceBlocks)] +=
         v.linear.squaredNorm() + r_sq * v.angular.squaredNorm();
+    piece_change_sum[i / (4 * KinematicChange::kPieceBlocks)] += change_sq;
   }
   EXPECT_EQ(a.largest_change, std::sqrt(largest_sq));
   const double sum_sq = piece_sum[0] + piece_sum[1] + piece_sum[2];
   EXPECT_EQ(a.rms_surface_speed, std::sqrt(sum_sq / static_cast<double>(kSpheres)));
+  const double change_sum_sq = piece_change_sum[0] + piece_change_sum[1] + piece_change_sum[2];
+  EXPECT_EQ(a.rms_change, std::sqrt(change_sum_sq / static_cast<double>(kSpheres)));
   // a mixing moves the velocities: the snapshot taken on threads is the one taken alone
   fill(2.9);
   alone.velocities_changed(cache);

@@ -13,7 +13,8 @@ namespace cdpowder {
 #define CDP_LANE_CODE "cdpowder/solver/nlgs/kinematic_lanes.inc"
 #include "cdpowder/core/lanes_instantiate.inc"
 
-void KinematicChange::begin_step(const VelocityCache& velocities, bool in_pieces) {
+void KinematicChange::begin_step(const VelocityCache& velocities, bool in_pieces, bool rms_change) {
+  rms_change_ = rms_change;
   const std::vector<SphereVelocity>& spheres = velocities.spheres;
   const std::size_t n = spheres.size();
   const std::size_t blocks = blocks_of(n);
@@ -47,12 +48,14 @@ void KinematicChange::velocities_changed(const VelocityCache& velocities, PieceR
 
 KinematicChange::PieceMotion KinematicChange::measure_piece(const VelocityCache& velocities,
                                                             std::uint32_t piece, bool with_speed) {
-  const auto measure =
-      with_speed ? CDP_LANES_FOR_CPU(measure<true>) : CDP_LANES_FOR_CPU(measure<false>);
+  const auto measure = with_speed ? (rms_change_ ? CDP_LANES_FOR_CPU(measure<true, true>)
+                                                 : CDP_LANES_FOR_CPU(measure<true, false>))
+                                  : (rms_change_ ? CDP_LANES_FOR_CPU(measure<false, true>)
+                                                 : CDP_LANES_FOR_CPU(measure<false, false>));
   const auto [first, last] = blocks_of_piece(piece);
   PieceMotion out;
   measure(velocities.spheres.data(), velocities.spheres.size(), first, last, start_.data(),
-          radius_sq_.data(), out.largest_sq, out.sum_sq);
+          radius_sq_.data(), out.largest_sq, out.sum_sq, out.change_sum_sq);
   return out;
 }
 
@@ -65,14 +68,17 @@ PassMotion KinematicChange::after_pass(const VelocityCache& velocities, bool wit
   // the pieces' sums in piece order: the same bits on any number of threads
   double largest_sq = measured_.front().largest_sq;
   double sum_sq = measured_.front().sum_sq;
+  double change_sum_sq = measured_.front().change_sum_sq;
   for (std::size_t p = 1; p < measured_.size(); ++p) {
     largest_sq = std::max(largest_sq, measured_[p].largest_sq);
     sum_sq += measured_[p].sum_sq;
+    change_sum_sq += measured_[p].change_sum_sq;
   }
   const std::size_t n = velocities.spheres.size();
   PassMotion motion;
   motion.largest_change = std::sqrt(largest_sq);
   motion.rms_surface_speed = n == 0 ? 0.0 : std::sqrt(sum_sq / static_cast<double>(n));
+  motion.rms_change = n == 0 ? 0.0 : std::sqrt(change_sum_sq / static_cast<double>(n));
   motion.piston_change = std::abs(velocities.piston_velocity - piston_start_);
   piston_start_ = velocities.piston_velocity;
   return motion;

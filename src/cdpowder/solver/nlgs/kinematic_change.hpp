@@ -22,7 +22,9 @@ namespace cdpowder {
 /// What one pass did to the end velocities. A sphere's surface velocity is measured as
 /// u = √(|v|² + R²|ω|²), within √2 of the fastest point of its surface |v| + R|ω|.
 struct PassMotion {
-  double largest_change = 0.0;     ///< max over the spheres of u(Δv, Δω) [R/t0]
+  double largest_change = 0.0;  ///< max over the spheres of u(Δv, Δω) [R/t0]
+  /// √(mean over the spheres of u(Δv, Δω)²), when begin_step asked for it; else 0 [R/t0]
+  double rms_change = 0.0;
   double rms_surface_speed = 0.0;  ///< √(mean over the spheres of u(v, ω)²) after the pass [R/t0]
   double piston_change = 0.0;      ///< |ΔV_P| [R/t0]
 };
@@ -38,8 +40,9 @@ class KinematicChange {
   /// the cache's Δt/m and Δt/I (solid sphere: I = 0.4 m R²). With `in_pieces` (a tiled step,
   /// tiles.hpp) the spheres are taken in pieces of consecutive indices, kPieceBlocks blocks
   /// each (their count fixed by the sphere count alone), and the pieces' sums are added piece
-  /// by piece; without, one piece.
-  void begin_step(const VelocityCache& velocities, bool in_pieces = false);
+  /// by piece; without, one piece. With `rms_change` every after_pass of the step also sums
+  /// the squared changes (PassMotion::rms_change; solver.kinematic_norm = "rms").
+  void begin_step(const VelocityCache& velocities, bool in_pieces = false, bool rms_change = false);
 
   /// Blocks of a piece when the spheres are taken in pieces: 4 096 spheres, 256 kB of velocity
   /// records.
@@ -83,6 +86,7 @@ class KinematicChange {
   struct alignas(64) PieceMotion {
     double largest_sq = 0.0;
     double sum_sq = 0.0;
+    double change_sum_sq = 0.0;
   };
 
   [[nodiscard]] PieceMotion measure_piece(const VelocityCache& velocities, std::uint32_t piece,
@@ -99,6 +103,7 @@ class KinematicChange {
   std::vector<std::size_t> piece_blocks_{0, 0};
   std::vector<PieceMotion> measured_;  ///< scratch of after_pass
   double piston_start_ = 0.0;
+  bool rms_change_ = false;  ///< begin_step's rms_change
 };
 
 }  // namespace cdpowder

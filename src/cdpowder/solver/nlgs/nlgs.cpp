@@ -273,7 +273,9 @@ void measure_pass(int pass, const PassSums& sums, const PassMotion& motion, bool
     const double rho = window.add(pass, change);
     return std::min(change / (1.0 - rho), change * settings.max_error_amplification);
   };
-  const double sphere_error = estimate(windows.spheres_moved, motion.largest_change);
+  const double sphere_change =
+      settings.kinematic_norm == KinematicNorm::Rms ? motion.rms_change : motion.largest_change;
+  const double sphere_error = estimate(windows.spheres_moved, sphere_change);
   const double piston_error = estimate(windows.piston_moved, motion.piston_change);
   if (pass > kContractionWindow) {
     // relative to the motion: a packing at rest never stops on this rule (its noise would
@@ -351,7 +353,7 @@ SolverStats iterate_until_done(Contacts& contacts, VelocityCache& velocities,
       }
     }
     if (kinematic_rule && pass == 1) {
-      work.kinematic.begin_step(velocities, tiled);
+      work.kinematic.begin_step(velocities, tiled, settings.kinematic_norm == KinematicNorm::Rms);
     }
     // the estimates of the kinematic rule need a full window of passes (ρ over two passes at the
     // start of a step is optimistic), so its test and the RMS speed wait for it; the windows
