@@ -126,6 +126,30 @@ TEST_F(AtomicFile, StreamDestroyedWithoutCommitLeavesPreviousFileUntouched) {
   EXPECT_THAT(hidden_files(), ::testing::IsEmpty());
 }
 
+// A file written through a sink by a writer (the outputs at scale): the bytes as written, one
+// write far above the stream's buffer included; a writer that throws leaves no file.
+TEST_F(AtomicFile, AFileFilledThroughItsSinkHoldsWhatWasWritten) {
+  const fs::path file = dir_ / "particles.csv";
+  const std::string large(3 * kOutputChunkBytes + 17, 'x');
+  write_file_atomically(file, [&](OutputSink& sink) {
+    sink.write("head\n");
+    sink.write(large);
+    sink.write("tail\n");
+  });
+  EXPECT_EQ(read(file), "head\n" + large + "tail\n");
+  EXPECT_THAT(hidden_files(), ::testing::IsEmpty());
+
+  const fs::path broken = dir_ / "contacts.csv";
+  EXPECT_THROW(write_file_atomically(broken,
+                                     [&](OutputSink& sink) {
+                                       sink.write("half a file");
+                                       throw std::runtime_error("the writer failed");
+                                     }),
+               std::runtime_error);
+  EXPECT_FALSE(fs::exists(broken));
+  EXPECT_THAT(hidden_files(), ::testing::IsEmpty());
+}
+
 // The rename's own reason (once the cleanup's error code overwrote it: "…: Success")
 TEST_F(AtomicFile, AFailedRenameReportsItsReasonAndLeavesNoTemporary) {
   const fs::path target = dir_ / "summary.json";

@@ -15,6 +15,7 @@
 #include <random>
 #include <sstream>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace cdpowder {
@@ -146,6 +147,32 @@ Contacts three_contacts() {
   contacts.wall_actions.push_back(pushed);
   contacts.wall_cohesive.push_back(0);
   return contacts;
+}
+
+/// A sink that keeps every chunk it is handed.
+class Chunks final : public OutputSink {
+ public:
+  void write(std::string_view bytes) override { chunks.emplace_back(bytes); }
+
+  std::vector<std::string> chunks;
+};
+
+// The writer hands its file over in chunks of about kOutputChunkBytes, never the whole file:
+// 20 000 spheres, ≈ 4 MB of text, in chunks of at most a chunk and one row.
+TEST(ParticlesCsvWriter, HandsTheFileOverInChunks) {
+  Bodies bodies;
+  for (int i = 0; i < 20000; ++i) {
+    bodies.add_sphere(Vec3(0.1 * i, 1.0 / (i + 1), 2.0), 1.0, kDensity);
+  }
+  Chunks sink;
+  write_particles_csv(sink, bodies, "# header\n");
+  ASSERT_GT(sink.chunks.size(), 10U);
+  std::string whole;
+  for (const std::string& chunk : sink.chunks) {
+    EXPECT_LT(chunk.size(), kOutputChunkBytes + 512);
+    whole += chunk;
+  }
+  EXPECT_EQ(whole, particles_csv(bodies, "# header\n"));
 }
 
 TEST(ContactsCsv, NamesBottomWallMinusOneAndPistonMinusTwoInColumnA) {

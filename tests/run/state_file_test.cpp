@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <iterator>
 #include <limits>
 #include <string>
 #include <utility>
@@ -131,6 +132,33 @@ TEST(StateFile, EncodingIsStableThroughADecode) {
   restore_run(decode_state(bytes, "memory"), scene.run, scene.step.solver.dt, copy.world, copy.work,
               copy.state);
   EXPECT_EQ(encode_state("scene", copy.world, copy.work, copy.state), bytes);
+}
+
+// save_state streams the file in chunks (never the whole state in memory): the file holds the
+// bytes encode_state returns, checksum included, and the state hash is the hash of its World
+// and action sections. 1015 spheres: a state of several chunks.
+TEST(StateFile, TheStreamedFileHoldsTheEncodedBytes) {
+  SceneReadOptions options;
+  options.compaction = true;
+  const Scene scene =
+      read_scene(std::filesystem::path(CDPOWDER_SOURCE_DIR) / "examples/paper/scene.toml",
+                 {"run.max_duration=0.2"}, options);
+  Engine engine(scene);
+  run(scene, engine);
+  const std::string bytes = encode_state("scene", engine.world, engine.work, engine.state);
+  ASSERT_GT(bytes.size(), 3 * kOutputChunkBytes);
+  const std::filesystem::path file =
+      std::filesystem::temp_directory_path() / "cdpowder_streamed_state.cdps";
+  save_state(file, "scene", engine.world, engine.work, engine.state);
+  std::ifstream in(file, std::ios::binary);
+  const std::string written((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::filesystem::remove(file);
+  EXPECT_TRUE(written == bytes) << written.size() << " bytes written, " << bytes.size()
+                                << " encoded";
+  ByteWriter sections;
+  write_world(sections, engine.world);
+  write_actions(sections, last_step_contacts(engine.work));
+  EXPECT_EQ(state_hash(engine.world, engine.work), fnv1a64(sections.bytes()));
 }
 
 // The hash sees one ulp of one velocity component, and the contact actions.

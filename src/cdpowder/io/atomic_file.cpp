@@ -93,6 +93,13 @@ void write_file_atomically(const std::filesystem::path& path, std::string_view c
   rename_into_place(temporary, path);
 }
 
+void write_file_atomically(const std::filesystem::path& path,
+                           const std::function<void(OutputSink&)>& fill) {
+  AtomicFileStream file(path);
+  fill(file);
+  file.commit();
+}
+
 AtomicFileStream::AtomicFileStream(std::filesystem::path path)
     : path_(std::move(path)), temporary_(temporary_name(path_)) {
   fd_ = open_for_writing(temporary_, path_);
@@ -135,6 +142,13 @@ void AtomicFileStream::flush() {
 
 void AtomicFileStream::write(std::string_view text) {
   if (failed()) return;
+  if (text.size() >= kBufferBytes) {
+    flush();
+    if (failed()) return;
+    const int error_number = write_all(fd_, text);
+    if (error_number != 0) fail(error_number);
+    return;
+  }
   buffer_ += text;
   if (buffer_.size() >= kBufferBytes) flush();
 }

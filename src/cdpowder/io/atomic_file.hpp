@@ -7,8 +7,11 @@
 // and leaves no temporary file behind.
 #pragma once
 
+#include "cdpowder/io/output_sink.hpp"
+
 #include <cstddef>
 #include <filesystem>
+#include <functional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -27,11 +30,17 @@ class OutputError : public std::runtime_error {
 /// reason.
 void write_file_atomically(const std::filesystem::path& path, std::string_view content);
 
+/// Writes what `fill` writes into its sink to `path` atomically, as it is made (a writer that
+/// hands its output over in chunks never holds the whole file). Throws OutputError naming the
+/// path and the reason; when `fill` throws, no file is left, and the exception goes on.
+void write_file_atomically(const std::filesystem::path& path,
+                           const std::function<void(OutputSink&)>& fill);
+
 /// A file that is written incrementally (a time series) and appears under its final name
 /// only when commit() is called; destroyed without commit, it removes its temporary file.
 /// A failed write is remembered, not thrown: the caller decides whether to go on (a run
 /// keeps running and writes its other outputs) and asks failed()/error().
-class AtomicFileStream {
+class AtomicFileStream final : public OutputSink {
  public:
   /// Opens the temporary file; throws OutputError naming the path and the reason.
   explicit AtomicFileStream(std::filesystem::path path);
@@ -48,8 +57,9 @@ class AtomicFileStream {
   AtomicFileStream& operator=(AtomicFileStream&&) = delete;
 
   /// Appends `text` (nothing once a write has failed). Written to the file in blocks of
-  /// kBufferBytes, so a failure is seen within that much output.
-  void write(std::string_view text);
+  /// kBufferBytes, so a failure is seen within that much output; a longer text goes to the
+  /// file at once, without a copy.
+  void write(std::string_view text) override;
 
   /// Whether a write failed, and "cannot write PATH: reason" of the first failure.
   [[nodiscard]] bool failed() const { return !error_.empty(); }

@@ -27,11 +27,24 @@ void ByteWriter::vec3(const Vec3& value) {
 
 void ByteWriter::string(std::string_view text) {
   u64(text.size());
-  bytes_.append(text);
+  append(text);
 }
 
 void ByteWriter::tag(std::string_view four_letters) {
-  bytes_.append(four_letters.substr(0, 4));
+  append(four_letters.substr(0, 4));
+}
+
+void ByteWriter::append(std::string_view text) {
+  bytes_.append(text);
+  if (sink_ != nullptr && bytes_.size() >= kOutputChunkBytes) flush();
+}
+
+void ByteWriter::flush() {
+  if (sink_ == nullptr || bytes_.empty()) return;
+  hash_ = fnv1a64_update(hash_, bytes_);
+  handed_over_ += bytes_.size();
+  sink_->write(bytes_);
+  bytes_.clear();
 }
 
 const char* ByteReader::take(std::size_t n) {
@@ -111,8 +124,8 @@ void ByteReader::fail(std::string_view what) const {
   throw StateFileError(fmt::format("{}: at byte {}: {}", source_, offset_, what));
 }
 
-std::uint64_t fnv1a64(std::string_view bytes) {
-  std::uint64_t hash = 0xcbf29ce484222325ULL;  // FNV offset basis
+std::uint64_t fnv1a64_update(std::uint64_t hash, std::string_view bytes) {
+  static_assert(kFnv1a64Basis == 0xcbf29ce484222325ULL, "the FNV offset basis");
   for (const char c : bytes) {
     hash ^= static_cast<unsigned char>(c);
     hash *= 0x100000001b3ULL;  // FNV prime

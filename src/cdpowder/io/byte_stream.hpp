@@ -6,6 +6,7 @@
 #pragma once
 
 #include "cdpowder/core/vec3.hpp"
+#include "cdpowder/io/output_sink.hpp"
 
 #include <cstddef>
 #include <cstdint>
@@ -22,9 +23,31 @@ class StateFileError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// FNV-1a, 64 bit: a fixed, documented function of the bytes, the same on every platform
+/// and build (std::hash is neither).
+inline constexpr std::uint64_t kFnv1a64Basis = 14695981039346656037ULL;
+
+/// The FNV-1a state `hash` carried on over `bytes` (fnv1a64(a + b) is
+/// fnv1a64_update(fnv1a64(a), b)).
+std::uint64_t fnv1a64_update(std::uint64_t hash, std::string_view bytes);
+
+inline std::uint64_t fnv1a64(std::string_view bytes) {
+  return fnv1a64_update(kFnv1a64Basis, bytes);
+}
+
+/// Encodes into a string (bytes()), or into a sink as it goes: then the bytes are handed to
+/// the sink in chunks of about kOutputChunkBytes, and only checksum() of them is kept.
 class ByteWriter {
  public:
-  void u8(std::uint8_t value) { bytes_.push_back(static_cast<char>(value)); }
+  ByteWriter() = default;
+
+  /// A writer into `sink`; call flush() after the last write.
+  explicit ByteWriter(OutputSink& sink) : sink_(&sink) {}
+
+  void u8(std::uint8_t value) {
+    bytes_.push_back(static_cast<char>(value));
+    if (sink_ != nullptr && bytes_.size() >= kOutputChunkBytes) flush();
+  }
 
   void u32(std::uint32_t value);
   void u64(std::uint64_t value);
@@ -40,12 +63,25 @@ class ByteWriter {
   /// A four-letter section tag: a reader that lost its place says where.
   void tag(std::string_view four_letters);
 
+  /// Everything written, when there is no sink.
   [[nodiscard]] const std::string& bytes() const { return bytes_; }
 
-  [[nodiscard]] std::size_t size() const { return bytes_.size(); }
+  /// Bytes written so far.
+  [[nodiscard]] std::size_t size() const { return handed_over_ + bytes_.size(); }
+
+  /// fnv1a64 of every byte written so far.
+  [[nodiscard]] std::uint64_t checksum() const { return fnv1a64_update(hash_, bytes_); }
+
+  /// Hands what is gathered to the sink (nothing without one).
+  void flush();
 
  private:
+  void append(std::string_view text);
+
+  OutputSink* sink_ = nullptr;
   std::string bytes_;
+  std::uint64_t hash_ = kFnv1a64Basis;  ///< of the bytes handed over
+  std::size_t handed_over_ = 0;
 };
 
 /// Reads what a ByteWriter wrote; every read is bounds-checked and throws StateFileError
@@ -94,9 +130,5 @@ class ByteReader {
   std::string section_;
   std::size_t section_offset_ = 0;
 };
-
-/// FNV-1a, 64 bit: a fixed, documented function of the bytes, the same on every platform
-/// and build (std::hash is neither).
-std::uint64_t fnv1a64(std::string_view bytes);
 
 }  // namespace cdpowder

@@ -31,8 +31,10 @@ void append_contact(std::string& out, std::int64_t a, std::int64_t b, const Vec3
 
 }  // namespace
 
-std::string particles_csv(const Bodies& bodies, const std::string& header) {
-  std::string out = header;
+void write_particles_csv(OutputSink& sink, const Bodies& bodies, const std::string& header) {
+  ChunkedText chunks(sink);
+  std::string& out = chunks.text();
+  out = header;
   out += "id,x,y,z,r,vx,vy,vz,wx,wy,wz,fx,fy,fz,tx,ty,tz,fixed\n";
   for (std::size_t i = 0; i < bodies.size(); ++i) {
     fmt::format_to(std::back_inserter(out), "{}", i);
@@ -43,12 +45,22 @@ std::string particles_csv(const Bodies& bodies, const std::string& header) {
     append_vec(out, bodies.external_force[i]);
     append_vec(out, bodies.external_torque[i]);
     fmt::format_to(std::back_inserter(out), ",{}\n", static_cast<int>(bodies.fixed[i]));
+    chunks.chunk_done();
   }
-  return out;
+  chunks.finish();
 }
 
-std::string contacts_csv(const Contacts& contacts, const std::string& header) {
-  std::string out = header;
+std::string particles_csv(const Bodies& bodies, const std::string& header) {
+  std::string text;
+  StringSink sink(text);
+  write_particles_csv(sink, bodies, header);
+  return text;
+}
+
+void write_contacts_csv(OutputSink& sink, const Contacts& contacts, const std::string& header) {
+  ChunkedText chunks(sink);
+  std::string& out = chunks.text();
+  out = header;
   out += "a,b,nx,ny,nz,normal_force,tx,ty,tz,rx,ry,rz,twist,gap,cohesive,state\n";
   for_each_contact(contacts, [&](const ContactView& c) {
     // a wall contact's first member is the wall's id
@@ -56,8 +68,16 @@ std::string contacts_csv(const Contacts& contacts, const std::string& header) {
                                : *c.wall == WallKind::Bottom ? kBottomWallId
                                                              : kPistonId;
     append_contact(out, first, c.b, c.normal, *c.action, c.gap, c.cohesive, c.cohesion);
+    chunks.chunk_done();
   });
-  return out;
+  chunks.finish();
+}
+
+std::string contacts_csv(const Contacts& contacts, const std::string& header) {
+  std::string text;
+  StringSink sink(text);
+  write_contacts_csv(sink, contacts, header);
+  return text;
 }
 
 }  // namespace cdpowder

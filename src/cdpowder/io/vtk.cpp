@@ -88,14 +88,17 @@ std::string zlib_blocks(const char* bytes, std::size_t size) {
 /// Little-endian, as the file declares (x86-64).
 class VtpDocument {
  public:
-  explicit VtpDocument(VtkFormat format)
-      : binary_(format == VtkFormat::Binary || format == VtkFormat::Zlib),
+  VtpDocument(VtkFormat format, OutputSink& sink)
+      : chunks_(sink),
+        sink_(&sink),
+        binary_(format == VtkFormat::Binary || format == VtkFormat::Zlib),
         zlib_(format == VtkFormat::Zlib) {}
 
   /// XML text, as it is.
   template <typename... Args>
   void xml(fmt::format_string<Args...> text, Args&&... args) {
-    fmt::format_to(std::back_inserter(out_), text, std::forward<Args>(args)...);
+    fmt::format_to(std::back_inserter(chunks_.text()), text, std::forward<Args>(args)...);
+    chunks_.chunk_done();
   }
 
   /// <DataArray> of `values`, `components` per tuple; `type` is VTK's name of T.
@@ -118,13 +121,15 @@ class VtpDocument {
     }
     xml("<DataArray type=\"{}\" Name=\"{}\" NumberOfComponents=\"{}\" format=\"ascii\">\n", type,
         name, components);
+    std::string& out = chunks_.text();
     for (std::size_t i = 0; i < values.size(); ++i) {
       if constexpr (std::is_floating_point_v<T>) {
-        fmt::format_to(std::back_inserter(out_), "{:.9g}", values[i]);
+        fmt::format_to(std::back_inserter(out), "{:.9g}", values[i]);
       } else {
-        fmt::format_to(std::back_inserter(out_), "{}", values[i]);
+        fmt::format_to(std::back_inserter(out), "{}", values[i]);
       }
-      out_.push_back((i + 1) % static_cast<std::size_t>(components) == 0 ? '\n' : ' ');
+      out.push_back((i + 1) % static_cast<std::size_t>(components) == 0 ? '\n' : ' ');
+      chunks_.chunk_done();
     }
     xml("</DataArray>\n");
   }
@@ -172,20 +177,25 @@ class VtpDocument {
         zlib_ ? " compressor=\"vtkZLibDataCompressor\"" : "", points, verts, lines, polys);
   }
 
-  /// Closes the Piece and the document (with the appended data of a binary one).
-  std::string finish() {
+  /// Closes the Piece and the document (with the appended data of a binary one), and hands
+  /// the rest to the sink. The appended data (compressed, or base64) is the one part held
+  /// until the end: its offsets are in the XML before it.
+  void finish() {
     xml("</Piece>\n</PolyData>\n");
-    if (zlib_) {  // raw bytes after the underscore, as VTK's own writer appends them
-      xml("<AppendedData encoding=\"raw\">\n_{}\n</AppendedData>\n", appended_);
-    } else if (binary_) {
-      xml("<AppendedData encoding=\"base64\">\n_{}\n</AppendedData>\n", appended_);
+    if (binary_) {
+      // raw bytes after the underscore, as VTK's own writer appends them, or base64
+      xml("<AppendedData encoding=\"{}\">\n_", zlib_ ? "raw" : "base64");
+      chunks_.finish();
+      sink_->write(appended_);
+      xml("\n</AppendedData>\n");
     }
     xml("</VTKFile>\n");
-    return fmt::to_string(out_);
+    chunks_.finish();
   }
 
  private:
-  Buffer out_;
+  ChunkedText chunks_;
+  OutputSink* sink_;
   std::string appended_;
   bool binary_;
   bool zlib_;
@@ -246,10 +256,11 @@ std::string pvd(const std::vector<std::pair<double, std::string>>& entries,
 
 }  // namespace
 
-std::string particles_vtp(const World& world, const Contacts* contacts, VtkFormat format) {
+void write_particles_vtp(OutputSink& sink, const World& world, const Contacts* contacts,
+                         VtkFormat format) {
   const Bodies& bodies = world.bodies;
   const std::size_t n = bodies.size();
-  VtpDocument doc(format);
+  VtpDocument doc(format, sink);
   doc.begin_polydata(n, n, 0);
   doc.xml("<Points>\n");
   doc.vectors("Points", bodies.position);
@@ -267,10 +278,11 @@ std::string particles_vtp(const World& world, const Contacts* contacts, VtkForma
     doc.ints("coordination", std::vector<std::int32_t>(coordination.begin(), coordination.end()));
   }
   doc.xml("</PointData>\n");
-  return doc.finish();
+  doc.finish();
 }
 
-std::string contacts_vtp(const World& world, const Contacts& contacts, VtkFormat format) {
+void write_contacts_vtp(OutputSink& sink, const World& world, const Contacts& contacts,
+                        VtkFormat format) {
   const std::vector<NetworkLine> lines = network_lines(world, contacts);
   const std::size_t n = lines.size();
   std::vector<Vec3> points;
@@ -292,7 +304,7 @@ std::string contacts_vtp(const World& world, const Contacts& contacts, VtkFormat
     cohesive.push_back(line.cohesive ? 1 : 0);
     kind.push_back(line.kind);
   }
-  VtpDocument doc(format);
+  VtpDocument doc(format, sink);
   doc.begin_polydata(2 * n, 0, n);
   doc.xml("<Points>\n");
   doc.vectors("Points", points);
@@ -307,10 +319,10 @@ std::string contacts_vtp(const World& world, const Contacts& contacts, VtkFormat
   doc.ints("cohesive", cohesive);
   doc.ints("kind", kind);
   doc.xml("</CellData>\n");
-  return doc.finish();
+  doc.finish();
 }
 
-std::string walls_vtp(const World& world, VtkFormat format) {
+void write_walls_vtp(OutputSink& sink, const World& world, VtkFormat format) {
   const Bodies& bodies = world.bodies;
   const Walls& walls = world.walls;
   const double lx = world.box.lx;
@@ -336,7 +348,7 @@ std::string walls_vtp(const World& world, VtkFormat format) {
   if (walls.bottom.enabled) add_plane(0.0, kWallsKindBottom);
   if (walls.piston.enabled) add_plane(walls.piston.height, kWallsKindPiston);
   const std::size_t planes = kinds.size() - 4;
-  VtpDocument doc(format);
+  VtpDocument doc(format, sink);
   doc.begin_polydata(points.size(), 0, 4, planes);
   doc.xml("<Points>\n");
   doc.vectors("Points", points);
@@ -346,7 +358,28 @@ std::string walls_vtp(const World& world, VtkFormat format) {
   doc.xml("<CellData Scalars=\"kind\">\n");
   doc.ints("kind", kinds);
   doc.xml("</CellData>\n");
-  return doc.finish();
+  doc.finish();
+}
+
+std::string particles_vtp(const World& world, const Contacts* contacts, VtkFormat format) {
+  std::string text;
+  StringSink sink(text);
+  write_particles_vtp(sink, world, contacts, format);
+  return text;
+}
+
+std::string contacts_vtp(const World& world, const Contacts& contacts, VtkFormat format) {
+  std::string text;
+  StringSink sink(text);
+  write_contacts_vtp(sink, world, contacts, format);
+  return text;
+}
+
+std::string walls_vtp(const World& world, VtkFormat format) {
+  std::string text;
+  StringSink sink(text);
+  write_walls_vtp(sink, world, format);
+  return text;
 }
 
 std::vector<double> VtkSnapshotSeries::read_earlier() {
@@ -407,11 +440,14 @@ void VtkSnapshotSeries::write(const World& world, const Contacts& contacts) {
   const std::filesystem::path folder = out_dir_ / "snapshots";
   std::filesystem::create_directories(folder);
   const std::string suffix = fmt::format("{:06d}", entries_.size());
-  write_file_atomically(folder / fmt::format("particles_{}.vtp", suffix),
-                        particles_vtp(world, &contacts, format_));
-  write_file_atomically(folder / fmt::format("contacts_{}.vtp", suffix),
-                        contacts_vtp(world, contacts, format_));
-  write_file_atomically(folder / fmt::format("walls_{}.vtp", suffix), walls_vtp(world, format_));
+  write_file_atomically(folder / fmt::format("particles_{}.vtp", suffix), [&](OutputSink& sink) {
+    write_particles_vtp(sink, world, &contacts, format_);
+  });
+  write_file_atomically(folder / fmt::format("contacts_{}.vtp", suffix), [&](OutputSink& sink) {
+    write_contacts_vtp(sink, world, contacts, format_);
+  });
+  write_file_atomically(folder / fmt::format("walls_{}.vtp", suffix),
+                        [&](OutputSink& sink) { write_walls_vtp(sink, world, format_); });
   entries_.emplace_back(world.time, suffix);
   write_collections();
 }

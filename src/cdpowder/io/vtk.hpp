@@ -26,6 +26,7 @@
 
 #include "cdpowder/config/scene.hpp"
 #include "cdpowder/contact/local_problem.hpp"
+#include "cdpowder/io/output_sink.hpp"
 #include "cdpowder/model/world.hpp"
 
 #include <cstdint>
@@ -38,14 +39,21 @@ namespace cdpowder {
 
 /// The particles of `world` as a .vtp document; coordination from `contacts`, or no
 /// coordination array when `contacts` is null (a deposit, whose contacts are not detected).
+/// The write_ forms hand the document to `sink` as it is made (the binary forms' appended
+/// data, compressed or base64, at the end); the others return it.
+void write_particles_vtp(OutputSink& sink, const World& world, const Contacts* contacts,
+                         VtkFormat format = VtkFormat::Ascii);
 std::string particles_vtp(const World& world, const Contacts* contacts,
                           VtkFormat format = VtkFormat::Ascii);
 
 /// The closed contacts of `contacts` as a .vtp document of lines.
+void write_contacts_vtp(OutputSink& sink, const World& world, const Contacts& contacts,
+                        VtkFormat format = VtkFormat::Ascii);
 std::string contacts_vtp(const World& world, const Contacts& contacts,
                          VtkFormat format = VtkFormat::Ascii);
 
 /// The bottom wall, the piston and the periodic cell of `world` as a .vtp document.
+void write_walls_vtp(OutputSink& sink, const World& world, VtkFormat format = VtkFormat::Ascii);
 std::string walls_vtp(const World& world, VtkFormat format = VtkFormat::Ascii);
 
 /// A time series of snapshots: DIR/snapshots/{particles,contacts,walls}_NNNNNN.vtp and the

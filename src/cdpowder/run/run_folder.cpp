@@ -212,10 +212,13 @@ void write_deposit_outputs(const std::filesystem::path& folder, const Scene& sce
   std::filesystem::create_directories(folder);
   const std::string header = provenance_header(scene);
   write_file_atomically(folder / "scene.toml", scene.effective_toml);
-  write_file_atomically(folder / "particles.csv", particles_csv(world.bodies, header));
+  write_file_atomically(folder / "particles.csv",
+                        [&](OutputSink& sink) { write_particles_csv(sink, world.bodies, header); });
   const VtkFormat vtk = vtk_format_for(scene.run.vtk_format, world.bodies.size());
-  write_file_atomically(folder / "particles.vtp", particles_vtp(world, nullptr, vtk));
-  write_file_atomically(folder / "walls.vtp", walls_vtp(world, vtk));
+  write_file_atomically(folder / "particles.vtp",
+                        [&](OutputSink& sink) { write_particles_vtp(sink, world, nullptr, vtk); });
+  write_file_atomically(folder / "walls.vtp",
+                        [&](OutputSink& sink) { write_walls_vtp(sink, world, vtk); });
   write_file_atomically(folder / "summary.json", deposit_summary_json(scene, world));
 }
 
@@ -239,7 +242,9 @@ RunFolder RunFolder::begin(const std::filesystem::path& folder, const Scene& sce
   RunFolder f(folder, provenance_header(scene), std::move(warn),
               vtk_format_for(scene.run.vtk_format, world.bodies.size()));
   write_file_atomically(folder / "scene.toml", scene.effective_toml);
-  write_file_atomically(folder / "initial_particles.csv", particles_csv(world.bodies, f.header_));
+  write_file_atomically(folder / "initial_particles.csv", [&](OutputSink& sink) {
+    write_particles_csv(sink, world.bodies, f.header_);
+  });
   f.timeseries_ = std::make_unique<TimeseriesWriter>(folder / "timeseries.csv", f.header_,
                                                      timeseries_cadence(scene));
   f.snapshot_cadence_ = snapshot_cadence(scene);
@@ -307,13 +312,23 @@ void RunFolder::finish(const Scene& scene, const World& world, const StepWorkspa
                        const RunState& state, const RunResult& result, double initial_porosity) {
   // every output first and the summary last, once the rest is on the disk: a run killed
   // while it writes them has no summary, so it is not taken for finished (a sweep runs it
-  // again, or resume continues it from its checkpoint)
-  write_file_atomically(folder_ / "particles.csv", particles_csv(world.bodies, header_));
-  write_file_atomically(folder_ / "contacts.csv", contacts_csv(work.contacts, header_));
+  // again, or resume continues it from its checkpoint). Each is handed to its file as it is
+  // made, so no file is held whole beside the state.
+  write_file_atomically(folder_ / "particles.csv", [&](OutputSink& sink) {
+    write_particles_csv(sink, world.bodies, header_);
+  });
+  write_file_atomically(folder_ / "contacts.csv", [&](OutputSink& sink) {
+    write_contacts_csv(sink, work.contacts, header_);
+  });
   const VtkFormat vtk = vtk_format_for(scene.run.vtk_format, world.bodies.size());
-  write_file_atomically(folder_ / "particles.vtp", particles_vtp(world, &work.contacts, vtk));
-  write_file_atomically(folder_ / "contacts.vtp", contacts_vtp(world, work.contacts, vtk));
-  write_file_atomically(folder_ / "walls.vtp", walls_vtp(world, vtk));
+  write_file_atomically(folder_ / "particles.vtp", [&](OutputSink& sink) {
+    write_particles_vtp(sink, world, &work.contacts, vtk);
+  });
+  write_file_atomically(folder_ / "contacts.vtp", [&](OutputSink& sink) {
+    write_contacts_vtp(sink, world, work.contacts, vtk);
+  });
+  write_file_atomically(folder_ / "walls.vtp",
+                        [&](OutputSink& sink) { write_walls_vtp(sink, world, vtk); });
   if (snapshot_cadence_.enabled() && world.step != last_snapshot_step_) {
     snapshots_.write(world, work.contacts);
   }

@@ -339,9 +339,11 @@ ActionCache read_actions(ByteReader& in) {
   return cache;
 }
 
-std::string encode_state(std::string_view scene_toml, const World& world, const StepWorkspace& work,
-                         const RunState& run) {
-  ByteWriter out;
+namespace {
+
+/// The state file's sections into `out`, then the FNV-1a checksum of all bytes before it.
+void write_state(ByteWriter& out, std::string_view scene_toml, const World& world,
+                 const StepWorkspace& work, const RunState& run) {
   out.tag(kStateFileMagic.substr(0, 4));
   out.tag(kStateFileMagic.substr(4, 4));
   out.u32(kStateFormatVersion);
@@ -359,11 +361,16 @@ std::string encode_state(std::string_view scene_toml, const World& world, const 
       has_detector ? run.detector->memory() : BlockedStateDetector::Memory{};
   run_fields(io, run.result, has_detector, memory, run);
   out.tag("SUM ");
-  std::string bytes = out.bytes();
-  ByteWriter checksum;
-  checksum.u64(fnv1a64(bytes));
-  bytes += checksum.bytes();
-  return bytes;
+  out.u64(out.checksum());
+}
+
+}  // namespace
+
+std::string encode_state(std::string_view scene_toml, const World& world, const StepWorkspace& work,
+                         const RunState& run) {
+  ByteWriter out;
+  write_state(out, scene_toml, world, work, run);
+  return out.bytes();
 }
 
 namespace {
@@ -472,7 +479,12 @@ void require_same_spheres(const World& initial, const World& saved,
 
 void save_state(const std::filesystem::path& path, std::string_view scene_toml, const World& world,
                 const StepWorkspace& work, const RunState& run) {
-  write_file_atomically(path, encode_state(scene_toml, world, work, run));
+  // streamed: a checkpoint of 10⁶ spheres is never held whole beside the state
+  write_file_atomically(path, [&](OutputSink& sink) {
+    ByteWriter out(sink);
+    write_state(out, scene_toml, world, work, run);
+    out.flush();
+  });
 }
 
 namespace {
