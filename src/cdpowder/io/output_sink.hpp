@@ -39,6 +39,15 @@ class StringSink final : public OutputSink {
   std::string* out_;
 };
 
+/// What `write(sink)` writes, as a string (the string forms of the writers).
+template <typename Write>
+std::string written_text(const Write& write) {
+  std::string text;
+  StringSink sink(text);
+  write(static_cast<OutputSink&>(sink));
+  return text;
+}
+
 /// Drops the output (a ByteWriter that only hashes).
 class NullSink final : public OutputSink {
  public:

@@ -51,10 +51,7 @@ void write_particles_csv(OutputSink& sink, const Bodies& bodies, const std::stri
 }
 
 std::string particles_csv(const Bodies& bodies, const std::string& header) {
-  std::string text;
-  StringSink sink(text);
-  write_particles_csv(sink, bodies, header);
-  return text;
+  return written_text([&](OutputSink& sink) { write_particles_csv(sink, bodies, header); });
 }
 
 void write_contacts_csv(OutputSink& sink, const Contacts& contacts, const std::string& header) {
@@ -74,10 +71,7 @@ void write_contacts_csv(OutputSink& sink, const Contacts& contacts, const std::s
 }
 
 std::string contacts_csv(const Contacts& contacts, const std::string& header) {
-  std::string text;
-  StringSink sink(text);
-  write_contacts_csv(sink, contacts, header);
-  return text;
+  return written_text([&](OutputSink& sink) { write_contacts_csv(sink, contacts, header); });
 }
 
 }  // namespace cdpowder

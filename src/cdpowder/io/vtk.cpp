@@ -362,24 +362,16 @@ void write_walls_vtp(OutputSink& sink, const World& world, VtkFormat format) {
 }
 
 std::string particles_vtp(const World& world, const Contacts* contacts, VtkFormat format) {
-  std::string text;
-  StringSink sink(text);
-  write_particles_vtp(sink, world, contacts, format);
-  return text;
+  return written_text(
+      [&](OutputSink& sink) { write_particles_vtp(sink, world, contacts, format); });
 }
 
 std::string contacts_vtp(const World& world, const Contacts& contacts, VtkFormat format) {
-  std::string text;
-  StringSink sink(text);
-  write_contacts_vtp(sink, world, contacts, format);
-  return text;
+  return written_text([&](OutputSink& sink) { write_contacts_vtp(sink, world, contacts, format); });
 }
 
 std::string walls_vtp(const World& world, VtkFormat format) {
-  std::string text;
-  StringSink sink(text);
-  write_walls_vtp(sink, world, format);
-  return text;
+  return written_text([&](OutputSink& sink) { write_walls_vtp(sink, world, format); });
 }
 
 std::vector<double> VtkSnapshotSeries::read_earlier() {
