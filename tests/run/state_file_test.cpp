@@ -12,7 +12,6 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
-#include <iterator>
 #include <limits>
 #include <string>
 #include <utility>
@@ -150,8 +149,9 @@ TEST(StateFile, TheStreamedFileHoldsTheEncodedBytes) {
   const std::filesystem::path file =
       std::filesystem::temp_directory_path() / "cdpowder_streamed_state.cdps";
   save_state(file, "scene", engine.world, engine.work, engine.state);
-  std::ifstream in(file, std::ios::binary);
-  const std::string written((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::string written(static_cast<std::size_t>(std::filesystem::file_size(file)), '\0');
+  std::ifstream(file, std::ios::binary)
+      .read(written.data(), static_cast<std::streamsize>(written.size()));
   std::filesystem::remove(file);
   EXPECT_TRUE(written == bytes) << written.size() << " bytes written, " << bytes.size()
                                 << " encoded";

@@ -233,6 +233,7 @@ std::size_t build_sequential_groups(const Contacts& contacts, ColouredPass& pass
   pass.part_groups.resize(parts + 1);
   pass.part_wall_batches.resize(parts + 1);
   std::size_t wall_batch_count = 0;
+  const bool split = pass.split_piston.active();
   for (std::size_t p = 0; p < parts; ++p) {
     pass.part_sequential[p] = static_cast<std::uint32_t>(pass.sequential.size());
     pass.sequential.insert(pass.sequential.end(),
@@ -242,6 +243,8 @@ std::size_t build_sequential_groups(const Contacts& contacts, ColouredPass& pass
     std::uint32_t bottom_last = bottom_first;
     for (std::uint32_t j = pass.wall_start[p]; j < pass.wall_start[p + 1]; ++j) {
       const ContactIndex w = walls[j];
+      // split piston contacts are solved tile by tile after the hub (split_piston.hpp)
+      if (split && contacts.walls[w].wall == WallKind::Piston) continue;
       if (contacts.walls[w].wall == WallKind::Bottom &&
           bottom_last == static_cast<std::uint32_t>(pass.sequential.size())) {
         ++bottom_last;
@@ -433,6 +436,7 @@ void prepare_coloured_pass(Contacts& contacts, const VelocityCache& velocities, 
   colour_parts(contacts.pairs, pass.part_order, pass.part_start, velocities.spheres.size(),
                kMaxColours, chunk, colouring, pass.masks);
   assign_wall_parts(contacts, tiles, pass.wall_part);
+  group_piston_contacts(contacts, tiles, pass.split_piston);
   // store the pairs in the order the batches visit them, overflow last
   std::vector<ContactIndex>& from = pass.storage_index;
   from.assign(colouring.members.begin(), colouring.members.end());
@@ -615,11 +619,15 @@ PassSums run_coloured_pass(Contacts& contacts, VelocityCache& velocities, const 
   const std::size_t parts = pass.parts();
   std::vector<PartSums>& part_sums = pass.part_sums;
   part_sums.resize(parts);
+  PassSums split_sums;
   for (const std::uint32_t slot : pass.slot_order) {
     if (slot == kTilePhases) {
       // the hub: its contacts touch spheres of any tile
       for (std::size_t p = pass.phase_parts[kTilePhases]; p < parts; ++p) {
         part_sums[p].sums = run_coloured_part(contacts, velocities, pass, p);
+      }
+      if (pass.split_piston.active()) {
+        split_sums = run_split_piston(contacts, velocities, pass.split_piston, threads);
       }
       continue;
     }
@@ -630,6 +638,7 @@ PassSums run_coloured_pass(Contacts& contacts, VelocityCache& velocities, const 
   }
   PassSums sums;
   for (const PartSums& part : part_sums) sums.add_part(part.sums);
+  sums.add_part(split_sums);
   pass.open_rare = open_contacts_rare(sums, contacts.size());
   return sums;
 }

@@ -21,6 +21,7 @@
 #include "cdpowder/core/rng.hpp"
 #include "cdpowder/solver/nlgs/colouring.hpp"
 #include "cdpowder/solver/nlgs/pass_sums.hpp"
+#include "cdpowder/solver/nlgs/split_piston.hpp"
 #include "cdpowder/solver/nlgs/tile_threads.hpp"
 #include "cdpowder/solver/nlgs/tiles.hpp"
 #include "cdpowder/solver/settings.hpp"
@@ -179,6 +180,9 @@ struct ColouredPass {
   /// updates it (run_coloured_pass), and tests may set it.
   mutable bool open_rare = false;
   std::vector<ContactAction> deltas;  ///< scratch of the mixing: pair action changes
+  /// a tiled step's piston contacts, tile by tile with the piston's mass split (not in the
+  /// hub's sequential group); inactive when the step is not tiled
+  SplitPiston split_piston;
 
   /// batches with a lane in use (the padding of colours with an odd number left out)
   [[nodiscard]] std::size_t batches() const {
@@ -247,8 +251,9 @@ PassSums run_coloured_part(Contacts& contacts, VelocityCache& velocities, const 
                            std::size_t part);
 
 /// One pass over the groups in pass.group_order, part by part: the phases' parts (side by
-/// side on `threads` when given) and the rest (the hub) in pass.slot_order, their sums added in
-/// part order: the same bits on any number of threads. Sets pass.open_rare for the next pass from
+/// side on `threads` when given) and the rest (the hub, then the split piston contacts) in
+/// pass.slot_order, their sums added in part order, the split piston's last: the same bits on
+/// any number of threads. Sets pass.open_rare for the next pass from
 /// its sums.
 PassSums run_coloured_pass(Contacts& contacts, VelocityCache& velocities, const ColouredPass& pass,
                            TileThreads* threads = nullptr);

@@ -1,0 +1,80 @@
+// split_piston.cpp — the piston's contacts grouped by tile, their split problems, and a pass
+// over them (split_piston.hpp).
+#include "cdpowder/solver/nlgs/split_piston.hpp"
+
+#include "cdpowder/contact/local_solve.hpp"
+#include "cdpowder/solver/nlgs/visit_contact.hpp"
+
+#include <cstddef>
+
+namespace cdpowder {
+
+void group_piston_contacts(const Contacts& contacts, const StepTiles* tiles, SplitPiston& split) {
+  split.walls.clear();
+  split.piece_start.assign(1, 0);
+  if (tiles == nullptr || !tiles->tiled()) return;
+  // a counting sort by tile, storage order within a tile
+  const std::uint32_t tile_count = tiles->grid.tiles();
+  std::vector<std::uint32_t> start(tile_count + 1, 0);
+  for (const WallProblem& w : contacts.walls) {
+    if (w.wall == WallKind::Piston) ++start[tiles->sphere_part[w.sphere] + 1];
+  }
+  for (std::uint32_t t = 0; t < tile_count; ++t) start[t + 1] += start[t];
+  split.walls.resize(start[tile_count]);
+  std::vector<std::uint32_t> next(start.begin(), start.end() - 1);
+  for (std::size_t k = 0; k < contacts.walls.size(); ++k) {
+    const WallProblem& w = contacts.walls[k];
+    if (w.wall == WallKind::Piston) {
+      split.walls[next[tiles->sphere_part[w.sphere]]++] = static_cast<ContactIndex>(k);
+    }
+  }
+  // the tiles with piston contacts are the pieces
+  for (std::uint32_t t = 0; t < tile_count; ++t) {
+    if (start[t + 1] > start[t]) split.piece_start.push_back(start[t + 1]);
+  }
+}
+
+namespace {
+
+/// Contact w's problem with the piston's mass split among n tiles: the normal block of W is
+/// Δt/m of the sphere plus the piston's n Δt/M_P along n = −e_z (the sphere's lever −R n turns
+/// nothing about n), as the build forms it with Δt/M_P.
+WallProblem with_split_mass(const WallProblem& w, const VelocityCache& velocities, double n) {
+  WallProblem split = w;
+  split.wall_response = n * w.wall_response;
+  const double dt_w_n = velocities.spheres[w.sphere].dt_inverse_mass + split.wall_response;
+  split.inv_dt_w_n = dt_w_n > 0.0 ? 1.0 / dt_w_n : 0.0;
+  return split;
+}
+
+}  // namespace
+
+PassSums run_split_piston(Contacts& contacts, VelocityCache& velocities, const SplitPiston& split,
+                          PieceRunner* pieces) {
+  const double start_velocity = velocities.piston_velocity;
+  const auto n = static_cast<double>(split.pieces());
+  split.results.resize(split.pieces());
+  run_pieces(pieces, split.pieces(), [&](std::uint32_t p) {
+    SplitPiston::PieceResult& result = split.results[p];
+    result.sums = PassSums{};
+    double velocity = start_velocity;  // V_t, this tile's copy of V_P
+    for (std::uint32_t j = split.piece_start[p]; j < split.piece_start[p + 1]; ++j) {
+      const WallProblem w = with_split_mass(contacts.walls[split.walls[j]], velocities, n);
+      ContactAction& action = contacts.wall_actions[split.walls[j]];
+      const VisitChange change = solve_wall(w, action, velocities.spheres[w.sphere], velocity);
+      add_visit(result.sums, change, action.normal_force, w.cohesion);
+    }
+    result.velocity = velocity;
+  });
+  // the tiles' impulses on the piston, added in tile order: ΔV_P = Σ_t (V_t − V_P)/n
+  double change = 0.0;
+  PassSums sums;
+  for (const SplitPiston::PieceResult& result : split.results) {
+    change += (result.velocity - start_velocity) / n;
+    sums.add_part(result.sums);
+  }
+  velocities.piston_velocity = start_velocity + change;
+  return sums;
+}
+
+}  // namespace cdpowder
