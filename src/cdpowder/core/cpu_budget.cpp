@@ -10,6 +10,7 @@
 #include <string_view>
 
 // sched_getaffinity is Linux's
+#include <omp.h>
 #include <sched.h>
 
 namespace cdpowder {
@@ -21,6 +22,12 @@ std::atomic<bool> g_oversubscribe{false};  ///< kOversubscribeVariable, read wit
 std::atomic<int> g_openmp_threads{0};      ///< kOpenMpThreadsVariable's first count, or 0
 
 int affinity_cores() {
+  // With OMP_PROC_BIND set, the OpenMP runtime binds this (the initial) thread to its first
+  // place when it starts, before main: the thread's mask is then that place alone. The places
+  // were made from the process's mask, and a bound team runs one thread a place.
+  if (omp_get_proc_bind() != omp_proc_bind_false && omp_get_num_places() > 0) {
+    return omp_get_num_places();
+  }
   cpu_set_t set;
   CPU_ZERO(&set);
   if (sched_getaffinity(0, sizeof(set), &set) != 0) return 1;

@@ -18,7 +18,8 @@ inline constexpr const char* kOversubscribeVariable = "CDPOWDER_OVERSUBSCRIBE";
 /// per rank). An explicit count is not changed by it.
 inline constexpr const char* kOpenMpThreadsVariable = "OMP_NUM_THREADS";
 
-/// The cores this process may use: the count of its affinity mask, at most its CPU quota
+/// The cores this process may use: the count of its affinity mask (of OpenMP's places when
+/// OMP_PROC_BIND binds the threads), at most its CPU quota
 /// rounded up, at most kMaxThreadsVariable; at least 1. Read once and kept (a process's
 /// budget does not change while it runs); refresh_usable_cores reads it again.
 int usable_cores();
