@@ -3,6 +3,7 @@
 #include "cdpowder/solver/nlgs/split_piston.hpp"
 
 #include "cdpowder/contact/local_solve.hpp"
+#include "cdpowder/solver/nlgs/group_by_part.hpp"
 #include "cdpowder/solver/nlgs/visit_contact.hpp"
 
 #include <cstddef>
@@ -13,21 +14,17 @@ void group_piston_contacts(const Contacts& contacts, const StepTiles* tiles, Spl
   split.walls.clear();
   split.piece_start.assign(1, 0);
   if (tiles == nullptr || !tiles->tiled()) return;
-  // a counting sort by tile, storage order within a tile
+  // a counting sort by tile, storage order within a tile; the other walls last, left out
   const std::uint32_t tile_count = tiles->grid.tiles();
-  std::vector<std::uint32_t> start(tile_count + 1, 0);
-  for (const WallProblem& w : contacts.walls) {
-    if (w.wall == WallKind::Piston) ++start[tiles->sphere_part[w.sphere] + 1];
-  }
-  for (std::uint32_t t = 0; t < tile_count; ++t) start[t + 1] += start[t];
-  split.walls.resize(start[tile_count]);
-  std::vector<std::uint32_t> next(start.begin(), start.end() - 1);
-  for (std::size_t k = 0; k < contacts.walls.size(); ++k) {
-    const WallProblem& w = contacts.walls[k];
-    if (w.wall == WallKind::Piston) {
-      split.walls[next[tiles->sphere_part[w.sphere]]++] = static_cast<ContactIndex>(k);
-    }
-  }
+  const std::vector<std::uint32_t>& start = split.tile_start;
+  group_by_part(
+      contacts.walls.size(), tile_count + 1,
+      [&](std::size_t k) -> std::size_t {
+        const WallProblem& w = contacts.walls[k];
+        return w.wall == WallKind::Piston ? tiles->sphere_part[w.sphere] : tile_count;
+      },
+      split.tile_start, split.tile_next, split.wall_order);
+  split.walls.assign(split.wall_order.begin(), split.wall_order.begin() + start[tile_count]);
   // the tiles with piston contacts are the pieces
   for (std::uint32_t t = 0; t < tile_count; ++t) {
     if (start[t + 1] > start[t]) split.piece_start.push_back(start[t + 1]);

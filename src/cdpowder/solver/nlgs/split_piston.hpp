@@ -37,6 +37,9 @@ struct SplitPiston {
   };
 
   mutable std::vector<PieceResult> results;
+  /// scratch of group_piston_contacts (kept from step to step)
+  std::vector<std::uint32_t> tile_start, tile_next;
+  std::vector<ContactIndex> wall_order;
 
   [[nodiscard]] std::uint32_t pieces() const {
     return static_cast<std::uint32_t>(piece_start.size() - 1);
