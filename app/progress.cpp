@@ -35,19 +35,19 @@ ProgressLine::ProgressLine(bool quiet, double interval_seconds)
 
 void ProgressLine::update(const World& world, const StepReport& report, double fraction) {
   if (quiet_) return;
-  sweeps_since_draw_ += report.solver.sweeps;
+  passes_since_draw_ += report.solver.passes;
   ++steps_since_draw_;
   const auto now = std::chrono::steady_clock::now();
   if (std::chrono::duration<double>(now - last_).count() < interval_ && fraction < 1.0) return;
   last_ = now;
   const double elapsed = std::chrono::duration<double>(now - start_).count();
-  const double sweeps = static_cast<double>(sweeps_since_draw_) /
+  const double passes = static_cast<double>(passes_since_draw_) /
                         static_cast<double>(std::max<std::int64_t>(1, steps_since_draw_));
-  std::string line = progress_text(world, report.diagnostics.contacts, sweeps, elapsed, fraction);
+  std::string line = progress_text(world, report.diagnostics.contacts, passes, elapsed, fraction);
   if (columns_ == 0) {  // a log: one plain line per report
     std::fprintf(stderr, "progress: %s\n", line.c_str());
     std::fflush(stderr);
-    sweeps_since_draw_ = 0;
+    passes_since_draw_ = 0;
     steps_since_draw_ = 0;
     return;
   }
@@ -57,7 +57,7 @@ void ProgressLine::update(const World& world, const StepReport& report, double f
   std::fprintf(stderr, "\r%-*s", static_cast<int>(width), line.c_str());
   std::fflush(stderr);
   drawn_ = true;
-  sweeps_since_draw_ = 0;
+  passes_since_draw_ = 0;
   steps_since_draw_ = 0;
 }
 

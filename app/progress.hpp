@@ -1,5 +1,5 @@
 // progress.hpp — the live progress line of long runs on stderr: simulated time, piston
-// height, porosity, sweeps per step, contacts, elapsed and estimated remaining wall time.
+// height, porosity, passes per step, contacts, elapsed and estimated remaining wall time.
 // On a terminal redrawn in place at most every `interval` seconds, cut to its width; when
 // stderr is not a terminal (a log file), a plain line at most every 30 s. Silent when quiet.
 #pragma once
@@ -28,7 +28,7 @@ class ProgressLine {
   bool drawn_ = false;
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
   std::chrono::steady_clock::time_point last_ = start_;
-  std::int64_t sweeps_since_draw_ = 0;
+  std::int64_t passes_since_draw_ = 0;
   std::int64_t steps_since_draw_ = 0;
 };
 

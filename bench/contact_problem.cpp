@@ -75,7 +75,7 @@ ContactProblem describe(const World& world, const StepWorkspace& work, const Ste
 }
 
 json stats_json(const SolverStats& s, double seconds) {
-  return {{"sweeps", s.sweeps},           {"solve_seconds", seconds},
+  return {{"sweeps", s.passes},           {"solve_seconds", seconds},
           {"residual", s.residual},       {"error_estimate", s.error_estimate},
           {"contraction", s.contraction}, {"force_scale", s.force_scale},
           {"converged", s.converged}};
@@ -109,7 +109,7 @@ int run_export(const std::filesystem::path& fixture, int skip, int count,
                      {"actions", actions_to_json(actions_of(work.contacts))}});
     fmt::print(
         "{} step={} contacts={} sweeps={} solve={:.2f}ms residual={:.3g} estimate={:.3g} {}\n",
-        name, problem.step_index, problem.contacts.size(), report.solver.sweeps, 1e3 * seconds,
+        name, problem.step_index, problem.contacts.size(), report.solver.passes, 1e3 * seconds,
         report.solver.residual, report.solver.error_estimate,
         report.solver.converged ? "converged" : "capped");
   }
@@ -182,7 +182,7 @@ int run_solve(const std::string& problem_file, bool cold, int repeat,
             .dump());
   } else {
     fmt::print("sweeps={} solve={:.2f}ms (median of {}) residual={:.4g} estimate={:.4g} {}\n",
-               stats.sweeps, 1e3 * median, seconds.size(), stats.residual, stats.error_estimate,
+               stats.passes, 1e3 * median, seconds.size(), stats.residual, stats.error_estimate,
                stats.converged ? "converged" : "capped");
     print_judgement(j);
   }

@@ -1,7 +1,7 @@
 // Whole steps from saved engine states (bench/fixtures/): every variant of the engine solves
 // the same steps of the same packing, so the four factors of a run's time can be compared
-// one by one: sweeps per step, ns per contact update (the NLGS stage, mixing included, over
-// sweeps × contacts), and the per-step overhead (a step's time outside the NLGS stage:
+// one by one: passes per step, ns per contact update (the NLGS stage, mixing included, over
+// passes × contacts), and the per-step overhead (a step's time outside the NLGS stage:
 // detection, building the local problems, warm start, integration, diagnostics).
 #include "cdpowder/config/scene_reader.hpp"
 #include "cdpowder/run/state_file.hpp"
@@ -52,7 +52,7 @@ void BM_FixtureSteps(benchmark::State& state) {
   const SavedRun& saved = fixture->saved;
   const Scene& scene = fixture->scene;
   std::int64_t steps = 0;
-  std::int64_t sweeps = 0;
+  std::int64_t passes = 0;
   double updates = 0.0;
   double nlgs_seconds = 0.0;
   double other_seconds = 0.0;
@@ -66,8 +66,8 @@ void BM_FixtureSteps(benchmark::State& state) {
     for (int k = 0; k < kStepsPerIteration; ++k) {
       const StepReport report = step(world, work, scene.step);
       ++steps;
-      sweeps += report.solver.sweeps;
-      updates += static_cast<double>(report.solver.sweeps) *
+      passes += report.solver.passes;
+      updates += static_cast<double>(report.solver.passes) *
                  static_cast<double>(report.diagnostics.contacts);
       for (std::size_t s = 0; s < report.times.size(); ++s) {
         (s == static_cast<std::size_t>(Stage::SolveNlgs) ? nlgs_seconds : other_seconds) +=
@@ -75,7 +75,7 @@ void BM_FixtureSteps(benchmark::State& state) {
       }
     }
   }
-  state.counters["sweeps_per_step"] = static_cast<double>(sweeps) / static_cast<double>(steps);
+  state.counters["passes_per_step"] = static_cast<double>(sweeps) / static_cast<double>(steps);
   state.counters["ns_per_update"] = 1e9 * nlgs_seconds / updates;
   state.counters["overhead_us_per_step"] = 1e6 * other_seconds / static_cast<double>(steps);
   state.SetLabel(kFixtures.at(static_cast<std::size_t>(state.range(0))));

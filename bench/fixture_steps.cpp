@@ -1,5 +1,5 @@
 // fixture_steps — continues a saved state (bench/fixtures/) for N steps with scene overrides
-// and prints what the speed work compares: sweeps per step, capped steps, ns per contact
+// and prints what the speed work compares: passes per step, capped steps, ns per contact
 // update in the NLGS stage, the per-step overhead outside it, wall time, and the final
 // porosity and state hash. Same state, same steps: the variants differ only by the override.
 // With --run-loop the steps go through run_simulation (run/run_loop.hpp), so the
@@ -37,7 +37,7 @@ namespace {
 /// What the printout sums over the steps.
 struct Totals {
   std::int64_t steps = 0;
-  std::int64_t sweeps = 0;
+  std::int64_t passes = 0;
   std::int64_t capped = 0;
   std::int64_t repeated = 0;  ///< adaptive steps undone and solved again (--run-loop)
   std::int64_t threaded = 0;  ///< steps solved on more than one thread (solver.threads)
@@ -49,12 +49,12 @@ struct Totals {
 
 void add_step(const cdpowder::StepReport& report, Totals& totals) {
   ++totals.steps;
-  totals.sweeps += report.solver.sweeps;
+  totals.passes += report.solver.passes;
   totals.capped += report.solver.converged ? 0 : 1;
   totals.threaded += report.solver.threaded ? 1 : 0;
   totals.opening = std::max(totals.opening, report.diagnostics.max_cohesive_opening_per_range);
   totals.updates +=
-      static_cast<double>(report.solver.sweeps) * static_cast<double>(report.diagnostics.contacts);
+      static_cast<double>(report.solver.passes) * static_cast<double>(report.diagnostics.contacts);
 }
 
 /// N calls of step().
@@ -130,10 +130,10 @@ int main(int argc, char** argv) {
     const double other = (run_loop ? t.wall : stage_sum) - t.stages[solve];
     const auto n = static_cast<double>(t.steps);
     fmt::print(
-        "steps={} sweeps/step={:.1f} capped={} repeated={} threaded={} ns/update={:.1f} "
+        "steps={} passes/step={:.1f} capped={} repeated={} threaded={} ns/update={:.1f} "
         "overhead={:.0f}us/step opening/step={:.3f}d_coh wall={:.2f}s porosity={:.6f} "
         "hash={}\n",
-        t.steps, static_cast<double>(t.sweeps) / n, t.capped, t.repeated, t.threaded,
+        t.steps, static_cast<double>(t.passes) / n, t.capped, t.repeated, t.threaded,
         1e9 * t.stages[solve] / t.updates, 1e6 * other / n, t.opening, t.wall, porosity(world),
         hash_text(state_hash(world, work)));
     // the last step's colouring: what the threads of solver.threads share, and what they do not

@@ -1,5 +1,5 @@
-// Benchmarks of the NLGS stage (physics.md §7): ns per contact update of one sweep, and the
-// sweeps a cold-started solve of a frozen packing needs (a counter, not a time).
+// Benchmarks of the NLGS stage (physics.md §7): ns per contact update of one pass, and the
+// passes a cold-started solve of a frozen packing needs (a counter, not a time).
 #include "cdpowder/solver/nlgs/nlgs.hpp"
 #include "cdpowder/solver/nlgs/tiles.hpp"
 #include "support/packings.hpp"
@@ -9,7 +9,7 @@
 namespace cdpowder::bench {
 namespace {
 
-// One sweep in the solver's order (range(1): 0 = the default per-step block permutation,
+// One pass in the solver's order (range(1): 0 = the default per-step block permutation,
 // 1 = a fully random permutation as the group used); items are contact visits.
 void BM_NlgsPass(benchmark::State& state) {
   Packing packing = fcc_packing_with_vacancies(static_cast<int>(state.range(0)));
@@ -37,7 +37,7 @@ BENCHMARK(BM_NlgsPass)
     ->Args({100000, 1})
     ->Unit(benchmark::kMicrosecond);
 
-// One sweep of the coloured kernel (solver.kernel = "coloured"): the step's colours in one
+// One pass of the coloured kernel (solver.kernel = "coloured"): the step's colours in one
 // random order, batches of 4 pair contacts per colour; items are contact visits. range(1):
 // contacts per colouring chunk (0 = the solver's kColourChunk, 1 = one chunk); the pairs are
 // stored in colour order, as in the solver. Counters:
@@ -49,9 +49,9 @@ void BM_NlgsPassColoured(benchmark::State& state) {
   StepWorkspace work(1);
   prepare_contacts(packing, work);
   Contacts& contacts = work.contacts;
-  ColouredPass& sweep = work.solver.coloured;
+  ColouredPass& pass = work.solver.coloured;
   const auto chunk = static_cast<std::size_t>(state.range(1));
-  prepare_coloured_pass(contacts, work.velocities, sweep,
+  prepare_coloured_pass(contacts, work.velocities, pass,
                         chunk == 0 ? kColourChunk : (chunk == 1 ? 0 : chunk));
   order_groups(sweep, VisitOrder::RandomEachStep, work.solver.rng);
   for (auto _ : state) {
@@ -64,7 +64,7 @@ void BM_NlgsPassColoured(benchmark::State& state) {
   state.counters["sequential"] =
       static_cast<double>(sweep.sequential.size()) / static_cast<double>(contacts.size());
   state.counters["idle_lanes"] =
-      1.0 - static_cast<double>(contacts.pairs.size() - sweep.colouring.overflow.size()) /
+      1.0 - static_cast<double>(contacts.pairs.size() - pass.colouring.overflow.size()) /
                 (static_cast<double>(kBatchLanes) * static_cast<double>(sweep.batches()));
   state.counters["ns_per_update"] = benchmark::Counter(
       static_cast<double>(state.iterations()) * static_cast<double>(contacts.size()),
@@ -88,16 +88,16 @@ void BM_NlgsPassColouredThreads(benchmark::State& state) {
   StepWorkspace work(1);
   prepare_contacts(packing, work);
   Contacts& contacts = work.contacts;
-  ColouredPass& sweep = work.solver.coloured;
+  ColouredPass& pass = work.solver.coloured;
   if (state.range(2) != 0) {
     assign_tiles(packing.world.bodies.position, packing.world.box,
                  packing.world.bodies.max_radius(), 0.0, contacts, work.solver.tiles);
   }
-  prepare_coloured_pass(contacts, work.velocities, sweep, kColourChunk, &work.solver.tiles);
+  prepare_coloured_pass(contacts, work.velocities, pass, kColourChunk, &work.solver.tiles);
   order_groups(sweep, VisitOrder::RandomEachStep, work.solver.rng);
   TileThreads threads(static_cast<int>(state.range(1)));
   for (auto _ : state) {
-    benchmark::DoNotOptimize(run_coloured_pass(contacts, work.velocities, sweep, &threads));
+    benchmark::DoNotOptimize(run_coloured_pass(contacts, work.velocities, pass, &threads));
   }
   state.counters["contacts"] = static_cast<double>(contacts.size());
   state.counters["colours"] = static_cast<double>(sweep.colours());
@@ -121,12 +121,12 @@ BENCHMARK(BM_NlgsPassColouredThreads)
     ->UseRealTime();
 
 // A whole cold-started solve of the frozen packing under the piston, at the default
-// settings (Anderson acceleration) and as plain NLGS; reports the sweeps it took.
+// settings (Anderson acceleration) and as plain NLGS; reports the passes it took.
 void BM_NlgsSolveColdStart(benchmark::State& state) {
   Packing packing = fcc_packing_with_vacancies(static_cast<int>(state.range(0)));
   SolverSettings settings = packing.settings.solver;
   settings.acceleration_depth = static_cast<int>(state.range(1));
-  settings.max_sweeps = 20000;
+  settings.max_passes = 20000;
   SolverStats stats;
   for (auto _ : state) {
     state.PauseTiming();
@@ -135,7 +135,7 @@ void BM_NlgsSolveColdStart(benchmark::State& state) {
     state.ResumeTiming();
     stats = solve_nlgs(work.contacts, work.velocities, settings, 1.0, work.solver);
   }
-  state.counters["sweeps"] = stats.sweeps;
+  state.counters["passes"] = stats.passes;
   state.counters["converged"] = stats.converged ? 1 : 0;
 }
 

@@ -30,7 +30,7 @@ def start(exe, scene, out, point, seed, overrides):
 def measured(folder):
     s = read_summary(pathlib.Path(folder, "summary.json"))
     r = s["run"]
-    return {"porosity": s["porosity"], "steps": r["steps"], "sweeps": r["total_sweeps"],
+    return {"porosity": s["porosity"], "steps": r["steps"], "passes": r["total_passes"],
             "wall_seconds": r["wall_seconds"], "nlgs_seconds": r["stage_seconds"]["solve_nlgs"],
             "blocked": r["blocked"]}
 
@@ -46,7 +46,7 @@ def main():
     parser.add_argument("--out", required=True, type=pathlib.Path)
     args = parser.parse_args()
     rows = []
-    print("| point | before: wall [s], steps, sweeps, E | after: wall [s], steps, sweeps, E "
+    print("| point | before: wall [s], steps, passes, E | after: wall [s], steps, passes, E "
           "| before/after (wall) |")
     print("| --- | --- | --- | --- |")
     for point in args.points:
@@ -62,8 +62,8 @@ def main():
         row = {"point": point, **{side: measured(folders[side]) for side in runs}}
         rows.append(row)
         b, a = row["before"], row["after"]
-        print(f"| ({point}) | {b['wall_seconds']:.1f}, {b['steps']}, {b['sweeps']}, "
-              f"{b['porosity']:.5f} | {a['wall_seconds']:.1f}, {a['steps']}, {a['sweeps']}, "
+        print(f"| ({point}) | {b['wall_seconds']:.1f}, {b['steps']}, {b['passes']}, "
+              f"{b['porosity']:.5f} | {a['wall_seconds']:.1f}, {a['steps']}, {a['passes']}, "
               f"{a['porosity']:.5f} | {b['wall_seconds'] / a['wall_seconds']:.2f} |", flush=True)
     (args.out / "compare.json").write_text(json.dumps(
         {"before": args.before, "after": args.after, "scene": args.scene, "seed": args.seed,

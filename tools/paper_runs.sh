@@ -2,7 +2,7 @@
 # The paper-scale runs of docs/lab/2026-11-23-validation-single-runs.md:
 # examples/paper/scene.toml at (μ_t, μ_n) = (0, 0) and (1, 1), one after the other, into
 # runs/paper_0_0 and runs/paper_1_1, then one table row per run (porosity, σ_zz±/p, steps,
-# sweeps, wall time).
+# passes, wall time).
 # Extra arguments go to every run, e.g.  tools/paper_runs.sh --set solver.dt=0.05
 # Long: see docs/performance.md for the wall times. Ctrl-C stops the current run after its
 # step and still writes its outputs (flagged interrupted).
@@ -21,7 +21,7 @@ for point in "0 0" "1 1"; do
 done
 python3 - <<'PY'
 import json, pathlib
-print("| (μt, μn) | E | σzz/p | σzz+/p | σzz−/p | blocked | steps | sweeps/step | wall [s] |")
+print("| (μt, μn) | E | σzz/p | σzz+/p | σzz−/p | blocked | steps | passes/step | wall [s] |")
 print("| --- | --- | --- | --- | --- | --- | --- | --- | --- |")
 for point in ("0_0", "1_1"):
     f = pathlib.Path(f"runs/paper_{point}/summary.json")
@@ -30,5 +30,5 @@ for point in ("0_0", "1_1"):
     s = json.loads(f.read_text()); st = s["stress"]; r = s["run"]
     print(f"| ({point.replace('_', ', ')}) | {s['porosity']:.4f} | {st['sigma_zz_over_pressure']:.4f} "
           f"| {st['sigma_zz_compressive_over_pressure']:.4f} | {st['sigma_zz_tensile_over_pressure']:.4f} "
-          f"| {r['blocked']} | {r['steps']} | {r['sweeps_per_step']:.1f} | {r['wall_seconds']:.0f} |")
+          f"| {r['blocked']} | {r['steps']} | {r['passes_per_step']:.1f} | {r['wall_seconds']:.0f} |")
 PY

@@ -4,12 +4,29 @@ The file and its schema are documented in docs/outputs.md ("summary.json"); the 
 writes and reads it in src/cdpowder/run/run_summary.cpp. A summary without a "schema" key was
 written before the number existed and reads as schema 0: the fields it lacks are absent (use
 dict.get). A schema newer than SCHEMA is refused, since a renamed or re-meant field would be
-read wrongly.
+read wrongly. Schema 2 renamed the NLGS pass counts from "sweeps" to "passes"; an older
+summary is read with the new names, so the tools use one spelling.
 """
 import json
 import pathlib
 
-SCHEMA = 1  # kRunSummarySchema of run_summary.hpp
+SCHEMA = 2  # kRunSummarySchema of run_summary.hpp
+
+# The fields of schema 0 and 1 that schema 2 renamed: section → {old name: new name}.
+FORMER_NAMES = {
+    "run": {"total_sweeps": "total_passes", "sweeps_per_step": "passes_per_step",
+            "repeated_sweeps": "repeated_passes", "probe_sweeps": "probe_passes"},
+    "final_solve": {"sweeps": "passes"},
+}
+
+
+def _rename_former_fields(summary):
+    sections = [summary.get("run"), (summary.get("accuracy") or {}).get("final_solve")]
+    for section, names in zip(sections, FORMER_NAMES.values()):
+        if isinstance(section, dict):
+            for old, new in names.items():
+                if old in section:
+                    section.setdefault(new, section.pop(old))
 
 
 class SummaryError(ValueError):
@@ -28,6 +45,8 @@ def parse_summary(text, where="summary.json"):
     if not isinstance(schema, int) or not 0 <= schema <= SCHEMA:
         raise SummaryError(f"{where}: schema {schema!r} is not one this tool reads (0 to {SCHEMA}):"
                            " written by a newer cdpowder?")
+    if schema < 2:
+        _rename_former_fields(summary)
     return summary
 
 

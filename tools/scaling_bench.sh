@@ -83,7 +83,7 @@ seconds = r["wall_seconds"]
 print(",".join(str(x) for x in [
     datetime.date.today().isoformat(), sys.argv[3], '"' + machine + '"', sys.argv[5],
     '"' + sys.argv[6] + '"', s["spheres"], sys.argv[7], sys.argv[8], r["steps"],
-    round(r["sweeps_per_step"], 2), round(seconds, 3),
+    round(r["passes_per_step"], 2), round(seconds, 3),
     round(r["steps"] / seconds, 3) if seconds > 0 else "", sys.argv[2]]))
 PY
   tail -1 "$csv"

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Times whole runs of the cdpowder command and appends one CSV row per run to
 # docs/performance/whole_runs.csv:
-#   date,commit,machine,scene,settings,spheres,steps,sweeps_per_step,wall_seconds,nlgs_seconds,porosity
+#   date,commit,machine,scene,settings,spheres,steps,passes_per_step,wall_seconds,nlgs_seconds,porosity
 # Usage:
 #   tools/whole_run_bench.sh [SCENE.toml ...]        each scene as it is (default: examples/lattice)
 #   tools/whole_run_bench.sh --corners [--set K=V]…  the paper example (1 015 spheres) at the four
@@ -38,7 +38,7 @@ else
 fi
 
 out_csv=docs/performance/whole_runs.csv
-header="date,commit,machine,scene,settings,spheres,steps,sweeps_per_step,wall_seconds,nlgs_seconds,porosity"
+header="date,commit,machine,scene,settings,spheres,steps,passes_per_step,wall_seconds,nlgs_seconds,porosity"
 mkdir -p "$(dirname "$out_csv")"
 [ -f "$out_csv" ] || echo "$header" >"$out_csv"
 cores="$(nproc)"
@@ -63,7 +63,7 @@ p = s["program"]
 machine = f"{p.get('cpu') or 'unknown CPU'} x{sys.argv[4]}, {p.get('kernel') or 'unknown kernel'}"
 print(",".join(str(x) for x in [
     datetime.date.today().isoformat(), sys.argv[3], '"' + machine + '"', sys.argv[2],
-    '"' + sys.argv[5] + '"', s["spheres"], r["steps"], round(r["sweeps_per_step"], 2),
+    '"' + sys.argv[5] + '"', s["spheres"], r["steps"], round(r["passes_per_step"], 2),
     round(r["wall_seconds"], 3), round(r["stage_seconds"]["solve_nlgs"], 3),
     round(s["porosity"], 5)]))
 PY

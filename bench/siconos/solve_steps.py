@@ -238,7 +238,7 @@ def problem_seconds(path):
 
 def engine_solve(tool, path, start, sweeps):
     command = [str(tool), "solve", str(path), "--repeat", "5", "--json",
-               "--set", f"solver.max_sweeps={sweeps}", "--set", "solver.tolerance=1e-12"]
+               "--set", f"solver.max_passes={sweeps}", "--set", "solver.tolerance=1e-12"]
     if start == "zero":
         command.append("--cold")
     result = json.loads(subprocess.run(command, check=True, capture_output=True,

@@ -123,7 +123,7 @@ TEST_F(CompactCli, StressIsMeasuredOnAStepSolvedToTheFinalTolerance) {
   const fs::path out = scratch_ / "out";
   const ProcessResult r = run_cdpowder(
       "compact " + kQuick.string() + " --out " + out.string() +
-          " --quiet --set solver.tolerance=1e-3 --set solver.max_sweeps=200"
+          " --quiet --set solver.tolerance=1e-3 --set solver.max_passes=200"
           " --set run.blocked.piston_speed=1e-5 --set run.blocked.sphere_speed=1e-2"
           " --set run.blocked.force_balance=1e-2 --set run.blocked.final_tolerance=1e-6",
       scratch_);

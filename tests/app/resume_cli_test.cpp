@@ -342,7 +342,7 @@ TEST_F(ResumeCli, CtrlCInsideALongStaticSolveIsHonouredWithinASecond) {
   const fs::path out = scratch_ / "out";
   const Stopped stop = time_to_stop(
       "compact " + kQuick.string() +
-          " --set run.blocked.final_tolerance=1e-300 --set run.blocked.final_max_sweeps=100000000"
+          " --set run.blocked.final_tolerance=1e-300 --set run.blocked.final_max_passes=100000000"
           " --set solver.kernel='\"scalar\"' --quiet --out " +
           out.string(),
       1.5, scratch_);
@@ -358,7 +358,7 @@ TEST_F(ResumeCli, CtrlCInsideALongStepIsHonouredWithinASecond) {
   const fs::path out = scratch_ / "out";
   const Stopped stop =
       time_to_stop("compact " + kQuick.string() +
-                       " --set solver.tolerance=1e-300 --set solver.max_sweeps=100000000"
+                       " --set solver.tolerance=1e-300 --set solver.max_passes=100000000"
                        " --quiet --out " +
                        out.string(),
                    0.5, scratch_);

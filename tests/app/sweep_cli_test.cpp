@@ -76,7 +76,7 @@ TEST_F(SweepCli, RunsEveryPointAndSeedAndTabulatesThem) {
   ASSERT_EQ(single.status, 4) << single.err;  // kExitNotBlocked: too short to block
   const nlohmann::json alone = nlohmann::json::parse(slurp(scratch_ / "single" / "summary.json"));
   EXPECT_EQ(alone["porosity"], s["porosity"]);
-  EXPECT_EQ(alone["run"]["total_sweeps"], s["run"]["total_sweeps"]);
+  EXPECT_EQ(alone["run"]["total_passes"], s["run"]["total_passes"]);
 
   // the report tool turns the folder into figures and tables (these runs are too short to
   // block, so --all-runs)

@@ -77,8 +77,8 @@ TEST_F(SceneReader, UsesTheStructDefaultsForAbsentKeys) {
   const SolverSettings& solver = s.step.solver;
   EXPECT_EQ(solver.dt, d.step.solver.dt);
   EXPECT_EQ(solver.tolerance, d.step.solver.tolerance);
-  EXPECT_EQ(solver.min_sweeps, d.step.solver.min_sweeps);
-  EXPECT_EQ(solver.max_sweeps, d.step.solver.max_sweeps);
+  EXPECT_EQ(solver.min_passes, d.step.solver.min_passes);
+  EXPECT_EQ(solver.max_passes, d.step.solver.max_passes);
   EXPECT_EQ(solver.stopping_rule, d.step.solver.stopping_rule);
   EXPECT_EQ(solver.visit_order, d.step.solver.visit_order);
   EXPECT_EQ(solver.acceleration_depth, d.step.solver.acceleration_depth);
@@ -104,7 +104,7 @@ TEST_F(SceneReader, ReadsValuesAndAcceptsIntegersForNumbers) {
                        "[contact]\nmu_roll = 0.25\ncohesion_rule = \"history\"\n"
                        "[solver]\nstopping_rule = \"relative_change\"\n"
                        "kinematic_norm = \"rms\"\n"
-                       "visit_order = \"random_each_sweep\"\nacceleration_depth = 0\n"
+                       "visit_order = \"random_each_pass\"\nacceleration_depth = 0\n"
                        "acceleration_interval = 2\n"
                        "seed = 7\nwarm_start = false\n"
                        "[run.blocked]\nwindow = 5\n");
@@ -114,7 +114,7 @@ TEST_F(SceneReader, ReadsValuesAndAcceptsIntegersForNumbers) {
   EXPECT_EQ(s.step.laws.cohesion_rule, CohesionRule::History);
   EXPECT_EQ(s.step.solver.stopping_rule, StoppingRule::RelativeChange);
   EXPECT_EQ(s.step.solver.kinematic_norm, KinematicNorm::Rms);
-  EXPECT_EQ(s.step.solver.visit_order, VisitOrder::RandomEachSweep);
+  EXPECT_EQ(s.step.solver.visit_order, VisitOrder::RandomEachPass);
   EXPECT_EQ(s.step.solver.acceleration_depth, 0);
   EXPECT_EQ(s.step.solver.acceleration_interval, 2);
   EXPECT_EQ(s.step.solver.seed, 7U);
@@ -153,12 +153,12 @@ TEST_F(SceneReader, RejectsNonFiniteNumbers) {
 TEST_F(SceneReader, ReportsWrongTypes) {
   const auto found = issues(std::string(kParticles) +
                             "[contact]\nmu = \"high\"\n"
-                            "[solver]\nmax_sweeps = 2.5\nwarm_start = 1\n"
+                            "[solver]\nmax_passes = 2.5\nwarm_start = 1\n"
                             "[system]\ngravity = [0, -1]\n");
   ASSERT_EQ(found.size(), 4U);
   EXPECT_EQ(found[0], "scene.toml:4:6: contact.mu: got \"high\", expected a number ≥ 0");
   EXPECT_THAT(found[1],
-              AllOf(HasSubstr("scene.toml:6:"), HasSubstr("solver.max_sweeps"),
+              AllOf(HasSubstr("scene.toml:6:"), HasSubstr("solver.max_passes"),
                     HasSubstr("got 2.5 (a floating-point number), expected an integer ≥ 1")));
   EXPECT_THAT(found[2], AllOf(HasSubstr("solver.warm_start"), HasSubstr("true or false")));
   EXPECT_THAT(found[3], AllOf(HasSubstr("system.gravity"), HasSubstr("array of 3 numbers")));
@@ -166,7 +166,7 @@ TEST_F(SceneReader, ReportsWrongTypes) {
 
 TEST_F(SceneReader, RejectsIntegersOutsideTheirRange) {
   const auto found = issues(std::string(kParticles) +
-                            "[solver]\nseed = -1\nmax_sweeps = 3000000000\n"
+                            "[solver]\nseed = -1\nmax_passes = 3000000000\n"
                             "acceleration_interval = 0\n"
                             "[run]\ntimeseries_every = 0\n");
   ASSERT_EQ(found.size(), 4U);
@@ -179,10 +179,10 @@ TEST_F(SceneReader, RejectsIntegersOutsideTheirRange) {
 // 1e9 and 10.0 are TOML floats: the message says so and how to write the integer
 TEST_F(SceneReader, AnIntegerWrittenAsAFloatIsNamedAsSuch) {
   const auto found = issues(std::string(kParticles) +
-                            "[solver]\nmax_sweeps = 1e3\n"
+                            "[solver]\nmax_passes = 1e3\n"
                             "[run]\ntimeseries_every = 2.5\n");
   ASSERT_EQ(found.size(), 2U);
-  EXPECT_THAT(found[0], HasSubstr("solver.max_sweeps: got 1000 (written as a floating-point "
+  EXPECT_THAT(found[0], HasSubstr("solver.max_passes: got 1000 (written as a floating-point "
                                   "number; write 1000), expected an integer ≥ 1"));
   EXPECT_THAT(found[1], HasSubstr("got 2.5 (a floating-point number)"));
 }
@@ -259,7 +259,7 @@ TEST_F(SceneReader, RejectsBadEnumStringListingTheAllowedOnes) {
   EXPECT_EQ(found[0],
             "scene.toml:4:17: contact.cohesion_rule: got \"grpah\", expected one of "
             "\"graph\", \"history\"; did you mean 'graph'?");
-  EXPECT_THAT(found[1], HasSubstr("expected one of \"random_each_step\", \"random_each_sweep\", "
+  EXPECT_THAT(found[1], HasSubstr("expected one of \"random_each_step\", \"random_each_pass\", "
                                   "\"fixed\""));
   EXPECT_THAT(found[2], HasSubstr("solver.kinematic_norm: got \"mean\", expected one of \"max\", "
                                   "\"rms\""));
@@ -287,15 +287,38 @@ TEST_F(SceneReader, RejectsUntilBlockedWithoutPiston) {
                               HasSubstr("piston.enabled")));
 }
 
-TEST_F(SceneReader, RejectsMinSweepsAboveMaxSweeps) {
+TEST_F(SceneReader, RejectsMinPassesAboveMaxPasses) {
   const auto found =
-      issues(std::string(kParticles) + "[solver]\nmin_sweeps = 50\nmax_sweeps = 10\n");
+      issues(std::string(kParticles) + "[solver]\nmin_passes = 50\nmax_passes = 10\n");
   ASSERT_EQ(found.size(), 1U);
   EXPECT_THAT(found[0],
-              AllOf(HasSubstr("solver.min_sweeps: got 50"), HasSubstr("solver.max_sweeps = 10")));
+              AllOf(HasSubstr("solver.min_passes: got 50"), HasSubstr("solver.max_passes = 10")));
 }
 
-// solver.threads splits the coloured kernel's sweeps; the scalar kernel has one thread.
+// Scene files written before the NLGS pass was called a pass still read, and their messages
+// name the keys as written.
+TEST_F(SceneReader, ReadsTheFormerNamesOfThePassKeys) {
+  const Scene s = read(std::string(kParticles) +
+                       "[solver]\nmin_sweeps = 4\nmax_sweeps = 40\n"
+                       "visit_order = \"random_each_sweep\"\n"
+                       "[run.blocked]\nfinal_max_sweeps = 300\n");
+  EXPECT_EQ(s.step.solver.min_passes, 4);
+  EXPECT_EQ(s.step.solver.max_passes, 40);
+  EXPECT_EQ(s.step.solver.visit_order, VisitOrder::RandomEachPass);
+  EXPECT_EQ(s.run.blocked.final_max_passes, 300);
+  EXPECT_THAT(s.effective_toml, HasSubstr("max_passes = 40\n"));
+  EXPECT_THAT(s.effective_toml, Not(HasSubstr("sweep")));
+
+  const auto bad = issues(std::string(kParticles) + "[solver]\nmax_sweeps = 0\n");
+  ASSERT_EQ(bad.size(), 1U);
+  EXPECT_THAT(bad[0], HasSubstr("scene.toml:4:14: solver.max_sweeps: got 0"));
+
+  const auto both = issues(std::string(kParticles) + "[solver]\nmax_sweeps = 9\nmax_passes = 9\n");
+  ASSERT_EQ(both.size(), 1U);
+  EXPECT_THAT(both[0], HasSubstr("solver.max_sweeps: is the former name of 'solver.max_passes'"));
+}
+
+// solver.threads splits the coloured kernel's passes; the scalar kernel has one thread.
 TEST_F(SceneReader, ReadsThreadsWithTheColouredKernelAndWritesThemBack) {
   const Scene s = read(std::string(kParticles) + "[solver]\nthreads = 2\n");  // coloured: default
   EXPECT_EQ(s.step.solver.threads, 2);
@@ -329,10 +352,10 @@ TEST_F(SceneReader, RejectsThreadsWithTheScalarKernel) {
   EXPECT_THAT(negative[0], HasSubstr("solver.threads: got -1"));
 }
 
-TEST_F(SceneReader, RejectsAFinalSolveWithoutSweeps) {
-  const auto found = issues(std::string(kParticles) + "[run.blocked]\nfinal_max_sweeps = 0\n");
+TEST_F(SceneReader, RejectsAFinalSolveWithoutPasses) {
+  const auto found = issues(std::string(kParticles) + "[run.blocked]\nfinal_max_passes = 0\n");
   ASSERT_EQ(found.size(), 1U);
-  EXPECT_THAT(found[0], HasSubstr("run.blocked.final_max_sweeps: got 0"));
+  EXPECT_THAT(found[0], HasSubstr("run.blocked.final_max_passes: got 0"));
 }
 
 TEST_F(SceneReader, RejectsABlockedWindowOfMoreThanAMillionSteps) {
@@ -534,7 +557,7 @@ TEST_F(SceneReader, EffectiveTomlRereadsToTheSameScene) {
                            "[piston]\nenabled = true\nforce = 1.5625\nheight = 40.25\n"
                            "[run]\nuntil_blocked = true\ntimeseries_every = 10\n",
                        {"run.blocked.height_change=3e-6", "run.blocked.final_tolerance=1e-8",
-                        "run.blocked.final_max_sweeps=1234"});
+                        "run.blocked.final_max_passes=1234"});
   EXPECT_THAT(a.effective_toml, AllOf(HasSubstr("mu = 0.3\n"), HasSubstr("tolerance = 1e-07")));
   const Scene b = read_scene_text(a.effective_toml, "effective.toml", {}, "/elsewhere");
   EXPECT_EQ(b.effective_toml, a.effective_toml);
@@ -557,7 +580,7 @@ TEST_F(SceneReader, EffectiveTomlRereadsToTheSameScene) {
   EXPECT_EQ(b.run.timeseries_every, 10);
   EXPECT_EQ(b.run.blocked.height_change, 3e-6);
   EXPECT_EQ(b.run.blocked.final_tolerance, 1e-8);
-  EXPECT_EQ(b.run.blocked.final_max_sweeps, 1234);
+  EXPECT_EQ(b.run.blocked.final_max_passes, 1234);
   EXPECT_EQ(b.particles_file, a.particles_file);
 }
 

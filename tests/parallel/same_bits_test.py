@@ -52,7 +52,7 @@ def outputs(folder):
     summary = json.loads((folder / "summary.json").read_text())
     run = summary["run"]
     return {"particles.csv": rows("particles.csv"), "contacts.csv": rows("contacts.csv"),
-            "summary": (summary["porosity"], run["steps"], run["total_sweeps"])}
+            "summary": (summary["porosity"], run["steps"], run["total_passes"])}
 
 
 def expect_same(reference, folder, what):

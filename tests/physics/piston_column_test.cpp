@@ -52,10 +52,10 @@ TEST(PistonColumn, DefaultToleranceStaysWithin1e4FcohOfATightSolve) {
   loose.settings.solver.tolerance = SolverSettings{}.tolerance;
   TinyScene tight = column(12, force);
   tight.settings.solver.tolerance = 1e-12;
-  tight.settings.solver.max_sweeps = 100000;
+  tight.settings.solver.max_passes = 100000;
   const StepReport report = loose.run(1);
   tight.run(1);
-  EXPECT_LT(report.solver.sweeps, 100);
+  EXPECT_LT(report.solver.passes, 100);
   double worst = 0.0;
   for (std::size_t k = 0; k < tight.work.contacts.pairs.size(); ++k) {
     worst = std::max(worst, std::abs(loose.work.contacts.pair_actions[k].normal_force -

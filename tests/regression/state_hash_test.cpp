@@ -168,7 +168,7 @@ mass = 360.0
 pressure = 0.0025
 [solver]
 tolerance = 1e-3
-max_sweeps = 200
+max_passes = 200
 [run]
 until_blocked = true
 max_duration = 3.0

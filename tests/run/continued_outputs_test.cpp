@@ -54,7 +54,7 @@ const std::string kHeader = "# cdpowder test\n";
 /// step), and `tail` after it.
 std::string series(const std::vector<int>& steps, const std::string& tail = "") {
   std::string text = kHeader +
-                     "step,time,piston_height,piston_velocity,porosity,kinetic_energy,sweeps,"
+                     "step,time,piston_height,piston_velocity,porosity,kinetic_energy,passes,"
                      "converged,residual,error_estimate,contacts,closed_contacts,mean_overlap,"
                      "max_overlap,piston_imbalance,max_net_force,max_cohesive_opening_speed,dt\n";
   for (const int s : steps) text += std::to_string(s) + "," + std::to_string(0.1 * s) + ",1\n";
@@ -88,6 +88,17 @@ TEST_F(ContinuedOutputs, ALineThatIsNotARowIsNamedNotDropped) {
   EXPECT_EQ(cut.bad_line, 5);  // the comment, the columns, two rows, then it
   EXPECT_EQ(cut.bad_text, "garbage");
   EXPECT_EQ(cut_timeseries(dir_ / "timeseries.csv", 15).bad_line, 0);  // cut before it
+}
+
+// A run written before column 7 was renamed (`sweeps`, now `passes`) continues its file.
+TEST_F(ContinuedOutputs, AFileWithTheFormerColumnNamesContinues) {
+  const fs::path file = dir_ / "timeseries.csv";
+  std::string text = series({10, 20, 30});
+  text.replace(text.find("passes,"), 7, "sweeps,");
+  write(file, text);
+  const TimeseriesCut cut = cut_timeseries(file, 30);
+  EXPECT_TRUE(cut.has_header);
+  EXPECT_EQ(cut.rows, 2);
 }
 
 // A file with nothing but a half header (killed at once) has no header to continue.

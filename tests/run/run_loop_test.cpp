@@ -24,8 +24,8 @@ TinyScene noisy_column() {
   for (int k = 0; k < 12; ++k) s.add(Vec3(2.5, 2.5, 1.0 + 2.0 * k));
   s.world.walls.piston.height = 24.0;
   s.settings.solver.acceleration_depth = 0;
-  s.settings.solver.min_sweeps = 1;
-  s.settings.solver.max_sweeps = 1;
+  s.settings.solver.min_passes = 1;
+  s.settings.solver.max_passes = 1;
   return s;
 }
 
@@ -39,7 +39,7 @@ RunConfig until_blocked() {
   run.blocked.height_change = 1e-2;
   run.blocked.force_balance = 1e-3;
   run.blocked.final_tolerance = 1e-10;
-  run.blocked.final_max_sweeps = 200000;
+  run.blocked.final_max_passes = 200000;
   return run;
 }
 
@@ -85,14 +85,14 @@ TEST(RunLoop, AFailedProbeLeavesTheRunUnchanged) {
   EXPECT_FALSE(result.blocked);
   EXPECT_EQ(result.steps, 200);
   EXPECT_EQ(result.probes, 4);
-  EXPECT_GT(result.probe_sweeps, 0);
+  EXPECT_GT(result.probe_passes, 0);
   EXPECT_EQ(observed, 200);  // probes are not steps
 
   TinyScene plain = noisy_column();
   std::int64_t plain_sweeps = 0;
   for (int k = 0; k < 200; ++k)
-    plain_sweeps += step(plain.world, plain.work, plain.settings).solver.sweeps;
-  EXPECT_EQ(result.total_sweeps, plain_sweeps);
+    plain_sweeps += step(plain.world, plain.work, plain.settings).solver.passes;
+  EXPECT_EQ(result.total_passes, plain_sweeps);
   const auto expect_same = [](const World& a, const World& b) {
     EXPECT_EQ(a.bodies.position, b.bodies.position);
     EXPECT_EQ(a.bodies.velocity, b.bodies.velocity);
@@ -111,7 +111,7 @@ TEST(RunLoop, AFailedProbeLeavesTheRunUnchanged) {
 TEST(RunLoop, AnUnconvergedProbeDoesNotBlockAndStopsTheProbing) {
   RunConfig run = until_blocked();
   run.max_duration = 2.0;
-  run.blocked.final_max_sweeps = 1;
+  run.blocked.final_max_passes = 1;
   TinyScene s = noisy_column();
   s.settings.solver.tolerance = 1e-12;
   const RunResult result = run_simulation(s.world, s.work, s.settings, run, {});
@@ -222,7 +222,7 @@ TEST(RunLoop, ARunResumedFromItsStateFileTakesTheSameDecisions) {
         run_simulation(resumed.world, resumed.work, resumed.settings, run, resumed_state, {});
     EXPECT_EQ(result.not_blocked, uninterrupted.not_blocked) << "stopped at " << stop_at;
     EXPECT_EQ(result.steps, uninterrupted.steps) << "stopped at " << stop_at;
-    EXPECT_EQ(result.total_sweeps, uninterrupted.total_sweeps) << "stopped at " << stop_at;
+    EXPECT_EQ(result.total_passes, uninterrupted.total_passes) << "stopped at " << stop_at;
     EXPECT_EQ(result.unbalanced_rest_solves, 6) << "stopped at " << stop_at;
     EXPECT_EQ(state_hash(resumed.world, resumed.work), state_hash(whole.world, whole.work))
         << "stopped at " << stop_at;
@@ -258,7 +258,7 @@ TEST(RunLoop, AStopInsideAStaticSolveIsSolvedAgainWhenTheRunContinues) {
   TinyScene whole = noisy_column();
   const RunResult uninterrupted = run_simulation(whole.world, whole.work, whole.settings, run, {});
   ASSERT_TRUE(uninterrupted.blocked_by_probe);
-  ASSERT_GT(uninterrupted.last.solver.sweeps, 100);
+  ASSERT_GT(uninterrupted.last.solver.passes, 100);
   const std::int64_t probe_step = uninterrupted.steps;
 
   TinyScene first = noisy_column();
@@ -272,7 +272,7 @@ TEST(RunLoop, AStopInsideAStaticSolveIsSolvedAgainWhenTheRunContinues) {
   EXPECT_EQ(stopped.steps, probe_step);
   EXPECT_EQ(polls, 100);  // inside the probe: it has more than 100 sweeps
   EXPECT_EQ(stopped.probes, 0);
-  EXPECT_EQ(stopped.probe_sweeps, 0);
+  EXPECT_EQ(stopped.probe_passes, 0);
 
   TinyScene resumed = noisy_column();
   RunState resumed_state;
@@ -283,9 +283,9 @@ TEST(RunLoop, AStopInsideAStaticSolveIsSolvedAgainWhenTheRunContinues) {
   EXPECT_TRUE(result.blocked_by_probe);
   EXPECT_EQ(result.steps, uninterrupted.steps);
   EXPECT_EQ(result.probes, uninterrupted.probes);
-  EXPECT_EQ(result.probe_sweeps, uninterrupted.probe_sweeps);
+  EXPECT_EQ(result.probe_passes, uninterrupted.probe_passes);
   ASSERT_TRUE(result.final_solve.has_value());
-  EXPECT_EQ(result.final_solve->sweeps, uninterrupted.final_solve->sweeps);
+  EXPECT_EQ(result.final_solve->passes, uninterrupted.final_solve->passes);
   EXPECT_EQ(state_hash(resumed.world, resumed.work), state_hash(whole.world, whole.work));
 }
 

@@ -63,7 +63,7 @@ TEST(RunMessages, TheResultLineGivesTheStressOverThePressureAndTheCounts) {
   const World world = make_world(scene);
   RunResult result;
   result.steps = 4;
-  result.total_sweeps = 10;
+  result.total_passes = 10;
   result.blocked = true;
   result.wall_seconds = 1.25;
   const std::string line = result_line(scene, world, Contacts{}, result);
@@ -72,7 +72,7 @@ TEST(RunMessages, TheResultLineGivesTheStressOverThePressureAndTheCounts) {
   EXPECT_NE(line.find(" sigma_zz/p=0.0000 sigma_zz+/p=0.0000 sigma_zz-/p=0.0000"),
             std::string::npos)
       << line;
-  EXPECT_NE(line.find(" blocked=yes steps=4 sweeps/step=2.5 wall=1.25s"), std::string::npos)
+  EXPECT_NE(line.find(" blocked=yes steps=4 passes/step=2.5 wall=1.25s"), std::string::npos)
       << line;
 }
 
@@ -177,12 +177,12 @@ TEST(RunMessages, TheProgressTextShowsThePistonAndAnUpperBoundOfTheTimeLeft) {
   world.time = 12.345;
   EXPECT_EQ(progress_text(world, 120, 35.94, 30.0, 0.25).substr(0, 12), "t=12.35 Z_P=");
   EXPECT_NE(progress_text(world, 120, 35.94, 30.0, 0.25)
-                .find(" sweeps/step=35.9 contacts=120 elapsed 00:30 remaining <= 01:30"),
+                .find(" passes/step=35.9 contacts=120 elapsed 00:30 remaining <= 01:30"),
             std::string::npos);
   EXPECT_NE(progress_text(world, 120, 1.0, 30.0, 0.0).find("remaining <= ?"), std::string::npos);
   world.walls.piston.enabled = false;
   EXPECT_EQ(progress_text(world, 7, 2.0, 0.0, 0.5),
-            "t=12.35 sweeps/step=2.0 contacts=7 elapsed 00:00 remaining <= 00:00");
+            "t=12.35 passes/step=2.0 contacts=7 elapsed 00:00 remaining <= 00:00");
 }
 
 TEST(SweepMessages, ProgressLinesCountTheRunsAndTellTheTimeLeft) {

@@ -54,16 +54,16 @@ RunSummary example_summary() {
   s.run.blocked = true;
   s.run.blocked_by = "probe";
   s.run.probes = 1;
-  s.run.probe_sweeps = 1632;
+  s.run.probe_passes = 1632;
   s.run.probe_seconds = 0.06;
   s.run.until_blocked = true;
   s.run.steps = 28163;
   s.run.dt_min = 0.0037;
   s.run.dt_max = 0.02;
   s.run.repeated_steps = 29;
-  s.run.repeated_sweeps = 2577;
-  s.run.total_sweeps = 1223803;
-  s.run.sweeps_per_step = 43.45;
+  s.run.repeated_passes = 2577;
+  s.run.total_passes = 1223803;
+  s.run.passes_per_step = 43.45;
   s.run.wall_seconds = 42.06;
   s.run.stage_seconds = {1.25, 0.97, 37.9, 0.37, 1.24};
   s.scene_toml = "[system]\nlx = 25.0\n";
@@ -90,9 +90,9 @@ TEST(RunSummary, WrittenAndReadBackFieldForField) {
   EXPECT_EQ(r.contacts.coordination_number, s.contacts.coordination_number);
   EXPECT_EQ(r.accuracy.capped_steps, s.accuracy.capped_steps);
   ASSERT_TRUE(r.accuracy.final_solve.has_value());
-  EXPECT_EQ(r.accuracy.final_solve->sweeps, 1632);
+  EXPECT_EQ(r.accuracy.final_solve->passes, 1632);
   EXPECT_EQ(r.run.blocked_by, "probe");
-  EXPECT_EQ(r.run.total_sweeps, s.run.total_sweeps);
+  EXPECT_EQ(r.run.total_passes, s.run.total_passes);
   EXPECT_EQ(r.run.stage_seconds, s.run.stage_seconds);
   EXPECT_FALSE(r.fault.has_value());
   EXPECT_EQ(r.scene_toml, s.scene_toml);
@@ -133,6 +133,40 @@ TEST(RunSummary, AFaultIsWrittenAndRead) {
   EXPECT_TRUE(r.run.failed);
 }
 
+/// Schemas 0 and 1 called the NLGS pass a sweep.
+void rename_pass_fields_as_before_schema_2(nlohmann::json& j) {
+  nlohmann::json& run = j.at("run");
+  for (const auto& [now, before] :
+       {std::pair{"total_passes", "total_sweeps"}, std::pair{"passes_per_step", "sweeps_per_step"},
+        std::pair{"repeated_passes", "repeated_sweeps"},
+        std::pair{"probe_passes", "probe_sweeps"}}) {
+    run[before] = run.at(now);
+    run.erase(now);
+  }
+  nlohmann::json& final_solve = j.at("accuracy").at("final_solve");
+  if (!final_solve.is_null()) {
+    final_solve["sweeps"] = final_solve.at("passes");
+    final_solve.erase("passes");
+  }
+}
+
+TEST(RunSummary, SchemaOneReadsItsSweepsAsPasses) {
+  const RunSummary written = example_summary();
+  nlohmann::json j = nlohmann::json::parse(run_summary_json(written));
+  j["schema"] = 1;
+  rename_pass_fields_as_before_schema_2(j);
+  const RunSummary r = parse_run_summary(j.dump());
+  EXPECT_EQ(r.schema, 1);
+  EXPECT_EQ(r.run.total_passes, written.run.total_passes);
+  EXPECT_EQ(r.run.passes_per_step, written.run.passes_per_step);
+  EXPECT_EQ(r.run.repeated_passes, written.run.repeated_passes);
+  EXPECT_EQ(r.run.probe_passes, written.run.probe_passes);
+  ASSERT_EQ(r.accuracy.final_solve.has_value(), written.accuracy.final_solve.has_value());
+  if (r.accuracy.final_solve) {
+    EXPECT_EQ(r.accuracy.final_solve->passes, written.accuracy.final_solve->passes);
+  }
+}
+
 TEST(RunSummary, SchemaZeroIsAFileWithoutTheKeyAndItsMissingFieldsAreAbsent) {
   nlohmann::json j = nlohmann::json::parse(run_summary_json(example_summary()));
   j.erase("schema");
@@ -142,6 +176,7 @@ TEST(RunSummary, SchemaZeroIsAFileWithoutTheKeyAndItsMissingFieldsAreAbsent) {
   j.at("accuracy").erase("max_cohesive_opening_per_range");
   j.at("program").erase("kernel");
   j.at("program").erase("cpu");
+  rename_pass_fields_as_before_schema_2(j);
   const RunSummary r = parse_run_summary(j.dump());
   EXPECT_EQ(r.schema, 0);
   EXPECT_TRUE(r.program.kernel.empty());

@@ -47,12 +47,12 @@ RunResult run(const Scene& scene, Engine& engine, std::int64_t stop_after = -1) 
 
 void expect_same_run(const RunResult& a, const RunResult& b) {
   EXPECT_EQ(a.steps, b.steps);
-  EXPECT_EQ(a.total_sweeps, b.total_sweeps);
+  EXPECT_EQ(a.total_passes, b.total_passes);
   EXPECT_EQ(a.capped_steps, b.capped_steps);
   EXPECT_EQ(a.blocked, b.blocked);
   EXPECT_EQ(a.max_overlap_seen, b.max_overlap_seen);
   EXPECT_EQ(a.max_cohesive_opening_per_range, b.max_cohesive_opening_per_range);
-  EXPECT_EQ(a.last.solver.sweeps, b.last.solver.sweeps);
+  EXPECT_EQ(a.last.solver.passes, b.last.solver.passes);
   EXPECT_EQ(a.last.diagnostics.kinetic_energy, b.last.diagnostics.kinetic_energy);
 }
 

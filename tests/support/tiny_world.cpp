@@ -6,7 +6,7 @@ namespace cdpowder::testing {
 TinyScene::TinyScene(double lx, double ly) {
   world.box = PeriodicBox{lx, ly};
   settings.solver.tolerance = 1e-10;
-  settings.solver.max_sweeps = 10000;
+  settings.solver.max_passes = 10000;
   settings.laws.spheres = ContactLaw{};
   settings.laws.walls = ContactLaw{};
 }

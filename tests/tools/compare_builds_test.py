@@ -25,7 +25,7 @@ if sets["contact.mu_twist"] == "9":
 out.mkdir(parents=True, exist_ok=True)
 (out / "summary.json").write_text(json.dumps({
     "porosity": 0.7 + 0.1 * float(sets["contact.mu_roll"]) + 0.01 * int(sets["deposition.seed"]),
-    "run": {"steps": 10, "total_sweeps": 100, "wall_seconds": WALL, "blocked": True,
+    "run": {"steps": 10, "total_passes": 100, "wall_seconds": WALL, "blocked": True,
             "stage_seconds": {"solve_nlgs": WALL / 2}, "seed": sets["solver.seed"]}}))
 '''
 

@@ -19,7 +19,7 @@ ROOT = pathlib.Path(__file__).resolve().parents[2]
 REPORT = ROOT / "tools" / "report.py"
 COLUMNS = ["point", "contact.mu_roll", "contact.mu_twist", "seed", "porosity", "initial_porosity",
            "sigma_zz_over_p", "sigma_zz_compressive_over_p", "sigma_zz_tensile_over_p",
-           "steps", "total_sweeps", "wall_seconds", "blocked", "folder"]
+           "steps", "total_passes", "wall_seconds", "blocked", "folder"]
 E0 = 0.6
 E_INIT = 0.95
 

@@ -336,7 +336,7 @@ run_case B037 scene reject 'solver\.seed'                    "$C -o o/B037 --set
 run_case B038 scene reject 'solver\.visit_order;Fixed;one of|fixed' "$C -o o/B038 --set 'solver.visit_order=\"Fixed\"'"
 run_case B039 scene reject 'solver\.threads;65;64'           "$C -o o/B039 --set solver.threads=65"
 run_case B040 scene reject 'solver\.threads|kernel;coloured'  "$C -o o/B040 --set solver.threads=2 --set 'solver.kernel=\"scalar\"'"
-run_case B041 scene reject 'min_sweeps;max_sweeps'           "$C -o o/B041 --set solver.min_sweeps=500 --set solver.max_sweeps=10"
+run_case B041 scene reject 'min_passes;max_passes'           "$C -o o/B041 --set solver.min_passes=500 --set solver.max_passes=10"
 run_case B042 scene reject 'piston\.force|piston\.pressure;exactly one|together|not both' "$C -o o/B042 --set piston.force=1"
 run_case B043 scene reject 'run\.until_blocked|compact;simulate|false' "$C -o o/B043 --set run.until_blocked=false"
 run_case B044 scene reject 'run\.blocked\.window;1e\+?09|1000000000|steps' "$C -o o/B044 --set run.blocked.window=1e9"

@@ -28,6 +28,8 @@ def read_results(path):
     body = "".join(line for line in lines if not line.startswith("#"))
     # names stay text; "" is NaN only in the numeric columns (pandas' default)
     table = pd.read_csv(io.StringIO(body), dtype={"point": str, "folder": str})
+    # tables written before the NLGS pass was called a pass (CHANGELOG.md)
+    table = table.rename(columns={"total_sweeps": "total_passes"})
     return table, provenance
 
 

@@ -109,14 +109,14 @@ def points(sweep):
     for p in sweep.points:
         e = sweep.stat(p, "porosity")
         steps = sweep.stat(p, "steps")
-        sweeps = sweep.stat(p, "total_sweeps")
+        sweeps = sweep.stat(p, "total_passes")
         rows.append([f"{p[0]:g}", f"{p[1]:g}", e.text(4), str(e.n),
                      sweep.stat(p, "sigma_zz_over_p").text(3),
                      sweep.stat(p, "sigma_zz_compressive_over_p").text(2),
                      sweep.stat(p, "sigma_zz_tensile_over_p").text(2),
                      f"{sweeps.mean / max(steps.mean, 1):.0f}",
                      sweep.stat(p, "wall_seconds").text(0)])
-    md += table(["μt", "μn", "E", "n", "σzz/p", "σzz+/p", "σzz−/p", "sweeps/step", "wall [s]"],
+    md += table(["μt", "μn", "E", "n", "σzz/p", "σzz+/p", "σzz−/p", "passes/step", "wall [s]"],
                 rows)
     return md + [""]
 

@@ -51,10 +51,10 @@ struct BlockedCriteria {
   double sphere_speed = 1e-6;   ///< RMS sphere speed below (StepDiagnostics::rms_speed) [R/t0]
   double force_balance = 1e-3;  ///< |Σ R_c→P·e_z − F|/F below [-]
   double height_change = 1e-6;  ///< |ΔZ_P|/Z_P over the window below [-]
-  /// Once blocked, one more step is solved to this tolerance (at most final_max_sweeps
+  /// Once blocked, one more step is solved to this tolerance (at most final_max_passes
   /// passes), and the stress is measured on its forces [-]
   double final_tolerance = 1e-6;
-  int final_max_sweeps = 20000;
+  int final_max_passes = 20000;
 };
 
 /// How the VTK files hold their arrays: text, one tuple a line (readable, diffable), or

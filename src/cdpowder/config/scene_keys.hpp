@@ -30,7 +30,7 @@ struct SceneKey {
   std::int64_t minimum = 0;           ///< of an integer
   std::int64_t maximum = kNoMaximum;  ///< of an integer (an int field also stops at INT_MAX)
   std::string_view meaning;
-  /// Docs only: the rule across keys that completes the allowed values (", ≤ `max_sweeps`");
+  /// Docs only: the rule across keys that completes the allowed values (", ≤ `max_passes`");
   /// the reader checks it beside the table.
   std::string_view also_allowed = {};
   /// Docs only: the default when it is another key's value (`radius`).
@@ -69,7 +69,7 @@ inline constexpr EnumNames<CaptureRule, 2> kCaptureRuleNames = {
     {{"centre_distance", CaptureRule::CentreDistance}, {"surface_gap", CaptureRule::SurfaceGap}}};
 inline constexpr EnumNames<VisitOrder, 3> kVisitOrderNames = {
     {{"random_each_step", VisitOrder::RandomEachStep},
-     {"random_each_sweep", VisitOrder::RandomEachSweep},
+     {"random_each_pass", VisitOrder::RandomEachPass},
      {"fixed", VisitOrder::Fixed}}};
 inline constexpr EnumNames<PassKernel, 2> kPassKernelNames = {
     {{"scalar", PassKernel::Scalar}, {"coloured", PassKernel::Coloured}}};
@@ -359,7 +359,7 @@ void visit_stopping_keys(auto& solver, auto&& visit) {
                  .name = "max_error_amplification",
                  .range = kAtLeastOne,
                  .meaning = "the residual rule's error estimate is residual/(1 − ρ), ρ the "
-                            "measured contraction per sweep; this bounds the factor 1/(1 − ρ). "
+                            "measured contraction per pass; this bounds the factor 1/(1 − ρ). "
                             "The default leaves it unbounded in effect (ρ ≤ 0.999)"},
         solver.max_error_amplification);
   visit(SceneKey{.table = table,
@@ -368,8 +368,8 @@ void visit_stopping_keys(auto& solver, auto&& visit) {
                  .meaning =
                      "κ, a second way to finish a step (physics.md §7.3): stop once the largest "
                      "change of a sphere's surface velocity √(|Δv|² + R²|Δω|²) over the last "
-                     "sweep, divided by (1 − ρ) (ρ its measured contraction per sweep, after a "
-                     "full window of 8 sweeps), is at most κ × the RMS surface speed of the "
+                     "pass, divided by (1 − ρ) (ρ its measured contraction per pass, after a "
+                     "full window of 8 passes), is at most κ × the RMS surface speed of the "
                      "spheres, and the same holds for the piston against its own speed. At the "
                      "compaction front the force residual stalls while the velocities no longer "
                      "change (the forces of a rigid packing are not unique, physics.md §12.4). "
@@ -386,18 +386,18 @@ void visit_stopping_keys(auto& solver, auto&& visit) {
                      "of max at the paper's 1 015 spheres; physics.md §7.3)"},
         solver.kinematic_norm);
   visit(SceneKey{.table = table,
-                 .name = "min_sweeps",
+                 .name = "min_passes",
                  .symbol = "N_min",
                  .minimum = 1,
                  .meaning = "never stop a step earlier",
-                 .also_allowed = ", ≤ `max_sweeps`"},
-        solver.min_sweeps);
+                 .also_allowed = ", ≤ `max_passes`"},
+        solver.min_passes);
   visit(SceneKey{.table = table,
-                 .name = "max_sweeps",
+                 .name = "max_passes",
                  .symbol = "N_max",
                  .minimum = 1,
-                 .meaning = "sweep cap; a capped step is flagged in its report"},
-        solver.max_sweeps);
+                 .meaning = "pass cap; a capped step is flagged in its report"},
+        solver.max_passes);
   visit(SceneKey{.table = table,
                  .name = "stopping_rule",
                  .meaning = "residual: estimated remaining force error (§17); relative_change: "
@@ -406,17 +406,17 @@ void visit_stopping_keys(auto& solver, auto&& visit) {
 }
 
 /// [solver], how the passes go: order, kernel, threads, acceleration.
-void visit_sweep_keys(auto& solver, auto&& visit) {
+void visit_pass_keys(auto& solver, auto&& visit) {
   const std::string_view table = kSolverTable;
   visit(SceneKey{.table = table,
                  .name = "visit_order",
-                 .meaning = "contact order: a permutation per step, a new one per sweep (the "
+                 .meaning = "contact order: a permutation per step, a new one per pass (the "
                             "group's choice, §7.1), or storage order"},
         solver.visit_order);
   visit(SceneKey{.table = table,
                  .name = "kernel",
                  .meaning =
-                     "sweep kernel. \"coloured\": the sphere–sphere contacts graph-coloured each "
+                     "pass kernel. \"coloured\": the sphere–sphere contacts graph-coloured each "
                      "step and solved in batches of 4 per colour, colours in a random order per "
                      "step (`visit_order` applies to colours, physics.md §7.1), bottom-wall "
                      "contacts in batches of 4 too, overflow and piston contacts one by one; "
@@ -446,7 +446,7 @@ void visit_sweep_keys(auto& solver, auto&& visit) {
                  .minimum = 0,
                  .maximum = kMaxAndersonDepth,
                  .meaning = "Anderson acceleration history; 0 = plain NLGS (use 0 with "
-                            "\"random_each_sweep\")"},
+                            "\"random_each_pass\")"},
         solver.acceleration_depth);
   visit(SceneKey{.table = table,
                  .name = "acceleration_interval",
@@ -464,7 +464,7 @@ void visit_sweep_keys(auto& solver, auto&& visit) {
 void visit_solver_keys(auto& solver, auto&& visit) {
   visit_time_step_keys(solver, visit);
   visit_stopping_keys(solver, visit);
-  visit_sweep_keys(solver, visit);
+  visit_pass_keys(solver, visit);
   const std::string_view table = kSolverTable;
   visit(SceneKey{.table = table,
                  .name = "warm_start",
@@ -488,7 +488,7 @@ void visit_solver_keys(auto& solver, auto&& visit) {
   visit(SceneKey{.table = table,
                  .name = "seed",
                  .minimum = 0,
-                 .meaning = "seed of the sweep-order random stream"},
+                 .meaning = "seed of the pass-order random stream"},
         solver.seed);
 }
 
@@ -712,13 +712,13 @@ void visit_blocked_keys(auto& blocked, auto&& visit) {
                  .meaning = "once blocked, the velocities are set to zero and one more step is "
                             "solved to this tolerance; the stress, contact counts and force "
                             "balance are measured on its forces (not counted in the run's steps "
-                            "and sweeps)"},
+                            "and passes)"},
         blocked.final_tolerance);
   visit(SceneKey{.table = table,
-                 .name = "final_max_sweeps",
+                 .name = "final_max_passes",
                  .minimum = 1,
-                 .meaning = "sweep cap of that step"},
-        blocked.final_max_sweeps);
+                 .meaning = "pass cap of that step"},
+        blocked.final_max_passes);
 }
 
 /// Every key of a scene as it is written back (Scene::effective_toml): [deposition] when the

@@ -328,11 +328,11 @@ void check_solver(TableReader& in, const Scene& s) {
                     "{} = \"coloured\" for 1 to {} threads",
                     solver.threads, kernel.name(), kernel.name(), kMaxSolverThreads));
   }
-  const CheckedKey min_sweeps = checked(in, s, solver.min_sweeps);
-  const CheckedKey max_sweeps = checked(in, s, solver.max_sweeps);
-  if (solver.min_sweeps > solver.max_sweeps && !min_sweeps.failed() && !max_sweeps.failed()) {
-    min_sweeps.report(fmt::format("got {}, expected at most {} = {}", solver.min_sweeps,
-                                  max_sweeps.name(), solver.max_sweeps));
+  const CheckedKey min_passes = checked(in, s, solver.min_passes);
+  const CheckedKey max_passes = checked(in, s, solver.max_passes);
+  if (solver.min_passes > solver.max_passes && !min_passes.failed() && !max_passes.failed()) {
+    min_passes.report(fmt::format("got {}, expected at most {} = {}", solver.min_passes,
+                                  max_passes.name(), solver.max_passes));
   }
 }
 
@@ -394,6 +394,21 @@ void read_named_values(toml::table& root, TableReader& in) {
   solver->insert_or_assign(threads.name, std::int64_t{0});
 }
 
+/// Keys and values renamed since scene files were first written (CHANGELOG.md, "sweep" for
+/// the parameter study only): the old spellings still read, so older scene files, sweep files
+/// and the scenes saved in state files still run.
+void allow_former_names(toml::table& root, TableReader& in) {
+  const Scene d;
+  in.allow_former_name(detail::key_name(d, d.step.solver.min_passes), "solver.min_sweeps");
+  in.allow_former_name(detail::key_name(d, d.step.solver.max_passes), "solver.max_sweeps");
+  in.allow_former_name(detail::key_name(d, d.run.blocked.final_max_passes),
+                       "run.blocked.final_max_sweeps");
+  const std::string order = detail::key_name(d, d.step.solver.visit_order);
+  if (auto* value = root.at_path(order).as_string(); value && value->get() == "random_each_sweep") {
+    value->get() = "random_each_pass";  // in place: the value keeps its position for messages
+  }
+}
+
 }  // namespace
 
 /// The TOML parser's description of a syntax error as the message shows it (it quotes the
@@ -419,6 +434,7 @@ Scene read_scene_text(std::string_view toml_text, std::string_view source_name,
   detail::apply_overrides(root, overrides, issues);
   apply_read_options(root, options);
   TableReader in(root, std::string(source_name), issues);
+  allow_former_names(root, in);
   read_named_values(root, in);
   if (options.particles_file) {
     const Scene defaults;

@@ -150,14 +150,13 @@ std::string describe(const toml::node& node) {
   return "a date or time";
 }
 
-const toml::node* TableReader::find(std::string_view key) {
-  known_.emplace(key);
+const toml::node* TableReader::lookup(std::string_view key) const {
   const toml::table* table = &root_;
-  const toml::node* node = nullptr;
   std::size_t start = 0;
   while (true) {
     const std::size_t dot = key.find('.', start);
-    node = table->get(key.substr(start, dot == std::string_view::npos ? dot : dot - start));
+    const toml::node* node =
+        table->get(key.substr(start, dot == std::string_view::npos ? dot : dot - start));
     if (node == nullptr || dot == std::string_view::npos) {
       return node;
     }
@@ -167,6 +166,27 @@ const toml::node* TableReader::find(std::string_view key) {
     }
     start = dot + 1;
   }
+}
+
+const toml::node* TableReader::find(std::string_view key) {
+  known_.emplace(key);
+  const toml::node* node = lookup(key);
+  const auto former = former_names_.find(key);
+  if (former == former_names_.end()) {
+    return node;
+  }
+  known_.emplace(former->second);
+  const toml::node* old = lookup(former->second);
+  if (old == nullptr) {
+    return node;
+  }
+  if (node != nullptr) {
+    add_issue(former->second, old->source(),
+              fmt::format("is the former name of '{}', which is set too; keep '{}'", key, key));
+    return node;
+  }
+  written_as_.insert_or_assign(std::string(key), former->second);
+  return old;
 }
 
 std::optional<double> TableReader::optional_number(std::string_view key, Range range) {
@@ -270,7 +290,10 @@ std::string TableReader::required_string(std::string_view key) {
 void TableReader::add_issue(std::string_view key, const toml::source_region& where,
                             std::string message, bool in_file) {
   failed_.emplace(key);
-  ConfigIssue issue{source_name_, 0, 0, std::string(key), std::move(message)};
+  const auto written = written_as_.find(key);
+  ConfigIssue issue{source_name_, 0, 0,
+                    written != written_as_.end() ? written->second : std::string(key),
+                    std::move(message)};
   if (const auto origin = origins_.find(key); origin != origins_.end() && !in_file) {
     issue.file = origin->second;  // a value a command option set
   } else if (in_file) {

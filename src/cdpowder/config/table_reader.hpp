@@ -65,8 +65,17 @@ class TableReader {
   TableReader(const toml::table& root, std::string source_name, std::vector<ConfigIssue>& issues)
       : root_(root), source_name_(std::move(source_name)), issues_(issues) {}
 
-  /// The node at a dotted key, or nullptr; marks the key as known.
+  /// The node at a dotted key, or nullptr; marks the key as known. A key absent under its
+  /// name is looked up under its former name (allow_former_name), and the issues of its
+  /// value then name the key as written.
   const toml::node* find(std::string_view key);
+
+  /// Accepts `former` ("solver.max_sweeps") as the old spelling of `key`
+  /// ("solver.max_passes"), for scene files written before the rename. Setting both is an
+  /// issue.
+  void allow_former_name(std::string key, std::string former) {
+    former_names_.insert_or_assign(std::move(key), std::move(former));
+  }
 
   /// Whether a dotted key is present. Does not mark it known, so the keys inside a table
   /// asked about this way are still checked.
@@ -138,6 +147,7 @@ class TableReader {
   void check_unknown_keys() { check_table(root_, ""); }
 
  private:
+  [[nodiscard]] const toml::node* lookup(std::string_view key) const;
   [[nodiscard]] bool is_known_table(const std::string& key) const;
   [[nodiscard]] std::string suggest(const std::string& key) const;
   void check_table(const toml::table& table, const std::string& prefix);
@@ -148,6 +158,8 @@ class TableReader {
   std::set<std::string, std::less<>> known_;
   std::set<std::string, std::less<>> failed_;
   std::map<std::string, std::string, std::less<>> origins_;
+  std::map<std::string, std::string, std::less<>> former_names_;  ///< key → its former name
+  std::map<std::string, std::string, std::less<>> written_as_;    ///< key → the name it had
 };
 
 /// Applies the overrides ("section.key=value", in order) to `root`, creating the tables on

@@ -15,6 +15,13 @@ namespace cdpowder {
 namespace {
 
 constexpr std::string_view kColumns =
+    "step,time,piston_height,piston_velocity,porosity,kinetic_energy,passes,"
+    "converged,residual,error_estimate,contacts,closed_contacts,mean_overlap,"
+    "max_overlap,piston_imbalance,max_net_force,max_cohesive_opening_speed,dt\n";
+
+/// The same columns as written before the NLGS pass was called a pass (column 7 was
+/// `sweeps`, CHANGELOG.md): a run of that program continues its file under this header.
+constexpr std::string_view kFormerColumns =
     "step,time,piston_height,piston_velocity,porosity,kinetic_energy,sweeps,"
     "converged,residual,error_estimate,contacts,closed_contacts,mean_overlap,"
     "max_overlap,piston_imbalance,max_net_force,max_cohesive_opening_speed,dt\n";
@@ -42,7 +49,7 @@ TimeseriesCut cut_timeseries(const std::filesystem::path& file, std::int64_t ste
   while (std::getline(in, line)) {
     if (in.eof()) break;  // no newline: cut short by a killed process
     ++number;
-    if (line.starts_with('#') || line + '\n' == kColumns) {
+    if (line.starts_with('#') || line + '\n' == kColumns || line + '\n' == kFormerColumns) {
       if (cut.rows > 0) break;  // a header after rows: not one time series
       cut.has_header = cut.has_header || !line.starts_with('#');
     } else {
@@ -82,7 +89,7 @@ void TimeseriesWriter::record(const World& world, const StepReport& r, bool forc
   const StepDiagnostics& d = r.diagnostics;
   file_.write(fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", world.step,
                           world.time, world.walls.piston.height, world.walls.piston.velocity,
-                          porosity(world), d.kinetic_energy, r.solver.sweeps,
+                          porosity(world), d.kinetic_energy, r.solver.passes,
                           r.solver.converged ? 1 : 0, r.solver.residual, r.solver.error_estimate,
                           d.contacts, d.closed_contacts, d.mean_overlap, d.max_overlap,
                           d.piston_imbalance, d.max_net_force, d.max_cohesive_opening_speed, r.dt));

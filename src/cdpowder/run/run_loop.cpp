@@ -34,11 +34,11 @@ StepReport solve_at_rest(World& world, StepWorkspace& work, const StepSettings& 
   world.walls.piston.velocity = 0.0;
   StepSettings final_settings = settings;
   final_settings.solver.tolerance = criteria.final_tolerance;
-  final_settings.solver.max_sweeps = criteria.final_max_sweeps;
+  final_settings.solver.max_passes = criteria.final_max_passes;
   // the stress is measured on this step's forces: the force residual alone decides
   final_settings.solver.kinematic_tolerance = 0.0;
-  final_settings.solver.min_sweeps =
-      std::min(settings.solver.min_sweeps, criteria.final_max_sweeps);
+  final_settings.solver.min_passes =
+      std::min(settings.solver.min_passes, criteria.final_max_passes);
   return step(world, work, final_settings);
 }
 
@@ -99,10 +99,10 @@ std::optional<StepReport> step_unless_stopped(World& world, StepWorkspace& work,
                                               StepSettings& settings, bool adaptive,
                                               RunResult& result) {
   const TimeStepControl& control = settings.solver.time_step;
-  const Rng sweep_order = work.solver.rng;
+  const Rng pass_order = work.solver.rng;
   StageTimes repeated_times{};
   std::int64_t repeated_steps = 0;
-  std::int64_t repeated_sweeps = 0;
+  std::int64_t repeated_passes = 0;
   StepReport report = begin_step(world, work, settings);
   solve_step(world, work, settings, report);
   while (!report.solver.stopped && adaptive &&
@@ -110,22 +110,22 @@ std::optional<StepReport> step_unless_stopped(World& world, StepWorkspace& work,
          settings.solver.dt > control.dt_min) {
     for (std::size_t s = 0; s < repeated_times.size(); ++s) repeated_times[s] += report.times[s];
     ++repeated_steps;
-    repeated_sweeps += report.solver.sweeps;
-    work.solver.rng = sweep_order;
+    repeated_passes += report.solver.passes;
+    work.solver.rng = pass_order;
     settings.solver.dt = retry_time_step(control, settings.solver.dt,
                                          report.diagnostics.max_cohesive_opening_per_range);
     report = begin_step(world, work, settings);
     solve_step(world, work, settings, report);
   }
   if (report.solver.stopped) {
-    work.solver.rng = sweep_order;
+    work.solver.rng = pass_order;
     return std::nullopt;
   }
   for (std::size_t s = 0; s < repeated_times.size(); ++s) {
     result.stage_seconds[s] += repeated_times[s];
   }
   result.repeated_steps += repeated_steps;
-  result.repeated_sweeps += repeated_sweeps;
+  result.repeated_passes += repeated_passes;
   commit_step(world, work, settings, report);
   return report;
 }
@@ -263,7 +263,7 @@ class RunLoop {
     r.min_dt = r.steps == 0 ? report.dt : std::min(r.min_dt, report.dt);
     r.max_dt = std::max(r.max_dt, report.dt);
     ++r.steps;
-    r.total_sweeps += report.solver.sweeps;
+    r.total_passes += report.solver.passes;
     if (!report.solver.converged) ++r.capped_steps;
     r.max_overlap_seen = std::max(r.max_overlap_seen, report.diagnostics.max_overlap);
     r.max_cohesive_opening_per_range = std::max(r.max_cohesive_opening_per_range,
@@ -333,7 +333,7 @@ class RunLoop {
     if (solver.stopped) return StaticChecks::Stopped;
     state_.last_probe = world_.time;
     ++result_.probes;
-    result_.probe_sweeps += solver.sweeps;
+    result_.probe_passes += solver.passes;
     result_.probe_seconds +=
         std::chrono::duration<double>(std::chrono::steady_clock::now() - probe_start).count();
     // an unconverged static solve says nothing about the balance, and the next would cost

@@ -21,14 +21,14 @@ struct RunResult {
   bool blocked = false;      ///< the blocked state was reached (until_blocked runs)
   bool interrupted = false;  ///< stopped early on request (stop_requested returned true)
   std::int64_t steps = 0;
-  std::int64_t total_sweeps = 0;
-  std::int64_t capped_steps = 0;  ///< steps whose NLGS hit max_sweeps
+  std::int64_t total_passes = 0;
+  std::int64_t capped_steps = 0;  ///< steps whose NLGS hit max_passes
   double min_dt = 0.0;            ///< shortest and longest Δt of the run's steps [t0]
   double max_dt = 0.0;
   /// adaptive Δt: steps undone and solved again with a shorter Δt because a contact opened
-  /// by more than max_opening_per_step × d_coh, and their passes (not in steps/total_sweeps)
+  /// by more than max_opening_per_step × d_coh, and their passes (not in steps/total_passes)
   std::int64_t repeated_steps = 0;
-  std::int64_t repeated_sweeps = 0;
+  std::int64_t repeated_passes = 0;
   double max_overlap_seen = 0.0;  ///< largest overlap after any step [R]
   /// largest max_cohesive_opening_speed × Δt / d_coh of any step: above ≈ 0.1 the cohesion
   /// range is crossed in a few steps and Δt should be smaller (physics.md §6.4)
@@ -38,13 +38,13 @@ struct RunResult {
   StepReport last;             ///< report of the final step
   /// The static final solve of a blocked run (velocities zeroed, one step at
   /// BlockedCriteria::final_tolerance); empty unless blocked. Not counted in steps,
-  /// total_sweeps or capped_steps; its time is in wall_seconds and stage_seconds.
+  /// total_passes or capped_steps; its time is in wall_seconds and stage_seconds.
   std::optional<SolverStats> final_solve;
   /// Static probes of the force balance (run_loop.cpp): how many ran, their passes and wall
   /// time (not in the counts above or in stage_seconds), and whether the last one ended the
   /// run (blocked with a window mean of the imbalance above its threshold).
   int probes = 0;
-  std::int64_t probe_sweeps = 0;
+  std::int64_t probe_passes = 0;
   double probe_seconds = 0.0;
   bool blocked_by_probe = false;
   /// Why a compaction that came to rest is not blocked: its static solves stayed out of

@@ -29,7 +29,7 @@ std::string clock_text(double seconds) {
                    : fmt::format("{:02}:{:02}", s / 60, s % 60);
 }
 
-std::string progress_text(const World& world, std::size_t contacts, double sweeps_per_step,
+std::string progress_text(const World& world, std::size_t contacts, double passes_per_step,
                           double elapsed_seconds, double fraction) {
   const std::string remaining =
       fraction > 0.0 ? clock_text(elapsed_seconds * (1.0 - fraction) / fraction) : "?";
@@ -37,7 +37,7 @@ std::string progress_text(const World& world, std::size_t contacts, double sweep
   if (world.walls.piston.enabled) {
     line += fmt::format(" Z_P={:.4g} E={:.4f}", world.walls.piston.height, porosity(world));
   }
-  line += fmt::format(" sweeps/step={:.1f} contacts={} elapsed {} remaining <= {}", sweeps_per_step,
+  line += fmt::format(" passes/step={:.1f} contacts={} elapsed {} remaining <= {}", passes_per_step,
                       contacts, clock_text(elapsed_seconds), remaining);
   return line;
 }
@@ -71,8 +71,8 @@ std::string result_line(const Scene& scene, const World& world, const Contacts& 
   }
   if (scene.run.until_blocked) line += fmt::format(" blocked={}", result.blocked ? "yes" : "no");
   if (result.interrupted) line += " interrupted=yes";
-  line += fmt::format(" steps={} sweeps/step={:.1f} wall={:.2f}s", result.steps,
-                      static_cast<double>(result.total_sweeps) /
+  line += fmt::format(" steps={} passes/step={:.1f} wall={:.2f}s", result.steps,
+                      static_cast<double>(result.total_passes) /
                           static_cast<double>(std::max<std::int64_t>(1, result.steps)),
                       result.wall_seconds);
   return line;

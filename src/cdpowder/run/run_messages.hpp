@@ -24,7 +24,7 @@ namespace cdpowder {
 std::string run_announcement(std::string_view what, const Scene& scene,
                              const std::filesystem::path& out, std::size_t spheres);
 
-/// "porosity=… sigma_zz/p=… sigma_zz+/p=… sigma_zz-/p=… [blocked=…] steps=… sweeps/step=…
+/// "porosity=… sigma_zz/p=… sigma_zz+/p=… sigma_zz-/p=… [blocked=…] steps=… passes/step=…
 /// wall=…s": σ normalised by the applied pressure when there is one (the paper's Table 1
 /// quantities), in F_coh/R² otherwise.
 std::string result_line(const Scene& scene, const World& world, const Contacts& contacts,
@@ -38,11 +38,11 @@ std::string deposit_line(const World& world, double seconds);
 /// wall-clock duration as progress lines show it.
 std::string clock_text(double seconds);
 
-/// "t=373.7 Z_P=39.16 E=0.8263 sweeps/step=35.9 contacts=1782 elapsed 00:30 remaining <= 26:16":
+/// "t=373.7 Z_P=39.16 E=0.8263 passes/step=35.9 contacts=1782 elapsed 00:30 remaining <= 26:16":
 /// a long run's progress after `elapsed_seconds`, `fraction` of its maximum duration done (the
 /// remaining time at this pace is an upper bound for a run until blocked; "?" at 0). Z_P and
 /// E only with a piston.
-std::string progress_text(const World& world, std::size_t contacts, double sweeps_per_step,
+std::string progress_text(const World& world, std::size_t contacts, double passes_per_step,
                           double elapsed_seconds, double fraction);
 
 /// How a run ended, when not as asked.

@@ -71,7 +71,7 @@ RunSummary::Run run_counts(const Scene& scene, const RunResult& result) {
   r.blocked = result.blocked;
   if (result.blocked) r.blocked_by = result.blocked_by_probe ? "probe" : "window";
   r.probes = result.probes;
-  r.probe_sweeps = result.probe_sweeps;
+  r.probe_passes = result.probe_passes;
   r.probe_seconds = result.probe_seconds;
   r.unbalanced_rest_solves = result.unbalanced_rest_solves;
   r.not_blocked = result.not_blocked;
@@ -82,9 +82,9 @@ RunSummary::Run run_counts(const Scene& scene, const RunResult& result) {
   r.dt_min = result.min_dt;
   r.dt_max = result.max_dt;
   r.repeated_steps = result.repeated_steps;
-  r.repeated_sweeps = result.repeated_sweeps;
-  r.total_sweeps = result.total_sweeps;
-  r.sweeps_per_step = result.steps > 0 ? static_cast<double>(result.total_sweeps) /
+  r.repeated_passes = result.repeated_passes;
+  r.total_passes = result.total_passes;
+  r.passes_per_step = result.steps > 0 ? static_cast<double>(result.total_passes) /
                                              static_cast<double>(result.steps)
                                        : 0.0;
   r.wall_seconds = result.wall_seconds;
@@ -170,7 +170,7 @@ json accuracy_json(const RunSummary::Accuracy& a) {
             {"capped_steps", a.capped_steps},
             {"final_solve", nullptr}};
   if (a.final_solve) {
-    j["final_solve"] = {{"sweeps", a.final_solve->sweeps},
+    j["final_solve"] = {{"passes", a.final_solve->passes},
                         {"converged", a.final_solve->converged},
                         {"residual", a.final_solve->residual},
                         {"error_estimate", a.final_solve->error_estimate}};
@@ -184,7 +184,7 @@ json run_json(const RunSummary::Run& r) {
   return {{"blocked", r.blocked},
           {"blocked_by", r.blocked_by.empty() ? json(nullptr) : json(r.blocked_by)},
           {"probes", r.probes},
-          {"probe_sweeps", r.probe_sweeps},
+          {"probe_passes", r.probe_passes},
           {"probe_seconds", r.probe_seconds},
           {"unbalanced_rest_solves", r.unbalanced_rest_solves},
           {"not_blocked", r.not_blocked.empty() ? json(nullptr) : json(r.not_blocked)},
@@ -195,9 +195,9 @@ json run_json(const RunSummary::Run& r) {
           {"dt_min", r.dt_min},
           {"dt_max", r.dt_max},
           {"repeated_steps", r.repeated_steps},
-          {"repeated_sweeps", r.repeated_sweeps},
-          {"total_sweeps", r.total_sweeps},
-          {"sweeps_per_step", r.sweeps_per_step},
+          {"repeated_passes", r.repeated_passes},
+          {"total_passes", r.total_passes},
+          {"passes_per_step", r.passes_per_step},
           {"wall_seconds", r.wall_seconds},
           {"stage_seconds", stages}};
 }
@@ -314,7 +314,12 @@ RunSummary::Stress read_stress(const Fields& s) {
   return stress;
 }
 
-RunSummary::Accuracy read_accuracy(const Fields& a) {
+/// A pass count's field: schema 2 calls the NLGS pass a pass, 0 and 1 a sweep.
+const char* pass_field(int schema, const char* passes, const char* sweeps) {
+  return schema >= 2 ? passes : sweeps;
+}
+
+RunSummary::Accuracy read_accuracy(const Fields& a, int schema) {
   RunSummary::Accuracy accuracy;
   accuracy.mean_overlap = a.number("mean_overlap");
   accuracy.max_overlap = a.number("max_overlap");
@@ -327,19 +332,19 @@ RunSummary::Accuracy read_accuracy(const Fields& a) {
   accuracy.capped_steps = a.count<std::int64_t>("capped_steps", true);
   if (a.has("final_solve")) {
     const Fields f = a.section("final_solve");
-    accuracy.final_solve =
-        RunSummary::Accuracy::FinalSolve{f.count<int>("sweeps"), f.flag("converged"),
-                                         f.number("residual"), f.number("error_estimate")};
+    accuracy.final_solve = RunSummary::Accuracy::FinalSolve{
+        f.count<int>(pass_field(schema, "passes", "sweeps")), f.flag("converged"),
+        f.number("residual"), f.number("error_estimate")};
   }
   return accuracy;
 }
 
-RunSummary::Run read_run(const Fields& r) {
+RunSummary::Run read_run(const Fields& r, int schema) {
   RunSummary::Run run;
   run.blocked = r.flag("blocked", true);
   run.blocked_by = r.text("blocked_by");
   run.probes = r.count<int>("probes");
-  run.probe_sweeps = r.count<std::int64_t>("probe_sweeps");
+  run.probe_passes = r.count<std::int64_t>(pass_field(schema, "probe_passes", "probe_sweeps"));
   run.probe_seconds = r.number("probe_seconds");
   run.unbalanced_rest_solves = r.count<int>("unbalanced_rest_solves");
   run.not_blocked = r.text("not_blocked");  // summaries before it: none
@@ -350,9 +355,11 @@ RunSummary::Run read_run(const Fields& r) {
   run.dt_min = r.number("dt_min");
   run.dt_max = r.number("dt_max");
   run.repeated_steps = r.count<std::int64_t>("repeated_steps");
-  run.repeated_sweeps = r.count<std::int64_t>("repeated_sweeps");
-  run.total_sweeps = r.count<std::int64_t>("total_sweeps", true);
-  run.sweeps_per_step = r.number("sweeps_per_step");
+  run.repeated_passes =
+      r.count<std::int64_t>(pass_field(schema, "repeated_passes", "repeated_sweeps"));
+  run.total_passes =
+      r.count<std::int64_t>(pass_field(schema, "total_passes", "total_sweeps"), true);
+  run.passes_per_step = r.number(pass_field(schema, "passes_per_step", "sweeps_per_step"));
   run.wall_seconds = r.number("wall_seconds", true);
   const Fields stages = r.section("stage_seconds");
   for (std::size_t s = 0; s < kStageNames.size(); ++s) {
@@ -407,7 +414,7 @@ RunSummary summarise_run(const Scene& scene, const World& world, const Contacts&
   a.capped_steps = result.capped_steps;
   if (result.final_solve) {
     a.final_solve = RunSummary::Accuracy::FinalSolve{
-        result.final_solve->sweeps, result.final_solve->converged, result.final_solve->residual,
+        result.final_solve->passes, result.final_solve->converged, result.final_solve->residual,
         result.final_solve->error_estimate};
   }
   s.kinetic_energy = d.kinetic_energy;
@@ -501,11 +508,11 @@ RunSummary parse_run_summary(std::string_view json_text) {
   const Fields c = top.section("contacts");
   s.contacts = {c.count<std::size_t>("candidates"), c.count<std::size_t>("closed"),
                 c.count<std::size_t>("cohesive"), c.number("coordination_number")};
-  s.accuracy = read_accuracy(top.section("accuracy", true));
+  s.accuracy = read_accuracy(top.section("accuracy", true), s.schema);
   s.kinetic_energy = top.number("kinetic_energy");
   s.max_speed = top.number("max_speed");
   s.rms_speed = top.number("rms_speed");
-  s.run = read_run(top.section("run", true));
+  s.run = read_run(top.section("run", true), s.schema);
   if (top.has("fault")) s.fault = read_fault(top.section("fault"));
   s.scene_toml = top.text("scene_toml", true);
   return s;

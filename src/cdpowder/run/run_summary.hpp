@@ -22,8 +22,9 @@ namespace cdpowder {
 /// The schema summary.json files are written with. 0 is every summary written before the
 /// number existed (no "schema" key); they read with the fields they lack as absent
 /// (numbers NaN, counts 0, flags false). A change that renames or removes a field, or
-/// changes its meaning, raises the number; adding a field does not.
-inline constexpr int kRunSummarySchema = 1;
+/// changes its meaning, raises the number; adding a field does not. Schema 2 names the NLGS
+/// pass a pass (`total_passes`, `passes_per_step`, …); 0 and 1 read with their `sweeps` names.
+inline constexpr int kRunSummarySchema = 2;
 
 /// A summary.json that cannot be read: not JSON, a field of the wrong type, a required one
 /// missing, or a schema newer than this program's. The message names the field.
@@ -97,12 +98,12 @@ struct RunSummary {
     double last_step_residual = 0.0;
     double last_step_error_estimate = 0.0;
     bool last_step_converged = false;
-    std::int64_t capped_steps = 0;  ///< steps whose NLGS hit max_sweeps
+    std::int64_t capped_steps = 0;  ///< steps whose NLGS hit max_passes
 
     /// the static solve of a blocked run at run.blocked.final_tolerance, on whose forces σ
     /// is measured; absent unless blocked
     struct FinalSolve {
-      int sweeps = 0;
+      int passes = 0;
       bool converged = false;
       double residual = 0.0;
       double error_estimate = 0.0;
@@ -121,7 +122,7 @@ struct RunSummary {
     /// (a static probe); empty when not blocked
     std::string blocked_by;
     int probes = 0;
-    std::int64_t probe_sweeps = 0;
+    std::int64_t probe_passes = 0;
     double probe_seconds = 0.0;
     int unbalanced_rest_solves = 0;
     /// why a compaction that came to rest is not blocked (RunResult::not_blocked); empty
@@ -134,9 +135,9 @@ struct RunSummary {
     double dt_min = 0.0;  ///< [t0]
     double dt_max = 0.0;
     std::int64_t repeated_steps = 0;
-    std::int64_t repeated_sweeps = 0;
-    std::int64_t total_sweeps = 0;
-    double sweeps_per_step = 0.0;
+    std::int64_t repeated_passes = 0;
+    std::int64_t total_passes = 0;
+    double passes_per_step = 0.0;
     double wall_seconds = 0.0;
     StageTimes stage_seconds{};  ///< summed over the steps, in Stage order
   } run;

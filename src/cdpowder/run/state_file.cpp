@@ -147,7 +147,7 @@ void entries_fields(Io& io, Entries& entries) {
 
 template <typename Io, typename Stats>
 void solver_stats_fields(Io& io, Stats& s) {
-  io(s.sweeps);
+  io(s.passes);
   io(s.converged);
   io(s.residual);
   io(s.contraction);
@@ -182,12 +182,12 @@ void run_result_fields(Io& io, Result& r) {
   io(r.blocked);
   io(r.interrupted);
   io(r.steps);
-  io(r.total_sweeps);
+  io(r.total_passes);
   io(r.capped_steps);
   io(r.min_dt);
   io(r.max_dt);
   io(r.repeated_steps);
-  io(r.repeated_sweeps);
+  io(r.repeated_passes);
   io(r.max_overlap_seen);
   io(r.max_cohesive_opening_per_range);
   io(r.wall_seconds);
@@ -195,7 +195,7 @@ void run_result_fields(Io& io, Result& r) {
   step_report_fields(io, r.last);
   io.optional(r.final_solve, [&](auto& s) { solver_stats_fields(io, s); });
   io(r.probes);
-  io(r.probe_sweeps);
+  io(r.probe_passes);
   io(r.probe_seconds);
   io(r.blocked_by_probe);
   io(r.unbalanced_rest_solves);
@@ -298,7 +298,7 @@ std::optional<std::string> saved_state_problem(const SavedRun& saved) {
 
 Rng read_rng(ByteReader& in) {
   std::optional<Rng> rng = Rng::from_text(in.string());
-  if (!rng) in.fail("the sweep-order stream cannot be read back");
+  if (!rng) in.fail("the pass-order stream cannot be read back");
   return *rng;
 }
 
@@ -384,7 +384,7 @@ void decode_sections(ByteReader& in, SavedRun& saved) {
   saved.world = read_world(in);
   saved.actions = read_actions(in);
   in.tag("RNGS");
-  saved.sweep_order = read_rng(in);
+  saved.pass_order = read_rng(in);
   Decode io{in};
   bool has_detector = false;
   BlockedStateDetector::Memory memory;
@@ -584,7 +584,7 @@ void restore_run(SavedRun saved, const RunConfig& run, double dt, World& world, 
   world = std::move(saved.world);
   work.action_cache = std::move(saved.actions);
   work.last_step_in_contacts = false;
-  work.solver.rng = saved.sweep_order;
+  work.solver.rng = saved.pass_order;
 }
 
 }  // namespace cdpowder

@@ -44,7 +44,7 @@ struct SavedRun {
   std::string scene_toml;       ///< the resolved scene of the run (Scene::effective_toml)
   World world;
   ActionCache actions;
-  Rng sweep_order;  ///< NlgsWorkspace::rng
+  Rng pass_order;  ///< NlgsWorkspace::rng
   RunResult result;
   std::optional<BlockedStateDetector::Memory> detector;
   double last_rest_check = 0.0;

@@ -48,7 +48,7 @@ enum class VisitOrder {
   RandomEachStep,
   /// A fresh seeded permutation every pass: the group's choice [UK03]. Use it with
   /// acceleration_depth = 0 (plain NLGS), which reproduces the paper's algorithm.
-  RandomEachSweep,
+  RandomEachPass,
   Fixed,  ///< storage order (sorted by body indices); for tests and benchmarks
 };
 
@@ -60,7 +60,7 @@ enum class PassKernel {
   /// Default. Sphere–sphere contacts graph-coloured each step, each colour solved in
   /// batches of 4 side by side (the same arithmetic per contact), bottom-wall contacts too;
   /// overflow and piston contacts one by one; the colours visited in a random order per step
-  /// (per pass with random_each_sweep, storage order with fixed). Converges differently from
+  /// (per pass with random_each_pass, storage order with fixed). Converges differently from
   /// "scalar" (equally well: the accuracy gate of docs/lab/2026-11-25-coloured-kernel-default.md)
   /// and ≈ 1.3× faster per pass.
   Coloured,
@@ -113,8 +113,8 @@ struct SolverSettings {
   /// so a packing at rest is left to the residual rule. 0 = off [-]
   double kinematic_tolerance = 0.0;
   KinematicNorm kinematic_norm = KinematicNorm::Max;  ///< what the kinematic rule measures
-  int min_sweeps = 3;                                 ///< never stop before this many passes
-  int max_sweeps = 2000;  ///< N_max; a capped step is flagged in its report
+  int min_passes = 3;                                 ///< never stop before this many passes
+  int max_passes = 2000;  ///< N_max; a capped step is flagged in its report
   StoppingRule stopping_rule = StoppingRule::Residual;
   VisitOrder visit_order = VisitOrder::RandomEachStep;
   PassKernel kernel = PassKernel::Coloured;

@@ -80,7 +80,7 @@ const std::vector<Column>& run_columns() {
        [](const S& s) { return static_cast<double>(s.stress.tensile_contacts); }},
       {"coordination_number", [](const S& s) { return s.contacts.coordination_number; }},
       {"steps", [](const S& s) { return static_cast<double>(s.run.steps); }},
-      {"total_sweeps", [](const S& s) { return static_cast<double>(s.run.total_sweeps); }},
+      {"total_passes", [](const S& s) { return static_cast<double>(s.run.total_passes); }},
       {"capped_steps", [](const S& s) { return static_cast<double>(s.accuracy.capped_steps); }},
       {"mean_overlap", [](const S& s) { return s.accuracy.mean_overlap; }},
       {"max_overlap", [](const S& s) { return s.accuracy.max_overlap; }},

@@ -209,13 +209,13 @@ FrontStepErrors kinematic_rule_on_the_front_step(PassKernel kernel, std::uint64_
   SolverSettings converged_settings;  // ten times tighter than the paper example, 2000 sweeps
   converged_settings.kernel = kernel;
   converged_settings.tolerance = 1e-4;
-  converged_settings.max_sweeps = 2000;
+  converged_settings.max_passes = 2000;
   VelocityCache converged;
   out.converged = solve_front_step(converged_settings, order_seed, converged);
 
   SolverSettings paper = converged_settings;
   paper.tolerance = 1e-3;
-  paper.max_sweeps = 200;
+  paper.max_passes = 200;
   VelocityCache capped;
   out.capped = solve_front_step(paper, order_seed, capped);
 
@@ -253,7 +253,7 @@ TEST(KinematicRule, StopsAStalledFrontStepEarlyAtTheAccuracyOfTheCappedStep) {
       EXPECT_TRUE(e.early.converged);
       EXPECT_LE(e.early.kinematic_error, kappa);
       EXPECT_LE(e.early.piston_speed_error, kappa);
-      EXPECT_LT(3 * e.early.sweeps, e.capped.sweeps);
+      EXPECT_LT(3 * e.early.passes, e.capped.passes);
       early_mean.spheres += e.early_error.spheres / orders;
       early_mean.piston += e.early_error.piston / orders;
       capped_mean.spheres += e.capped_error.spheres / orders;

@@ -39,10 +39,10 @@ void expect_all_within_laws(const Contacts& c, int step) {
 // torsion limits all come into play while it buckles; cold-started solves under the heavy
 // piston take many sweeps, so Anderson mixing runs in every step.
 TEST(NlgsFeasibility, AcceleratedStepsEndOnForcesThatObeyTheContactLaws) {
-  for (const int max_sweeps : {2000, 6, 9}) {  // converged steps, steps capped on a mixing sweep
+  for (const int max_passes : {2000, 6, 9}) {  // converged steps, steps capped on a mixing sweep
     TinyScene s(12.0, 12.0);
     s.settings.solver.tolerance = 1e-6;
-    s.settings.solver.max_sweeps = max_sweeps;
+    s.settings.solver.max_passes = max_passes;
     s.settings.solver.acceleration_interval = 3;
     s.settings.solver.warm_start = false;  // every step a cold solve: many mixing sweeps
     s.settings.laws.spheres.mu_roll = 0.05;
@@ -60,18 +60,18 @@ TEST(NlgsFeasibility, AcceleratedStepsEndOnForcesThatObeyTheContactLaws) {
     int mixing_steps = 0;
     for (int step = 1; step <= 300; ++step) {
       const StepReport r = s.run(1);
-      if (r.solver.sweeps >= 2 * s.settings.solver.acceleration_interval) ++mixing_steps;
+      if (r.solver.passes >= 2 * s.settings.solver.acceleration_interval) ++mixing_steps;
       expect_all_within_laws(s.work.contacts, step);
       if (::testing::Test::HasFailure()) return;
     }
-    EXPECT_GT(mixing_steps, 10) << "max_sweeps " << max_sweeps;
+    EXPECT_GT(mixing_steps, 10) << "max_passes " << max_passes;
   }
 }
 
 // The compaction front of a torque-free cohesive packing (the quick example's 100 spheres at
 // (μt, μn) = (0, 0)): many contacts slide at the Coulomb limit and roll freely while the
 // piston drives the packing down, so Anderson's affine combinations of sweeps leave the
-// friction cone. Steps capped right after a mixing sweep (max_sweeps 9 and 30, multiples
+// friction cone. Steps capped right after a mixing sweep (max_passes 9 and 30, multiples
 // of the mixing interval 3) and steps that converge (cap 200) must end within the laws.
 // (With the mixing before the stopping test, as before 5fa1f41, the first capped step
 // already leaves the cone by up to 5 %.)
@@ -94,7 +94,7 @@ mass = 360.0
 pressure = 0.0025
 [solver]
 tolerance = 1e-3
-max_sweeps = 200
+max_passes = 200
 )",
                                       "front.toml", {}, ".");
   World world = make_world(scene);
@@ -104,9 +104,9 @@ max_sweeps = 200
   for (int k = 0; k < kApproachSteps; ++k) step(world, work, scene.step);
   ASSERT_GT(std::abs(world.walls.piston.velocity), 0.01) << "not in the compaction front";
 
-  for (const int max_sweeps : {9, 30, 200}) {
+  for (const int max_passes : {9, 30, 200}) {
     StepSettings settings = scene.step;
-    settings.solver.max_sweeps = max_sweeps;
+    settings.solver.max_passes = max_passes;
     settings.solver.acceleration_interval = 3;
     int capped = 0;
     for (int k = 1; k <= 100; ++k) {
@@ -115,8 +115,8 @@ max_sweeps = 200
       expect_all_within_laws(work.contacts, k);
       if (::testing::Test::HasFailure()) return;
     }
-    if (max_sweeps < 200) {
-      EXPECT_GT(capped, 0) << "max_sweeps " << max_sweeps;  // the caps are reached
+    if (max_passes < 200) {
+      EXPECT_GT(capped, 0) << "max_passes " << max_passes;  // the caps are reached
     }
   }
 }

@@ -288,8 +288,8 @@ TiledSolve tiled_solve(int threads, lanes::Isa isa) {
   SolverSettings settings = packing.scene.settings.solver;
   settings.threads = threads;
   settings.kinematic_tolerance = 1e-3;  // the kinematic rule's pass too
-  settings.min_sweeps = 40;             // passes and mixings enough to use every piece
-  settings.max_sweeps = 40;
+  settings.min_passes = 40;             // passes and mixings enough to use every piece
+  settings.max_passes = 40;
   NlgsWorkspace work(5);
   work.thread_choice.always_threaded();
   out.stats = solve_nlgs(out.contacts, out.velocities, settings, 1.0, work, &tiles);
@@ -304,10 +304,10 @@ TEST(TileThreads, ASolveGivesTheBitsOfOneThread) {
   for (const lanes::Isa isa : {lanes::Isa::Sse2, lanes::Isa::Avx2, lanes::Isa::Avx512}) {
     if (!allow_kernel_isa(isa)) continue;  // not on this CPU
     const TiledSolve one = tiled_solve(1, isa);
-    EXPECT_EQ(one.stats.sweeps, 40);
+    EXPECT_EQ(one.stats.passes, 40);
     for (const int n : {2, 3, 4}) {
       const TiledSolve many = tiled_solve(n, isa);
-      EXPECT_EQ(many.stats.sweeps, one.stats.sweeps);
+      EXPECT_EQ(many.stats.passes, one.stats.passes);
       EXPECT_TRUE(same_bits(many.stats.residual, one.stats.residual));
       EXPECT_TRUE(same_bits(many.stats.kinematic_error, one.stats.kinematic_error));
       EXPECT_TRUE(same_bits(many.stats.force_scale, one.stats.force_scale));

@@ -1,5 +1,5 @@
-// coloured_sweep.cpp — batches of independent pair contacts, and of bottom-wall contacts,
-// solved side by side (coloured_sweep.hpp). The lane arithmetic is solve_pair's (solve_wall's
+// coloured_pass.cpp — batches of independent pair contacts, and of bottom-wall contacts,
+// solved side by side (coloured_pass.hpp). The lane arithmetic is solve_pair's (solve_wall's
 // for the walls), operation for operation (Eigen's 3-vector dot products sum left to right, its
 // cross products are the textbook formula), with the kernel's two branches computed in every
 // lane and selected: the same bits, contact by contact (coloured_kernel.inc). The kernel is

@@ -1,4 +1,4 @@
-// coloured_sweep.hpp — the coloured pass kernel (solver.kernel = "coloured", the default;
+// coloured_pass.hpp — the coloured pass kernel (solver.kernel = "coloured", the default;
 // docs/lab/2026-11-25-coloured-kernel.md). The step's sphere–sphere contacts are
 // coloured (colouring.hpp) and each colour is gathered into batches of kBatchLanes contacts
 // in structure-of-arrays form, solved side by side with the same arithmetic per contact as

@@ -1,5 +1,5 @@
 // colouring.hpp — graph colouring of a step's sphere–sphere contacts for the coloured pass
-// kernel (solver.kernel = "coloured", coloured_sweep.hpp): no two contacts of one colour
+// kernel (solver.kernel = "coloured", coloured_pass.hpp): no two contacts of one colour
 // share a sphere, so a colour's contacts can be solved side by side in any order. Greedy in
 // contact storage order, each contact taking the lowest colour free at both its spheres, as
 // Box2D v3's constraint graph does; a contact for which none of kMaxColours colours is free

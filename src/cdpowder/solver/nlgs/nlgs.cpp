@@ -216,7 +216,7 @@ SolverStats solve_nlgs(Contacts& contacts, VelocityCache& velocities,
   if (choose) {
     const std::chrono::duration<double> took = std::chrono::steady_clock::now() - start;
     work.thread_choice.record(
-        took.count(), static_cast<double>(stats.sweeps) * static_cast<double>(contacts.size()));
+        took.count(), static_cast<double>(stats.passes) * static_cast<double>(contacts.size()));
   }
   stats.threaded = threaded;
   leave_tile_order(contacts, velocities, work.coloured, work.order);
@@ -257,7 +257,7 @@ void measure_pass(int pass, const PassSums& sums, const PassMotion& motion, bool
   const double mean_closed =
       sums.closed > 0 ? sums.sum_closed_normal / static_cast<double>(sums.closed) : 0.0;
   stats.force_scale = std::max({reference_force, mean_closed, 1e-300});
-  stats.sweeps = pass;
+  stats.passes = pass;
   stats.residual = std::sqrt(sums.max_change_sq) / stats.force_scale;
   if (settings.stopping_rule == StoppingRule::RelativeChange) {
     const double size_sq = sum_action_size_sq(contacts);
@@ -286,9 +286,9 @@ void measure_pass(int pass, const PassSums& sums, const PassMotion& motion, bool
   }
 }
 
-/// Whether the step may end after `pass`: at least min_sweeps, and the force rule or the
+/// Whether the step may end after `pass`: at least min_passes, and the force rule or the
 /// kinematic rule met.
-bool sweeps_done(int pass, bool kinematic_rule, const SolverSettings& settings,
+bool passes_done(int pass, bool kinematic_rule, const SolverSettings& settings,
                  const SolverStats& stats) {
   const bool forces_done = settings.stopping_rule == StoppingRule::Residual
                                ? stats.error_estimate <= settings.tolerance
@@ -296,7 +296,7 @@ bool sweeps_done(int pass, bool kinematic_rule, const SolverSettings& settings,
   const bool kinematics_done = kinematic_rule && pass > kContractionWindow &&
                                stats.kinematic_error <= settings.kinematic_tolerance &&
                                stats.piston_speed_error <= settings.kinematic_tolerance;
-  return pass >= settings.min_sweeps && (forces_done || kinematics_done);
+  return pass >= settings.min_passes && (forces_done || kinematics_done);
 }
 
 /// One Anderson mixing of the actions after a pass; the next mixing starts from the mixed
@@ -343,9 +343,9 @@ SolverStats iterate_until_done(Contacts& contacts, VelocityCache& velocities,
   // a tiled step (tiles.hpp) runs its passes phase by phase, the kinematic rule's pass in pieces
   // of spheres and the mixing in pieces (tile_solve.hpp)
   const bool tiled = coloured && work.coloured.tiled();
-  for (int pass = 1; pass <= settings.max_sweeps; ++pass) {
+  for (int pass = 1; pass <= settings.max_passes; ++pass) {
     // a fresh order every pass, so corrections spread without a preferred direction (§7.1)
-    if (settings.visit_order == VisitOrder::RandomEachSweep) {
+    if (settings.visit_order == VisitOrder::RandomEachPass) {
       if (coloured) {
         order_groups(work.coloured, settings.visit_order, work.rng);
       } else {
@@ -367,7 +367,7 @@ SolverStats iterate_until_done(Contacts& contacts, VelocityCache& velocities,
     if (kinematic_rule) motion = work.kinematic.after_pass(velocities, window_full, threads);
     measure_pass(pass, sums, motion, kinematic_rule, contacts, velocities, settings,
                  reference_force, windows, stats);
-    if (sweeps_done(pass, kinematic_rule, settings, stats)) {
+    if (passes_done(pass, kinematic_rule, settings, stats)) {
       stats.converged = true;
       break;
     }
@@ -379,7 +379,7 @@ SolverStats iterate_until_done(Contacts& contacts, VelocityCache& velocities,
     // Mixing comes after the test and never after the last pass: a mixed iterate is an
     // affine combination that need not obey the contact laws (R_n < −F_c, forces outside
     // the friction cone, forces on open contacts), so a step must end on a pass's output.
-    if (accelerate && pass % settings.acceleration_interval == 0 && pass < settings.max_sweeps) {
+    if (accelerate && pass % settings.acceleration_interval == 0 && pass < settings.max_passes) {
       if (stats.residual > kRestartGrowth * best_residual) work.accelerator.reset();
       best_residual = std::min(best_residual, stats.residual);
       mix_actions(contacts, velocities, threads, work, modes, coloured, tiled, kinematic);

@@ -23,8 +23,8 @@ namespace cdpowder {
 
 /// What the passes of one step did.
 struct SolverStats {
-  int sweeps = 0;               ///< passes performed
-  bool converged = false;       ///< the stopping rule was met (false: capped at max_sweeps)
+  int passes = 0;               ///< passes performed
+  bool converged = false;       ///< the stopping rule was met (false: capped at max_passes)
   double residual = 0.0;        ///< largest force correction of the last pass / force scale
   double contraction = 0.0;     ///< ρ, measured ratio of residuals per pass
   double error_estimate = 0.0;  ///< residual/(1 − ρ): remaining relative force error
@@ -60,7 +60,7 @@ struct NlgsWorkspace {
   TileOrder order;  ///< the records in tile order (tile_order.hpp)
 };
 
-/// Passes until the stopping rule holds or max_sweeps is reached. Each visit solves one
+/// Passes until the stopping rule holds or max_passes is reached. Each visit solves one
 /// contact exactly with the others held fixed and pushes its change into the velocity
 /// cache at once, so later visits in the same pass see it (§7.1). With
 /// acceleration_depth > 0, every pass is followed by an Anderson mixing step.
@@ -75,7 +75,7 @@ SolverStats solve_nlgs(Contacts& contacts, VelocityCache& velocities,
                        const StepTiles* tiles = nullptr);
 
 /// Fills contacts.visit_order for a new step: storage order, or a random permutation of
-/// blocks (RandomEachStep; RandomEachSweep reshuffles every pass inside solve_nlgs).
+/// blocks (RandomEachStep; RandomEachPass reshuffles every pass inside solve_nlgs).
 void prepare_visit_order(Contacts& contacts, VisitOrder policy, NlgsWorkspace& work);
 
 /// One pass in the given order; returns the pass's largest change and sums. Exposed for

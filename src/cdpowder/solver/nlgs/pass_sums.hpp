@@ -1,5 +1,5 @@
-// sweep_sums.hpp — what a pass reports to the stopping rules, shared by the scalar pass
-// (nlgs.cpp) and the coloured one (coloured_sweep.cpp). The scalar visit both use is in
+// pass_sums.hpp — what a pass reports to the stopping rules, shared by the scalar pass
+// (nlgs.cpp) and the coloured one (coloured_pass.cpp). The scalar visit both use is in
 // visit_contact.hpp, which only the solver's sources include (it brings the contact kernels).
 #pragma once
 
@@ -15,7 +15,7 @@ struct PassSums {
   double sum_closed_normal = 0.0;
   std::size_t closed = 0;
 
-  /// Adds the sums of the next part of a pass (coloured_sweep.hpp): adding a part that
+  /// Adds the sums of the next part of a pass (coloured_pass.hpp): adding a part that
   /// visited nothing leaves the bits (the sums are ≥ +0).
   void add_part(const PassSums& part) {
     max_change_sq = std::max(max_change_sq, part.max_change_sq);
