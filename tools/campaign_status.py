@@ -55,7 +55,7 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("folders", nargs="*", type=pathlib.Path)
     args = parser.parse_args()
-    folders = args.folders or sorted(p.parent for p in pathlib.Path("results").glob("*/results.csv"))
+    folders = args.folders or sorted(p.parent for p in pathlib.Path("results").glob("**/results.csv"))
     if not folders:
         sys.exit("error: no sweep folders (folders with results.csv) given or found in results/")
     seen = {}  # scene → (wall seconds, paper size)

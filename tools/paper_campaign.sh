@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# The paper's sweeps (results/README.md) within one wall-time budget, such as a sitting at a
-# shared two-core machine or a batch job: each sweep in turn, with the time left as its
-# `--time-limit` (a run starts only when it is expected to finish), then their reports.
+# The paper's sweeps (results/README.md), each into results/paper/<name>, within one
+# wall-time budget, such as a sitting at a shared two-core machine or a batch job: each sweep
+# in turn, with the time left as its `--time-limit` (a run starts only when it is expected to
+# finish), then their reports.
 #
 #   tools/paper_campaign.sh BUDGET [SWEEP ...]
 #
@@ -16,7 +17,7 @@
 # `results/` afterwards: it is how the campaign goes on in a later clone.
 set -euo pipefail
 cd "$(git rev-parse --show-toplevel)"
-[ $# -ge 1 ] || { sed -n '2,16p' "$0" | sed 's/^# \{0,1\}//'; exit 2; }
+[ $# -ge 1 ] || { sed -n '2,17p' "$0" | sed 's/^# \{0,1\}//'; exit 2; }
 
 budget_text=$1
 shift
@@ -67,12 +68,12 @@ for name in "${sweeps[@]}"; do
   left=$((deadline - $(date +%s)))
   [ "$left" -gt 60 ] || break
   reuse=()
-  for other in results/*/; do
+  for other in results/paper/*/; do
     other=${other%/}
-    [ "$other" = "results/$name" ] || reuse+=(--reuse "$other")
+    [ "$other" = "results/paper/$name" ] || reuse+=(--reuse "$other")
   done
   echo "paper_campaign: $name, $((left / 60)) min left" >&2
-  setsid "$cdpowder" sweep "examples/paper/${name}_sweep.toml" --out "results/$name" \
+  setsid "$cdpowder" sweep "examples/paper/${name}_sweep.toml" --out "results/paper/$name" \
     --jobs "${JOBS:-2}" --time-limit "$left" "${reuse[@]}" &
   sweep_pid=$!
   # wait returns early when a trapped signal arrives: wait again until the sweep has ended
@@ -81,7 +82,7 @@ for name in "${sweeps[@]}"; do
 done
 
 for name in "${sweeps[@]}"; do
-  [ -f "results/$name/results.csv" ] && /usr/bin/python3 tools/report.py "results/$name" >/dev/null
+  [ -f "results/paper/$name/results.csv" ] && /usr/bin/python3 tools/report.py "results/paper/$name" >/dev/null
 done
 /usr/bin/python3 tools/campaign_status.py
 echo "paper_campaign: commit the finished runs with: git add results && git commit" >&2
