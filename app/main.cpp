@@ -10,6 +10,7 @@
 #include "run_phase.hpp"
 
 #include "cdpowder/config/config_error.hpp"
+#include "cdpowder/core/ranks.hpp"
 #include "cdpowder/core/stop_request.hpp"
 #include "cdpowder/io/atomic_file.hpp"
 #include "cdpowder/io/byte_stream.hpp"
@@ -320,6 +321,17 @@ int run_command_line(int argc, char** argv) {
     std::fprintf(stderr, "error: %s\nRun with --help for more information.\n", e.what());
     return kExitBadInput;
   }
+  if (cdpowder::rank_count() > 1 && (deposit_cmd->parsed() || sweep_cmd->parsed())) {
+    // a sweep runs its own processes, and a deposit is one process's work
+    if (cdpowder::this_rank() == 0) {
+      std::fprintf(stderr,
+                   "error: %s: under mpirun (%d ranks) cdpowder runs compact, simulate and "
+                   "resume; run %s as one process\n",
+                   deposit_cmd->parsed() ? "deposit" : "sweep", cdpowder::rank_count(),
+                   deposit_cmd->parsed() ? "deposit" : "sweep");
+    }
+    return kExitBadInput;
+  }
   return run_reporting_errors([&] {
     if (simulate_cmd->parsed()) return cdpowder::app::run_simulate(simulate);
     if (compact_cmd->parsed()) return cdpowder::app::run_compact(compact);
@@ -343,6 +355,8 @@ int main(int argc, char** argv) {
   // run_command_line turns the expected exceptions into messages; building the command line
   // itself may still throw (CLI::ConstructionError, std::bad_alloc): a message, not terminate
   try {
+    // MPI, when an MPI launcher started this process (core/ranks.hpp); ended on every return
+    const cdpowder::RankSession ranks(argc, argv);
     return run_command_line(argc, argv);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "error: %s\n", e.what());

@@ -2,6 +2,8 @@
 // monotonic clock and write(2), all async-signal-safe.
 #include "stop_signals.hpp"
 
+#include "cdpowder/core/ranks.hpp"
+
 #include <atomic>
 #include <cstdint>
 #include <ctime>
@@ -57,6 +59,10 @@ extern "C" void request_run_stop(int signal) {
 
 bool run_stop_requested() {
   return g_requested.load();
+}
+
+bool run_stop_requested_on_any_rank() {
+  return any_rank(g_requested.load());
 }
 
 }  // namespace cdpowder::app

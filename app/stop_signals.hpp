@@ -1,6 +1,6 @@
-// stop_signals.hpp — installs a handler for SIGINT, SIGTERM and SIGHUP for the lifetime of a
-// command and restores the previous handlers on every exit path, exceptions included.
-// The handlers only set atomics; the commands ask them between steps or runs.
+// stop_signals.hpp — installs a handler for SIGINT, SIGTERM, SIGHUP and SIGUSR1 for the lifetime of
+// a command and restores the previous handlers on every exit path, exceptions included. The
+// handlers only set atomics; the commands ask them between steps or runs.
 //
 // A run's handler (request_run_stop): every stop keeps the run. The first signal asks the run
 // to stop after its step; it then writes every output and a checkpoint (exit 1). Every later
@@ -26,6 +26,11 @@ extern "C" void request_run_stop(int signal);
 /// Whether a stop was asked for since the program started.
 bool run_stop_requested();
 
+/// Whether a stop was asked for on any rank of an MPI job (core/ranks.hpp): a collective,
+/// asked at the same points of the run on every rank, so that every rank stops after the same
+/// pass of the same step. The signal of a Ctrl-C reaches the ranks at different moments.
+bool run_stop_requested_on_any_rank();
+
 class StopSignals {
  public:
   /// `flags` are sigaction flags (0: the handler stays for every signal).
@@ -38,12 +43,17 @@ class StopSignals {
     sigaction(SIGINT, &action, &previous_int_);
     sigaction(SIGTERM, &action, &previous_term_);
     sigaction(SIGHUP, &action, &previous_hup_);
+    // Open MPI's mpirun forwards SIGUSR1 to every rank at once (SIGINT and SIGTERM reach them
+    // only as its kill sequence): `kill -USR1` on mpirun stops an MPI run as Ctrl-C stops one
+    // process
+    sigaction(SIGUSR1, &action, &previous_usr1_);
   }
 
   ~StopSignals() {
     sigaction(SIGINT, &previous_int_, nullptr);
     sigaction(SIGTERM, &previous_term_, nullptr);
     sigaction(SIGHUP, &previous_hup_, nullptr);
+    sigaction(SIGUSR1, &previous_usr1_, nullptr);
   }
 
   StopSignals(const StopSignals&) = delete;
@@ -57,6 +67,8 @@ class StopSignals {
   struct sigaction previous_term_ {};
 
   struct sigaction previous_hup_ {};
+
+  struct sigaction previous_usr1_ {};
 };
 
 }  // namespace cdpowder::app

@@ -53,19 +53,19 @@ void BM_NlgsPassColoured(benchmark::State& state) {
   const auto chunk = static_cast<std::size_t>(state.range(1));
   prepare_coloured_pass(contacts, work.velocities, pass,
                         chunk == 0 ? kColourChunk : (chunk == 1 ? 0 : chunk));
-  order_groups(sweep, VisitOrder::RandomEachStep, work.solver.rng);
+  order_groups(pass, VisitOrder::RandomEachStep, work.solver.rng);
   for (auto _ : state) {
-    benchmark::DoNotOptimize(run_coloured_pass(contacts, work.velocities, sweep));
+    benchmark::DoNotOptimize(run_coloured_pass(contacts, work.velocities, pass));
   }
   state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(contacts.size()));
   state.counters["contacts"] = static_cast<double>(contacts.size());
-  state.counters["colours"] = static_cast<double>(sweep.colours());
+  state.counters["colours"] = static_cast<double>(pass.colours());
   state.counters["tiles"] = static_cast<double>(work.solver.tiles.grid.tiles());
   state.counters["sequential"] =
-      static_cast<double>(sweep.sequential.size()) / static_cast<double>(contacts.size());
+      static_cast<double>(pass.sequential.size()) / static_cast<double>(contacts.size());
   state.counters["idle_lanes"] =
       1.0 - static_cast<double>(contacts.pairs.size() - pass.colouring.overflow.size()) /
-                (static_cast<double>(kBatchLanes) * static_cast<double>(sweep.batches()));
+                (static_cast<double>(kBatchLanes) * static_cast<double>(pass.batches()));
   state.counters["ns_per_update"] = benchmark::Counter(
       static_cast<double>(state.iterations()) * static_cast<double>(contacts.size()),
       benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
@@ -94,13 +94,13 @@ void BM_NlgsPassColouredThreads(benchmark::State& state) {
                  packing.world.bodies.max_radius(), 0.0, contacts, work.solver.tiles);
   }
   prepare_coloured_pass(contacts, work.velocities, pass, kColourChunk, &work.solver.tiles);
-  order_groups(sweep, VisitOrder::RandomEachStep, work.solver.rng);
+  order_groups(pass, VisitOrder::RandomEachStep, work.solver.rng);
   TileThreads threads(static_cast<int>(state.range(1)));
   for (auto _ : state) {
     benchmark::DoNotOptimize(run_coloured_pass(contacts, work.velocities, pass, &threads));
   }
   state.counters["contacts"] = static_cast<double>(contacts.size());
-  state.counters["colours"] = static_cast<double>(sweep.colours());
+  state.counters["colours"] = static_cast<double>(pass.colours());
   state.counters["tiles"] = static_cast<double>(work.solver.tiles.grid.tiles());
   state.counters["ns_per_update"] = benchmark::Counter(
       static_cast<double>(state.iterations()) * static_cast<double>(contacts.size()),

@@ -1,5 +1,8 @@
 // simulate.cpp — the simulate and compact commands: read and validate everything first,
 // then run, then write every output atomically. Prints one result line on stdout.
+// In an MPI job (`mpirun -np P`, core/ranks.hpp) every rank runs the same steps, sharing the
+// tiles of each pass (solver/nlgs/tile_ranks.hpp); rank 0 alone writes the run folder and
+// prints, so the outputs are those of one process.
 #include "commands/simulate.hpp"
 
 #include "progress.hpp"
@@ -9,6 +12,7 @@
 #include "cdpowder/analysis/porosity.hpp"
 #include "cdpowder/config/config_error.hpp"
 #include "cdpowder/config/scene_reader.hpp"
+#include "cdpowder/core/ranks.hpp"
 #include "cdpowder/io/provenance.hpp"
 #include "cdpowder/run/checkpoint_interval.hpp"
 #include "cdpowder/run/folder_lock.hpp"
@@ -49,7 +53,7 @@ struct Session {
   World world;
   StepWorkspace work{1};
   RunState state;
-  std::optional<RunFolder> files;
+  std::optional<RunFolder> files;  ///< on rank 0 of an MPI job alone
   std::optional<double> checkpoint_every;
   bool quiet = false;
   ProgressLine* progress = nullptr;  ///< while the run goes: warnings end its line first
@@ -63,6 +67,19 @@ RunFolder::Warn warn_on_stderr(Session& s) {
   };
 }
 
+/// The exit status of a run that ended so (the messages are run_and_write's).
+int exit_status(RunEnding ending) {
+  switch (ending) {
+    case RunEnding::Failed:
+      return kExitFault;
+    case RunEnding::Interrupted:
+      return kExitInterrupted;
+    case RunEnding::NotBlocked:
+      return kExitNotBlocked;
+  }
+  return 0;
+}
+
 /// Runs to the end, writes every output and prints the result line; returns the exit code.
 int run_and_write(Session& s) {
   const Scene& scene = s.scene;
@@ -71,7 +88,7 @@ int run_and_write(Session& s) {
   ProgressLine progress(s.quiet);
   s.progress = &progress;
   const StepObserver observer = [&](const World& w, const StepReport& report, double fraction) {
-    s.files->after_step(w, report, work.contacts);
+    if (s.files) s.files->after_step(w, report, work.contacts);
     progress.update(w, report, fraction);
   };
   // every `checkpoint_every` of simulated time the loop is stopped after a step, the state
@@ -90,37 +107,34 @@ int run_and_write(Session& s) {
   RunResult result;
   set_run_phase("stepping", world.bodies.size());
   for (;;) {
-    result = run_simulation(world, work, scene.step, scene.run, s.state, observer,
-                            [&] { return run_stop_requested() || world.time >= checkpoint_at; });
+    result = run_simulation(world, work, scene.step, scene.run, s.state, observer, [&] {
+      return run_stop_requested_on_any_rank() || world.time >= checkpoint_at;
+    });
     if (!result.interrupted) break;
     set_run_phase("writing a checkpoint");
-    s.files->save_checkpoint(
-        scene, world, work,
-        s.state);  // asked for, or stopped by a signal: either way the state is saved
-    if (run_stop_requested()) break;
+    // asked for, or stopped by a signal: either way the state is saved
+    if (s.files) s.files->save_checkpoint(scene, world, work, s.state);
+    if (run_stop_requested_on_any_rank()) break;
     set_run_phase("stepping");
     checkpoint_at = next_checkpoint();
   }
   progress.finish();
   s.progress = nullptr;
-  set_run_phase("writing the outputs");
-  s.files->finish(scene, world, work, s.state, result, s.initial_porosity);
-
-  std::printf("%s\n", result_line(scene, world, work.contacts, result).c_str());
+  // rank 0 of an MPI job writes and reports; every rank ends with the same exit status
+  const bool reports = s.files.has_value();
+  if (reports) {
+    set_run_phase("writing the outputs");
+    s.files->finish(scene, world, work, s.state, result, s.initial_porosity);
+    std::printf("%s\n", result_line(scene, world, work.contacts, result).c_str());
+  }
   const std::optional<RunEndNotice> notice = run_end_notice(scene, world, result, s.out);
   if (!notice) return 0;
-  switch (notice->ending) {
-    case RunEnding::Failed:
-      std::fprintf(stderr, "error: %s\n", notice->message.c_str());
-      return kExitFault;
-    case RunEnding::Interrupted:  // outputs written, but incomplete
-      std::fprintf(stderr, "%s\n", notice->message.c_str());
-      return kExitInterrupted;
-    case RunEnding::NotBlocked:
-      std::fprintf(stderr, "error: %s\n", notice->message.c_str());
-      return kExitNotBlocked;
+  if (reports) {
+    // an interrupted run's outputs are written, but incomplete: a notice, not an error
+    const bool error = notice->ending != RunEnding::Interrupted;
+    std::fprintf(stderr, "%s%s\n", error ? "error: " : "", notice->message.c_str());
   }
-  return 0;
+  return exit_status(notice->ending);
 }
 
 int run_scene(const RunOptions& options, const SceneReadOptions& read_options,
@@ -138,14 +152,15 @@ int run_scene(const RunOptions& options, const SceneReadOptions& read_options,
   s.scene = read_scene(options.scene, command_line_overrides(options.overrides), how);
   s.out = options.out;
   s.checkpoint_every = options.checkpoint_every;
-  s.quiet = options.quiet;
+  s.quiet = options.quiet || this_rank() != 0;
   const Scene& scene = s.scene;
   set_run_phase(scene.deposition ? "depositing the spheres" : "reading the spheres",
                 scene.deposition ? static_cast<std::size_t>(scene.deposition->spheres) : 0);
-  s.world = make_world(scene, [] { return run_stop_requested(); });
+  s.world = make_world(scene, [] { return run_stop_requested_on_any_rank(); });
   set_run_phase("setting up the run", s.world.bodies.size());
   s.work = StepWorkspace(scene.step.solver.seed);
   s.initial_porosity = porosity(s.world);
+  if (this_rank() != 0) return run_and_write(s);
 
   std::filesystem::create_directories(options.out);
   // one run per folder at a time: held until the process ends, whatever ends it
@@ -166,7 +181,9 @@ int run_resume(const ResumeOptions& options) {
   const std::filesystem::path& out = options.folder;
   const std::filesystem::path checkpoint = checkpoint_path(out);
   require_checkpoint(out);
-  const FolderLock lock(run_lock_file(out), "another cdpowder run");
+  // rank 0 of an MPI job holds the folder for all (every rank reads it, rank 0 writes it)
+  std::optional<FolderLock> lock;
+  if (this_rank() == 0) lock.emplace(run_lock_file(out), "another cdpowder run");
   set_run_phase("reading the checkpoint");
   SavedRun saved = load_state(checkpoint);  // the checkpoint's own faults first
   require_initial_particles(out);
@@ -175,7 +192,7 @@ int run_resume(const ResumeOptions& options) {
       options.checkpoint_every ? options.checkpoint_every : remembered_checkpoint_interval(out);
   if (const std::string warning =
           other_build_warning(checkpoint, saved.program_version, saved.git_commit);
-      !warning.empty()) {
+      !warning.empty() && this_rank() == 0) {
     std::fprintf(stderr, "warning: %s\n", warning.c_str());
   }
   // the scene as the run resolved it, with the spheres it started from (for the initial
@@ -186,7 +203,7 @@ int run_resume(const ResumeOptions& options) {
   s.scene = read_scene_text(saved.scene_toml, (out / "scene.toml").string(), {}, out, how);
   s.out = out;
   s.checkpoint_every = checkpoint_every;
-  s.quiet = options.quiet;
+  s.quiet = options.quiet || this_rank() != 0;
   s.scene.effective_toml = saved.scene_toml;  // the summary's scene, as the run began it
   // the threads change no bit (solver/nlgs/tiles.hpp), so a resume may take others
   if (options.threads) s.scene.step.solver.threads = *options.threads;
@@ -197,11 +214,14 @@ int run_resume(const ResumeOptions& options) {
                        checkpoint.string());
   require_initial_packing(
       saved.scene_toml, out, initial,
-      [](const std::string& message) { std::fprintf(stderr, "warning: %s\n", message.c_str()); },
-      [] { return run_stop_requested(); });
+      [](const std::string& message) {
+        if (this_rank() == 0) std::fprintf(stderr, "warning: %s\n", message.c_str());
+      },
+      [] { return run_stop_requested_on_any_rank(); });
   s.initial_porosity = porosity(initial);
   s.work = StepWorkspace(s.scene.step.solver.seed);
   restore_run(std::move(saved), s.scene.run, s.scene.step.solver.dt, s.world, s.work, s.state);
+  if (this_rank() != 0) return run_and_write(s);
   announce(fmt::format("resume from step {} (t = {} t0)", s.world.step, s.world.time), s.scene, out,
            s.world.bodies.size());
   s.files = RunFolder::resume(out, s.scene, s.world, s.state, warn_on_stderr(s));

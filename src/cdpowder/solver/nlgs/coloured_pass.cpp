@@ -601,14 +601,17 @@ PassSums run_coloured_part(Contacts& contacts, VelocityCache& velocities, const 
 }
 
 PassSums run_coloured_pass(Contacts& contacts, VelocityCache& velocities, const ColouredPass& pass,
-                           TileThreads* threads) {
+                           TileThreads* threads, TileRanks* ranks) {
   const std::size_t parts = pass.parts();
   std::vector<PartSums>& part_sums = pass.part_sums;
   part_sums.resize(parts);
   PassSums split_sums;
+  const bool shared = ranks != nullptr && ranks->active();
   for (const std::uint32_t slot : pass.slot_order) {
     if (slot == kTilePhases) {
-      // the hub: its contacts touch spheres of any tile
+      // the hub: its contacts touch spheres of any tile (every rank solves it, on the same
+      // records)
+      if (shared) ranks->share_records(velocities);
       for (std::size_t p = pass.phase_parts[kTilePhases]; p < parts; ++p) {
         part_sums[p].sums = run_coloured_part(contacts, velocities, pass, p);
       }
@@ -617,11 +620,21 @@ PassSums run_coloured_pass(Contacts& contacts, VelocityCache& velocities, const 
       }
       continue;
     }
+    if (shared) {
+      // this rank's tiles of the phase, then the rows they wrote to the ranks that hold them
+      const std::span<const std::uint32_t> mine = ranks->phase_parts(slot);
+      run_pieces(threads, static_cast<std::uint32_t>(mine.size()), [&](std::uint32_t i) {
+        part_sums[mine[i]].sums = run_coloured_part(contacts, velocities, pass, mine[i]);
+      });
+      ranks->after_phase(slot, velocities);
+      continue;
+    }
     const std::uint32_t first = pass.phase_parts[slot];
     run_pieces(threads, pass.phase_parts[slot + 1] - first, [&](std::uint32_t i) {
       part_sums[first + i].sums = run_coloured_part(contacts, velocities, pass, first + i);
     });
   }
+  if (shared) ranks->share_pass(contacts, pass, part_sums, velocities);
   PassSums sums;
   for (const PartSums& part : part_sums) sums.add_part(part.sums);
   sums.add_part(split_sums);

@@ -22,6 +22,7 @@
 #include "cdpowder/solver/nlgs/colouring.hpp"
 #include "cdpowder/solver/nlgs/pass_sums.hpp"
 #include "cdpowder/solver/nlgs/split_piston.hpp"
+#include "cdpowder/solver/nlgs/tile_ranks.hpp"
 #include "cdpowder/solver/nlgs/tile_threads.hpp"
 #include "cdpowder/solver/nlgs/tiles.hpp"
 #include "cdpowder/solver/settings.hpp"
@@ -253,9 +254,11 @@ PassSums run_coloured_part(Contacts& contacts, VelocityCache& velocities, const 
 /// One pass over the groups in pass.group_order, part by part: the phases' parts (side by
 /// side on `threads` when given) and the rest (the hub, then the split piston contacts) in
 /// pass.slot_order, their sums added in part order, the split piston's last: the same bits on
-/// any number of threads. Sets pass.open_rare for the next pass from
-/// its sums.
+/// any number of threads. With `ranks` active (tile_ranks.hpp) this rank solves its own tiles
+/// of each phase and shares the rows they wrote, the hub runs on records every rank holds,
+/// and the pass ends with every rank's results on every rank: the same bits on any number of
+/// ranks. Sets pass.open_rare for the next pass from its sums.
 PassSums run_coloured_pass(Contacts& contacts, VelocityCache& velocities, const ColouredPass& pass,
-                           TileThreads* threads = nullptr);
+                           TileThreads* threads = nullptr, TileRanks* ranks = nullptr);
 
 }  // namespace cdpowder

@@ -211,6 +211,8 @@ SolverStats solve_nlgs(Contacts& contacts, VelocityCache& velocities,
   const auto start = std::chrono::steady_clock::now();
   // the records tile by tile during the passes (tile_order.hpp): the same bits
   if (tiles != nullptr) enter_tile_order(*tiles, contacts, velocities, work.coloured, work.order);
+  // the tiles of each phase shared among the ranks of an MPI job (tile_ranks.hpp)
+  work.ranks.plan(tiles, work.coloured);
   SolverStats stats = iterate_until_done(contacts, velocities, settings, reference_force,
                                          threaded ? pool : nullptr, work, modes);
   if (choose) {
@@ -362,7 +364,7 @@ SolverStats iterate_until_done(Contacts& contacts, VelocityCache& velocities,
     PassMotion motion;
     PassSums sums;
     // a tiled step's phases and the kinematic rule's pieces on the threads
-    sums = coloured ? run_coloured_pass(contacts, velocities, work.coloured, threads)
+    sums = coloured ? run_coloured_pass(contacts, velocities, work.coloured, threads, &work.ranks)
                     : run_scalar_pass(contacts, velocities);
     if (kinematic_rule) motion = work.kinematic.after_pass(velocities, window_full, threads);
     measure_pass(pass, sums, motion, kinematic_rule, contacts, velocities, settings,

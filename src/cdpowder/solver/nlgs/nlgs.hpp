@@ -58,6 +58,7 @@ struct NlgsWorkspace {
   StepTiles tiles;                   ///< the step's tiling (tiles.hpp)
   std::vector<AndersonAccelerator::PassSums> range_sums;  ///< of a tiled step (tile_solve.hpp)
   TileOrder order;  ///< the records in tile order (tile_order.hpp)
+  TileRanks ranks;  ///< which tiles this rank of an MPI job solves (tile_ranks.hpp)
 };
 
 /// Passes until the stopping rule holds or max_passes is reached. Each visit solves one

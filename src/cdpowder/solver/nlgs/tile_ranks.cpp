@@ -1,0 +1,250 @@
+// tile_ranks.cpp — the tiles of a step's passes shared among MPI ranks (tile_ranks.hpp).
+#include "cdpowder/solver/nlgs/tile_ranks.hpp"
+
+#include "cdpowder/solver/nlgs/coloured_pass.hpp"
+
+#include <algorithm>
+#include <type_traits>
+#include <utility>
+
+namespace cdpowder {
+
+namespace {
+
+// The records travel as the bytes of typed buffers (MPI copies bytes): eight doubles each.
+static_assert(std::is_standard_layout_v<SphereVelocity> && sizeof(SphereVelocity) == 64);
+static_assert(std::is_standard_layout_v<ContactAction> && sizeof(ContactAction) == 64);
+static_assert(std::is_trivially_copyable_v<PassSums>);
+
+/// The bytes of a typed buffer, for MPI.
+template <typename T>
+std::span<std::byte> bytes_of(std::vector<T>& buffer) {
+  return std::as_writable_bytes(std::span<T>(buffer));
+}
+
+}  // namespace
+
+void TileRanks::plan(const StepTiles* tiles, const ColouredPass& pass) {
+  ranks_ = rank_count();
+  rank_ = this_rank();
+  active_ = ranks_ > 1 && tiles != nullptr && tiles->tiled();
+  shared_ = true;
+  if (!active_) {
+    // every part of a phase on this rank
+    for (std::size_t f = 0; f < kTilePhases; ++f) {
+      mine_[f].clear();
+      for (std::uint32_t p = pass.phase_parts[f]; p < pass.phase_parts[f + 1]; ++p) {
+        mine_[f].push_back(p);
+      }
+    }
+    return;
+  }
+  grid_ = tiles->grid;
+  const std::uint32_t nx = grid_.nx;
+  const std::uint32_t ny = grid_.ny;
+  const std::uint32_t tile_count = grid_.tiles();
+  const std::size_t parts = pass.parts();
+
+  // the places of each part's spheres: they are stored part by part (tile_order.hpp)
+  part_begin_.assign(parts + 1, 0);
+  for (const std::uint32_t part : tiles->sphere_part) ++part_begin_[part + 1];
+  for (std::size_t p = 0; p < parts; ++p) part_begin_[p + 1] += part_begin_[p];
+
+  // strips of whole rows: rank r solves rows [r ny / P, (r + 1) ny / P) (none when ny < P)
+  row_parts_.assign(tiles->part_of_tile.begin(), tiles->part_of_tile.end());
+  row_owner_.assign(ny, 0);
+  rank_rows_.assign(static_cast<std::size_t>(ranks_), {});
+  for (int r = 0; r < ranks_; ++r) {
+    const std::uint64_t first =
+        static_cast<std::uint64_t>(r) * ny / static_cast<std::uint64_t>(ranks_);
+    const std::uint64_t last =
+        static_cast<std::uint64_t>(r + 1) * ny / static_cast<std::uint64_t>(ranks_);
+    for (auto j = static_cast<std::uint32_t>(first); j < last; ++j) {
+      row_owner_[j] = r;
+      rank_rows_[static_cast<std::size_t>(r)].push_back(j);
+    }
+  }
+  std::vector<std::uint32_t> part_row(parts, 0);
+  for (std::uint32_t t = 0; t < tile_count; ++t) part_row[tiles->part_of_tile[t]] = t / nx;
+  rank_parts_.assign(static_cast<std::size_t>(ranks_), {});
+  for (std::uint32_t p = 0; p < pass.phase_parts[kTilePhases]; ++p) {
+    rank_parts_[static_cast<std::size_t>(row_owner_[part_row[p]])].push_back(p);
+  }
+
+  for (std::size_t f = 0; f < kTilePhases; ++f) {
+    mine_[f].clear();
+    sends_[f].clear();
+    receives_[f].clear();
+    // (writer, row) for every row a tile of this phase writes: its own and the next
+    std::vector<std::pair<int, std::uint32_t>> written;
+    for (std::uint32_t p = pass.phase_parts[f]; p < pass.phase_parts[f + 1]; ++p) {
+      const int writer = row_owner_[part_row[p]];
+      if (writer == rank_) mine_[f].push_back(p);
+      written.emplace_back(writer, part_row[p]);
+      written.emplace_back(writer, (part_row[p] + 1) % ny);
+    }
+    std::sort(written.begin(), written.end());
+    written.erase(std::unique(written.begin(), written.end()), written.end());
+    // a row goes from its writer to the ranks that hold it: its owner, and the owner of the
+    // row below it (its ghost row)
+    std::vector<std::pair<std::pair<int, int>, std::uint32_t>> messages;  // ((from, to), row)
+    for (const auto& [writer, row] : written) {
+      for (const int holder : {row_owner_[row], row_owner_[(row + ny - 1) % ny]}) {
+        if (holder != writer) messages.push_back({{writer, holder}, row});
+      }
+    }
+    std::sort(messages.begin(), messages.end());
+    messages.erase(std::unique(messages.begin(), messages.end()), messages.end());
+    for (const auto& [route, row] : messages) {
+      const auto [from, to] = route;
+      if (from != rank_ && to != rank_) continue;
+      std::vector<RowMessage>& list = from == rank_ ? sends_[f] : receives_[f];
+      const int peer = from == rank_ ? to : from;
+      if (list.empty() || list.back().peer != peer) list.push_back(RowMessage{peer, {}, {}});
+      list.back().rows.push_back(row);
+    }
+    for (auto* list : {&sends_[f], &receives_[f]}) {
+      for (RowMessage& m : *list) m.buffer.resize(row_records(m.rows));
+    }
+  }
+}
+
+std::size_t TileRanks::row_records(std::span<const std::uint32_t> rows) const {
+  std::size_t records = 0;
+  for (const std::uint32_t row : rows) {
+    for (std::uint32_t i = 0; i < grid_.nx; ++i) {
+      const std::uint32_t part = row_parts_[row * grid_.nx + i];
+      records += part_begin_[part + 1] - part_begin_[part];
+    }
+  }
+  return records;
+}
+
+void TileRanks::pack_rows(std::span<const std::uint32_t> rows, const VelocityCache& velocities,
+                          SphereVelocity* out) const {
+  for (const std::uint32_t row : rows) {
+    for (std::uint32_t i = 0; i < grid_.nx; ++i) {
+      const std::uint32_t part = row_parts_[row * grid_.nx + i];
+      out = std::copy(velocities.spheres.begin() + part_begin_[part],
+                      velocities.spheres.begin() + part_begin_[part + 1], out);
+    }
+  }
+}
+
+void TileRanks::unpack_rows(std::span<const std::uint32_t> rows, const SphereVelocity* in,
+                            VelocityCache& velocities) const {
+  for (const std::uint32_t row : rows) {
+    for (std::uint32_t i = 0; i < grid_.nx; ++i) {
+      const std::uint32_t part = row_parts_[row * grid_.nx + i];
+      const std::uint32_t count = part_begin_[part + 1] - part_begin_[part];
+      std::copy(in, in + count, velocities.spheres.begin() + part_begin_[part]);
+      in += count;
+    }
+  }
+}
+
+void TileRanks::after_phase(std::size_t phase, VelocityCache& velocities) {
+  if (!active_) return;
+  shared_ = false;
+  std::vector<RowMessage>& sends = sends_[phase];
+  std::vector<RowMessage>& receives = receives_[phase];
+  std::vector<RankBytes> out;
+  std::vector<RankBytes> in;
+  for (RowMessage& m : sends) {
+    pack_rows(m.rows, velocities, m.buffer.data());
+    out.push_back({m.peer, bytes_of(m.buffer)});
+  }
+  for (RowMessage& m : receives) in.push_back({m.peer, bytes_of(m.buffer)});
+  exchange_with_ranks(out, in, static_cast<int>(phase));
+  for (const RowMessage& m : receives) unpack_rows(m.rows, m.buffer.data(), velocities);
+}
+
+void TileRanks::share_records(VelocityCache& velocities) {
+  if (!active_ || shared_) return;
+  counts_.assign(static_cast<std::size_t>(ranks_), 0);
+  std::size_t total = 0;
+  for (int r = 0; r < ranks_; ++r) {
+    const std::size_t records = row_records(rank_rows_[static_cast<std::size_t>(r)]);
+    counts_[static_cast<std::size_t>(r)] = static_cast<int>(records * sizeof(SphereVelocity));
+    total += records;
+  }
+  const auto& rows = rank_rows_[static_cast<std::size_t>(rank_)];
+  my_records_.resize(row_records(rows));
+  pack_rows(rows, velocities, my_records_.data());
+  all_records_.resize(total);
+  gather_from_all_ranks(bytes_of(my_records_), bytes_of(all_records_), counts_);
+  const SphereVelocity* in = all_records_.data();
+  for (int r = 0; r < ranks_; ++r) {
+    const auto& theirs = rank_rows_[static_cast<std::size_t>(r)];
+    if (r != rank_) unpack_rows(theirs, in, velocities);
+    in += row_records(theirs);
+  }
+  shared_ = true;
+}
+
+std::size_t TileRanks::part_actions(const ColouredPass& pass, std::uint32_t part) {
+  const std::size_t batched =
+      pass.colouring.first_member(part + 1) - pass.colouring.first_member(part);
+  const std::size_t sequential = pass.part_sequential[part + 1] - pass.part_sequential[part];
+  return batched + sequential;
+}
+
+void TileRanks::share_pass(Contacts& contacts, const ColouredPass& pass,
+                           std::vector<PartSums>& part_sums, VelocityCache& velocities) {
+  if (!active_) return;
+  share_records(velocities);
+  const std::size_t pairs = contacts.pairs.size();
+  // a part's actions: its batched pairs (colour order), then its sequential group
+  const auto for_each_action = [&](std::uint32_t p, auto&& visit) {
+    for (std::uint32_t k = pass.colouring.first_member(p); k < pass.colouring.first_member(p + 1);
+         ++k) {
+      visit(contacts.pair_actions[k]);
+    }
+    for (std::uint32_t j = pass.part_sequential[p]; j < pass.part_sequential[p + 1]; ++j) {
+      const ContactIndex k = pass.sequential[j];
+      visit(k < pairs ? contacts.pair_actions[k] : contacts.wall_actions[k - pairs]);
+    }
+  };
+  const auto& my_parts = rank_parts_[static_cast<std::size_t>(rank_)];
+  my_actions_.clear();
+  my_sums_.clear();
+  for (const std::uint32_t p : my_parts) {
+    for_each_action(p, [&](const ContactAction& a) { my_actions_.push_back(a); });
+    my_sums_.push_back(part_sums[p].sums);
+  }
+  // the actions, then the sums, of every rank's parts
+  counts_.assign(static_cast<std::size_t>(ranks_), 0);
+  sum_counts_.assign(static_cast<std::size_t>(ranks_), 0);
+  std::size_t actions = 0;
+  std::size_t sums = 0;
+  for (int r = 0; r < ranks_; ++r) {
+    std::size_t n = 0;
+    for (const std::uint32_t p : rank_parts_[static_cast<std::size_t>(r)]) {
+      n += part_actions(pass, p);
+    }
+    const std::size_t parts = rank_parts_[static_cast<std::size_t>(r)].size();
+    counts_[static_cast<std::size_t>(r)] = static_cast<int>(n * sizeof(ContactAction));
+    sum_counts_[static_cast<std::size_t>(r)] = static_cast<int>(parts * sizeof(PassSums));
+    actions += n;
+    sums += parts;
+  }
+  all_actions_.resize(actions);
+  all_sums_.resize(sums);
+  gather_from_all_ranks(bytes_of(my_actions_), bytes_of(all_actions_), counts_);
+  gather_from_all_ranks(bytes_of(my_sums_), bytes_of(all_sums_), sum_counts_);
+  const ContactAction* action = all_actions_.data();
+  const PassSums* sum = all_sums_.data();
+  for (int r = 0; r < ranks_; ++r) {
+    for (const std::uint32_t p : rank_parts_[static_cast<std::size_t>(r)]) {
+      if (r == rank_) {
+        action += part_actions(pass, p);
+      } else {
+        for_each_action(p, [&](ContactAction& a) { a = *action++; });
+        part_sums[p].sums = *sum;
+      }
+      ++sum;
+    }
+  }
+}
+
+}  // namespace cdpowder
