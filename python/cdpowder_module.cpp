@@ -3,6 +3,7 @@
 // RunFolder), so the same scene and seeds give the same numbers; errors arrive as exceptions
 // with the command line's messages; a sphere's state is a NumPy view of the World's own arrays.
 #include <fmt/format.h>
+#include <toml++/toml.h>
 
 #include <atomic>
 #include <cdpowder/cdpowder.hpp>
@@ -38,21 +39,83 @@ std::string override_text(const std::string& key, const py::handle& value) {
     if (text.find_first_of(".eEn") == std::string::npos) text += ".0";
   } else if (py::isinstance<py::str>(value)) {
     text = "\"" + value.cast<std::string>() + "\"";
+  } else if (py::isinstance<py::list>(value) || py::isinstance<py::tuple>(value) ||
+             py::isinstance<py::array>(value)) {
+    // a vector key (system.gravity): a TOML array of its numbers
+    const py::list items =
+        py::module_::import("builtins")
+            .attr("list")(py::isinstance<py::array>(value) ? value.attr("tolist")() : value);
+    text = "[";
+    for (std::size_t i = 0; i < items.size(); ++i) {
+      const auto item = py::reinterpret_borrow<py::object>(items[i]);
+      if (py::isinstance<py::bool_>(item) ||
+          (!py::isinstance<py::int_>(item) && !py::isinstance<py::float_>(item))) {
+        throw py::type_error("overrides[\"" + key + "\"][" + std::to_string(i) + "]: got " +
+                             py::str(py::type::of(item)).cast<std::string>() +
+                             ", expected a number");
+      }
+      text += std::string(i > 0 ? ", " : "") + py::repr(py::float_(item)).cast<std::string>();
+    }
+    text += "]";
   } else {
     throw py::type_error("overrides[\"" + key + "\"]: got " +
                          py::str(py::type::of(value)).cast<std::string>() +
-                         ", expected a bool, an int, a float or a str");
+                         ", expected a bool, an int, a float, a str or a list of numbers");
   }
   return key + "=" + text;
+}
+
+/// The value at a dotted key of a resolved scene, as Python sees it (numbers, bools, strings,
+/// lists); KeyError when the scene has no such key.
+py::object scene_value(const Scene& scene, const std::string& key) {
+  const toml::table table = toml::parse(scene.effective_toml);
+  const toml::node* node = table.at_path(key).node();
+  if (node == nullptr || node->is_table()) {
+    throw py::key_error(key + ": not a key of the scene (docs/config.md lists them)");
+  }
+  const auto value_of = [](const toml::node& n) -> py::object {
+    if (const auto* v = n.as_boolean()) return py::bool_(v->get());
+    if (const auto* v = n.as_integer()) return py::int_(v->get());
+    if (const auto* v = n.as_floating_point()) return py::float_(v->get());
+    if (const auto* v = n.as_string()) return py::str(v->get());
+    return py::none();
+  };
+  if (const auto* array = node->as_array()) {
+    py::list items;
+    for (const toml::node& item : *array) items.append(value_of(item));
+    return items;
+  }
+  return value_of(*node);
 }
 
 std::vector<SceneOverride> overrides_of(const py::dict& overrides) {
   std::vector<SceneOverride> out;
   for (const auto& [key, value] : overrides) {
     const auto name = py::str(key).cast<std::string>();
-    out.emplace_back(override_text(name, value));
+    SceneOverride& edit = out.emplace_back(override_text(name, value));
+    edit.origin = "overrides[\"" + name + "\"]";  // the Python argument, not --set
   }
   return out;
+}
+
+/// The scene's text the library wrote (the resolved TOML, read again with a command's demands),
+/// named in messages as the scene, never by a line of a text the user did not write.
+constexpr const char* kResolvedScene = "the scene";
+
+/// Runs `read`; a ConfigError's issues placed in the resolved scene's text lose their places.
+template <typename Read>
+Scene without_places_in_resolved_text(Read&& read) {
+  try {
+    return read();
+  } catch (const ConfigError& error) {
+    std::vector<ConfigIssue> issues = error.issues();
+    for (ConfigIssue& issue : issues) {
+      if (issue.file != kResolvedScene) continue;
+      issue.line = 0;
+      issue.column = 0;
+    }
+    throw ConfigError(std::move(issues));
+  }
 }
 
 /// A scene as read, with where it came from (a compaction reads it again with its demands).
@@ -65,7 +128,7 @@ struct PyScene {
   static PyScene from_keys(const py::dict& keys) {
     PyScene s;
     s.base_dir = std::filesystem::current_path();
-    s.scene = read_scene_text("", "<keys>", overrides_of(keys), s.base_dir);
+    s.scene = read_scene_text("", "Scene.from_keys", overrides_of(keys), s.base_dir);
     return s;
   }
 
@@ -80,8 +143,10 @@ struct PyScene {
   /// The same scene with more overrides, checked as the command line checks them.
   [[nodiscard]] PyScene with(const py::dict& overrides, const SceneReadOptions& how = {}) const {
     PyScene s;
-    s.scene = read_scene_text(scene.effective_toml, scene.source.string(), overrides_of(overrides),
-                              base_dir, how);
+    s.scene = without_places_in_resolved_text([&] {
+      return read_scene_text(scene.effective_toml, kResolvedScene, overrides_of(overrides),
+                             base_dir, how);
+    });
     s.scene.source = scene.source;
     s.base_dir = base_dir;
     return s;
@@ -108,7 +173,11 @@ struct Engine {
   World world;
   StepWorkspace work{1};
   RunState state;
-  bool in_use = false;  ///< a run steps it: a second run on it is refused (EngineInUse)
+  /// the scene it was made from or last run with: World.step and World.run step with its
+  /// solver and run settings, World.save stores it
+  PyScene scene;
+  double initial_porosity = 0.0;  ///< when it was made [-]
+  bool in_use = false;            ///< a run steps it: a second run on it is refused (EngineInUse)
   /// the run is stepping it without the GIL (not paused in its callback): the World's
   /// computed properties refuse to read it meanwhile (idle)
   std::atomic<bool> stepping{false};
@@ -173,6 +242,9 @@ py::dict contacts_of(const Engine& running) {
   std::vector<double> normal;
   std::vector<double> force;
   std::vector<double> normal_force;
+  std::vector<double> tangential;
+  std::vector<double> rolling;
+  std::vector<double> twisting;
   std::vector<double> gap;
   std::vector<bool> closed;
   std::vector<bool> cohesive;
@@ -185,6 +257,12 @@ py::dict contacts_of(const Engine& running) {
     normal.insert(normal.end(), {c.normal.x(), c.normal.y(), c.normal.z()});
     force.insert(force.end(), {total.x(), total.y(), total.z()});
     normal_force.push_back(c.action->normal_force);
+    const ContactAction& x = *c.action;
+    tangential.insert(tangential.end(),
+                      {x.tangential_force.x(), x.tangential_force.y(), x.tangential_force.z()});
+    rolling.insert(rolling.end(),
+                   {x.rolling_torque.x(), x.rolling_torque.y(), x.rolling_torque.z()});
+    twisting.push_back(x.twisting_torque);
     gap.push_back(c.gap);
     closed.push_back(c.closed());
     cohesive.push_back(c.cohesive);
@@ -196,6 +274,9 @@ py::dict contacts_of(const Engine& running) {
   out["normal"] = py::array_t<double>({n, py::ssize_t{3}}, normal.data());
   out["force"] = py::array_t<double>({n, py::ssize_t{3}}, force.data());
   out["normal_force"] = py::array_t<double>(n, normal_force.data());
+  out["tangential_force"] = py::array_t<double>({n, py::ssize_t{3}}, tangential.data());
+  out["rolling_torque"] = py::array_t<double>({n, py::ssize_t{3}}, rolling.data());
+  out["twisting_torque"] = py::array_t<double>(n, twisting.data());
   out["gap"] = py::array_t<double>(n, gap.data());
   py::array_t<bool> closed_array(n);
   py::array_t<bool> cohesive_array(n);
@@ -268,10 +349,16 @@ std::optional<RunFault> fault_after_callback(const World& world) {
 
 /// Raises cdpowder.RunFailed (a RuntimeError) for a run a fault stopped, its outputs written;
 /// the exception's `result` is the run's Result.
-[[noreturn]] void raise_run_failed(const py::object& run_failed, const std::string& message,
+[[noreturn]] void raise_run_failed(const py::object& run_failed, const RunFault& fault,
                                    const py::object& result) {
-  const py::object error = run_failed(message);
+  const py::object error = run_failed(fault.message);
   error.attr("result") = result;
+  error.attr("quantity") = fault.quantity;
+  error.attr("sphere") = fault.body >= 0 ? py::object(py::int_(fault.body)) : py::none();
+  error.attr("other_sphere") = fault.other >= 0 ? py::object(py::int_(fault.other)) : py::none();
+  error.attr("step") = fault.step;
+  error.attr("time") = fault.time;
+  error.attr("value") = fault.value;
   PyErr_SetObject(run_failed.ptr(), error.ptr());
   throw py::error_already_set();
 }
@@ -283,7 +370,8 @@ std::optional<RunFault> fault_after_callback(const World& world) {
 /// Ctrl-C ends the run as interrupted (outputs written) and then raises KeyboardInterrupt; an
 /// exception in the callback is raised once the outputs are written; a fault raises RunFailed.
 Result run(const Scene& scene, std::shared_ptr<Engine> engine, const py::object& callback,
-           int every, const std::optional<std::filesystem::path>& out, double initial_porosity) {
+           int every, const std::optional<std::filesystem::path>& out, double initial_porosity,
+           const std::function<bool()>& enough = {}, bool check = true) {
   if (every < 1) throw py::value_error("every: got " + std::to_string(every) + ", expected ≥ 1");
   std::optional<FolderLock> lock;
   std::optional<RunFolder> files;
@@ -312,8 +400,14 @@ Result run(const Scene& scene, std::shared_ptr<Engine> engine, const py::object&
     if (callback_fault) verdict.stop = true;
   };
   auto last_check = std::chrono::steady_clock::now();
+  bool reached = false;  // the caller's end (steps, time) rather than a stop
   const StopRequest stop = [&] {
     if (interrupted_by_signal || verdict.stop) return true;
+    // changes only with a step (the observer), so never inside a step's solve
+    if (enough && enough()) {
+      reached = true;
+      return true;
+    }
     const auto now = std::chrono::steady_clock::now();
     if (std::chrono::duration<double>(now - last_check).count() < kSignalCheckSeconds) {
       return false;
@@ -350,19 +444,23 @@ Result run(const Scene& scene, std::shared_ptr<Engine> engine, const py::object&
   result.engine = engine;
   result.scene = scene;
   result.initial_porosity = initial_porosity;
+  // World.run's end reached: a run that ended as asked, not an interrupted one
+  if (reached && !interrupted_by_signal && !verdict.stop) result.run.interrupted = false;
   if (verdict.error) throw std::move(*verdict.error);
   if (interrupted_by_signal) throw py::error_already_set();  // the KeyboardInterrupt
-  if (result.run.fault) {
-    raise_run_failed(py::module_::import("cdpowder").attr("RunFailed"), result.run.fault->message,
+  if (result.run.fault && check) {
+    raise_run_failed(py::module_::import("cdpowder").attr("RunFailed"), *result.run.fault,
                      py::cast(result));
   }
   return result;
 }
 
-std::shared_ptr<Engine> fresh_engine(const Scene& scene) {
+std::shared_ptr<Engine> fresh_engine(const PyScene& scene) {
   auto engine = std::make_shared<Engine>();
-  engine->world = make_world(scene, [] { return PyErr_CheckSignals() != 0; });
-  engine->work = StepWorkspace(scene.step.solver.seed);
+  engine->world = make_world(scene.scene, [] { return PyErr_CheckSignals() != 0; });
+  engine->work = StepWorkspace(scene.scene.step.solver.seed);
+  engine->scene = scene;
+  engine->initial_porosity = porosity(engine->world);
   return engine;
 }
 
@@ -444,6 +542,8 @@ std::shared_ptr<Engine> world_from_arrays(const PyScene& scene, const py::object
     throw py::value_error(*problem);
   }
   engine->work = StepWorkspace(resolved.step.solver.seed);
+  engine->scene = PyScene{resolved, scene.base_dir};
+  engine->initial_porosity = porosity(engine->world);
   return engine;
 }
 
@@ -452,7 +552,7 @@ std::shared_ptr<Engine> world_from_arrays(const PyScene& scene, const py::object
 Result start(const PyScene& scene, const py::object& world, const py::object& callback, int every,
              const std::optional<std::filesystem::path>& out) {
   const std::shared_ptr<Engine> engine =
-      world.is_none() ? fresh_engine(scene.scene) : world.cast<std::shared_ptr<Engine>>();
+      world.is_none() ? fresh_engine(scene) : world.cast<std::shared_ptr<Engine>>();
   // before anything of the World changes: a run in progress keeps it
   const EngineInUse busy(*engine);
   if (!world.is_none()) {
@@ -460,7 +560,92 @@ Result start(const PyScene& scene, const py::object& world, const py::object& ca
     piston.force = scene.scene.piston.push(engine->world.box.area());
     engine->state = RunState{};  // a new run on the packing as it is
   }
+  engine->scene = scene;
   return run(scene.scene, engine, callback, every, out, porosity(engine->world));
+}
+
+/// World.run: the engine continued with its scene's settings until `steps` more steps, the
+/// first step at or after time `until`, or (`until_blocked`, by default the scene's
+/// run.until_blocked) the blocked state or run.max_duration, whichever comes first. The blocked
+/// test runs as the command line's does, so a compaction stepped in any pieces ends on the
+/// bits of `cdpowder compact` (a run stopped and continued is the run never stopped,
+/// run_loop.hpp).
+Result run_world(const std::shared_ptr<Engine>& engine, std::optional<std::int64_t> steps,
+                 std::optional<double> until, std::optional<bool> blocked,
+                 const py::object& callback, int every,
+                 const std::optional<std::filesystem::path>& out, bool check) {
+  const EngineInUse busy(*engine);
+  const bool until_blocked = blocked.value_or(engine->scene.scene.run.until_blocked);
+  if (!steps && !until && !until_blocked) {
+    throw py::value_error(
+        "run: give steps=, until= or until_blocked=True (the world's scene does not run until "
+        "blocked)");
+  }
+  if (steps && *steps < 1) {
+    throw py::value_error(fmt::format("steps: got {}, expected ≥ 1", *steps));
+  }
+  const World& world = engine->world;
+  if (until && !(std::isfinite(*until) && *until > world.time)) {
+    throw py::value_error(
+        fmt::format("until: got {}, expected a time after the world's, {} t0", *until, world.time));
+  }
+  Scene scene = engine->scene.scene;
+  if (until_blocked && !scene.piston.enabled) {
+    throw py::value_error(
+        "until_blocked: the world's scene has no piston (piston.enabled = false); a run ends "
+        "at its blocked state only under a piston");
+  }
+  scene.run.until_blocked = until_blocked;
+  // without the blocked state, the run's own duration does not end it: steps= and until= do
+  if (!until_blocked) scene.run.duration = std::numeric_limits<double>::infinity();
+  const std::int64_t first_step = world.step;
+  const std::function<bool()> enough = [&, first_step] {
+    return (steps && world.step - first_step >= *steps) || (until && world.time >= *until);
+  };
+  return run(scene, engine, callback, every, out, engine->initial_porosity, enough, check);
+}
+
+/// The World of a state file's bytes (a .cdps file, or a pickle's), with the scene it holds.
+std::shared_ptr<Engine> engine_from_state(SavedRun saved, const std::filesystem::path& base_dir) {
+  auto engine = std::make_shared<Engine>();
+  SceneReadOptions how;
+  how.spheres_from_caller = true;  // the spheres are the file's
+  engine->scene.scene = without_places_in_resolved_text(
+      [&] { return read_scene_text(saved.scene_toml, kResolvedScene, {}, base_dir, how); });
+  engine->scene.scene.effective_toml = saved.scene_toml;
+  engine->scene.base_dir = base_dir;
+  engine->work = StepWorkspace(engine->scene.scene.step.solver.seed);
+  const Scene& scene = engine->scene.scene;
+  restore_run(std::move(saved), scene.run, scene.step.solver.dt, engine->world, engine->work,
+              engine->state);
+  engine->initial_porosity = porosity(engine->world);
+  return engine;
+}
+
+/// The n × 3 array of `values` (a copy).
+py::array_t<double> vec3_copy(const std::vector<Vec3>& values) {
+  py::array_t<double> out({static_cast<py::ssize_t>(values.size()), py::ssize_t{3}});
+  auto view = out.mutable_unchecked<2>();
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    for (py::ssize_t k = 0; k < 3; ++k) view(static_cast<py::ssize_t>(i), k) = values[i][k];
+  }
+  return out;
+}
+
+/// The last step's loads on every sphere: contacts alone, or with the external force and
+/// torque and the weight m g of a free sphere (`total`).
+SphereLoads loads_of(const Engine& running, bool total) {
+  const Engine& engine = idle(running);
+  const Bodies& bodies = engine.world.bodies;
+  SphereLoads loads = sphere_contact_loads(engine.work.contacts, bodies.size());
+  if (!total) return loads;
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    loads.force[i] += bodies.external_force[i];
+    if (bodies.inverse_mass[i] > 0.0)
+      loads.force[i] += engine.world.gravity / bodies.inverse_mass[i];
+    loads.torque[i] += bodies.external_torque[i];
+  }
+  return loads;
 }
 
 /// ConfigError as cdpowder.ConfigError (a ValueError), Interrupted as KeyboardInterrupt.
@@ -503,8 +688,134 @@ void bind_scene(py::module_& m) {
           "toml", [](const PyScene& s) { return s.scene.effective_toml; },
           "The fully resolved scene as TOML")
       .def_property_readonly("seed", [](const PyScene& s) { return s.scene.step.solver.seed; })
+      .def(
+          "__getitem__",
+          [](const PyScene& s, const std::string& key) { return scene_value(s.scene, key); },
+          py::arg("key"),
+          "The resolved value of a key (\"contact.mu\"): a number, bool, str or list")
       .def("__repr__", [](const PyScene& s) {
         return "<cdpowder.Scene from " + s.scene.source.string() + ">";
+      });
+}
+
+/// World's state: the spheres as NumPy views and what is measured of them.
+void bind_world_state(py::class_<Engine, std::shared_ptr<Engine>>& world) {
+  world
+      .def_static("from_arrays", &world_from_arrays, py::arg("scene"), py::arg("positions"),
+                  py::arg("radii"), py::arg("velocities") = py::none(),
+                  py::arg("angular_velocities") = py::none(), py::arg("fixed") = py::none(),
+                  "A world of the scene's cell, walls and piston (at rest on the highest sphere "
+                  "plus piston.start_gap, unless piston.height) around spheres given as arrays: "
+                  "positions n × 3 [R], radii n [R], optionally velocities and "
+                  "angular_velocities n × 3, fixed n booleans; the scene's [deposition] or "
+                  "[particles] is not used. Compact or simulate it with world=")
+      .def_property_readonly("positions", body_vectors(&Bodies::position),
+                             "Sphere centres, n × 3 [R] (a view: no copy)")
+      .def_property_readonly("velocities", body_vectors(&Bodies::velocity), "n × 3 [R/t0] (a view)")
+      .def_property_readonly("angular_velocities", body_vectors(&Bodies::angular_velocity),
+                             "n × 3 [1/t0] (a view)")
+      .def_property_readonly("radii", body_scalars(&Bodies::radius), "n [R] (a view)")
+      .def_property_readonly(
+          "time", [](const Engine& e) { return idle(e).world.time; }, "Simulated time [t0]")
+      .def_property_readonly(
+          "step_count", [](const Engine& e) { return idle(e).world.step; },
+          "Steps taken since the world was made")
+      .def_property_readonly(
+          "scene", [](const Engine& e) { return idle(e).scene; },
+          "The scene the world steps with: the one it was made from or last run with")
+      .def("contacts", &contacts_of,
+           "The last step's contacts, contacts.csv's columns as a dict of arrays: a, b (−1 "
+           "bottom wall, −2 piston), normal (n × 3), normal_force, tangential_force (n × 3), "
+           "rolling_torque (n × 3), twisting_torque, force (normal and tangential, n × 3), gap, "
+           "cohesive, closed")
+      .def("__len__", [](const Engine& e) { return idle(e).world.bodies.size(); });
+}
+
+/// World as an engine: stepping, saving, and the loads and stress of the last step.
+void bind_world_engine(py::class_<Engine, std::shared_ptr<Engine>>& world) {
+  world
+      .def(
+          "step",
+          [](const std::shared_ptr<Engine>& e, std::int64_t n) {
+            const Result r =
+                run_world(e, n, std::nullopt, std::nullopt, py::none(), 1, std::nullopt, true);
+            return r.run.last.diagnostics;
+          },
+          py::arg("n") = 1,
+          "Takes n steps (fewer if the scene runs until blocked and the world blocks) with the "
+          "scene's settings; returns the last step's StepDiagnostics")
+      .def("run", &run_world, py::arg("steps") = py::none(), py::arg("until") = py::none(),
+           py::arg("until_blocked") = py::none(), py::arg("callback") = py::none(),
+           py::arg("every") = 1, py::arg("out") = py::none(), py::arg("check") = true,
+           "Steps on with the scene's settings until `steps` more steps, the first step at or "
+           "after time `until` [t0], or (until_blocked, by default the scene's "
+           "run.until_blocked) the blocked state or run.max_duration, whichever comes first; "
+           "the same bits as the command line. callback(world, step) every `every` steps, "
+           "False stops; `out`: write the command line's files; a fault raises RunFailed "
+           "unless check=False. Returns a Result")
+      .def(
+          "save",
+          [](const Engine& e, const std::filesystem::path& path) {
+            const Engine& engine = idle(e);
+            save_state(path, engine.scene.scene.effective_toml, engine.world, engine.work,
+                       engine.state);
+          },
+          py::arg("path"),
+          "Writes the bit-exact state (a .cdps file, as a checkpoint): cdpowder.load(path) "
+          "continues it with the same bits as a run never stopped")
+      .def(
+          "contact_forces", [](const Engine& e) { return vec3_copy(loads_of(e, false).force); },
+          "n × 3: each sphere's sum of its contacts' forces in the last step [F_coh]")
+      .def(
+          "contact_torques", [](const Engine& e) { return vec3_copy(loads_of(e, false).torque); },
+          "n × 3: each sphere's sum of its contacts' torques about its centre [F_coh R]")
+      .def(
+          "forces", [](const Engine& e) { return vec3_copy(loads_of(e, true).force); },
+          "n × 3: each sphere's total force in the last step: its contacts', its external force "
+          "and, for a free sphere, its weight m g [F_coh]")
+      .def(
+          "torques", [](const Engine& e) { return vec3_copy(loads_of(e, true).torque); },
+          "n × 3: each sphere's total torque: its contacts' and its external torque [F_coh R]")
+      .def(
+          "stress",
+          [](const Engine& e) {
+            const Engine& engine = idle(e);
+            const StressTensors t =
+                stress_tensors(engine.work.contacts, packing_volume(engine.world));
+            py::dict out;
+            out["sigma"] = Eigen::Matrix3d(t.total);
+            out["sigma_plus"] = Eigen::Matrix3d(t.compressive);
+            out["sigma_minus"] = Eigen::Matrix3d(t.tensile);
+            return out;
+          },
+          "The stress of the last step's contact forces: {\"sigma\", \"sigma_plus\", "
+          "\"sigma_minus\"}, 3 × 3 [F_coh/R²] (physics.md §11)")
+      .def_property_readonly(
+          "last_step",
+          [](const Engine& e) -> py::object {
+            const Engine& engine = idle(e);
+            if (engine.state.result.steps == 0) return py::none();
+            return py::cast(engine.state.result.last.diagnostics);
+          },
+          "The last step's StepDiagnostics (its accuracy gauges), or None before a step")
+      .def(py::pickle(
+          [](const Engine& e) {
+            const Engine& engine = idle(e);
+            return py::make_tuple(py::bytes(encode_state(engine.scene.scene.effective_toml,
+                                                         engine.world, engine.work, engine.state)),
+                                  engine.scene.base_dir.string());
+          },
+          [](const py::tuple& t) {
+            if (t.size() != 2) throw py::value_error("not a pickled cdpowder.World");
+            return engine_from_state(decode_state(t[0].cast<std::string>(), "the pickle"),
+                                     t[1].cast<std::string>());
+          }))
+      .def_property_readonly("piston_height",
+                             [](const Engine& e) { return idle(e).world.walls.piston.height; })
+      .def_property_readonly("porosity", [](const Engine& e) { return porosity(idle(e).world); })
+      .def_property_readonly("coordination_number", [](const Engine& e) {
+        const Engine& i = idle(e);
+        return coordination_number(i.work.contacts, i.world.bodies.size());
       });
 }
 
@@ -521,36 +832,10 @@ void bind_world(py::module_& m) {
       .def_readonly("piston_imbalance", &StepDiagnostics::piston_imbalance)
       .def_readonly("max_net_force", &StepDiagnostics::max_net_force);
 
-  py::class_<Engine, std::shared_ptr<Engine>>(
-      m, "World", "Spheres, walls and piston, with the solver's memory of the last step")
-      .def_static("from_arrays", &world_from_arrays, py::arg("scene"), py::arg("positions"),
-                  py::arg("radii"), py::arg("velocities") = py::none(),
-                  py::arg("angular_velocities") = py::none(), py::arg("fixed") = py::none(),
-                  "A world of the scene's cell, walls and piston (at rest on the highest sphere "
-                  "plus piston.start_gap, unless piston.height) around spheres given as arrays: "
-                  "positions n × 3 [R], radii n [R], optionally velocities and "
-                  "angular_velocities n × 3, fixed n booleans; the scene's [deposition] or "
-                  "[particles] is not used. Compact or simulate it with world=")
-      .def_property_readonly("positions", body_vectors(&Bodies::position),
-                             "Sphere centres, n × 3 [R] (a view: no copy)")
-      .def_property_readonly("velocities", body_vectors(&Bodies::velocity), "n × 3 [R/t0] (a view)")
-      .def_property_readonly("angular_velocities", body_vectors(&Bodies::angular_velocity),
-                             "n × 3 [1/t0] (a view)")
-      .def_property_readonly("radii", body_scalars(&Bodies::radius), "n [R] (a view)")
-      .def_property_readonly("time", [](const Engine& e) { return idle(e).world.time; })
-      .def_property_readonly("step", [](const Engine& e) { return idle(e).world.step; })
-      .def_property_readonly("piston_height",
-                             [](const Engine& e) { return idle(e).world.walls.piston.height; })
-      .def_property_readonly("porosity", [](const Engine& e) { return porosity(idle(e).world); })
-      .def_property_readonly("coordination_number",
-                             [](const Engine& e) {
-                               const Engine& i = idle(e);
-                               return coordination_number(i.work.contacts, i.world.bodies.size());
-                             })
-      .def("contacts", &contacts_of,
-           "The last step's contacts: a dict of arrays a, b (−1 bottom wall, −2 piston), "
-           "normal, force, normal_force, gap, closed, cohesive")
-      .def("__len__", [](const Engine& e) { return idle(e).world.bodies.size(); });
+  py::class_<Engine, std::shared_ptr<Engine>> world(
+      m, "World", "Spheres, walls and piston, with the solver's memory of the last step");
+  bind_world_state(world);
+  bind_world_engine(world);
 }
 
 /// cdpowder.Result: the end of a run, its stress and summary.
@@ -587,9 +872,19 @@ void bind_runs(py::module_& m) {
       [](const PyScene& scene) {
         SceneReadOptions how;
         how.deposition_required = true;
-        return fresh_engine(scene.with({}, how).scene);
+        return fresh_engine(scene.with({}, how));
       },
       py::arg("scene"), "The scene's ballistic deposit, as `cdpowder deposit` makes it");
+  m.def(
+      "load",
+      [](const std::filesystem::path& path) {
+        std::error_code error;
+        const std::filesystem::path absolute = std::filesystem::absolute(path, error);
+        return engine_from_state(load_state(path), absolute.parent_path());
+      },
+      py::arg("path"),
+      "The World of a state file (World.save, or a run's checkpoint.cdps) with its scene, "
+      "ready to step on with the same bits as the run never stopped");
   m.def(
       "compact",
       [](const PyScene& scene, const py::object& world, const py::object& callback, int every,

@@ -7,14 +7,13 @@ Writes pressure_steps.csv (p, E, sigma_zz/p) in the working folder. With the qui
     PYTHONPATH=build/release/python examples/python/pressure_steps.py [SCENE.toml]"""
 import csv
 import sys
-import tomllib
 from pathlib import Path
 
 import cdpowder
 
 path = Path(sys.argv[1]) if len(sys.argv) > 1 else Path(__file__).parents[1] / "quick/scene.toml"
 base = cdpowder.Scene.from_toml(path)
-p0 = tomllib.loads(base.toml)["piston"]["pressure"]  # the resolved scene, as TOML
+p0 = base["piston.pressure"]  # a value of the resolved scene
 world = cdpowder.deposit(base)
 rows = []
 for k in range(6):

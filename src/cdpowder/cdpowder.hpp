@@ -28,6 +28,7 @@
 
 #include "cdpowder/analysis/coordination.hpp"
 #include "cdpowder/analysis/porosity.hpp"
+#include "cdpowder/analysis/sphere_loads.hpp"
 #include "cdpowder/analysis/step_diagnostics.hpp"
 #include "cdpowder/analysis/stress.hpp"
 #include "cdpowder/config/config_error.hpp"

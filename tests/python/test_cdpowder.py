@@ -73,7 +73,7 @@ def test_a_callback_runs_every_k_steps_and_can_stop_the_run():
     seen = []
 
     def every_100(world, step):
-        seen.append((world.step, step.contacts))
+        seen.append((world.step_count, step.contacts))
         return len(seen) < 3  # False: stop
 
     result = cdpowder.compact(quick(), callback=every_100, every=100)
@@ -96,8 +96,10 @@ def test_bad_input_raises_with_the_command_lines_message(tmp_path):
         cdpowder.Scene.from_toml(QUICK, {"solver.tolerence": 1e-6})
     with pytest.raises(ValueError):  # ConfigError is a ValueError
         cdpowder.Scene.from_toml(tmp_path / "missing.toml")
-    with pytest.raises(TypeError, match="expected a bool, an int, a float or a str"):
+    with pytest.raises(cdpowder.ConfigError, match="contact.mu: got an array, expected a number"):
         cdpowder.Scene.from_toml(QUICK, {"contact.mu": [0.3]})
+    with pytest.raises(TypeError, match="expected a bool, an int, a float, a str or a list"):
+        cdpowder.Scene.from_toml(QUICK, {"contact.mu": {"a": 1}})
 
 
 def test_overrides_keep_their_types_and_the_seed():
@@ -171,7 +173,7 @@ def test_a_callback_is_judged_by_pythons_truth_and_outputs_are_kept(tmp_path):
     calls = []
 
     def empty_list_stops(world, step):
-        calls.append(world.step)
+        calls.append(world.step_count)
         return [] if len(calls) == 2 else ["go on"]  # a list: its truth decides
 
     result = cdpowder.compact(quick(), callback=empty_list_stops, every=10, out=tmp_path / "a")
@@ -289,3 +291,93 @@ def test_a_radius_written_through_a_view_is_a_fault(tmp_path):
 def test_a_world_of_no_spheres_is_refused():
     with pytest.raises(ValueError, match="radii: got 0 spheres, expected at least 1"):
         cdpowder.World.from_arrays(quick(), np.zeros((0, 3)), np.zeros(0))
+
+
+def test_a_world_stepped_in_pieces_ends_on_the_bits_of_one_compaction():
+    scene = quick(**{"contact.mu_roll": 0.3})
+    whole = cdpowder.compact(scene)
+    world = cdpowder.deposit(scene)
+    assert world.last_step is None
+    step = world.step()
+    assert world.step_count == 1 and step.contacts == world.last_step.contacts
+    world.step(9)
+    assert world.step_count == 10
+    world.run(steps=40)
+    world.run(until=world.time + 0.5)
+    result = world.run()  # the scene's own end: blocked, or run.max_duration
+    assert result.steps == whole.steps and not result.interrupted
+    assert np.array_equal(world.positions, whole.world.positions)
+    assert np.array_equal(world.angular_velocities, whole.world.angular_velocities)
+    assert result.porosity == whole.porosity
+
+
+def test_save_load_and_pickle_continue_with_the_same_bits(tmp_path):
+    import pickle
+    scene = quick()
+    whole = cdpowder.deposit(scene)
+    whole.run(steps=60)
+    half = cdpowder.deposit(scene)
+    half.run(steps=25)
+    half.save(tmp_path / "half.cdps")
+    for world in (cdpowder.load(tmp_path / "half.cdps"), pickle.loads(pickle.dumps(half))):
+        assert world.step_count == 25 and world.scene["contact.mu"] == scene["contact.mu"]
+        world.run(steps=35)
+        assert np.array_equal(world.positions, whole.positions)
+        assert np.array_equal(world.velocities, whole.velocities)
+
+
+def test_forces_torques_and_stress_of_any_step():
+    world = cdpowder.deposit(quick())
+    world.run(steps=30)
+    contacts = world.contacts()
+    for column in ("tangential_force", "rolling_torque"):
+        assert contacts[column].shape == (len(contacts["a"]), 3)
+    assert contacts["twisting_torque"].shape == contacts["normal_force"].shape
+    np.testing.assert_allclose(
+        contacts["force"],
+        contacts["normal_force"][:, None] * contacts["normal"] + contacts["tangential_force"])
+    forces = world.contact_forces()
+    torques = world.contact_torques()
+    assert forces.shape == (len(world), 3) and torques.shape == (len(world), 3)
+    # action and reaction: the pairs' forces cancel, the walls' remain
+    walls = contacts["a"] < 0
+    np.testing.assert_allclose(forces.sum(axis=0), contacts["force"][walls].sum(axis=0),
+                               atol=1e-9)
+    # no gravity, no external load in the quick scene: the totals are the contacts'
+    assert np.array_equal(world.forces(), forces) and np.array_equal(world.torques(), torques)
+    stress = world.stress()
+    np.testing.assert_allclose(stress["sigma_plus"] + stress["sigma_minus"], stress["sigma"],
+                               atol=1e-15)
+    assert world.last_step.max_overlap >= world.last_step.mean_overlap >= 0.0
+
+
+def test_a_scene_reads_its_values_and_takes_vectors():
+    scene = cdpowder.Scene.from_toml(QUICK, {"system.gravity": [0, 0, -1e-3]})
+    assert scene["system.gravity"] == [0.0, 0.0, -1e-3]
+    assert scene["contact.mu"] == 0.3 and scene["run.until_blocked"] is True
+    assert cdpowder.Scene.from_toml(QUICK, {"system.gravity": np.array([0.0, 0, -2])})[
+        "system.gravity"] == [0.0, 0.0, -2.0]
+    with pytest.raises(KeyError, match="contact.mew"):
+        scene["contact.mew"]
+    with pytest.raises(cdpowder.ConfigError, match=r'overrides\["contact.mu"\]'):
+        cdpowder.Scene.from_toml(QUICK, {"contact.mu": -1.0})
+
+
+def test_run_asks_for_an_end_and_names_a_fault():
+    world = cdpowder.World.from_arrays(
+        cdpowder.Scene.from_toml(QUICK), positions=[[5.0, 5.0, 1.0], [5.0, 5.0, 1.5]],
+        radii=[1.0, 1.0])
+    with pytest.raises(ValueError, match="until"):
+        world.run(until=world.time - 1.0)
+    with pytest.raises(cdpowder.RunFailed) as failed:
+        world.run(steps=5)
+    assert failed.value.quantity == "overlap" and failed.value.sphere in (0, 1)
+    assert failed.value.step >= 1
+
+
+def test_a_message_never_points_into_text_the_user_did_not_write():
+    scene = cdpowder.Scene.from_keys({"deposition.spheres": 50, "system.lx": 8, "system.ly": 8})
+    with pytest.raises(cdpowder.ConfigError) as error:
+        cdpowder.compact(scene)
+    assert str(error.value).startswith("the scene: piston.enabled: is false")
+    assert "<keys>" not in str(error.value) and ":26:" not in str(error.value)

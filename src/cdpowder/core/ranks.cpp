@@ -1,6 +1,7 @@
 // ranks.cpp — MPI, when built in (ranks.hpp); one rank otherwise.
 #include "cdpowder/core/ranks.hpp"
 
+#include <array>
 #include <cstdlib>
 #include <cstring>
 #include <stdexcept>
@@ -31,10 +32,11 @@ bool started_by_launcher() {
 #if defined(CDPOWDER_WITH_MPI)
 void check(int code, const char* what) {
   if (code == MPI_SUCCESS) return;
-  char text[MPI_MAX_ERROR_STRING];
+  std::array<char, MPI_MAX_ERROR_STRING> text{};
   int length = 0;
-  MPI_Error_string(code, text, &length);
-  throw std::runtime_error(std::string(what) + ": " + std::string(text, length));
+  MPI_Error_string(code, text.data(), &length);
+  throw std::runtime_error(std::string(what) + ": " +
+                           std::string(text.data(), static_cast<std::size_t>(length)));
 }
 #endif
 

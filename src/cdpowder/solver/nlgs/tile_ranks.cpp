@@ -150,6 +150,8 @@ void TileRanks::after_phase(std::size_t phase, VelocityCache& velocities) {
   std::vector<RowMessage>& receives = receives_[phase];
   std::vector<RankBytes> out;
   std::vector<RankBytes> in;
+  out.reserve(sends.size());
+  in.reserve(receives.size());
   for (RowMessage& m : sends) {
     pack_rows(m.rows, velocities, m.buffer.data());
     out.push_back({m.peer, bytes_of(m.buffer)});
