@@ -404,7 +404,8 @@ void allow_former_names(toml::table& root, TableReader& in) {
   in.allow_former_name(detail::key_name(d, d.run.blocked.final_max_passes),
                        "run.blocked.final_max_sweeps");
   const std::string order = detail::key_name(d, d.step.solver.visit_order);
-  if (auto* value = root.at_path(order).as_string(); value != nullptr && value->get() == "random_each_sweep") {
+  if (auto* value = root.at_path(order).as_string();
+      value != nullptr && value->get() == "random_each_sweep") {
     value->get() = "random_each_pass";  // in place: the value keeps its position for messages
   }
 }
