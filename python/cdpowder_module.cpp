@@ -650,7 +650,11 @@ SphereLoads loads_of(const Engine& running, bool total) {
 
 /// ConfigError as cdpowder.ConfigError (a ValueError), Interrupted as KeyboardInterrupt.
 void bind_errors(py::module_& m) {
-  static py::exception<ConfigError> config_error(m, "ConfigError", PyExc_ValueError);
+  // named as the package names it (cdpowder.ConfigError), not as cdpowder._core's; kept by the
+  // module alone (a static object would outlive the interpreter)
+  m.attr("ConfigError") = py::reinterpret_steal<py::object>(PyErr_NewExceptionWithDoc(
+      "cdpowder.ConfigError", "Bad input: the message names the key, the value and what is allowed",
+      PyExc_ValueError, nullptr));
   // a fault stopped the run (the command line's exit 3); its outputs are written, and the
   // exception's `result` is the run's Result
   m.attr("RunFailed") = py::reinterpret_steal<py::object>(
@@ -664,7 +668,8 @@ void bind_errors(py::module_& m) {
         try {
           if (p) std::rethrow_exception(p);
         } catch (const ConfigError& e) {
-          config_error(e.what());
+          const py::object error = py::module_::import("cdpowder._core").attr("ConfigError");
+          PyErr_SetString(error.ptr(), e.what());
         } catch (const Interrupted& e) {
           PyErr_SetString(PyExc_KeyboardInterrupt, e.what());
         }
@@ -913,8 +918,8 @@ void bind_runs(py::module_& m) {
 }  // namespace cdpowder::python
 
 // NOLINTNEXTLINE: pybind11's entry point
-PYBIND11_MODULE(cdpowder, m) {
-  m.doc() = "cdpowder: contact dynamics of cohesive powders of rigid spheres";
+PYBIND11_MODULE(_core, m) {
+  m.doc() = "cdpowder's engine (the package cdpowder gives its names)";
   m.attr("__version__") = cdpowder::kVersion;
   m.attr("git_commit") = cdpowder::kGitCommit;
   cdpowder::python::bind_errors(m);

@@ -7,8 +7,16 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bash tools/install_deps.sh
 cmake --preset release >/dev/null
-cmake --build build/release --target cdpowder
+# the program, and the Python package (build/release/python) when pybind11 was found
+targets=(cdpowder)
+if cmake --build build/release --target help | grep -q '^cdpowder_python:'; then
+  targets+=(cdpowder_python)
+fi
+cmake --build build/release --target "${targets[@]}"
 build/release/app/cdpowder compact examples/quick/scene.toml --out runs/quick "$@"
 echo "outputs in runs/quick: summary.json, scene.toml, initial_particles.csv, particles.csv,"
 echo "contacts.csv, timeseries.csv; particles.vtp, contacts.vtp and walls.vtp (the bottom wall,"
 echo "piston and cell) for ParaView (docs/outputs.md)"
+if [ ${#targets[@]} -gt 1 ]; then
+  echo "Python: PYTHONPATH=build/release/python python3 -c 'import cdpowder' (docs/python.md)"
+fi
