@@ -28,6 +28,13 @@ install(FILES ${PROJECT_BINARY_DIR}/cdpowderConfig.cmake
 install(FILES ${PROJECT_SOURCE_DIR}/packaging/cdpowder.bash-completion
         DESTINATION ${CMAKE_INSTALL_DATADIR}/bash-completion/completions RENAME cdpowder)
 
+# The docs and examples that the program's messages and --help cite, beside the program.
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/docs/ DESTINATION ${CMAKE_INSTALL_DOCDIR}
+        PATTERN "lab" EXCLUDE PATTERN "performance" EXCLUDE)
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/examples DESTINATION ${CMAKE_INSTALL_DOCDIR})
+install(FILES ${PROJECT_SOURCE_DIR}/README.md ${PROJECT_SOURCE_DIR}/CHANGELOG.md
+              ${PROJECT_SOURCE_DIR}/LICENSE DESTINATION ${CMAKE_INSTALL_DOCDIR})
+
 # The man page from the program's own --help (help2man), so the two never disagree.
 find_program(HELP2MAN help2man)
 if(HELP2MAN)
@@ -37,7 +44,9 @@ if(HELP2MAN)
     OUTPUT ${man_page}
     COMMAND ${CMAKE_COMMAND} -DCDPOWDER=$<TARGET_FILE:cdpowder> -DOUTPUT=${man_commands}
             -P ${PROJECT_SOURCE_DIR}/cmake/CdpowderManCommands.cmake
-    COMMAND ${HELP2MAN} --no-info --name "contact dynamics of cohesive powders of rigid spheres"
+    # a UTF-8 locale (-L): help2man re-encodes --help (σ, ≤, —) to the locale's charset, and
+    # under C, even with LC_ALL=C.UTF-8 set, it wrote "cdpowder ???" for the dash (measured)
+    COMMAND ${HELP2MAN} -L C.UTF-8 --no-info --name "contact dynamics of cohesive powders of rigid spheres"
             --version-string ${PROJECT_VERSION} --include ${man_commands} --output ${man_page}
             $<TARGET_FILE:cdpowder>
     DEPENDS cdpowder ${PROJECT_SOURCE_DIR}/cmake/CdpowderManCommands.cmake

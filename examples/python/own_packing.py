@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """A packing built in Python, compacted by the piston: does the deposit's structure set the
 porosity after compaction? The command line starts from a ballistic deposit or a particles
 CSV; here the spheres come from NumPy. A random loose packing (random sequential addition:

@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """The paper's experiment at (mu_t, mu_n) = (0.3, 0.3): a ballistic deposit of 1 015 cohesive
 spheres compacted by the piston until it blocks; prints the porosity and sigma_zz's parts over
 the pressure (Table 1's quantities). About 15-20 s. Run from the repository with the module on

@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Compaction in pressure steps, recording E(p): one deposit pressed by the piston at p, until
 it blocks, then at 2p, 4p, ... each step continuing the packing the last one left. The
 command line compacts at one pressure; here the same packing carries a loading history.

@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """A compaction stepped from Python, reading the forces as it goes: every 50 steps the piston's
 height, the largest normal contact force and the largest net force on a sphere (its contacts'
 sum: how far from balance the packing is), until the packing blocks or the scene's

@@ -158,6 +158,18 @@ TEST_F(ParticlesCsv, RejectsBadFixedFlag) {
   EXPECT_THAT(found[0], HasSubstr(":2: fixed: cannot read '2' as 0, 1, true or false"));
 }
 
+// pandas writes a bool column as True/False (DataFrame.to_csv)
+TEST_F(ParticlesCsv, ReadsTheFixedFlagAsPandasWritesIt) {
+  const fs::path file = write(",x,y,z,r,fixed\n0,1,2,3,1,False\n1,5,2,3,1,True\n");
+  Bodies bodies;
+  EXPECT_THROW(read_particles_csv(file, 1.0, bodies), ConfigError);  // the index column
+  const fs::path plain = write("x,y,z,r,fixed\n1,2,3,1,False\n5,2,3,1,True\n");
+  read_particles_csv(plain, 1.0, bodies);
+  ASSERT_EQ(bodies.size(), 2U);
+  EXPECT_EQ(bodies.fixed[0], 0);
+  EXPECT_EQ(bodies.fixed[1], 1);
+}
+
 TEST_F(ParticlesCsv, RejectsAFileWithoutParticles) {
   EXPECT_THAT(issues("x,y,z,r\n# nothing\n"), ::testing::ElementsAre(HasSubstr("no particles")));
   EXPECT_THAT(issues(""), ::testing::ElementsAre(HasSubstr("no header")));

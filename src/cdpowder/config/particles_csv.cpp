@@ -72,11 +72,13 @@ std::optional<double> parse_number(std::string_view text) {
   return value;
 }
 
+/// 0 or 1, as cdpowder writes it; true/false, and pandas' True/False (DataFrame.to_csv of a
+/// bool column, measured: "False" was refused before).
 std::optional<double> parse_flag(std::string_view text) {
-  if (text == "1" || text == "true") {
+  if (text == "1" || text == "true" || text == "True") {
     return 1.0;
   }
-  if (text == "0" || text == "false") {
+  if (text == "0" || text == "false" || text == "False") {
     return 0.0;
   }
   return std::nullopt;
@@ -98,8 +100,10 @@ class CsvParser {
           std::find(kColumnNames.begin(), kColumnNames.end(), field) - kColumnNames.begin());
       if (field.empty()) {  // "x,y,z,r," once read as an unknown column "did you mean 'x'?"
         add(line_number, "",
-            fmt::format("column {} of the header has no name (a trailing or doubled comma?)",
-                        position));
+            fmt::format("column {} of the header has no name ({})", position,
+                        position == 1 ? "pandas' index column? write the file with "
+                                        "DataFrame.to_csv(path, index=False)"
+                                      : "a trailing or doubled comma?"));
       } else if (column == kColumnNames.size()) {
         add(line_number, shown(field),
             "unknown column" + did_you_mean(field, known) +
@@ -135,7 +139,7 @@ class CsvParser {
       if (!value) {
         add(line_number, name,
             fmt::format("cannot read '{}' as {}", shown(fields[i]),
-                        column == Fixed ? "0, 1, true or false" : "a number"));
+                        column == Fixed ? "0, 1, true or false (True, False)" : "a number"));
         ok = false;
       } else if (!std::isfinite(*value)) {
         add(line_number, name, fmt::format("got {}, expected a finite number", fields[i]));
