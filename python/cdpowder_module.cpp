@@ -692,7 +692,9 @@ void bind_scene(py::module_& m) {
       .def_property_readonly(
           "toml", [](const PyScene& s) { return s.scene.effective_toml; },
           "The fully resolved scene as TOML")
-      .def_property_readonly("seed", [](const PyScene& s) { return s.scene.step.solver.seed; })
+      .def_property_readonly(
+          "seed", [](const PyScene& s) { return s.scene.step.solver.seed; },
+          "solver.seed, the seed of the pass-order stream")
       .def(
           "__getitem__",
           [](const PyScene& s, const std::string& key) { return scene_value(s.scene, key); },
@@ -733,7 +735,9 @@ void bind_world_state(py::class_<Engine, std::shared_ptr<Engine>>& world) {
            "bottom wall, −2 piston), normal (n × 3), normal_force, tangential_force (n × 3), "
            "rolling_torque (n × 3), twisting_torque, force (normal and tangential, n × 3), gap, "
            "cohesive, closed")
-      .def("__len__", [](const Engine& e) { return idle(e).world.bodies.size(); });
+      .def(
+          "__len__", [](const Engine& e) { return idle(e).world.bodies.size(); },
+          "The number of spheres");
 }
 
 /// World as an engine: stepping, saving, and the loads and stress of the last step.
@@ -815,27 +819,45 @@ void bind_world_engine(py::class_<Engine, std::shared_ptr<Engine>>& world) {
             return engine_from_state(decode_state(t[0].cast<std::string>(), "the pickle"),
                                      t[1].cast<std::string>());
           }))
-      .def_property_readonly("piston_height",
-                             [](const Engine& e) { return idle(e).world.walls.piston.height; })
-      .def_property_readonly("porosity", [](const Engine& e) { return porosity(idle(e).world); })
-      .def_property_readonly("coordination_number", [](const Engine& e) {
-        const Engine& i = idle(e);
-        return coordination_number(i.work.contacts, i.world.bodies.size());
-      });
+      .def_property_readonly(
+          "piston_height", [](const Engine& e) { return idle(e).world.walls.piston.height; },
+          "Height of the piston's lower face Z_P [R]")
+      .def_property_readonly(
+          "porosity", [](const Engine& e) { return porosity(idle(e).world); },
+          "E = 1 − (volume of the spheres) / (cell area × Z_P): the paper's porosity")
+      .def_property_readonly(
+          "coordination_number",
+          [](const Engine& e) {
+            const Engine& i = idle(e);
+            return coordination_number(i.work.contacts, i.world.bodies.size());
+          },
+          "Mean number of force-carrying contacts a sphere has in the last step");
 }
 
 /// cdpowder.StepDiagnostics and cdpowder.World (the spheres as NumPy views).
 void bind_world(py::module_& m) {
   py::class_<StepDiagnostics>(m, "StepDiagnostics", "The measures and gauges of one step")
-      .def_readonly("contacts", &StepDiagnostics::contacts)
-      .def_readonly("closed_contacts", &StepDiagnostics::closed_contacts)
-      .def_readonly("cohesive_contacts", &StepDiagnostics::cohesive_contacts)
-      .def_readonly("mean_overlap", &StepDiagnostics::mean_overlap)
-      .def_readonly("max_overlap", &StepDiagnostics::max_overlap)
-      .def_readonly("kinetic_energy", &StepDiagnostics::kinetic_energy)
-      .def_readonly("rms_speed", &StepDiagnostics::rms_speed)
-      .def_readonly("piston_imbalance", &StepDiagnostics::piston_imbalance)
-      .def_readonly("max_net_force", &StepDiagnostics::max_net_force);
+      .def_readonly("contacts", &StepDiagnostics::contacts,
+                    "Candidate contacts of the step, pairs and walls")
+      .def_readonly("closed_contacts", &StepDiagnostics::closed_contacts,
+                    "Contacts carrying force (R_n + F_c > 0)")
+      .def_readonly("cohesive_contacts", &StepDiagnostics::cohesive_contacts,
+                    "Cohesion-active contacts")
+      .def_readonly("mean_overlap", &StepDiagnostics::mean_overlap,
+                    "Mean overlap of the closed contacts after the step [R] (physics.md §17: "
+                    "≤ 1e-3)")
+      .def_readonly("max_overlap", &StepDiagnostics::max_overlap,
+                    "Largest overlap of any contact after the step [R]")
+      .def_readonly("kinetic_energy", &StepDiagnostics::kinetic_energy,
+                    "Σ ½ m v² + ½ I ω² of the spheres and ½ M_P V_P² of the piston [F_coh R]")
+      .def_readonly("rms_speed", &StepDiagnostics::rms_speed,
+                    "Mass-weighted RMS sphere speed [R/t0]")
+      .def_readonly("piston_imbalance", &StepDiagnostics::piston_imbalance,
+                    "The piston's force balance: the spheres' push on it minus its load, in "
+                    "absolute value, over the load (0 without a load)")
+      .def_readonly("max_net_force", &StepDiagnostics::max_net_force,
+                    "Largest net force (and torque / radius) on a free sphere in the step "
+                    "[F_coh]: ≈ 0 in a static packing (physics.md §17)");
 
   py::class_<Engine, std::shared_ptr<Engine>> world(
       m, "World", "Spheres, walls and piston, with the solver's memory of the last step");
@@ -846,12 +868,21 @@ void bind_world(py::module_& m) {
 /// cdpowder.Result: the end of a run, its stress and summary.
 void bind_result(py::module_& m) {
   py::class_<Result>(m, "Result", "The end of a run")
-      .def_property_readonly("world", [](const Result& r) { return r.engine; })
-      .def_property_readonly("porosity",
-                             [](const Result& r) { return porosity(idle(*r.engine).world); })
-      .def_property_readonly("blocked", [](const Result& r) { return r.run.blocked; })
-      .def_property_readonly("interrupted", [](const Result& r) { return r.run.interrupted; })
-      .def_property_readonly("steps", [](const Result& r) { return r.run.steps; })
+      .def_property_readonly(
+          "world", [](const Result& r) { return r.engine; },
+          "The World at the run's end, ready to step on")
+      .def_property_readonly(
+          "porosity", [](const Result& r) { return porosity(idle(*r.engine).world); },
+          "The porosity E at the run's end")
+      .def_property_readonly(
+          "blocked", [](const Result& r) { return r.run.blocked; },
+          "Whether the run ended at the blocked state (physics.md §9)")
+      .def_property_readonly(
+          "interrupted", [](const Result& r) { return r.run.interrupted; },
+          "Whether a stop (Ctrl-C, a callback's False) ended the run before its end")
+      .def_property_readonly(
+          "steps", [](const Result& r) { return r.run.steps; },
+          "Steps of the run so far (of every World.run call since the run began)")
       .def_property_readonly(
           "sigma", [](const Result& r) { return Eigen::Matrix3d(r.stress().total); },
           "σ, 3 × 3 [F_coh/R²]")
@@ -924,7 +955,8 @@ PYBIND11_MODULE(_core, m) {
   m.attr("git_commit") = cdpowder::kGitCommit;
   cdpowder::python::bind_errors(m);
   cdpowder::python::bind_scene(m);
-  cdpowder::python::bind_world(m);
+  // Result before World, whose run() returns one: the signatures name the Python classes
   cdpowder::python::bind_result(m);
+  cdpowder::python::bind_world(m);
   cdpowder::python::bind_runs(m);
 }

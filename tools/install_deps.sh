@@ -8,7 +8,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev zlib1g-dev libopenmpi-dev openmpi-bin
   python3 python3-numpy python3-pandas python3-matplotlib python3-vtk9 help2man
   python3-dev pybind11-dev python3-pytest pyflakes3 python3-venv python3-pip python3-setuptools
-  python3-wheel
+  python3-wheel python3-sphinx python3-myst-parser
 )
 missing=()
 for p in "${packages[@]}"; do
