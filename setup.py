@@ -44,7 +44,7 @@ class CMakeBuild(build_ext):
 
 
 setup(version=version(),
-      packages=["cdpowder"],
+      packages=["cdpowder", "cdpowder.report"],
       package_dir={"": "python"},
       ext_modules=[Extension("cdpowder._core", sources=[])],
       cmdclass={"build_ext": CMakeBuild})

@@ -241,6 +241,26 @@ class ReportOnKnownSweeps(unittest.TestCase):
         for name in first:
             self.assertEqual(first[name], second[name], name)
 
+    def test_a_sweep_of_another_key_is_reported_against_it(self):
+        # a pressure sweep: no (μt, μn) columns, no paper figures, E against the key
+        folder = self.dir / "pressure"
+        folder.mkdir()
+        with open(folder / "results.csv", "w", newline="") as f:
+            f.write("# synthetic pressure sweep\n")
+            w = csv.writer(f)
+            w.writerow(["point", "piston.pressure", "seed", "porosity", "initial_porosity",
+                        "sigma_zz_over_p", "sigma_zz_compressive_over_p",
+                        "sigma_zz_tensile_over_p", "steps", "total_passes", "wall_seconds",
+                        "blocked", "folder"])
+            for p, e in ((0.001, 0.8), (0.004, 0.75), (0.016, 0.7)):
+                for s in (1, 2):
+                    w.writerow([f"piston.pressure={p}", p, s, e + 0.01 * s, 0.9, 1.0, 1.4, -0.4,
+                                100, 1000, 1.0, 1, f"runs/p{p}/seed_{s}"])
+        report = run_report(folder)
+        self.assertIn("## Against `piston.pressure`", report)
+        self.assertIn("| – | 0.004 | 0.7650 ± 0.0050 | 2 |", report)
+        self.assertTrue((folder / "report" / "against_piston_pressure.png").exists())
+
 
 if __name__ == "__main__":
     unittest.main()

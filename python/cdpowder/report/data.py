@@ -101,8 +101,11 @@ class Sweep:
             on_mesh &= self.kept[key].isna()
         for key in (MU_T, MU_N):
             on_mesh &= self.kept[key].notna() if key in self.kept else False
-        self.mesh = self.kept[on_mesh].assign(mu_t=lambda t: t[MU_T].astype(float),
-                                              mu_n=lambda t: t[MU_N].astype(float))
+        # a sweep of other keys (piston.pressure, …) has no mesh: every point is a variant
+        self.mesh = self.kept[on_mesh].assign(
+            mu_t=lambda t: t[MU_T].astype(float) if MU_T in t else np.nan,
+            mu_n=lambda t: t[MU_N].astype(float) if MU_N in t else np.nan)
+        self.keys = parameter_columns(table)
         self.variants = {name: runs for name, runs in self.kept[~on_mesh].groupby("point")}
         self.points = sorted(set(zip(self.mesh["mu_t"], self.mesh["mu_n"])))
         self._by_seed = {}
@@ -139,6 +142,24 @@ class Sweep:
     def added(self, point):
         """E1(point) = E(point) − E(0, 0), paired by seed."""
         return self.paired([point], [(0.0, 0.0)])
+
+    def against(self, key):
+        """The kept runs grouped for a plot against `key`: {group: {value: Stat of the runs'
+        rows}}, a group being the values of the sweep's other keys (as text; "" for none).
+        Only numeric keys with two values or more."""
+        if key not in self.kept or self.kept[key].dropna().nunique() < 2:
+            return {}
+        values = pd.to_numeric(self.kept[key], errors="coerce")
+        if values.isna().any():
+            return {}
+        others = [k for k in self.keys if k != key]
+        groups = {}
+        for _, row in self.kept.assign(_value=values).iterrows():
+            group = ", ".join(f"{k}={row[k]:g}" if isinstance(row[k], float) else f"{k}={row[k]}"
+                              for k in others if pd.notna(row[k]))
+            groups.setdefault(group, {}).setdefault(row["_value"], []).append(row)
+        return {g: {v: pd.DataFrame(rows) for v, rows in sorted(by_value.items())}
+                for g, by_value in sorted(groups.items())}
 
     def mus(self, axis):
         """The values of μt (axis 0) or μn (axis 1) on the mesh, rising."""

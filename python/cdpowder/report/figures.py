@@ -18,6 +18,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from . import paper  # noqa: E402
+from .data import Stat  # noqa: E402
 
 FORMATS = ("png", "svg", "pdf")
 formats = list(FORMATS)  # the ones written (report.py --png-only: the first alone)
@@ -190,3 +191,31 @@ def plot_table1(sweep, out):
               loc="lower center", bbox_to_anchor=(0.5, 1.01))
     save(fig, out, "table1_stress")
     return True
+
+
+def plot_against_key(sweep, key, out):
+    """E, σzz+/p and σzz−/p against a swept key, one curve per group of the other keys' values
+    (mean ± standard error over seeds); returns the figure's name, or None for no curve."""
+    groups = sweep.against(key)
+    if not groups:
+        return None
+    quantities = (("porosity", "porosity E"), ("sigma_zz_compressive_over_p", r"$\sigma_{zz}^+/p$"),
+                  ("sigma_zz_tensile_over_p", r"$\sigma_{zz}^-/p$"))
+    fig, axes = plt.subplots(1, 3, figsize=(12, 3.6))
+    for ax, (column, label) in zip(axes, quantities):
+        for colour, (group, by_value) in zip(ordered_colours(len(groups)), groups.items()):
+            xs = list(by_value)
+            stats = [Stat(by_value[x][column]) if column in by_value[x] else Stat([]) for x in xs]
+            ax.errorbar(xs, [s.mean for s in stats], yerr=[s.error_bar() for s in stats],
+                        marker="o", markersize=4, capsize=2.5, color=colour, label=group or None)
+        ax.set_xlabel(key)
+        ax.set_ylabel(label)
+        ax.grid(alpha=0.3)
+        if len(set(float(x) for by in groups.values() for x in by)) > 2 and \
+                min(float(x) for by in groups.values() for x in by) > 0:
+            ax.set_xscale("log")
+    if any(groups):
+        axes[0].legend(fontsize=7)
+    name = "against_" + "".join(c if c.isalnum() else "_" for c in key)
+    save(fig, out, name)
+    return name

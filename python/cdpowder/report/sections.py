@@ -251,3 +251,22 @@ def table1(sweep, with_figure):
     md += table(["μt", "μn", "paper σzz", "σzz", "paper σzz+", "σzz+", "paper σzz−", "σzz−",
                  "n"], rows)
     return md + [""]
+
+
+def against_keys(sweep, figure_names):
+    """For every swept numeric key: its figure, and a table of E, σzz/p, σzz+/p, σzz−/p per
+    value and group of the other keys (mean ± standard error over seeds)."""
+    md = []
+    for key, figure in figure_names.items():
+        if figure is None:
+            continue
+        md += [f"## Against `{key}`", "", f"![{key}]({figure}.png)", ""]
+        rows = []
+        for group, by_value in sweep.against(key).items():
+            for value, runs in by_value.items():
+                rows.append([group or "–", f"{value:g}", Stat(runs["porosity"]).text(4),
+                             str(len(runs)), Stat(runs["sigma_zz_over_p"]).text(3),
+                             Stat(runs["sigma_zz_compressive_over_p"]).text(2),
+                             Stat(runs["sigma_zz_tensile_over_p"]).text(2)])
+        md += table(["other keys", key, "E", "n", "σzz/p", "σzz+/p", "σzz−/p"], rows) + [""]
+    return md
