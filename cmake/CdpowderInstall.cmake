@@ -7,10 +7,29 @@ install(TARGETS cdpowder RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 install(TARGETS cdpowder_core EXPORT cdpowderTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
         LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
-# every header of the library (cdpowder/cdpowder.hpp includes a good part of them) and the
-# generated version.hpp
-install(DIRECTORY ${PROJECT_SOURCE_DIR}/src/cdpowder DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
-        FILES_MATCHING PATTERN "*.hpp")
+# The public headers: <cdpowder/cdpowder.hpp> and every header it includes, directly or not
+# (the other headers are the library's internals and stay out of a user's include folder),
+# and the generated version.hpp
+set(public_headers "")
+set(pending cdpowder/cdpowder.hpp)
+while(pending)
+  list(POP_FRONT pending header)
+  if(header IN_LIST public_headers)
+    continue()
+  endif()
+  list(APPEND public_headers ${header})
+  file(STRINGS ${PROJECT_SOURCE_DIR}/src/${header} includes REGEX "^#include \"cdpowder/")
+  foreach(line IN LISTS includes)
+    string(REGEX REPLACE "^#include \"(cdpowder/[^\"]+)\".*" "\\1" included "${line}")
+    if(NOT included STREQUAL "cdpowder/version.hpp")  # generated, installed below
+      list(APPEND pending ${included})
+    endif()
+  endforeach()
+endwhile()
+foreach(header IN LISTS public_headers)
+  get_filename_component(folder ${header} DIRECTORY)
+  install(FILES ${PROJECT_SOURCE_DIR}/src/${header} DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/${folder})
+endforeach()
 install(FILES ${PROJECT_BINARY_DIR}/src/cdpowder/generated/cdpowder/version.hpp
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/cdpowder)
 
