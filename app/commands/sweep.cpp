@@ -128,7 +128,8 @@ int run_task(const SweepOptions& options, const SweepState& state, std::size_t t
   std::string error;
   const int lock_fd = lock->inheritable_fd();
   const pid_t child = start_run(
-      {plan.scene, folder, run.overrides, options.checkpoint_every, resume, lock_fd}, error);
+      {plan.command, plan.scene, folder, run.overrides, options.checkpoint_every, resume, lock_fd},
+      error);
   close(lock_fd);
   if (child == 0) throw std::runtime_error(error);
   int status = 0;

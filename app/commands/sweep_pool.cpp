@@ -158,7 +158,7 @@ class SweepPool {
     }
     std::string error;
     const int lock_fd = lock->inheritable_fd();
-    const pid_t child = start_run({state_.plan.scene, folder, run.overrides,
+    const pid_t child = start_run({state_.plan.command, state_.plan.scene, folder, run.overrides,
                                    options_.checkpoint_every, resume, lock_fd, threads_per_run_},
                                   error);
     close(lock_fd);  // the run holds the lock now, and this process lets go of its own

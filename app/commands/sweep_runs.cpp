@@ -95,7 +95,8 @@ pid_t start_run(const RunStart& run, std::string& error) {
   const std::filesystem::path& folder = run.folder;
   std::vector<std::string> args{"cdpowder", "resume", folder.string(), "--quiet"};
   if (!run.resume) {
-    args = {"cdpowder", "compact", run.scene.string(), "--out", folder.string(), "--quiet"};
+    args = {"cdpowder", command_name(run.command), run.scene.string(),
+            "--out",    folder.string(),           "--quiet"};
     for (const SceneOverride& o : run.overrides) {
       args.emplace_back("--set");
       args.push_back(o.text);

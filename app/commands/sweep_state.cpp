@@ -36,8 +36,10 @@ SweepState read_sweep_state(const SweepOptions& options) {
   // every run's scene is checked before anything starts; each distinct mistake once
   std::vector<ConfigIssue> issues;
   std::set<std::string> seen;
+  // each run's scene read as its command reads it (compact demands the piston and the
+  // blocked state)
   SceneReadOptions compaction;
-  compaction.compaction = true;
+  compaction.compaction = plan.command == SweepCommand::Compact;
   for (std::size_t i = 0; i < plan.runs.size(); ++i) {
     try {
       scene_texts[i] = read_scene(plan.scene, plan.runs[i].overrides, compaction).effective_toml;

@@ -93,6 +93,24 @@ TEST_F(SweepCli, RunsEveryPointAndSeedAndTabulatesThem) {
   EXPECT_THAT(md, HasSubstr("8 finished runs, 0 blocked"));
 }
 
+// command = "simulate": each run is `cdpowder simulate`, for the scene's own duration (no
+// piston demanded, no blocked state)
+TEST_F(SweepCli, ASweepOfSimulationsRunsSimulate) {
+  const fs::path sweep = scratch_ / "simulate.toml";
+  std::ofstream(sweep) << "scene = \"" << kQuick.string() << "\"\ncommand = \"simulate\"\n"
+                       << "seeds = 1\nset = [\"run.until_blocked=false\", \"run.duration=1\"]\n"
+                       << "[grid.contact]\nmu = [0.1, 0.5]\n";
+  const fs::path out = scratch_ / "out";
+  const ProcessResult r =
+      run_cdpowder("sweep " + sweep.string() + " --out " + out.string(), scratch_);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("2 of 2 runs finished"));
+  const fs::path run = out / "runs" / "contact.mu=0.5" / "seed_1";
+  EXPECT_THAT(slurp(run / "log.txt"), HasSubstr("simulate "));
+  const nlohmann::json s = nlohmann::json::parse(slurp(run / "summary.json"));
+  EXPECT_FALSE(s["run"]["until_blocked"].get<bool>());
+}
+
 // Runs of a sweep share the cores: with -j 2 on a machine of C cores each run's solve may use
 // C / 2 of them (at least one), said in its log; the same runs one at a time may use all.
 TEST_F(SweepCli, RunsAtOnceShareTheCores) {

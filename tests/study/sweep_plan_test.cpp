@@ -65,6 +65,16 @@ TEST(SweepPlan, SaysAFolderIsNotASweepFile) {
 // Provenance records a file as the user named it: a sweep file given relative to the working
 // folder gives a base scene relative to it too, never this machine's absolute path (the
 // sweep's tables and every run's outputs record plan.scene).
+// `command`: each run is a compaction (the default) or a simulation of the scene
+TEST(SweepPlan, TheCommandIsCompactUnlessTheFileSaysSimulate) {
+  EXPECT_EQ(plan_of("scene = \"s.toml\"\n").command, SweepCommand::Compact);
+  EXPECT_EQ(plan_of("scene = \"s.toml\"\ncommand = \"simulate\"\n").command,
+            SweepCommand::Simulate);
+  EXPECT_STREQ(command_name(SweepCommand::Simulate), "simulate");
+  EXPECT_THAT(errors_of("scene = \"s.toml\"\ncommand = \"deposit\"\n"),
+              HasSubstr("command: got \"deposit\", expected \"compact\" or \"simulate\""));
+}
+
 TEST(SweepPlan, TheBaseSceneIsRelativeToTheSweepFileAsNamed) {
   const std::filesystem::path before = std::filesystem::current_path();
   const std::filesystem::path scratch =

@@ -24,8 +24,8 @@ namespace cdpowder {
 namespace {
 
 constexpr std::int64_t kMaxSeedCount = 100000;
-const std::vector<std::string> kTopLevelKeys{"scene", "seeds", "seed_keys",
-                                             "set",   "grid",  "points"};
+const std::vector<std::string> kTopLevelKeys{"scene", "command", "seeds", "seed_keys",
+                                             "set",   "grid",    "points"};
 
 using detail::TableReader;
 
@@ -105,10 +105,25 @@ void check_top_level_keys(TableReader& in, const toml::table& root) {
     const std::string key(name.str());
     if (std::find(kTopLevelKeys.begin(), kTopLevelKeys.end(), key) == kTopLevelKeys.end()) {
       report(in, key, &node,
-             "unknown key; allowed: scene, seeds, seed_keys, set, [grid], [[points]]" +
+             "unknown key; allowed: scene, command, seeds, seed_keys, set, [grid], [[points]]" +
                  did_you_mean(key, kTopLevelKeys));
     }
   }
+}
+
+/// `command`: "compact" (the default: until the blocked state) or "simulate" (the scene's own
+/// duration or end).
+void read_command(TableReader& in, SweepPlan& plan) {
+  const auto* command = in.find("command");
+  if (command == nullptr) return;
+  const auto* name = command->as_string();
+  if (name != nullptr && name->get() == "compact") return;
+  if (name != nullptr && name->get() == "simulate") {
+    plan.command = SweepCommand::Simulate;
+    return;
+  }
+  report(in, "command", command,
+         fmt::format("got {}, expected \"compact\" or \"simulate\"", detail::describe(*command)));
 }
 
 /// `scene`: the base scene file, relative to the sweep file.
@@ -351,6 +366,7 @@ SweepPlan read_sweep_plan_text(std::string_view text, std::string_view source_na
   plan.source = std::filesystem::path(source_name);
   check_top_level_keys(in, root);
   read_scene_key(in, base_dir, plan);
+  read_command(in, plan);
   const std::string seeds_origin = read_seeds(in, source, plan);
   read_seed_keys_and_fixed(in, plan);
   plan.fixed.insert(plan.fixed.end(), extra_fixed.begin(), extra_fixed.end());
@@ -377,6 +393,10 @@ SweepPlan read_sweep_plan(const std::filesystem::path& file,
   SweepPlan plan = read_sweep_plan_text(text, file.string(), file.parent_path(), extra_fixed);
   plan.source = file;
   return plan;
+}
+
+const char* command_name(SweepCommand command) {
+  return command == SweepCommand::Simulate ? "simulate" : "compact";
 }
 
 void order_seed_by_seed(const SweepPlan& plan, std::vector<std::size_t>& runs) {

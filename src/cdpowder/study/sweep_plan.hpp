@@ -2,7 +2,8 @@
 //
 // A sweep file (TOML, docs/sweeps.md) names a base scene, fixed overrides, the seeds, and
 // the parameter points: a grid (Cartesian product of value lists) and/or explicit points.
-// Each (point, seed) becomes one run of `compact` with its own `--set` overrides and its
+// Each (point, seed) becomes one run of `compact` (or `simulate`, the file's `command`) with its
+// own `--set` overrides and its
 // own folder, named from the parameter values so that a restarted or extended sweep finds
 // the runs it already has.
 #pragma once
@@ -39,8 +40,15 @@ struct SweepRun {
   std::vector<SceneOverride> overrides;  ///< fixed ones, then the point's, then the seed's
 };
 
+/// The command each run of a sweep is (the file's `command`).
+enum class SweepCommand : std::uint8_t { Compact, Simulate };
+
+/// "compact" or "simulate", as on the command line.
+const char* command_name(SweepCommand command);
+
 struct SweepPlan {
-  std::filesystem::path source;             ///< the sweep file
+  std::filesystem::path source;                  ///< the sweep file
+  SweepCommand command = SweepCommand::Compact;  ///< `command`: what each run is
   std::filesystem::path scene;              ///< the base scene, resolved against the sweep file
   std::vector<SceneOverride> fixed;         ///< `set`, then the command's --set: every run's
   std::vector<std::int64_t> seeds;          ///< `seeds`
