@@ -634,7 +634,7 @@ PassSums run_coloured_pass(Contacts& contacts, VelocityCache& velocities, const 
       part_sums[first + i].sums = run_coloured_part(contacts, velocities, pass, first + i);
     });
   }
-  if (shared) ranks->share_pass(contacts, pass, part_sums, velocities);
+  if (shared) ranks->share_pass(part_sums, velocities);
   PassSums sums;
   for (const PartSums& part : part_sums) sums.add_part(part.sums);
   sums.add_part(split_sums);

@@ -215,6 +215,7 @@ SolverStats solve_nlgs(Contacts& contacts, VelocityCache& velocities,
   work.ranks.plan(tiles, work.coloured);
   SolverStats stats = iterate_until_done(contacts, velocities, settings, reference_force,
                                          threaded ? pool : nullptr, work, modes);
+  work.ranks.share_actions(contacts, work.coloured);  // every rank ends with every action
   if (choose) {
     const std::chrono::duration<double> took = std::chrono::steady_clock::now() - start;
     work.thread_choice.record(
@@ -382,6 +383,8 @@ SolverStats iterate_until_done(Contacts& contacts, VelocityCache& velocities,
     // affine combination that need not obey the contact laws (R_n < −F_c, forces outside
     // the friction cone, forces on open contacts), so a step must end on a pass's output.
     if (accelerate && pass % settings.acceleration_interval == 0 && pass < settings.max_passes) {
+      // the mixing reads every tile's actions (an MPI job's ranks hold their own tiles')
+      work.ranks.share_actions(contacts, work.coloured);
       if (stats.residual > kRestartGrowth * best_residual) work.accelerator.reset();
       best_residual = std::min(best_residual, stats.residual);
       mix_actions(contacts, velocities, threads, work, modes, coloured, tiled, kinematic);

@@ -191,10 +191,34 @@ std::size_t TileRanks::part_actions(const ColouredPass& pass, std::uint32_t part
   return batched + sequential;
 }
 
-void TileRanks::share_pass(Contacts& contacts, const ColouredPass& pass,
-                           std::vector<PartSums>& part_sums, VelocityCache& velocities) {
+void TileRanks::share_pass(std::vector<PartSums>& part_sums, VelocityCache& velocities) {
   if (!active_) return;
   share_records(velocities);
+  actions_shared_ = false;
+  const auto& my_parts = rank_parts_[static_cast<std::size_t>(rank_)];
+  my_sums_.clear();
+  for (const std::uint32_t p : my_parts) my_sums_.push_back(part_sums[p].sums);
+  sum_counts_.assign(static_cast<std::size_t>(ranks_), 0);
+  std::size_t sums = 0;
+  for (int r = 0; r < ranks_; ++r) {
+    const std::size_t parts = rank_parts_[static_cast<std::size_t>(r)].size();
+    sum_counts_[static_cast<std::size_t>(r)] = static_cast<int>(parts * sizeof(PassSums));
+    sums += parts;
+  }
+  all_sums_.resize(sums);
+  gather_from_all_ranks(bytes_of(my_sums_), bytes_of(all_sums_), sum_counts_);
+  const PassSums* sum = all_sums_.data();
+  for (int r = 0; r < ranks_; ++r) {
+    for (const std::uint32_t p : rank_parts_[static_cast<std::size_t>(r)]) {
+      if (r != rank_) part_sums[p].sums = *sum;
+      ++sum;
+    }
+  }
+}
+
+void TileRanks::share_actions(Contacts& contacts, const ColouredPass& pass) {
+  if (!active_ || actions_shared_) return;
+  actions_shared_ = true;
   const std::size_t pairs = contacts.pairs.size();
   // a part's actions: its batched pairs (colour order), then its sequential group
   const auto for_each_action = [&](std::uint32_t p, auto&& visit) {
@@ -207,44 +231,30 @@ void TileRanks::share_pass(Contacts& contacts, const ColouredPass& pass,
       visit(k < pairs ? contacts.pair_actions[k] : contacts.wall_actions[k - pairs]);
     }
   };
-  const auto& my_parts = rank_parts_[static_cast<std::size_t>(rank_)];
   my_actions_.clear();
-  my_sums_.clear();
-  for (const std::uint32_t p : my_parts) {
+  for (const std::uint32_t p : rank_parts_[static_cast<std::size_t>(rank_)]) {
     for_each_action(p, [&](const ContactAction& a) { my_actions_.push_back(a); });
-    my_sums_.push_back(part_sums[p].sums);
   }
-  // the actions, then the sums, of every rank's parts
   counts_.assign(static_cast<std::size_t>(ranks_), 0);
-  sum_counts_.assign(static_cast<std::size_t>(ranks_), 0);
   std::size_t actions = 0;
-  std::size_t sums = 0;
   for (int r = 0; r < ranks_; ++r) {
     std::size_t n = 0;
     for (const std::uint32_t p : rank_parts_[static_cast<std::size_t>(r)]) {
       n += part_actions(pass, p);
     }
-    const std::size_t parts = rank_parts_[static_cast<std::size_t>(r)].size();
     counts_[static_cast<std::size_t>(r)] = static_cast<int>(n * sizeof(ContactAction));
-    sum_counts_[static_cast<std::size_t>(r)] = static_cast<int>(parts * sizeof(PassSums));
     actions += n;
-    sums += parts;
   }
   all_actions_.resize(actions);
-  all_sums_.resize(sums);
   gather_from_all_ranks(bytes_of(my_actions_), bytes_of(all_actions_), counts_);
-  gather_from_all_ranks(bytes_of(my_sums_), bytes_of(all_sums_), sum_counts_);
   const ContactAction* action = all_actions_.data();
-  const PassSums* sum = all_sums_.data();
   for (int r = 0; r < ranks_; ++r) {
     for (const std::uint32_t p : rank_parts_[static_cast<std::size_t>(r)]) {
       if (r == rank_) {
         action += part_actions(pass, p);
       } else {
         for_each_action(p, [&](ContactAction& a) { a = *action++; });
-        part_sums[p].sums = *sum;
       }
-      ++sum;
     }
   }
 }

@@ -59,10 +59,14 @@ class TileRanks {
   /// Every rank's own rows to every rank.
   void share_records(VelocityCache& velocities);
 
-  /// The end of a pass: the records (share_records, if not shared), and the contact actions
-  /// and sums of every rank's tiles to every rank.
-  void share_pass(Contacts& contacts, const ColouredPass& pass, std::vector<PartSums>& part_sums,
-                  VelocityCache& velocities);
+  /// The end of a pass: the records (share_records, if not shared) and the sums of every
+  /// rank's tiles to every rank. The tiles' actions wait for share_actions: nothing reads
+  /// another rank's actions until the mixing or the end of the solve.
+  void share_pass(std::vector<PartSums>& part_sums, VelocityCache& velocities);
+
+  /// The contact actions of every rank's tiles to every rank, when they changed since the
+  /// last time (a pass ran): before a mixing and at the end of the solve.
+  void share_actions(Contacts& contacts, const ColouredPass& pass);
 
  private:
   /// A message after a phase: rows of records to or from one rank.
@@ -84,6 +88,7 @@ class TileRanks {
 
   bool active_ = false;
   bool shared_ = true;
+  bool actions_shared_ = true;
   int rank_ = 0;
   int ranks_ = 1;
   TileGrid grid_;
