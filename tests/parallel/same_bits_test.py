@@ -36,10 +36,10 @@ def compact(cdpowder, scene, out, threads, duration, extra=()):
                             stderr=subprocess.PIPE, text=True)
 
 
-def finish(process, what, allowed=(0, 4)):
+def finish(process, what, allowed=(0, 4), timeout=600):
     """Waits for `process`; fails unless it exited with one of `allowed` (4: not blocked in
     the run's time, expected of a short run)."""
-    _, err = process.communicate(timeout=600)
+    _, err = process.communicate(timeout=timeout)
     if process.returncode not in allowed:
         sys.exit(f"{what}: exit {process.returncode}\n{err}")
 
