@@ -146,6 +146,38 @@ mu_roll = [0.0, 0.5]
   EXPECT_THAT(pending, ElementsAre(3, 1, 2, 5));  // (point, seed): (1,4) (0,7) (0,9) (1,9)
 }
 
+// points_csv: a table of points beside the sweep file, one a row, as yade-batch's
+TEST(SweepPlan, PointsMayComeFromACsvTable) {
+  const std::filesystem::path scratch =
+      std::filesystem::temp_directory_path() / "cdpowder_sweep_plan_csv";
+  std::filesystem::remove_all(scratch);
+  std::filesystem::create_directories(scratch);
+  {
+    std::ofstream(scratch / "points.csv") << "# pressure and rule\n"
+                                          << "piston.pressure, contact.cohesion_rule\n"
+                                          << "0.001,history\n0.004,\n\n1e-2,\"graph\"\n";
+  }
+  const SweepPlan plan = read_sweep_plan_text("scene = \"s.toml\"\npoints_csv = \"points.csv\"\n",
+                                              "sweep.toml", scratch);
+  ASSERT_EQ(plan.points.size(), 3U);
+  EXPECT_EQ(plan.parameter_keys,
+            (std::vector<std::string>{"piston.pressure", "contact.cohesion_rule"}));
+  EXPECT_EQ(plan.points[0].name, "piston.pressure=0.001,contact.cohesion_rule=history");
+  EXPECT_EQ(plan.points[1].settings.size(), 1U);  // an empty cell keeps the scene's value
+  EXPECT_EQ(plan.points[2].settings[0].value, "1e-2");
+  EXPECT_EQ(plan.points[2].settings[1].value, "\"graph\"");
+  EXPECT_EQ(plan.points[0].settings[0].origin, "points.csv:3");
+  { std::ofstream(scratch / "bad.csv") << "piston.pressure\n0.001,2\n"; }
+  try {
+    (void)read_sweep_plan_text("scene = \"s.toml\"\npoints_csv = \"bad.csv\"\n", "sweep.toml",
+                               scratch);
+    ADD_FAILURE() << "a row of two cells under one key was accepted";
+  } catch (const ConfigError& error) {
+    EXPECT_THAT(error.what(), HasSubstr("bad.csv:2: got 2 cells, expected 1"));
+  }
+  std::filesystem::remove_all(scratch);
+}
+
 TEST(SweepPlan, ExplicitPointsFixedOverridesAndSeedListsCombine) {
   const SweepPlan plan = plan_of(R"(
 scene = "/abs/scene.toml"

@@ -24,8 +24,8 @@ namespace cdpowder {
 namespace {
 
 constexpr std::int64_t kMaxSeedCount = 100000;
-const std::vector<std::string> kTopLevelKeys{"scene", "command", "seeds", "seed_keys",
-                                             "set",   "grid",    "points"};
+const std::vector<std::string> kTopLevelKeys{"scene", "command", "seeds",  "seed_keys",
+                                             "set",   "grid",    "points", "points_csv"};
 
 using detail::TableReader;
 
@@ -105,7 +105,8 @@ void check_top_level_keys(TableReader& in, const toml::table& root) {
     const std::string key(name.str());
     if (std::find(kTopLevelKeys.begin(), kTopLevelKeys.end(), key) == kTopLevelKeys.end()) {
       report(in, key, &node,
-             "unknown key; allowed: scene, command, seeds, seed_keys, set, [grid], [[points]]" +
+             "unknown key; allowed: scene, command, seeds, seed_keys, set, [grid], [[points]], "
+             "points_csv" +
                  did_you_mean(key, kTopLevelKeys));
     }
   }
@@ -285,6 +286,93 @@ std::vector<std::map<std::string, SweepSetting>> read_points(TableReader& in, Sw
   return points;
 }
 
+/// A cell of a points table as the TOML text `--set` expects: a number or a boolean as written
+/// (TOML reads them), anything else a string.
+std::string csv_cell_value(const std::string& cell) {
+  try {
+    const toml::table parsed = toml::parse("v = " + cell);
+    const toml::node* v = parsed.get("v");
+    if (v != nullptr && (v->is_number() || v->is_boolean())) return cell;
+  } catch (const toml::parse_error&) {
+    // not a TOML value: a string
+  }
+  std::string quoted = "\"";
+  for (const char c : cell) {
+    if (c == '"' || c == '\\') quoted += '\\';
+    quoted += c;
+  }
+  return quoted + "\"";
+}
+
+/// `points_csv`: one point a row of a CSV file (relative to the sweep file) whose header names
+/// the keys, as yade-batch's table does; an empty cell leaves its key at the base scene's
+/// value. '#' lines and blank lines are skipped; a cell may be quoted ("history").
+void read_points_csv(TableReader& in, const std::filesystem::path& base_dir, SweepPlan& plan,
+                     std::vector<std::map<std::string, SweepSetting>>& points) {
+  const auto* node = in.find("points_csv");
+  if (node == nullptr) return;
+  const auto* name = node->as_string();
+  if (name == nullptr || name->get().empty()) {
+    report(in, "points_csv", node, "expected a non-empty string: a CSV file of points");
+    return;
+  }
+  const std::filesystem::path file = std::filesystem::path(name->get()).is_absolute()
+                                         ? std::filesystem::path(name->get())
+                                         : base_dir / name->get();
+  std::ifstream stream(file);
+  if (!stream) {
+    report(in, "points_csv", node, fmt::format("cannot read '{}'", file.string()));
+    return;
+  }
+  const auto cells_of = [](const std::string& line) {
+    std::vector<std::string> cells;
+    std::stringstream row(line);
+    for (std::string cell; std::getline(row, cell, ',');) {
+      const auto first = cell.find_first_not_of(" \t\r");
+      const auto last = cell.find_last_not_of(" \t\r");
+      cell = first == std::string::npos ? "" : cell.substr(first, last - first + 1);
+      if (cell.size() >= 2 && cell.front() == '"' && cell.back() == '"') {
+        cell = cell.substr(1, cell.size() - 2);
+      }
+      cells.push_back(cell);
+    }
+    if (!line.empty() && line.back() == ',') cells.emplace_back();
+    return cells;
+  };
+  std::vector<std::string> keys;
+  int line_number = 0;
+  for (std::string line; std::getline(stream, line);) {
+    ++line_number;
+    if (line.find_first_not_of(" \t\r") == std::string::npos || line.starts_with('#')) continue;
+    const std::vector<std::string> cells = cells_of(line);
+    const std::string where = fmt::format("{}:{}", name->get(), line_number);
+    if (keys.empty()) {
+      keys = cells;
+      for (const std::string& key : keys) {
+        if (key.empty()) report(in, "points_csv", node, where + ": a column without a key");
+        if (std::find(plan.parameter_keys.begin(), plan.parameter_keys.end(), key) ==
+            plan.parameter_keys.end()) {
+          plan.parameter_keys.push_back(key);
+        }
+      }
+      continue;
+    }
+    if (cells.size() != keys.size()) {
+      report(in, "points_csv", node,
+             fmt::format("{}: got {} cells, expected {} (the header's keys)", where, cells.size(),
+                         keys.size()));
+      continue;
+    }
+    std::map<std::string, SweepSetting> point;
+    for (std::size_t k = 0; k < keys.size(); ++k) {
+      if (!cells[k].empty()) point[keys[k]] = {keys[k], csv_cell_value(cells[k]), where};
+    }
+    points.push_back(std::move(point));
+  }
+  if (keys.empty())
+    report(in, "points_csv", node, fmt::format("'{}' has no header", file.string()));
+}
+
 /// The points: the grid's, last key fastest, then the explicit ones (a grid key an explicit
 /// point does not name keeps the base scene's value there, so explicit points list every
 /// parameter they set); the base scene alone when there are none. Named, and a point listed
@@ -372,7 +460,8 @@ SweepPlan read_sweep_plan_text(std::string_view text, std::string_view source_na
   plan.fixed.insert(plan.fixed.end(), extra_fixed.begin(), extra_fixed.end());
   // the parameters: grid keys first, then keys that only explicit points name
   const std::vector<GridAxis> grid = read_grid(in, plan);
-  const std::vector<std::map<std::string, SweepSetting>> given = read_points(in, plan);
+  std::vector<std::map<std::string, SweepSetting>> given = read_points(in, plan);
+  read_points_csv(in, base_dir, plan, given);
   for (const std::string& key : plan.parameter_keys) {
     if (std::find(plan.seed_keys.begin(), plan.seed_keys.end(), key) != plan.seed_keys.end()) {
       report(in, key, nullptr, "is a seed key; vary seeds with `seeds`, not as a parameter");
