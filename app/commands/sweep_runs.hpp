@@ -46,7 +46,7 @@ bool has_usable_checkpoint(const std::filesystem::path& folder, const std::strin
 /// How a sweep starts a run: `cdpowder compact scene --out folder --quiet --set …`, or, for
 /// an unfinished run with a usable checkpoint, `cdpowder resume folder --quiet`.
 struct RunStart {
-  SweepCommand command;  ///< what a fresh run is (a resumed one is `resume`)
+  SweepCommand command = SweepCommand::Compact;  ///< a fresh run's (a resumed one is `resume`)
   const std::filesystem::path& scene;
   const std::filesystem::path& folder;
   const std::vector<SceneOverride>& overrides;

@@ -124,7 +124,7 @@ void read_command(TableReader& in, SweepPlan& plan) {
     return;
   }
   report(in, "command", command,
-         fmt::format("got {}, expected \"compact\" or \"simulate\"", detail::describe(*command)));
+         fmt::format(R"(got {}, expected "compact" or "simulate")", detail::describe(*command)));
 }
 
 /// `scene`: the base scene file, relative to the sweep file.
