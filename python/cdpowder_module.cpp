@@ -740,7 +740,7 @@ void bind_world_state(py::class_<Engine, std::shared_ptr<Engine>>& world) {
           "The number of spheres");
 }
 
-/// World as an engine: stepping, saving, and the loads and stress of the last step.
+/// World as an engine: stepping, saving and pickling.
 void bind_world_engine(py::class_<Engine, std::shared_ptr<Engine>>& world) {
   world
       .def(
@@ -772,6 +772,23 @@ void bind_world_engine(py::class_<Engine, std::shared_ptr<Engine>>& world) {
           py::arg("path"),
           "Writes the bit-exact state (a .cdps file, as a checkpoint): cdpowder.load(path) "
           "continues it with the same bits as a run never stopped")
+      .def(py::pickle(
+          [](const Engine& e) {
+            const Engine& engine = idle(e);
+            return py::make_tuple(py::bytes(encode_state(engine.scene.scene.effective_toml,
+                                                         engine.world, engine.work, engine.state)),
+                                  engine.scene.base_dir.string());
+          },
+          [](const py::tuple& t) {
+            if (t.size() != 2) throw py::value_error("not a pickled cdpowder.World");
+            return engine_from_state(decode_state(t[0].cast<std::string>(), "the pickle"),
+                                     t[1].cast<std::string>());
+          }));
+}
+
+/// World's measures of the last step: loads, stress, gauges, piston and porosity.
+void bind_world_measures(py::class_<Engine, std::shared_ptr<Engine>>& world) {
+  world
       .def(
           "contact_forces", [](const Engine& e) { return vec3_copy(loads_of(e, false).force); },
           "n × 3: each sphere's sum of its contacts' forces in the last step [F_coh]")
@@ -807,18 +824,6 @@ void bind_world_engine(py::class_<Engine, std::shared_ptr<Engine>>& world) {
             return py::cast(engine.state.result.last.diagnostics);
           },
           "The last step's StepDiagnostics (its accuracy gauges), or None before a step")
-      .def(py::pickle(
-          [](const Engine& e) {
-            const Engine& engine = idle(e);
-            return py::make_tuple(py::bytes(encode_state(engine.scene.scene.effective_toml,
-                                                         engine.world, engine.work, engine.state)),
-                                  engine.scene.base_dir.string());
-          },
-          [](const py::tuple& t) {
-            if (t.size() != 2) throw py::value_error("not a pickled cdpowder.World");
-            return engine_from_state(decode_state(t[0].cast<std::string>(), "the pickle"),
-                                     t[1].cast<std::string>());
-          }))
       .def_property_readonly(
           "piston_height", [](const Engine& e) { return idle(e).world.walls.piston.height; },
           "Height of the piston's lower face Z_P [R]")
@@ -863,6 +868,7 @@ void bind_world(py::module_& m) {
       m, "World", "Spheres, walls and piston, with the solver's memory of the last step");
   bind_world_state(world);
   bind_world_engine(world);
+  bind_world_measures(world);
 }
 
 /// cdpowder.Result: the end of a run, its stress and summary.
