@@ -212,7 +212,7 @@ SolverStats solve_nlgs(Contacts& contacts, VelocityCache& velocities,
   // the records tile by tile during the passes (tile_order.hpp): the same bits
   if (tiles != nullptr) enter_tile_order(*tiles, contacts, velocities, work.coloured, work.order);
   // the tiles of each phase shared among the ranks of an MPI job (tile_ranks.hpp)
-  work.ranks.plan(tiles, work.coloured);
+  work.ranks.plan(tiles, work.coloured, work.order);
   SolverStats stats = iterate_until_done(contacts, velocities, settings, reference_force,
                                          threaded ? pool : nullptr, work, modes);
   work.ranks.share_actions(contacts, work.coloured);  // every rank ends with every action

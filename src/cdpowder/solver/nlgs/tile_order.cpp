@@ -1,6 +1,8 @@
 // tile_order.cpp — the cache's records in tile order and back (tile_order.hpp).
 #include "cdpowder/solver/nlgs/tile_order.hpp"
 
+#include "cdpowder/solver/nlgs/group_by_part.hpp"
+
 #include <cstddef>
 #include <cstdint>
 
@@ -41,19 +43,13 @@ void rename_spheres(Contacts& contacts, ColouredPass& pass, const std::vector<Bo
 void enter_tile_order(const StepTiles& tiles, Contacts& contacts, VelocityCache& velocities,
                       ColouredPass& pass, TileOrder& order) {
   const std::size_t n = velocities.spheres.size();
-  const std::uint32_t tile_count = tiles.grid.tiles();
-  // a counting sort by tile (parts 0 … T − 1), index order within a tile
-  order.part_start.assign(tile_count + 1, 0);
-  for (std::size_t i = 0; i < n; ++i) ++order.part_start[tiles.sphere_part[i] + 1];
-  for (std::uint32_t t = 0; t < tile_count; ++t) {
-    order.part_start[t + 1] += order.part_start[t];
-  }
-  order.sphere_at.resize(n);
+  // by tile (parts 0 … T − 1), index order within a tile
+  group_by_part(
+      n, tiles.grid.tiles(), [&](std::size_t i) { return tiles.sphere_part[i]; }, order.part_start,
+      order.next, order.sphere_at);
   order.place_of.resize(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const std::uint32_t place = order.part_start[tiles.sphere_part[i]]++;
-    order.sphere_at[place] = static_cast<BodyIndex>(i);
-    order.place_of[i] = static_cast<BodyIndex>(place);
+  for (std::size_t place = 0; place < n; ++place) {
+    order.place_of[order.sphere_at[place]] = static_cast<BodyIndex>(place);
   }
   order.scratch.resize(n);
   for (std::size_t place = 0; place < n; ++place) {

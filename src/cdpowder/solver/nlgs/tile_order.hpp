@@ -19,11 +19,14 @@ namespace cdpowder {
 
 /// The places of a tiled step's spheres, and scratch; kept from step to step.
 struct TileOrder {
-  std::vector<BodyIndex> sphere_at;       ///< place → sphere
-  std::vector<BodyIndex> place_of;        ///< sphere → place
-  std::vector<std::uint32_t> part_start;  ///< scratch of the counting sort
-  std::vector<SphereVelocity> scratch;    ///< the other copy of the records
-  bool active = false;                    ///< between enter_tile_order and leave_tile_order
+  std::vector<BodyIndex> sphere_at;  ///< place → sphere
+  std::vector<BodyIndex> place_of;   ///< sphere → place
+  /// the records of part p (a tile, p < the tile count) are places
+  /// [part_start[p], part_start[p + 1])
+  std::vector<std::uint32_t> part_start;
+  std::vector<std::uint32_t> next;      ///< scratch of the counting sort
+  std::vector<SphereVelocity> scratch;  ///< the other copy of the records
+  bool active = false;                  ///< between enter_tile_order and leave_tile_order
 };
 
 /// Puts the cache's records in tile order and renames the spheres in the solve's contacts

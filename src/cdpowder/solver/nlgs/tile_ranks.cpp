@@ -2,6 +2,7 @@
 #include "cdpowder/solver/nlgs/tile_ranks.hpp"
 
 #include "cdpowder/solver/nlgs/coloured_pass.hpp"
+#include "cdpowder/solver/nlgs/tile_order.hpp"
 
 #include <algorithm>
 #include <type_traits>
@@ -22,33 +23,39 @@ std::span<std::byte> bytes_of(std::vector<T>& buffer) {
   return std::as_writable_bytes(std::span<T>(buffer));
 }
 
+/// Every rank's `mine` into `all`, in rank order; `items_of(r)` is rank r's number of items,
+/// which every rank knows from the plan. `counts` is scratch.
+template <typename T, typename ItemsOf>
+void gather_items(std::vector<T>& mine, std::vector<T>& all, std::vector<int>& counts, int ranks,
+                  const ItemsOf& items_of) {
+  counts.assign(static_cast<std::size_t>(ranks), 0);
+  std::size_t total = 0;
+  for (int r = 0; r < ranks; ++r) {
+    const std::size_t items = items_of(r);
+    counts[static_cast<std::size_t>(r)] = static_cast<int>(items * sizeof(T));
+    total += items;
+  }
+  all.resize(total);
+  gather_from_all_ranks(bytes_of(mine), bytes_of(all), counts);
+}
+
 }  // namespace
 
-void TileRanks::plan(const StepTiles* tiles, const ColouredPass& pass) {
+void TileRanks::plan(const StepTiles* tiles, const ColouredPass& pass, const TileOrder& order) {
   ranks_ = rank_count();
   rank_ = this_rank();
   active_ = ranks_ > 1 && tiles != nullptr && tiles->tiled();
   shared_ = true;
-  if (!active_) {
-    // every part of a phase on this rank
-    for (std::size_t f = 0; f < kTilePhases; ++f) {
-      mine_[f].clear();
-      for (std::uint32_t p = pass.phase_parts[f]; p < pass.phase_parts[f + 1]; ++p) {
-        mine_[f].push_back(p);
-      }
-    }
-    return;
-  }
+  actions_shared_ = true;
+  if (!active_) return;  // the caller solves every part
   grid_ = tiles->grid;
   const std::uint32_t nx = grid_.nx;
   const std::uint32_t ny = grid_.ny;
   const std::uint32_t tile_count = grid_.tiles();
   const std::size_t parts = pass.parts();
 
-  // the places of each part's spheres: they are stored part by part (tile_order.hpp)
-  part_begin_.assign(parts + 1, 0);
-  for (const std::uint32_t part : tiles->sphere_part) ++part_begin_[part + 1];
-  for (std::size_t p = 0; p < parts; ++p) part_begin_[p + 1] += part_begin_[p];
+  // the places of each tile's spheres: stored part by part (tile_order.hpp)
+  part_start_ = order.part_start;
 
   // strips of whole rows: rank r solves rows [r ny / P, (r + 1) ny / P) (none when ny < P)
   row_parts_.assign(tiles->part_of_tile.begin(), tiles->part_of_tile.end());
@@ -114,7 +121,7 @@ std::size_t TileRanks::row_records(std::span<const std::uint32_t> rows) const {
   for (const std::uint32_t row : rows) {
     for (std::uint32_t i = 0; i < grid_.nx; ++i) {
       const std::uint32_t part = row_parts_[row * grid_.nx + i];
-      records += part_begin_[part + 1] - part_begin_[part];
+      records += part_start_[part + 1] - part_start_[part];
     }
   }
   return records;
@@ -125,8 +132,8 @@ void TileRanks::pack_rows(std::span<const std::uint32_t> rows, const VelocityCac
   for (const std::uint32_t row : rows) {
     for (std::uint32_t i = 0; i < grid_.nx; ++i) {
       const std::uint32_t part = row_parts_[row * grid_.nx + i];
-      out = std::copy(velocities.spheres.begin() + part_begin_[part],
-                      velocities.spheres.begin() + part_begin_[part + 1], out);
+      out = std::copy(velocities.spheres.begin() + part_start_[part],
+                      velocities.spheres.begin() + part_start_[part + 1], out);
     }
   }
 }
@@ -136,8 +143,8 @@ void TileRanks::unpack_rows(std::span<const std::uint32_t> rows, const SphereVel
   for (const std::uint32_t row : rows) {
     for (std::uint32_t i = 0; i < grid_.nx; ++i) {
       const std::uint32_t part = row_parts_[row * grid_.nx + i];
-      const std::uint32_t count = part_begin_[part + 1] - part_begin_[part];
-      std::copy(in, in + count, velocities.spheres.begin() + part_begin_[part]);
+      const std::uint32_t count = part_start_[part + 1] - part_start_[part];
+      std::copy(in, in + count, velocities.spheres.begin() + part_start_[part]);
       in += count;
     }
   }
@@ -163,18 +170,11 @@ void TileRanks::after_phase(std::size_t phase, VelocityCache& velocities) {
 
 void TileRanks::share_records(VelocityCache& velocities) {
   if (!active_ || shared_) return;
-  counts_.assign(static_cast<std::size_t>(ranks_), 0);
-  std::size_t total = 0;
-  for (int r = 0; r < ranks_; ++r) {
-    const std::size_t records = row_records(rank_rows_[static_cast<std::size_t>(r)]);
-    counts_[static_cast<std::size_t>(r)] = static_cast<int>(records * sizeof(SphereVelocity));
-    total += records;
-  }
   const auto& rows = rank_rows_[static_cast<std::size_t>(rank_)];
   my_records_.resize(row_records(rows));
   pack_rows(rows, velocities, my_records_.data());
-  all_records_.resize(total);
-  gather_from_all_ranks(bytes_of(my_records_), bytes_of(all_records_), counts_);
+  gather_items(my_records_, all_records_, counts_, ranks_,
+               [&](int r) { return row_records(rank_rows_[static_cast<std::size_t>(r)]); });
   const SphereVelocity* in = all_records_.data();
   for (int r = 0; r < ranks_; ++r) {
     const auto& theirs = rank_rows_[static_cast<std::size_t>(r)];
@@ -198,15 +198,8 @@ void TileRanks::share_pass(std::vector<PartSums>& part_sums, VelocityCache& velo
   const auto& my_parts = rank_parts_[static_cast<std::size_t>(rank_)];
   my_sums_.clear();
   for (const std::uint32_t p : my_parts) my_sums_.push_back(part_sums[p].sums);
-  sum_counts_.assign(static_cast<std::size_t>(ranks_), 0);
-  std::size_t sums = 0;
-  for (int r = 0; r < ranks_; ++r) {
-    const std::size_t parts = rank_parts_[static_cast<std::size_t>(r)].size();
-    sum_counts_[static_cast<std::size_t>(r)] = static_cast<int>(parts * sizeof(PassSums));
-    sums += parts;
-  }
-  all_sums_.resize(sums);
-  gather_from_all_ranks(bytes_of(my_sums_), bytes_of(all_sums_), sum_counts_);
+  gather_items(my_sums_, all_sums_, counts_, ranks_,
+               [&](int r) { return rank_parts_[static_cast<std::size_t>(r)].size(); });
   const PassSums* sum = all_sums_.data();
   for (int r = 0; r < ranks_; ++r) {
     for (const std::uint32_t p : rank_parts_[static_cast<std::size_t>(r)]) {
@@ -235,18 +228,13 @@ void TileRanks::share_actions(Contacts& contacts, const ColouredPass& pass) {
   for (const std::uint32_t p : rank_parts_[static_cast<std::size_t>(rank_)]) {
     for_each_action(p, [&](const ContactAction& a) { my_actions_.push_back(a); });
   }
-  counts_.assign(static_cast<std::size_t>(ranks_), 0);
-  std::size_t actions = 0;
-  for (int r = 0; r < ranks_; ++r) {
+  gather_items(my_actions_, all_actions_, counts_, ranks_, [&](int r) {
     std::size_t n = 0;
     for (const std::uint32_t p : rank_parts_[static_cast<std::size_t>(r)]) {
       n += part_actions(pass, p);
     }
-    counts_[static_cast<std::size_t>(r)] = static_cast<int>(n * sizeof(ContactAction));
-    actions += n;
-  }
-  all_actions_.resize(actions);
-  gather_from_all_ranks(bytes_of(my_actions_), bytes_of(all_actions_), counts_);
+    return n;
+  });
   const ContactAction* action = all_actions_.data();
   for (int r = 0; r < ranks_; ++r) {
     for (const std::uint32_t p : rank_parts_[static_cast<std::size_t>(r)]) {

@@ -32,18 +32,19 @@ namespace cdpowder {
 
 struct ColouredPass;
 struct PartSums;
+struct TileOrder;
 
 class TileRanks {
  public:
   /// Plans a tiled step's passes for this job's ranks: which rank solves which tile, and the
   /// messages after each phase. Inactive (every rank solves every part, nothing is sent) in a
   /// job of one rank or for a step that is not tiled (`tiles` null). Needs the records in tile
-  /// order (tile_order.hpp): the places of a tile's spheres are its part's range.
-  void plan(const StepTiles* tiles, const ColouredPass& pass);
+  /// order (`order`, tile_order.hpp): a tile's records are its part's range of places.
+  void plan(const StepTiles* tiles, const ColouredPass& pass, const TileOrder& order);
 
   [[nodiscard]] bool active() const { return active_; }
 
-  /// The parts of phase `phase` this rank solves (every part of it when inactive).
+  /// The parts of phase `phase` this rank solves (when active).
   [[nodiscard]] std::span<const std::uint32_t> phase_parts(std::size_t phase) const {
     return mine_[phase];
   }
@@ -92,7 +93,7 @@ class TileRanks {
   int rank_ = 0;
   int ranks_ = 1;
   TileGrid grid_;
-  std::vector<std::uint32_t> part_begin_;  ///< part p's records: places [b[p], b[p + 1])
+  std::vector<std::uint32_t> part_start_;  ///< TileOrder::part_start of the step
   std::vector<std::uint32_t> row_parts_;   ///< row j's parts: [j nx, (j + 1) nx), tile order
   std::vector<int> row_owner_;             ///< the rank that solves row j's tiles
   std::vector<std::vector<std::uint32_t>> rank_rows_;   ///< each rank's rows
@@ -102,7 +103,6 @@ class TileRanks {
   std::array<std::vector<RowMessage>, kTilePhases> receives_;
   // scratch of the gathers: bytes of each rank's share, and the typed buffers
   std::vector<int> counts_;
-  std::vector<int> sum_counts_;
   std::vector<SphereVelocity> my_records_, all_records_;
   std::vector<ContactAction> my_actions_, all_actions_;
   std::vector<PassSums> my_sums_, all_sums_;
