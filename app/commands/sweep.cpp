@@ -110,7 +110,7 @@ int run_task(const SweepOptions& options, const SweepState& state, std::size_t t
     return 0;
   }
   // a runner that held the lock until now may have finished the run
-  if (finished_summary(folder, state.scene_texts[task])) {
+  if (finished_summary(plan, folder, state.scene_texts[task])) {
     if (!options.quiet) std::fprintf(stderr, "%s\n", already_finished_line(name).c_str());
     return 0;
   }
@@ -118,7 +118,7 @@ int run_task(const SweepOptions& options, const SweepState& state, std::size_t t
   signal(SIGCHLD, SIG_DFL);
   setenv(kDieWithParentVariable, std::to_string(getpid()).c_str(), 1);
   std::string why_not;
-  const bool resume = has_usable_checkpoint(folder, state.scene_texts[task], why_not);
+  const bool resume = has_usable_checkpoint(plan.command, folder, state.scene_texts[task], why_not);
   if (!why_not.empty() && !options.quiet) {
     std::fprintf(stderr, "%s\n", starts_again_line(name, why_not).c_str());
   }
@@ -127,9 +127,9 @@ int run_task(const SweepOptions& options, const SweepState& state, std::size_t t
   }
   std::string error;
   const int lock_fd = lock->inheritable_fd();
-  const pid_t child = start_run(
-      {plan.command, plan.scene, folder, run.overrides, options.checkpoint_every, resume, lock_fd},
-      error);
+  const pid_t child = start_run({plan.command, plan.protocol, plan.scene, folder, run.overrides,
+                                 options.checkpoint_every, resume, lock_fd},
+                                error);
   close(lock_fd);
   if (child == 0) throw std::runtime_error(error);
   int status = 0;
@@ -141,7 +141,7 @@ int run_task(const SweepOptions& options, const SweepState& state, std::size_t t
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }
-  const std::optional<RunSummary> summary = read_run_summary(folder / "summary.json");
+  const std::optional<RunSummary> summary = read_sweep_run(plan, folder);
   const RunExit end = run_exit(status, summary, state.scene_texts[task]);
   const bool unwritten = end.unwritten;
   if (!end.counts) {
@@ -185,12 +185,12 @@ int print_dry_run(const SweepOptions& options, const SweepState& state) {
               state.pending.size());
   for (std::size_t i = 0; i < total; ++i) {
     std::string why_not;
-    const char* what =
-        state.summaries[i]          ? "done   "
-        : state.reused.count(i) > 0 ? "reuse  "
-        : has_usable_checkpoint(options.out / plan.runs[i].folder, state.scene_texts[i], why_not)
-            ? "resume "
-            : "pending";
+    const char* what = state.summaries[i]          ? "done   "
+                       : state.reused.count(i) > 0 ? "reuse  "
+                       : has_usable_checkpoint(plan.command, options.out / plan.runs[i].folder,
+                                               state.scene_texts[i], why_not)
+                           ? "resume "
+                           : "pending";
     const auto incomplete = state.incomplete.find(i);
     const std::string note =
         incomplete == state.incomplete.end()

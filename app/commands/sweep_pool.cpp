@@ -145,22 +145,25 @@ class SweepPool {
       return;
     }
     // an outside runner (--task) that held the lock until now may have finished the run
-    if (std::optional<RunSummary> summary = finished_summary(folder, state_.scene_texts[i])) {
+    if (std::optional<RunSummary> summary =
+            finished_summary(state_.plan, folder, state_.scene_texts[i])) {
       state_.summaries[i] = std::move(summary);
       ++done_now_;
       return;
     }
     // an interrupted run goes on from its checkpoint instead of starting again
     std::string why_not;
-    const bool resume = has_usable_checkpoint(folder, state_.scene_texts[i], why_not);
+    const bool resume =
+        has_usable_checkpoint(state_.plan.command, folder, state_.scene_texts[i], why_not);
     if (!why_not.empty() && !options_.quiet) {
       std::fprintf(stderr, "%s\n", starts_again_line(run_name(i), why_not).c_str());
     }
     std::string error;
     const int lock_fd = lock->inheritable_fd();
-    const pid_t child = start_run({state_.plan.command, state_.plan.scene, folder, run.overrides,
-                                   options_.checkpoint_every, resume, lock_fd, threads_per_run_},
-                                  error);
+    const pid_t child =
+        start_run({state_.plan.command, state_.plan.protocol, state_.plan.scene, folder,
+                   run.overrides, options_.checkpoint_every, resume, lock_fd, threads_per_run_},
+                  error);
     close(lock_fd);  // the run holds the lock now, and this process lets go of its own
     if (child == 0) {
       ++failed_;
@@ -187,7 +190,7 @@ class SweepPool {
     const std::size_t i = it->second;
     guard_.runs.erase(it);
     const std::filesystem::path folder = options_.out / state_.plan.runs[i].folder;
-    std::optional<RunSummary> summary = read_run_summary(folder / "summary.json");
+    std::optional<RunSummary> summary = read_sweep_run(state_.plan, folder);
     const RunExit end = run_exit(status, summary, state_.scene_texts[i]);
     if (end.unwritten && write_error_.empty()) write_error_ = last_error_of(folder / "log.txt");
     if (end.counts) {

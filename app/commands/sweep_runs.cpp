@@ -7,6 +7,7 @@
 #include "cdpowder/run/folder_lock.hpp"
 #include "cdpowder/run/run_folder.hpp"
 #include "cdpowder/run/state_file.hpp"
+#include "cdpowder/study/protocol_record.hpp"
 #include "cdpowder/study/sweep_results.hpp"
 
 #include <fmt/format.h>
@@ -44,8 +45,10 @@ RunningRuns::~RunningRuns() {
   for (const auto& entry : runs) waitpid(entry.first, nullptr, 0);
 }
 
-bool has_usable_checkpoint(const std::filesystem::path& folder, const std::string& scene_text,
-                           std::string& why_not) {
+bool has_usable_checkpoint(SweepCommand command, const std::filesystem::path& folder,
+                           const std::string& scene_text, std::string& why_not) {
+  // a Python protocol starts again: the sweep cannot tell where in it a checkpoint was written
+  if (command == SweepCommand::Python) return false;
   const std::filesystem::path file = checkpoint_path(folder);
   if (!std::filesystem::exists(file)) return false;
   try {
@@ -68,18 +71,49 @@ bool has_usable_checkpoint(const std::filesystem::path& folder, const std::strin
 
 namespace {
 
+/// The Python that runs a protocol: $CDPOWDER_PYTHON, or python3 on PATH.
+std::string python_interpreter() {
+  const char* chosen = std::getenv(kPythonVariable);
+  return chosen != nullptr && *chosen != '\0' ? chosen : "python3";
+}
+
+/// The folder that holds the package cdpowder beside this program in a build tree
+/// (build/…/app/cdpowder and build/…/python/cdpowder), or "" for an installed program, whose
+/// package is where its prefix's Python finds it.
+std::string package_folder_of_build() {
+  std::error_code error;
+  const std::filesystem::path self = std::filesystem::read_symlink(kSelf, error);
+  if (error) return {};
+  const std::filesystem::path python = self.parent_path().parent_path() / "python";
+  return std::filesystem::is_regular_file(python / "cdpowder" / "__init__.py", error)
+             ? python.string()
+             : std::string();
+}
+
 /// This process's environment for a run: the lock passed down (kInheritedLockVariable) and
-/// the run's share of the cores (kMaxThreadsVariable), unless the user set that for the sweep.
-std::vector<std::string> child_environment(const RunStart& run) {
+/// the run's share of the cores (kMaxThreadsVariable), unless the user set that for the sweep;
+/// for a Python protocol, the build tree's package first on PYTHONPATH.
+std::vector<std::string> child_environment(const RunStart& run, bool python) {
   const std::string lock_prefix = std::string(kInheritedLockVariable) + "=";
   const std::string threads_prefix = std::string(kMaxThreadsVariable) + "=";
+  const std::string path_prefix = "PYTHONPATH=";
+  const std::string package = python ? package_folder_of_build() : std::string();
   std::vector<std::string> variables;
   bool threads_set = false;
+  bool path_set = false;
   for (char** v = environ; *v != nullptr; ++v) {
     const std::string_view variable(*v);
     threads_set = threads_set || variable.starts_with(threads_prefix);
-    if (!variable.starts_with(lock_prefix)) variables.emplace_back(variable);
+    if (variable.starts_with(lock_prefix)) continue;
+    if (!package.empty() && variable.starts_with(path_prefix)) {
+      path_set = true;
+      variables.push_back(
+          fmt::format("{}{}:{}", path_prefix, package, variable.substr(path_prefix.size())));
+      continue;
+    }
+    variables.emplace_back(variable);
   }
+  if (!package.empty() && !path_set) variables.push_back(path_prefix + package);
   if (run.lock_fd >= 0) {
     variables.push_back(fmt::format("{}={}", kInheritedLockVariable, run.lock_fd));
   }
@@ -93,16 +127,32 @@ std::vector<std::string> child_environment(const RunStart& run) {
 
 pid_t start_run(const RunStart& run, std::string& error) {
   const std::filesystem::path& folder = run.folder;
+  const bool python = run.command == SweepCommand::Python;
   std::vector<std::string> args{"cdpowder", "resume", folder.string(), "--quiet"};
-  if (!run.resume) {
+  if (python) {
+    // a protocol starts again from its point's scene: its own engine runs keep no checkpoint
+    // the sweep knows how to continue
+    args = {python_interpreter(),
+            "-m",
+            "cdpowder.protocol",
+            run.protocol.file.string(),
+            run.protocol.function,
+            run.scene.string(),
+            "--out",
+            folder.string(),
+            "--name",
+            run.protocol.name};
+  } else if (!run.resume) {
     args = {"cdpowder", command_name(run.command), run.scene.string(),
             "--out",    folder.string(),           "--quiet"};
+  }
+  if (python || !run.resume) {
     for (const SceneOverride& o : run.overrides) {
       args.emplace_back("--set");
       args.push_back(o.text);
     }
   }
-  if (run.checkpoint_every) {
+  if (run.checkpoint_every && !python) {
     args.emplace_back("--checkpoint-every");
     args.push_back(fmt::format("{}", *run.checkpoint_every));
   }
@@ -121,20 +171,35 @@ pid_t start_run(const RunStart& run, std::string& error) {
   posix_spawnattr_init(&attributes);
   posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETPGROUP);
   posix_spawnattr_setpgroup(&attributes, 0);
-  std::vector<std::string> variables = child_environment(run);
+  std::vector<std::string> variables = child_environment(run, python);
   std::vector<char*> envp;
   envp.reserve(variables.size() + 1);
   for (std::string& v : variables) envp.push_back(v.data());
   envp.push_back(nullptr);
   pid_t pid = 0;
-  const int failed = posix_spawn(&pid, kSelf, &files, &attributes, argv.data(), envp.data());
+  // a protocol's interpreter is looked up on PATH, as a shell would
+  const int failed =
+      python
+          ? posix_spawnp(&pid, args.front().c_str(), &files, &attributes, argv.data(), envp.data())
+          : posix_spawn(&pid, kSelf, &files, &attributes, argv.data(), envp.data());
   posix_spawn_file_actions_destroy(&files);
   posix_spawnattr_destroy(&attributes);
   if (failed != 0) {
-    error = fmt::format("cannot start {}: {}", kSelf, std::strerror(failed));
+    error = fmt::format("cannot start {}: {}", python ? args.front() : std::string(kSelf),
+                        std::strerror(failed));
     return 0;
   }
   return pid;
+}
+
+std::optional<RunSummary> read_sweep_run(const SweepPlan& plan,
+                                         const std::filesystem::path& folder) {
+  std::optional<RunSummary> summary = read_run_summary(folder / "summary.json");
+  if (plan.command != SweepCommand::Python || !summary) return summary;
+  const std::optional<ProtocolRecord> record = read_protocol_record(folder);
+  if (!record || record->protocol != plan.protocol.name) return std::nullopt;
+  summary->scene_toml = record->scene_toml;
+  return summary;
 }
 
 RunExit run_exit(int status, const std::optional<RunSummary>& summary,

@@ -22,6 +22,9 @@ namespace cdpowder::app {
 /// it pointed to then no longer starts anything, or starts a different program).
 inline constexpr const char* kSelf = "/proc/self/exe";
 
+/// The Python that runs a sweep's protocol (command "python"), python3 on PATH when unset.
+inline constexpr const char* kPythonVariable = "CDPOWDER_PYTHON";
+
 /// The running runs: on every exit path (a signal, an exception) they are asked to stop
 /// and waited for, so no run outlives the sweep and keeps writing into its folder.
 class RunningRuns {
@@ -39,14 +42,17 @@ class RunningRuns {
 
 /// Whether the unfinished run in `folder` can be continued from its checkpoint: there is
 /// one, of this build's format, for exactly the run's scene. Otherwise the run starts again
-/// (which clears the folder); `why_not` then says why a checkpoint there was not used.
-bool has_usable_checkpoint(const std::filesystem::path& folder, const std::string& scene_text,
-                           std::string& why_not);
+/// (which clears the folder); `why_not` then says why a checkpoint there was not used. A
+/// Python protocol's run always starts again.
+bool has_usable_checkpoint(SweepCommand command, const std::filesystem::path& folder,
+                           const std::string& scene_text, std::string& why_not);
 
 /// How a sweep starts a run: `cdpowder compact scene --out folder --quiet --set …`, or, for
-/// an unfinished run with a usable checkpoint, `cdpowder resume folder --quiet`.
+/// an unfinished run with a usable checkpoint, `cdpowder resume folder --quiet`; a Python
+/// protocol as `python3 -m cdpowder.protocol FILE FUNCTION scene --out folder --set …`.
 struct RunStart {
   SweepCommand command = SweepCommand::Compact;  ///< a fresh run's (a resumed one is `resume`)
+  const SweepProtocol& protocol;                 ///< with command Python
   const std::filesystem::path& scene;
   const std::filesystem::path& folder;
   const std::vector<SceneOverride>& overrides;
@@ -76,6 +82,12 @@ struct RunExit {
   /// run whose output failed is not finished: it runs again when the sweep can write.
   bool counts = false;
 };
+
+/// A run's summary as the sweep compares it with the point (is_reusable): summary.json, and
+/// for a Python protocol with the point's scene from protocol.json in place of the last scene
+/// the protocol ran (nothing until the protocol has returned, or for another protocol).
+std::optional<RunSummary> read_sweep_run(const SweepPlan& plan,
+                                         const std::filesystem::path& folder);
 
 /// Reads a run's wait status, summary and scene the same way for the pool and for --task.
 RunExit run_exit(int status, const std::optional<RunSummary>& summary,

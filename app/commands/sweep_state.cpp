@@ -2,6 +2,8 @@
 // atomically with the program's version and commit.
 #include "commands/sweep_state.hpp"
 
+#include "commands/sweep_runs.hpp"
+
 #include "cdpowder/config/config_error.hpp"
 #include "cdpowder/config/scene_reader.hpp"
 #include "cdpowder/io/atomic_file.hpp"
@@ -62,6 +64,12 @@ SweepState read_sweep_state(const SweepOptions& options) {
                                     plan.points[plan.runs[i].point].name, plan.runs[i].seed)});
     }
   }
+  if (plan.command == SweepCommand::Python && !options.reuse.empty()) {
+    // another sweep's run of the same scene ran another program: nothing to reuse
+    issues.push_back({plan.source.string(), 0, 0, "command",
+                      "--reuse takes the runs of `compact` and `simulate` sweeps; a Python "
+                      "protocol's runs are its own: leave --reuse out"});
+  }
   if (!issues.empty()) throw ConfigError(std::move(issues));
 
   std::vector<std::optional<RunSummary>>& summaries = state.summaries;
@@ -69,7 +77,7 @@ SweepState read_sweep_state(const SweepOptions& options) {
   std::vector<std::size_t>& pending = state.pending;
   for (std::size_t i = 0; i < plan.runs.size(); ++i) {
     const std::filesystem::path folder = options.out / plan.runs[i].folder;
-    std::optional<RunSummary> summary = read_run_summary(folder / "summary.json");
+    std::optional<RunSummary> summary = read_sweep_run(plan, folder);
     // a summary beside missing outputs: a build that wrote the summary first was cut short
     std::vector<std::string> missing;
     if (summary) missing = missing_run_outputs(folder);
@@ -106,9 +114,10 @@ SweepState read_sweep_state(const SweepOptions& options) {
   return state;
 }
 
-std::optional<RunSummary> finished_summary(const std::filesystem::path& folder,
+std::optional<RunSummary> finished_summary(const SweepPlan& plan,
+                                           const std::filesystem::path& folder,
                                            const std::string& scene_text) {
-  std::optional<RunSummary> summary = read_run_summary(folder / "summary.json");
+  std::optional<RunSummary> summary = read_sweep_run(plan, folder);
   if (!is_reusable(summary, scene_text) || !missing_run_outputs(folder).empty()) return {};
   return summary;
 }

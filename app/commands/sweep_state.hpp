@@ -36,7 +36,8 @@ SweepState read_sweep_state(const SweepOptions& options);
 /// The summary of the run in `folder` when it has finished for exactly `scene_text` with every
 /// output in place (is_reusable, missing_run_outputs); nothing otherwise. Asked again by a
 /// runner once it holds the run's lock: another runner may have finished the run meanwhile.
-std::optional<RunSummary> finished_summary(const std::filesystem::path& folder,
+std::optional<RunSummary> finished_summary(const SweepPlan& plan,
+                                           const std::filesystem::path& folder,
                                            const std::string& scene_text);
 
 /// results.csv and points.csv of the summaries so far (atomically). Throws OutputError.

@@ -62,19 +62,50 @@ TEST(SweepPlan, SaysAFolderIsNotASweepFile) {
   }
 }
 
-// Provenance records a file as the user named it: a sweep file given relative to the working
-// folder gives a base scene relative to it too, never this machine's absolute path (the
-// sweep's tables and every run's outputs record plan.scene).
-// `command`: each run is a compaction (the default) or a simulation of the scene
+// `command`: each run is a compaction (the default), a simulation of the scene or a Python
+// protocol
 TEST(SweepPlan, TheCommandIsCompactUnlessTheFileSaysSimulate) {
   EXPECT_EQ(plan_of("scene = \"s.toml\"\n").command, SweepCommand::Compact);
   EXPECT_EQ(plan_of("scene = \"s.toml\"\ncommand = \"simulate\"\n").command,
             SweepCommand::Simulate);
   EXPECT_STREQ(command_name(SweepCommand::Simulate), "simulate");
   EXPECT_THAT(errors_of("scene = \"s.toml\"\ncommand = \"deposit\"\n"),
-              HasSubstr("command: got \"deposit\", expected \"compact\" or \"simulate\""));
+              HasSubstr("command: got \"deposit\", expected \"compact\", \"simulate\" or "
+                        "\"python\""));
 }
 
+// command = "python" runs `protocol = "FILE:FUNCTION"`, the file relative to the sweep file
+TEST(SweepPlan, APythonProtocolNamesItsFileAndFunction) {
+  const std::filesystem::path scratch =
+      std::filesystem::temp_directory_path() / "cdpowder_sweep_protocol_test";
+  std::filesystem::create_directories(scratch);
+  std::ofstream(scratch / "steps.py") << "def run(scene, out):\n    pass\n";
+  const SweepPlan plan = read_sweep_plan_text(
+      "scene = \"s.toml\"\ncommand = \"python\"\nprotocol = \"steps.py:run\"\n", "sweep.toml",
+      scratch);
+  EXPECT_EQ(plan.command, SweepCommand::Python);
+  EXPECT_EQ(plan.protocol.file, scratch / "steps.py");
+  EXPECT_EQ(plan.protocol.function, "run");
+  EXPECT_EQ(plan.protocol.name, "steps.py:run");
+  EXPECT_STREQ(command_name(SweepCommand::Python), "python");
+  std::filesystem::remove_all(scratch);
+
+  EXPECT_THAT(errors_of("scene = \"s.toml\"\ncommand = \"python\"\n"),
+              HasSubstr("protocol: missing: command = \"python\" needs protocol = "
+                        "\"FILE.py:FUNCTION\""));
+  EXPECT_THAT(errors_of("scene = \"s.toml\"\ncommand = \"python\"\nprotocol = \"steps.py\"\n"),
+              HasSubstr("protocol: got \"steps.py\", expected \"FILE.py:FUNCTION\""));
+  EXPECT_THAT(errors_of("scene = \"s.toml\"\ncommand = \"python\"\nprotocol = \"steps.py:2run\"\n"),
+              HasSubstr("expected \"FILE.py:FUNCTION\""));
+  EXPECT_THAT(errors_of("scene = \"s.toml\"\ncommand = \"python\"\nprotocol = \"gone.py:run\"\n"),
+              HasSubstr("/base/gone.py: no such file"));
+  EXPECT_THAT(errors_of("scene = \"s.toml\"\nprotocol = \"steps.py:run\"\n"),
+              HasSubstr("protocol: is read only with command = \"python\""));
+}
+
+// Provenance records a file as the user named it: a sweep file given relative to the working
+// folder gives a base scene relative to it too, never this machine's absolute path (the
+// sweep's tables and every run's outputs record plan.scene).
 TEST(SweepPlan, TheBaseSceneIsRelativeToTheSweepFileAsNamed) {
   const std::filesystem::path before = std::filesystem::current_path();
   const std::filesystem::path scratch =

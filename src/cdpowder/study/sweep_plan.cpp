@@ -24,8 +24,8 @@ namespace cdpowder {
 namespace {
 
 constexpr std::int64_t kMaxSeedCount = 100000;
-const std::vector<std::string> kTopLevelKeys{"scene", "command", "seeds",  "seed_keys",
-                                             "set",   "grid",    "points", "points_csv"};
+const std::vector<std::string> kTopLevelKeys{
+    "scene", "command", "protocol", "seeds", "seed_keys", "set", "grid", "points", "points_csv"};
 
 using detail::TableReader;
 
@@ -105,15 +105,15 @@ void check_top_level_keys(TableReader& in, const toml::table& root) {
     const std::string key(name.str());
     if (std::find(kTopLevelKeys.begin(), kTopLevelKeys.end(), key) == kTopLevelKeys.end()) {
       report(in, key, &node,
-             "unknown key; allowed: scene, command, seeds, seed_keys, set, [grid], [[points]], "
-             "points_csv" +
+             "unknown key; allowed: scene, command, protocol, seeds, seed_keys, set, [grid], "
+             "[[points]], points_csv" +
                  did_you_mean(key, kTopLevelKeys));
     }
   }
 }
 
-/// `command`: "compact" (the default: until the blocked state) or "simulate" (the scene's own
-/// duration or end).
+/// `command`: "compact" (the default: until the blocked state), "simulate" (the scene's own
+/// duration or end) or "python" (the `protocol`).
 void read_command(TableReader& in, SweepPlan& plan) {
   const auto* command = in.find("command");
   if (command == nullptr) return;
@@ -123,8 +123,63 @@ void read_command(TableReader& in, SweepPlan& plan) {
     plan.command = SweepCommand::Simulate;
     return;
   }
+  if (name != nullptr && name->get() == "python") {
+    plan.command = SweepCommand::Python;
+    return;
+  }
   report(in, "command", command,
-         fmt::format(R"(got {}, expected "compact" or "simulate")", detail::describe(*command)));
+         fmt::format(R"(got {}, expected "compact", "simulate" or "python")",
+                     detail::describe(*command)));
+}
+
+/// Whether `name` is a Python identifier of ASCII letters, digits and underscores.
+bool is_python_identifier(std::string_view name) {
+  const auto letter = [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_';
+  };
+  return !name.empty() && letter(name.front()) &&
+         std::all_of(name.begin(), name.end(),
+                     [&](char c) { return letter(c) || (c >= '0' && c <= '9'); });
+}
+
+/// `protocol = "FILE:FUNCTION"`, the Python function each run of command "python" calls; the
+/// file relative to the sweep file. Required by that command, refused by the others.
+void read_protocol(TableReader& in, const std::filesystem::path& base_dir, SweepPlan& plan) {
+  const auto* protocol = in.find("protocol");
+  if (plan.command != SweepCommand::Python) {
+    if (protocol != nullptr) {
+      report(in, "protocol", protocol,
+             R"(is read only with command = "python"; remove it, or set command = "python")");
+    }
+    return;
+  }
+  const auto* text = protocol != nullptr ? protocol->as_string() : nullptr;
+  const std::string value = text != nullptr ? text->get() : std::string();
+  const std::size_t colon = value.rfind(':');
+  if (protocol == nullptr) {
+    report(in, "protocol", nullptr,
+           R"(missing: command = "python" needs protocol = "FILE.py:FUNCTION", the function )"
+           "each point runs (docs/sweeps.md)");
+    return;
+  }
+  if (text == nullptr || colon == std::string::npos || colon == 0 ||
+      !is_python_identifier(std::string_view(value).substr(colon + 1))) {
+    report(in, "protocol", protocol,
+           fmt::format(R"(got {}, expected "FILE.py:FUNCTION": a Python file (relative to the )"
+                       "sweep file) and the name of a function in it",
+                       detail::describe(*protocol)));
+    return;
+  }
+  const std::filesystem::path file(value.substr(0, colon));
+  plan.protocol.file = file.is_absolute() ? file : base_dir / file;
+  plan.protocol.function = value.substr(colon + 1);
+  plan.protocol.name = value;
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(plan.protocol.file, error)) {
+    report(in, "protocol", protocol,
+           fmt::format("{}: no such file (a Python file, relative to the sweep file)",
+                       plan.protocol.file.string()));
+  }
 }
 
 /// `scene`: the base scene file, relative to the sweep file.
@@ -455,6 +510,7 @@ SweepPlan read_sweep_plan_text(std::string_view text, std::string_view source_na
   check_top_level_keys(in, root);
   read_scene_key(in, base_dir, plan);
   read_command(in, plan);
+  read_protocol(in, base_dir, plan);
   const std::string seeds_origin = read_seeds(in, source, plan);
   read_seed_keys_and_fixed(in, plan);
   plan.fixed.insert(plan.fixed.end(), extra_fixed.begin(), extra_fixed.end());
@@ -485,7 +541,15 @@ SweepPlan read_sweep_plan(const std::filesystem::path& file,
 }
 
 const char* command_name(SweepCommand command) {
-  return command == SweepCommand::Simulate ? "simulate" : "compact";
+  switch (command) {
+    case SweepCommand::Simulate:
+      return "simulate";
+    case SweepCommand::Python:
+      return "python";
+    case SweepCommand::Compact:
+      break;
+  }
+  return "compact";
 }
 
 void order_seed_by_seed(const SweepPlan& plan, std::vector<std::size_t>& runs) {

@@ -2,10 +2,9 @@
 //
 // A sweep file (TOML, docs/sweeps.md) names a base scene, fixed overrides, the seeds, and
 // the parameter points: a grid (Cartesian product of value lists) and/or explicit points.
-// Each (point, seed) becomes one run of `compact` (or `simulate`, the file's `command`) with its
-// own `--set` overrides and its
-// own folder, named from the parameter values so that a restarted or extended sweep finds
-// the runs it already has.
+// Each (point, seed) becomes one run of `compact` (or `simulate`, or a Python protocol: the
+// file's `command`) with its own `--set` overrides and its own folder, named from the parameter
+// values so that a restarted or extended sweep finds the runs it already has.
 #pragma once
 
 #include "cdpowder/config/scene_override.hpp"
@@ -40,15 +39,26 @@ struct SweepRun {
   std::vector<SceneOverride> overrides;  ///< fixed ones, then the point's, then the seed's
 };
 
-/// The command each run of a sweep is (the file's `command`).
-enum class SweepCommand : std::uint8_t { Compact, Simulate };
+/// The command each run of a sweep is (the file's `command`): `cdpowder compact`,
+/// `cdpowder simulate`, or a Python protocol (`python3 -m cdpowder.protocol`).
+enum class SweepCommand : std::uint8_t { Compact, Simulate, Python };
 
-/// "compact" or "simulate", as on the command line.
+/// "compact", "simulate" or "python", as the sweep file names it.
 const char* command_name(SweepCommand command);
+
+/// A Python protocol (the file's `protocol = "FILE:FUNCTION"`): FUNCTION(scene, out) of the
+/// Python file FILE runs each point (docs/sweeps.md, "A Python protocol").
+struct SweepProtocol {
+  std::filesystem::path file;  ///< resolved against the sweep file
+  std::string function;        ///< a Python identifier
+  /// "FILE:FUNCTION" as the sweep file writes it, the protocol's name in protocol.json
+  std::string name;
+};
 
 struct SweepPlan {
   std::filesystem::path source;                  ///< the sweep file
   SweepCommand command = SweepCommand::Compact;  ///< `command`: what each run is
+  SweepProtocol protocol;                        ///< `protocol`, with command "python"
   std::filesystem::path scene;              ///< the base scene, resolved against the sweep file
   std::vector<SceneOverride> fixed;         ///< `set`, then the command's --set: every run's
   std::vector<std::int64_t> seeds;          ///< `seeds`
