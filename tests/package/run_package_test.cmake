@@ -94,6 +94,13 @@ if(DEFINED CXX)
   endforeach()
 endif()
 
+# the installed program runs from its prefix (a shared library found through its run path)
+run(${prefix}/bin/cdpowder --version)
+file(GLOB shared_libraries ${prefix}/lib*/libcdpowder_core.so* ${prefix}/lib/*/libcdpowder_core.so*)
+if(shared_libraries)
+  message(STATUS "run_package_test: the shared library ${shared_libraries}")
+endif()
+
 run(${CMAKE_COMMAND} -S ${SOURCE_DIR}/tests/package -B ${SCRATCH}/build -G Ninja
     -DCMAKE_PREFIX_PATH=${prefix} -DCMAKE_BUILD_TYPE=Release "-DCMAKE_CXX_FLAGS=${CXX_FLAGS}")
 run(${CMAKE_COMMAND} --build ${SCRATCH}/build)
