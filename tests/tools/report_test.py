@@ -258,8 +258,24 @@ class ReportOnKnownSweeps(unittest.TestCase):
                                 100, 1000, 1.0, 1, f"runs/p{p}/seed_{s}"])
         report = run_report(folder)
         self.assertIn("## Against `piston.pressure`", report)
-        self.assertIn("| – | 0.004 | 0.7650 ± 0.0050 | 2 |", report)
+        # ΔE against the smallest pressure, paired by seed: the seed offset cancels
+        self.assertIn("| – | 0.004 | 0.7650 ± 0.0050 | 2 | -0.0500 ± 0.0000 | 2 |", report)
+        self.assertIn("| – | 0.001 | 0.8150 ± 0.0050 | 2 | – | – |", report)
         self.assertTrue((folder / "report" / "against_piston_pressure.png").exists())
+
+    def test_a_ratio_of_added_porosities_is_paired_by_seed(self):
+        # E1(μ, 0) = 2 E1(0, μ) seed by seed, E1 varying from seed to seed: the paired ratio
+        # is 2 with no error, where independent errors would give a large one
+        sys.path.insert(0, str(ROOT / "python"))
+        from cdpowder.report.data import paired_ratio
+        twist = [0.05, 0.10, 0.15, 0.20]
+        ratio, error = paired_ratio([2 * t for t in twist], twist)
+        self.assertAlmostEqual(ratio, 2.0)
+        self.assertAlmostEqual(error, 0.0)
+        ratio, error = paired_ratio([0.2, 0.3], [0.1, 0.1])
+        self.assertAlmostEqual(ratio, 2.5)
+        self.assertAlmostEqual(error, 0.5)  # residuals ±0.05: sd 0.0707 / √2 / 0.1
+        self.assertTrue(all(map(lambda v: v != v, paired_ratio([], []))))
 
 
 if __name__ == "__main__":

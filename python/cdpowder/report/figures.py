@@ -216,6 +216,7 @@ def plot_against_key(sweep, key, out):
             ax.set_xscale("log")
     if any(groups):
         axes[0].legend(fontsize=7)
+    fig.tight_layout()  # the panels' y labels clear their neighbours
     name = "against_" + "".join(c if c.isalnum() else "_" for c in key)
     save(fig, out, name)
     return name

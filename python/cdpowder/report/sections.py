@@ -4,7 +4,7 @@ import math
 import numpy as np
 
 from . import paper
-from .data import MU_N, MU_T, Stat, ratio_of
+from .data import MU_N, MU_T, Stat
 
 ORIGIN = (0.0, 0.0)
 # Saturation is judged only along a line with at least this many μ values (the mesh has 8)
@@ -69,10 +69,6 @@ def variants(sweep):
     """Points that change another key, each against the mesh point of its (μt, μn)."""
     if not sweep.variants:
         return []
-    md = ["## Points that change other keys", "",
-          "ΔE and Δσzz+/p are against the point with the same (μt, μn) and nothing "
-          "else changed, paired by seed (– where the sweep has no such point); n counts "
-          "the point's runs, pairs the seeds it shares with that point.", ""]
     rows = []
     for name in sorted(sweep.variants):
         runs = sweep.variants[name].set_index("seed")
@@ -95,9 +91,21 @@ def variants(sweep):
                      against_base("sigma_zz_compressive_over_p").text(2),
                      Stat(runs["sigma_zz_tensile_over_p"]).text(2),
                      Stat(runs["wall_seconds"]).text(0)])
-    md += table(["point", "E", "n", "ΔE", "pairs", "σzz/p", "σzz+/p", "Δσzz+/p", "σzz−/p",
-                 "wall [s]"], rows)
-    return md + [""]
+    columns = ["point", "E", "n", "ΔE", "pairs", "σzz/p", "σzz+/p", "Δσzz+/p", "σzz−/p",
+               "wall [s]"]
+    md = ["## Points that change other keys", ""]
+    if all(row[4] == "0" for row in rows):
+        # no point has a mesh point to be compared with (a sweep of other keys alone): the
+        # tables against each key below pair them with each other
+        md += ["n counts the point's runs.", ""]
+        keep = [i for i, c in enumerate(columns) if c not in ("ΔE", "pairs", "Δσzz+/p")]
+        columns = [columns[i] for i in keep]
+        rows = [[row[i] for i in keep] for row in rows]
+    else:
+        md += ["ΔE and Δσzz+/p are against the point with the same (μt, μn) and nothing "
+               "else changed, paired by seed (– where the sweep has no such point); n counts "
+               "the point's runs, pairs the seeds it shares with that point.", ""]
+    return md + table(columns, rows) + [""]
 
 
 def points(sweep):
@@ -128,7 +136,7 @@ def ratios_along_axes(sweep):
     out = []
     for mu in mus:
         roll, twist = sweep.added((mu, 0.0)), sweep.added((0.0, mu))
-        out.append((mu, roll, twist) + ratio_of(roll, twist))
+        out.append((mu, roll, twist) + sweep.added_ratio((mu, 0.0), (0.0, mu)))
     return out
 
 
@@ -171,7 +179,8 @@ def _porosity_claims(sweep):
             ["E1(0, 1) (torsion only)", f"≈ {paper.E1_TWIST}", e1_twist.text(4)],
             ["E1(1, 1) (both)", f"≈ {paper.E1_BOTH}", sweep.added((1.0, 1.0)).text(4)]]
     if e1_roll.n and e1_twist.n and e1_twist.mean != 0:
-        rows.append(["E1(1, 0) / E1(0, 1)", "≈ 2", _ratio_text(*ratio_of(e1_roll, e1_twist))])
+        rows.append(["E1(1, 0) / E1(0, 1)", "≈ 2",
+                     _ratio_text(*sweep.added_ratio((1.0, 0.0), (0.0, 1.0)))])
     # the range leaves out ratios whose torsion E1 is not clearly above zero (within twice
     # its standard error, or n = 1 and below 0.005): there the ratio says nothing
     determined = [(mu, r) for mu, _, twist, r, _ in ratios_along_axes(sweep)
@@ -227,7 +236,8 @@ def axis_ratios(sweep):
         return []
     md = ["## Rolling against torsion along the axes", "",
           "The paper: E1(μ, 0) / E1(0, μ) ≈ 2, roughly independent of μ. "
-          "Each E1 is paired by seed with E(0, 0).", ""]
+          "Each E1 is paired by seed with E(0, 0), and the ratio's error is that of the "
+          "ratio of the paired means (the seeds' deposits shared by all three points).", ""]
     rows = [[f"{mu:g}", roll.text(4), twist.text(4),
              "–" if not math.isfinite(ratio) else _ratio_text(ratio, err)]
             for mu, roll, twist, ratio, err in found]
@@ -260,13 +270,23 @@ def against_keys(sweep, figure_names):
     for key, figure in figure_names.items():
         if figure is None:
             continue
-        md += [f"## Against `{key}`", "", f"![{key}]({figure}.png)", ""]
+        md += [f"## Against `{key}`", "", f"![{key}]({figure}.png)", "",
+               f"ΔE and Δσzz+/p: against the smallest `{key}` of the same other keys, paired "
+               "by seed (the same deposit); pairs counts the seeds both have.", ""]
         rows = []
         for group, by_value in sweep.against(key).items():
+            first = next(iter(by_value.values()))
             for value, runs in by_value.items():
+                change = sweep.paired_change(runs, first, "porosity")
+                stress_change = sweep.paired_change(runs, first, "sigma_zz_compressive_over_p")
+                is_first = runs is first
                 rows.append([group or "–", f"{value:g}", Stat(runs["porosity"]).text(4),
-                             str(len(runs)), Stat(runs["sigma_zz_over_p"]).text(3),
+                             str(len(runs)), "–" if is_first else change.text(4),
+                             "–" if is_first else str(change.n),
+                             Stat(runs["sigma_zz_over_p"]).text(3),
                              Stat(runs["sigma_zz_compressive_over_p"]).text(2),
+                             "–" if is_first else stress_change.text(2),
                              Stat(runs["sigma_zz_tensile_over_p"]).text(2)])
-        md += table(["other keys", key, "E", "n", "σzz/p", "σzz+/p", "σzz−/p"], rows) + [""]
+        md += table(["other keys", key, "E", "n", "ΔE", "pairs", "σzz/p", "σzz+/p", "Δσzz+/p",
+                     "σzz−/p"], rows) + [""]
     return md
