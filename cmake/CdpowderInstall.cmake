@@ -66,9 +66,11 @@ if(HELP2MAN)
     # a UTF-8 locale (-L): help2man re-encodes --help (σ, ≤, —) to the locale's charset, and
     # under C, even with LC_ALL=C.UTF-8 set, it wrote "cdpowder ???" for the dash (measured)
     COMMAND ${HELP2MAN} -L C.UTF-8 --no-info --name "contact dynamics of cohesive powders of rigid spheres"
-            --version-string ${PROJECT_VERSION} --include ${man_commands} --output ${man_page}
+            --version-string ${PROJECT_VERSION} --include ${man_commands}
+            --include ${PROJECT_SOURCE_DIR}/packaging/cdpowder.h2m --output ${man_page}
             $<TARGET_FILE:cdpowder>
     DEPENDS cdpowder ${PROJECT_SOURCE_DIR}/cmake/CdpowderManCommands.cmake
+            ${PROJECT_SOURCE_DIR}/packaging/cdpowder.h2m
     COMMENT "Writing the man page from cdpowder --help"
     VERBATIM)
   add_custom_target(cdpowder_man_page ALL DEPENDS ${man_page})

@@ -41,6 +41,13 @@ if(MAN_PAGE)
   if(NOT name_line OR name_line MATCHES "\\?")
     message(FATAL_ERROR "run_package_test: the man page's NAME reads '${name_line}'")
   endif()
+  # the sections a man page is read for beyond the options (packaging/cdpowder.h2m)
+  file(STRINGS ${prefix}/share/man/man1/cdpowder.1 sections REGEX "^\\.SH ")
+  foreach(section "EXIT STATUS" FILES EXAMPLES)
+    if(NOT sections MATCHES "${section}")
+      message(FATAL_ERROR "run_package_test: the man page has no ${section} section")
+    endif()
+  endforeach()
 endif()
 # the docs and examples the messages cite
 foreach(file share/doc/cdpowder/config.md share/doc/cdpowder/README.md
