@@ -62,6 +62,26 @@ TEST_F(SimulateCli, WritesEveryOutputAndAResultLine) {
   }
 }
 
+// A deposit settling under gravity with no piston runs until the spheres alone are blocked
+// (physics.md §9): at rest for a window, then a static solve with every sphere in balance
+// against their weight. The deposit of the quick example collapses from E = 0.913.
+TEST_F(SimulateCli, ASettlingWithoutAPistonRunsUntilTheSpheresAreBlocked) {
+  const ProcessResult r = run_cdpowder(
+      "simulate " + (kExamples / "quick/scene.toml").string() + " --out " +
+          (scratch_ / "out").string() +
+          " --quiet --set piston.enabled=false --set system.gravity=[0,0,-0.01]"
+          " --set contact.mu_roll=0.0 --set contact.mu_twist=0.0",
+      scratch_);
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto summary = nlohmann::json::parse(slurp(scratch_ / "out/summary.json"));
+  EXPECT_TRUE(summary["run"]["blocked"].get<bool>());
+  EXPECT_TRUE(summary["accuracy"]["final_solve"]["converged"].get<bool>());
+  // the weight of 100 unit spheres of density 1 under g = 0.01, times force_balance 1e-2
+  EXPECT_LT(summary["accuracy"]["max_net_force"].get<double>(), 1e-2 * 100 * 4.18879 * 0.01);
+  EXPECT_LT(summary["porosity"].get<double>(), summary["initial_porosity"].get<double>() - 0.1);
+  EXPECT_LT(summary["time"].get<double>(), 5000.0);  // ended blocked, not at max_duration
+}
+
 // A library user who runs the loop with a RunFolder gets the command line's files: the same
 // list, and the same bytes in all but the wall times.
 TEST_F(SimulateCli, ALibraryRunWritesTheCommandLinesFiles) {

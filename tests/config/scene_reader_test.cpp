@@ -280,11 +280,19 @@ TEST_F(SceneReader, RejectsEnabledPistonWithoutPush) {
                               HasSubstr("piston.force")));
 }
 
-TEST_F(SceneReader, RejectsUntilBlockedWithoutPiston) {
-  const auto found = issues(std::string(kParticles) + "[run]\nuntil_blocked = true\n");
-  ASSERT_EQ(found.size(), 1U);
-  EXPECT_THAT(found[0], AllOf(HasSubstr("scene.toml:4:"), HasSubstr("run.until_blocked"),
-                              HasSubstr("piston.enabled")));
+// a scene without a piston (a gravity settling) may run until the spheres alone are blocked;
+// a compaction still needs the piston
+TEST_F(SceneReader, AcceptsUntilBlockedWithoutAPistonButNotACompaction) {
+  const std::string text = std::string(kParticles) + "[run]\nuntil_blocked = true\n";
+  EXPECT_TRUE(read(text).run.until_blocked);
+  SceneReadOptions compaction;
+  compaction.compaction = true;
+  try {
+    (void)read_scene_text(text, "scene.toml", {}, dir_, compaction);
+    ADD_FAILURE() << "a compaction without a piston was read";
+  } catch (const ConfigError& error) {
+    EXPECT_THAT(error.what(), HasSubstr("compaction needs the piston"));
+  }
 }
 
 TEST_F(SceneReader, RejectsMinPassesAboveMaxPasses) {
@@ -678,6 +686,32 @@ TEST(DepositionSection, RadiusAndARangeTogetherAreRefused) {
       issues_with("[deposition]\nradius = 1.0\nradius_min = 0.5\nradius_max = 1.5\n", {});
   ASSERT_EQ(found.size(), 1U);
   EXPECT_THAT(found[0], HasSubstr("deposition.radius: set together with radius_min"));
+}
+
+// An override of one radius key replaces the file's other form: a monodisperse scene made
+// polydisperse with --set, and back (the file alone may not give both forms)
+TEST(DepositionSection, RadiusOverridesReplaceTheFilesOtherForm) {
+  const std::string mono = "[deposition]\nspheres = 10\nradius = 1.0\n";
+  const Scene spread =
+      read_scene_text(mono, "scene.toml", {SceneOverride("deposition.radius_max=1.5")}, ".");
+  EXPECT_EQ(spread.deposition->radius_min, 1.0);
+  EXPECT_EQ(spread.deposition->radius_max, 1.5);
+  const std::string range = "[deposition]\nspheres = 10\nradius_min = 0.5\nradius_max = 1.5\n";
+  const Scene narrowed =
+      read_scene_text(range, "scene.toml", {SceneOverride("deposition.radius=0.8")}, ".");
+  EXPECT_EQ(narrowed.deposition->radius_min, 0.8);
+  EXPECT_EQ(narrowed.deposition->radius_max, 0.8);
+  // both forms among the overrides still conflict
+  try {
+    (void)read_scene_text(
+        mono, "scene.toml",
+        {SceneOverride("deposition.radius=0.8"), SceneOverride("deposition.radius_min=0.5"),
+         SceneOverride("deposition.radius_max=0.9")},
+        ".");
+    ADD_FAILURE() << "both radius forms were accepted";
+  } catch (const ConfigError& error) {
+    EXPECT_THAT(error.what(), HasSubstr("set together with radius_min"));
+  }
 }
 
 TEST(DepositionSection, BesideParticlesIsReportedOnce) {

@@ -1,6 +1,7 @@
 // Tests for src/cdpowder/run/blocked_state.cpp: the piston is blocked after a full window
 // of steps at rest (physics.md §9). Each per-step criterion (speeds, height drift), violated
-// once, restarts the count; the force balance is judged on its window mean.
+// once, restarts the count; the force balance is judged on its window mean. Without a piston
+// the spheres alone are watched.
 #include "cdpowder/run/blocked_state.hpp"
 
 #include <gtest/gtest.h>
@@ -244,14 +245,60 @@ TEST(BlockedStateDetector, OneFastSphereInAPackingAtRestDoesNotPreventBlocking) 
   EXPECT_TRUE(blocked);
 }
 
-TEST(BlockedStateDetector, DisabledPistonNeverBlocks) {
+/// Without a piston: two spheres of unit radius and density resting at heights 1 and 3.
+World spheres_alone() {
+  World world = piston_world(/*enabled=*/false);
+  world.bodies.add_sphere(Vec3(0.0, 0.0, 1.0), 1.0, 1.0);
+  world.bodies.add_sphere(Vec3(0.0, 0.0, 3.0), 1.0, 1.0);
+  return world;
+}
+
+// Without a piston the spheres alone decide (a gravity settling run until_blocked): their
+// speeds over a whole window, and their mean height's drift, stand in for the piston's
+TEST(BlockedStateDetector, WithoutAPistonSpheresAtRestBlockAfterAWindow) {
   BlockedStateDetector detector(criteria(), kDt);
-  const World world = piston_world(/*enabled=*/false);
-  constexpr std::int64_t kManyWindows = 10 * kWindowSteps;
-  for (std::int64_t step = 1; step <= kManyWindows; ++step) {
+  const World world = spheres_alone();
+  for (std::int64_t step = 1; step < kWindowSteps; ++step) {
     EXPECT_FALSE(detector.update(world, at_rest())) << "step " << step;
+  }
+  EXPECT_TRUE(detector.update(world, at_rest()));
+  EXPECT_DOUBLE_EQ(detector.mean_force_imbalance(), 0.0);
+  EXPECT_DOUBLE_EQ(BlockedStateDetector::watched_height(world), 2.0);
+}
+
+TEST(BlockedStateDetector, WithoutAPistonMovingSpheresNeverBlock) {
+  BlockedStateDetector detector(criteria(), kDt);
+  const World world = spheres_alone();
+  StepDiagnostics moving = at_rest();
+  moving.rms_speed = kJustAbove * kSphereSpeed;
+  for (std::int64_t step = 1; step <= 3 * kWindowSteps; ++step) {
+    EXPECT_FALSE(detector.update(world, moving)) << "step " << step;
     EXPECT_EQ(detector.steps_held(), 0);
   }
+}
+
+TEST(BlockedStateDetector, WithoutAPistonASinkingPackingRestartsTheWindow) {
+  BlockedStateDetector detector(criteria(), kDt);
+  World world = spheres_alone();
+  for (std::int64_t i = 0; i < kStepsBefore; ++i) EXPECT_FALSE(detector.update(world, at_rest()));
+  // the mean height 2 R sinks by more than height_change × 2 R since the window began
+  for (Vec3& x : world.bodies.position) x.z() -= kJustAbove * kHeightChange * 2.0;
+  EXPECT_FALSE(detector.update(world, at_rest()));
+  EXPECT_EQ(detector.steps_held(), 0);
+}
+
+// The load a packing at rest is balanced against: the piston's, or the spheres' weight, and
+// at least one bond's F_coh
+TEST(RestingLoad, IsThePistonsLoadOrTheSpheresWeightAndAtLeastABond) {
+  World world = spheres_alone();
+  const double sphere_mass = world.bodies.mass(0);
+  EXPECT_DOUBLE_EQ(resting_load(world, 1.0), 1.0);  // no gravity, no piston: F_coh
+  world.gravity = Vec3(0.0, 0.0, -2.0);
+  EXPECT_NEAR(sphere_weight(world), 4.0 * sphere_mass, 1e-12 * sphere_mass);
+  EXPECT_NEAR(resting_load(world, 1e-3), 4.0 * sphere_mass, 1e-12 * sphere_mass);
+  world.walls.piston.enabled = true;
+  world.walls.piston.mass = 5.0;
+  EXPECT_DOUBLE_EQ(resting_load(world, 1.0), kForce + 10.0);  // F + M_P |g|
 }
 
 }  // namespace

@@ -621,7 +621,8 @@ void visit_run_keys(auto& run, auto&& visit) {
         run.duration);
   visit(SceneKey{.table = table,
                  .name = "until_blocked",
-                 .meaning = "stop at the blocked state; needs `piston.enabled = true`"},
+                 .meaning = "stop at the blocked state: at rest, every sphere in balance (without "
+                            "a piston: the spheres alone, physics.md §9)"},
         run.until_blocked);
   visit(SceneKey{.table = table,
                  .name = "max_duration",

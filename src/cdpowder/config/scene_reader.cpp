@@ -195,15 +195,48 @@ void check_piston(TableReader& in, const Scene& s, const SceneReadOptions& optio
         fmt::format("is false, but compaction needs the piston: set [{}] {} = true "
                     "and a pressure or force",
                     enabled_key.table, enabled_key.name));
-  } else if (s.run.until_blocked && !s.piston.enabled && !enabled.failed()) {
-    until_blocked.report(
-        fmt::format("is true but {} is false; the blocked state needs the piston", enabled.name()));
   }
   if (options.compaction && !s.run.until_blocked && !until_blocked.failed()) {
     until_blocked.report(
         "is false, but compact always runs until the blocked state (use simulate for a fixed "
         "duration)",
         /*in_file=*/false);
+  }
+}
+
+/// Radius keys that replace each other: an override of radius_min or radius_max turns the
+/// file's `radius = r` into the range [r, r] before the overrides apply (so
+/// `--set deposition.radius_max=1.2` spreads a monodisperse scene over [r, 1.2]), and an
+/// override of `radius` drops the file's range. Overrides that set both still conflict
+/// (check_radius_keys).
+void let_radius_overrides_replace(toml::table& root, const std::vector<SceneOverride>& overrides) {
+  const DepositionConfig defaults;
+  const detail::SceneKey radius = detail::key_of(defaults, defaults.radius_min, /*shorthand=*/true);
+  const detail::SceneKey radius_min = detail::key_of(defaults, defaults.radius_min);
+  const detail::SceneKey radius_max = detail::key_of(defaults, defaults.radius_max);
+  bool range_set = false;
+  bool radius_set = false;
+  for (const SceneOverride& edit : overrides) {
+    const std::string_view key = std::string_view(edit.text).substr(0, edit.text.find('='));
+    const auto is = [&](const detail::SceneKey& k) { return key == k.dotted(); };
+    range_set = range_set || is(radius_min) || is(radius_max);
+    radius_set = radius_set || is(radius);
+  }
+  toml::table* deposition = root[radius.table].as_table();
+  if (deposition == nullptr || range_set == radius_set) return;
+  if (range_set) {
+    const toml::node* file_radius = deposition->get(radius.name);
+    if (file_radius == nullptr) return;
+    if (!deposition->contains(radius_min.name)) {
+      deposition->insert(radius_min.name, *file_radius);
+    }
+    if (!deposition->contains(radius_max.name)) {
+      deposition->insert(radius_max.name, *file_radius);
+    }
+    deposition->erase(radius.name);
+  } else {
+    deposition->erase(radius_min.name);
+    deposition->erase(radius_max.name);
   }
 }
 
@@ -432,6 +465,7 @@ Scene read_scene_text(std::string_view toml_text, std::string_view source_name,
     detail::apply_overrides(ignored, overrides, issues);  // still report malformed overrides
     throw ConfigError(std::move(issues));
   }
+  let_radius_overrides_replace(root, overrides);
   detail::apply_overrides(root, overrides, issues);
   apply_read_options(root, options);
   TableReader in(root, std::string(source_name), issues);

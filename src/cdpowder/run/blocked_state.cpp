@@ -42,22 +42,36 @@ void BlockedStateDetector::push(const Entry& e) {
   ++count_;
 }
 
+double BlockedStateDetector::watched_height(const World& world) {
+  const Piston& piston = world.walls.piston;
+  if (piston.enabled) return piston.height;
+  const std::vector<Vec3>& positions = world.bodies.position;
+  double sum = 0.0;
+  for (const Vec3& x : positions) sum += x.z();
+  return positions.empty() ? 0.0 : sum / static_cast<double>(positions.size());
+}
+
 bool BlockedStateDetector::update(const World& world, const StepDiagnostics& d, double dt) {
   const Piston& piston = world.walls.piston;
   clock_ += dt;
   trim();
-  // the height at the first held step of the window that ends now
-  const double first_height = count_ > 0 ? entry(0).height : piston.height;
-  const double drift = std::abs(piston.height - first_height) / std::abs(piston.height);
-  const bool at_rest = piston.enabled && std::abs(piston.velocity) < criteria_.piston_speed &&
-                       d.rms_speed < criteria_.sphere_speed && drift < criteria_.height_change;
+  // the height at the first held step of the window that ends now: the piston's, or without
+  // one the spheres' mean height (a packing creeping down as a whole is not at rest)
+  const double height = watched_height(world);
+  const double first_height = count_ > 0 ? entry(0).height : height;
+  const double drift = std::abs(height - first_height) / std::max(std::abs(height), 1e-300);
+  const bool piston_at_rest = !piston.enabled || std::abs(piston.velocity) < criteria_.piston_speed;
+  const bool at_rest =
+      piston_at_rest && d.rms_speed < criteria_.sphere_speed && drift < criteria_.height_change;
   if (!at_rest) {
     time_held_ = 0.0;
     steps_held_ = 0;
     count_ = 0;
     return false;
   }
-  push({clock_, piston.height, d.piston_imbalance});
+  // without a piston there is no imbalance to average: the static solve alone judges the
+  // balance (run_loop.cpp)
+  push({clock_, height, piston.enabled ? d.piston_imbalance : 0.0});
   time_held_ += dt;
   ++steps_held_;
   return blocked();

@@ -64,7 +64,12 @@ class BlockedStateDetector {
   /// mean over steps, so with an adaptive Δt short steps weigh as much as long ones.
   [[nodiscard]] double mean_force_imbalance() const;
 
-  /// One held step in the window: the detector's clock at its end, piston height, imbalance.
+  /// The height whose drift the window bounds: the piston's, or without a piston the spheres'
+  /// mean height [R].
+  [[nodiscard]] static double watched_height(const World& world);
+
+  /// One held step in the window: the detector's clock at its end, the watched height, the
+  /// piston's imbalance (0 without a piston).
   struct Entry {
     double time = 0.0;
     double height = 0.0;
