@@ -66,12 +66,12 @@ TEST_F(SimulateCli, WritesEveryOutputAndAResultLine) {
 // (physics.md §9): at rest for a window, then a static solve with every sphere in balance
 // against their weight. The deposit of the quick example collapses from E = 0.913.
 TEST_F(SimulateCli, ASettlingWithoutAPistonRunsUntilTheSpheresAreBlocked) {
-  const ProcessResult r = run_cdpowder(
-      "simulate " + (kExamples / "quick/scene.toml").string() + " --out " +
-          (scratch_ / "out").string() +
-          " --quiet --set piston.enabled=false --set system.gravity=[0,0,-0.01]"
-          " --set contact.mu_roll=0.0 --set contact.mu_twist=0.0",
-      scratch_);
+  const ProcessResult r =
+      run_cdpowder("simulate " + (kExamples / "quick/scene.toml").string() + " --out " +
+                       (scratch_ / "out").string() +
+                       " --quiet --set piston.enabled=false --set system.gravity=[0,0,-0.01]"
+                       " --set contact.mu_roll=0.0 --set contact.mu_twist=0.0",
+                   scratch_);
   ASSERT_EQ(r.status, 0) << r.err;
   const auto summary = nlohmann::json::parse(slurp(scratch_ / "out/summary.json"));
   EXPECT_TRUE(summary["run"]["blocked"].get<bool>());
