@@ -696,6 +696,14 @@ TEST(DepositionSection, RadiusOverridesReplaceTheFilesOtherForm) {
       read_scene_text(mono, "scene.toml", {SceneOverride("deposition.radius_max=1.5")}, ".");
   EXPECT_EQ(spread.deposition->radius_min, 1.0);
   EXPECT_EQ(spread.deposition->radius_max, 1.5);
+  // the keys read as every override's are, spaces around them trimmed: both ends given
+  // replace the file's radius instead of conflicting with it
+  const Scene spaced = read_scene_text(mono, "scene.toml",
+                                       {SceneOverride(" deposition.radius_min = 0.8"),
+                                        SceneOverride(" deposition.radius_max = 1.5")},
+                                       ".");
+  EXPECT_EQ(spaced.deposition->radius_min, 0.8);
+  EXPECT_EQ(spaced.deposition->radius_max, 1.5);
   const std::string range = "[deposition]\nspheres = 10\nradius_min = 0.5\nradius_max = 1.5\n";
   const Scene narrowed =
       read_scene_text(range, "scene.toml", {SceneOverride("deposition.radius=0.8")}, ".");

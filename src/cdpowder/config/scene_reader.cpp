@@ -217,7 +217,7 @@ void let_radius_overrides_replace(toml::table& root, const std::vector<SceneOver
   bool range_set = false;
   bool radius_set = false;
   for (const SceneOverride& edit : overrides) {
-    const std::string_view key = std::string_view(edit.text).substr(0, edit.text.find('='));
+    const std::string_view key = detail::override_key(edit);
     const auto is = [&](const detail::SceneKey& k) { return key == k.dotted(); };
     range_set = range_set || is(radius_min) || is(radius_max);
     radius_set = radius_set || is(radius);

@@ -50,6 +50,15 @@ struct Override {
 /// The TOML parser's description of a malformed value as an override's message shows it.
 constexpr std::size_t kMaxParserExcerpt = 100;
 
+}  // namespace
+
+std::string_view override_key(const SceneOverride& change) {
+  const std::size_t equals = change.text.find('=');
+  return trim(std::string_view(change.text).substr(0, equals == std::string::npos ? 0 : equals));
+}
+
+namespace {
+
 /// Parses one "section.key=value"; nullopt, and an issue naming it, when it is malformed.
 std::optional<Override> parse_override(const SceneOverride& change,
                                        std::vector<ConfigIssue>& issues) {
@@ -61,8 +70,7 @@ std::optional<Override> parse_override(const SceneOverride& change,
   constexpr std::string_view kBareKeyCharacters =
       "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-";
   const std::size_t equals = text.find('=');
-  const std::string_view key =
-      trim(std::string_view(text).substr(0, equals == std::string::npos ? 0 : equals));
+  const std::string_view key = override_key(change);
   const bool characters_ok =
       key.find_first_not_of(std::string(kBareKeyCharacters) + ".") == std::string_view::npos;
   const bool key_ok = !key.empty() && key.front() != '.' && key.back() != '.' &&

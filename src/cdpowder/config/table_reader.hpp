@@ -162,6 +162,10 @@ class TableReader {
   std::map<std::string, std::string, std::less<>> written_as_;    ///< key → the name it had
 };
 
+/// The key an override sets, as apply_overrides reads it: the text before its first '=',
+/// trimmed ("" when there is no '=').
+std::string_view override_key(const SceneOverride& change);
+
 /// Applies the overrides ("section.key=value", in order) to `root`, creating the tables on
 /// their keys' paths. Each value is parsed as TOML with the override's origin as source; a
 /// malformed override becomes an issue in `issues` and is skipped.
