@@ -135,16 +135,22 @@ class Sweep:
                 .unstack(["mu_t", "mu_n"])
         return self._by_seed[column]
 
-    def paired(self, plus, minus, column="porosity"):
-        """Σ plus − Σ minus over the seeds every point shares (lists of points)."""
+    def paired_values(self, plus, minus, column="porosity"):
+        """Σ plus − Σ minus per seed, over the seeds every point shares (lists of points), as
+        a Series by seed; empty when a point is missing or no seed is shared."""
         if any(p not in self for p in plus + minus):
-            return Stat([])
+            return pd.Series(dtype=float)
         wide = self.by_seed(column)
         shared = wide[list(plus + minus)].notna().all(axis=1)
         rows = wide[shared]
+        if not len(rows):
+            return pd.Series(dtype=float)
         # the sums in the order the points are given, then their difference, per seed
-        values = (sum(rows[p] for p in plus) - sum(rows[p] for p in minus)) if len(rows) else []
-        return Stat(np.asarray(values, dtype=float))
+        return sum(rows[p] for p in plus) - sum(rows[p] for p in minus)
+
+    def paired(self, plus, minus, column="porosity"):
+        """Σ plus − Σ minus over the seeds every point shares (lists of points), as a Stat."""
+        return Stat(np.asarray(self.paired_values(plus, minus, column), dtype=float))
 
     def added(self, point):
         """E1(point) = E(point) − E(0, 0), paired by seed."""
@@ -153,16 +159,10 @@ class Sweep:
     def added_ratio(self, num, den):
         """E1(num) / E1(den) and its error, paired by seed: over the seeds all three points
         (num, den and (0, 0)) share (paired_ratio)."""
-        e1_num, e1_den = self.paired_samples(num).align(self.paired_samples(den))
-        return paired_ratio(e1_num, e1_den)
-
-    def paired_samples(self, point, column="porosity"):
-        """E(point) − E(0, 0) per seed, as a Series over the seeds (NaN where one lacks it)."""
         origin = (0.0, 0.0)
-        if point not in self or origin not in self:
-            return pd.Series(dtype=float)
-        wide = self.by_seed(column)
-        return wide[point] - wide[origin]
+        e1_num, e1_den = self.paired_values([num], [origin]).align(
+            self.paired_values([den], [origin]))
+        return paired_ratio(e1_num, e1_den)
 
     def against(self, key):
         """The kept runs grouped for a plot against `key`: {group: {value: Stat of the runs'
@@ -184,7 +184,8 @@ class Sweep:
 
     @staticmethod
     def paired_change(runs, first, column):
-        """runs[column] − first[column] over the seeds both have (DataFrames of runs)."""
+        """runs[column] − first[column] over the seeds both have (DataFrames of runs, with a
+        seed column), seed by seed in rising order."""
         a, b = runs.set_index("seed")[column], first.set_index("seed")[column]
         shared = sorted(set(a.index) & set(b.index))
         return Stat([a.loc[s] - b.loc[s] for s in shared])

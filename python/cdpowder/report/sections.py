@@ -71,18 +71,14 @@ def variants(sweep):
         return []
     rows = []
     for name in sorted(sweep.variants):
-        runs = sweep.variants[name].set_index("seed")
+        runs = sweep.variants[name]
         first = runs.iloc[0]
         on_mesh = math.isfinite(first.get(MU_T, math.nan)) and \
             math.isfinite(first.get(MU_N, math.nan))
-        base = (sweep.runs_at((float(first[MU_T]), float(first[MU_N]))).set_index("seed")
-                if on_mesh else None)
+        base = sweep.runs_at((float(first[MU_T]), float(first[MU_N]))) if on_mesh else None
 
         def against_base(column, runs=runs, base=base):
-            if base is None:
-                return Stat([])
-            shared = sorted(set(runs.index) & set(base.index))
-            return Stat([runs.loc[s, column] - base.loc[s, column] for s in shared])
+            return Stat([]) if base is None else sweep.paired_change(runs, base, column)
 
         delta_e = against_base("porosity")
         rows.append([f"`{name}`", Stat(runs["porosity"]).text(4), str(len(runs)),
