@@ -4,6 +4,7 @@
 // (simulate.hpp).
 #include "commands/deposit.hpp"
 #include "commands/simulate.hpp"
+#include "commands/stress_bounds.hpp"
 #include "commands/sweep.hpp"
 #include "die_with_parent.hpp"
 #include "duration.hpp"
@@ -91,8 +92,8 @@ std::function<std::string(const std::string&)> count_problem(std::string allowed
 }
 
 /// The subcommands, for the message when the first word names none of them.
-constexpr std::array<std::string_view, 5> kCommands{"simulate", "compact", "resume", "deposit",
-                                                    "sweep"};
+constexpr std::array<std::string_view, 6> kCommands{"simulate", "compact", "resume",
+                                                    "deposit",  "sweep",   "stress-bounds"};
 
 /// Why `text` is not a --checkpoint-every interval, or nothing.
 std::string checkpoint_interval_problem(const std::string& text) {
@@ -141,14 +142,14 @@ std::optional<int> refuse_missing_command(int argc, char** argv) {
       std::find(kCommands.begin(), kCommands.end(), std::string_view(argv[1])) == kCommands.end()) {
     std::fprintf(stderr,
                  "error: unknown command '%s'; the commands are simulate, compact, resume, "
-                 "deposit and sweep (cdpowder --help)\n",
+                 "deposit, sweep and stress-bounds (cdpowder --help)\n",
                  cdpowder::shown(argv[1]).c_str());
     return kExitBadInput;
   }
   if (argc == 1) {
     std::fprintf(stderr,
-                 "error: a command is required: simulate, compact, resume, deposit or sweep "
-                 "(cdpowder --help; the quick start is in README.md)\n");
+                 "error: a command is required: simulate, compact, resume, deposit, sweep or "
+                 "stress-bounds (cdpowder --help; the quick start is in README.md)\n");
     return kExitBadInput;
   }
   return std::nullopt;
@@ -289,6 +290,21 @@ int run_reporting_errors(const std::function<int()>& command) {
   }
 }
 
+CLI::App* add_stress_bounds_command(CLI::App& cli, cdpowder::app::StressBoundsOptions& bounds) {
+  CLI::App* command = cli.add_subcommand(
+      "stress-bounds",
+      "The admissible stress interval of finished runs' packings (physics.md §11.3): the "
+      "smallest and largest sigma, sigma+ and sigma- over every admissible force set, added to "
+      "DIR/summary.json; `cdpowder stress-bounds --help` after the word lists its options");
+  // every word after the command goes to the Python module, which reads them (its --help
+  // lists them); `bounds` gets them after parsing
+  command->prefix_command();
+  command->set_help_flag();
+  command->allow_extras();
+  static_cast<void>(bounds);
+  return command;
+}
+
 int run_command_line(int argc, char** argv) {
   if (const std::optional<int> refused = refuse_missing_command(argc, argv)) return *refused;
   CLI::App cli{"cdpowder — contact dynamics of cohesive powders of rigid spheres"};
@@ -312,6 +328,8 @@ int run_command_line(int argc, char** argv) {
   CLI::App* deposit_cmd = add_deposit_command(cli, deposit);
   cdpowder::app::SweepOptions sweep;
   CLI::App* sweep_cmd = add_sweep_command(cli, sweep);
+  cdpowder::app::StressBoundsOptions bounds;
+  CLI::App* bounds_cmd = add_stress_bounds_command(cli, bounds);
 
   try {
     cli.parse(argc, argv);
@@ -321,14 +339,17 @@ int run_command_line(int argc, char** argv) {
     std::fprintf(stderr, "error: %s\nRun with --help for more information.\n", e.what());
     return kExitBadInput;
   }
-  if (cdpowder::rank_count() > 1 && (deposit_cmd->parsed() || sweep_cmd->parsed())) {
-    // a sweep runs its own processes, and a deposit is one process's work
+  const char* one_process = deposit_cmd->parsed()  ? "deposit"
+                            : sweep_cmd->parsed()  ? "sweep"
+                            : bounds_cmd->parsed() ? "stress-bounds"
+                                                   : nullptr;
+  if (cdpowder::rank_count() > 1 && one_process != nullptr) {
+    // a sweep runs its own processes; a deposit and the bounds are one process's work
     if (cdpowder::this_rank() == 0) {
       std::fprintf(stderr,
                    "error: %s: under mpirun (%d ranks) cdpowder runs compact, simulate and "
                    "resume; run %s as one process\n",
-                   deposit_cmd->parsed() ? "deposit" : "sweep", cdpowder::rank_count(),
-                   deposit_cmd->parsed() ? "deposit" : "sweep");
+                   one_process, cdpowder::rank_count(), one_process);
     }
     return kExitBadInput;
   }
@@ -338,6 +359,10 @@ int run_command_line(int argc, char** argv) {
     if (resume_cmd->parsed()) return cdpowder::app::run_resume(resume);
     if (deposit_cmd->parsed()) return cdpowder::app::run_deposit(deposit);
     if (sweep_cmd->parsed()) return cdpowder::app::run_sweep(sweep);
+    if (bounds_cmd->parsed()) {
+      bounds.arguments = bounds_cmd->remaining();
+      return cdpowder::app::run_stress_bounds(bounds);
+    }
     return kExitRunFailed;
   });
 }

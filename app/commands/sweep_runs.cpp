@@ -2,6 +2,7 @@
 #include "commands/sweep_runs.hpp"
 
 #include "commands/simulate.hpp"
+#include "python_child.hpp"
 
 #include "cdpowder/core/cpu_budget.hpp"
 #include "cdpowder/run/folder_lock.hpp"
@@ -70,25 +71,6 @@ bool has_usable_checkpoint(SweepCommand command, const std::filesystem::path& fo
 }
 
 namespace {
-
-/// The Python that runs a protocol: $CDPOWDER_PYTHON, or python3 on PATH.
-std::string python_interpreter() {
-  const char* chosen = std::getenv(kPythonVariable);
-  return chosen != nullptr && *chosen != '\0' ? chosen : "python3";
-}
-
-/// The folder that holds the package cdpowder beside this program in a build tree
-/// (build/…/app/cdpowder and build/…/python/cdpowder), or "" for an installed program, whose
-/// package is where its prefix's Python finds it.
-std::string package_folder_of_build() {
-  std::error_code error;
-  const std::filesystem::path self = std::filesystem::read_symlink(kSelf, error);
-  if (error) return {};
-  const std::filesystem::path python = self.parent_path().parent_path() / "python";
-  return std::filesystem::is_regular_file(python / "cdpowder" / "__init__.py", error)
-             ? python.string()
-             : std::string();
-}
 
 /// This process's environment for a run: the lock passed down (kInheritedLockVariable) and
 /// the run's share of the cores (kMaxThreadsVariable), unless the user set that for the sweep;

@@ -22,9 +22,6 @@ namespace cdpowder::app {
 /// it pointed to then no longer starts anything, or starts a different program).
 inline constexpr const char* kSelf = "/proc/self/exe";
 
-/// The Python that runs a sweep's protocol (command "python"), python3 on PATH when unset.
-inline constexpr const char* kPythonVariable = "CDPOWDER_PYTHON";
-
 /// The running runs: on every exit path (a signal, an exception) they are asked to stop
 /// and waited for, so no run outlives the sweep and keeps writing into its folder.
 class RunningRuns {

@@ -34,7 +34,7 @@ import argparse
 import pathlib
 import sys
 
-from cdpowder.report import figures, sections
+from cdpowder.report import admissible, figures, sections
 from cdpowder.report.data import Stat, Sweep, parse_seeds, read_results
 from cdpowder.report.packing_figure import plot_packing
 
@@ -133,6 +133,7 @@ def main():
                                                                        sections.MU_N))]
     md += sections.against_keys(sweep, {k: figures.plot_against_key(sweep, k, out)
                                         for k in other_keys})
+    md += admissible.section(args.sweep_dir, sweep, out)
     (out / "report.md").write_text("\n".join(md) + "\n")
     print(f"report: {out / 'report.md'}")
 

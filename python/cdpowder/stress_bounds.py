@@ -1,0 +1,577 @@
+"""cdpowder.stress_bounds: the admissible stress interval of a finished packing (physics.md §11.3).
+
+The forces of a rigid, hyperstatic packing are not unique (physics.md §12.4): for the packing a
+run ends on (its geometry, contacts and cohesion states fixed) every set of contact forces and
+couples that balances each sphere and the piston and obeys the model's thresholds is as good an
+answer as the run's own. This module computes the smallest and largest σ_ij (and its parts σ⁺
+and σ⁻ of compressive and tensile contacts, physics.md §11.2) over all of them:
+
+    python3 -m cdpowder.stress_bounds DIR... [--components zz,xx] [--facets 16]
+
+reads each DIR's scene.toml, particles.csv, contacts.csv and summary.json and adds the result
+to DIR/summary.json under "admissible_stress" (`cdpowder stress-bounds DIR` runs it; a sweep's
+folder stands for its blocked runs). In Python, `admissible_stress(DIR)` returns the same dict
+without writing.
+
+The programs (physics.md §11.3):
+
+* unknowns per touching contact: the normal force, the tangential force (2), the rolling
+  couple (2) and the torsion couple; a contact whose gap exceeds the touching gap keeps the
+  run's force, −F_c along n (open);
+* balance: each free sphere's 6 equations and the piston's along z, each as well as the run's
+  own forces hold it (so the run's forces are admissible);
+* thresholds as in physics.md §5.4, the discs replaced by regular polygons of K sides:
+  circumscribed ones give bounds no admissible force set passes, inscribed ones force sets that
+  are admissible;
+* σ⁺ and σ⁻ split the contacts by the sign of their normal force, which no convex program
+  expresses: the bound relaxes each sign to a number between 0 and 1 (the convex hull of its
+  two sides), the attained values fix the signs and search them.
+
+Each quantity is reported as `min`, `max` (the bounds) and `min_attained`, `max_attained`
+(values admissible force sets reach, or the run's own), so the true extremes lie in
+[min, min_attained] and [max_attained, max]. Units: F_coh/R², as summary.json's "stress". The
+linear programs are solved by HiGHS (SciPy's `linprog`).
+"""
+import argparse
+import json
+import math
+import os
+import pathlib
+import sys
+import time
+import tomllib
+
+try:
+    import numpy as np
+    import scipy.optimize
+    import scipy.sparse
+
+    from cdpowder import tables
+except ImportError as missing:  # the command's one message, not a traceback
+    sys.exit(f"error: stress-bounds needs NumPy, pandas and SciPy ({missing}); Debian's "
+             "python3-numpy, python3-pandas and python3-scipy (tools/install_deps.sh), or "
+             "$CDPOWDER_PYTHON naming a Python that has them")
+
+from cdpowder import summary as summaries
+
+FIELD = "admissible_stress"
+TOUCHING_GAP = 1e-6  # kTouchingGap of src/cdpowder/solver/build.cpp [R], physics.md §5.4
+AXES = {"x": 0, "y": 1, "z": 2}
+EXIT_USAGE, EXIT_FAILED = 2, 1
+
+
+class StressBoundsError(Exception):
+    """A run folder the bounds cannot be computed for, or a bad argument."""
+
+
+class Packing:
+    """The final packing of a run folder: spheres, contacts, laws and loads, as arrays."""
+
+    def __init__(self, folder):
+        folder = pathlib.Path(folder)
+        for name in ("scene.toml", "particles.csv", "contacts.csv", "summary.json"):
+            if not (folder / name).is_file():
+                raise StressBoundsError(f"{folder}: no {name} (a finished run's folder is needed)")
+        self.folder = folder
+        self.summary = summaries.read_summary(folder / "summary.json")
+        run = self.summary.get("run", {})
+        if not run.get("blocked"):
+            raise StressBoundsError(
+                f"{folder}: the run did not end blocked (run.blocked is {run.get('blocked')}), so "
+                "its forces do not balance the spheres; the admissible stress is of a packing at rest")
+        self.scene = tomllib.loads((folder / "scene.toml").read_text())
+        spheres = tables.read_particles(folder / "particles.csv")
+        contacts = tables.read_contacts(folder / "contacts.csv")
+        self.position = spheres[["x", "y", "z"]].to_numpy(float)
+        self.radius = spheres["r"].to_numpy(float)
+        self.fixed = spheres["fixed"].to_numpy(bool)
+        system = self.scene.get("system", {})
+        gravity = np.asarray(system.get("gravity", [0.0, 0.0, 0.0]), float)
+        mass = 4.0 / 3.0 * math.pi * system.get("density", 1.0) * self.radius**3
+        self.load_force = spheres[["fx", "fy", "fz"]].to_numpy(float) + mass[:, None] * gravity
+        self.load_torque = spheres[["tx", "ty", "tz"]].to_numpy(float)
+        self.volume = float(self.summary["packing_volume"])
+        piston = self.summary.get("piston", {})
+        self.piston_load = float(piston["load"]) if piston.get("enabled") else None
+        self._read_contacts(contacts)
+
+    def _read_contacts(self, c):
+        self.a = c["a"].to_numpy(np.int64)
+        self.b = c["b"].to_numpy(np.int64)
+        self.normal = c[["nx", "ny", "nz"]].to_numpy(float)
+        self.gap = c["gap"].to_numpy(float)
+        self.run_normal = c["normal_force"].to_numpy(float)
+        self.run_tangential = c[["tx", "ty", "tz"]].to_numpy(float)
+        self.run_rolling = c[["rx", "ry", "rz"]].to_numpy(float)
+        self.run_twist = c["twist"].to_numpy(float)
+        wall = self.a < 0
+        self.wall = wall
+        contact = self.scene.get("contact", {})
+        walls = contact.get("wall", {})
+        rb = self.radius[self.b]
+        ra = np.where(wall, np.inf, self.radius[np.where(wall, 0, self.a)])
+        cohesion = np.where(wall, walls.get("cohesion_force", 0.0), contact.get("cohesion_force", 0.0))
+        self.cohesion = np.where(c["cohesive"].to_numpy(int) == 1, cohesion, 0.0)  # F_c
+        self.mu = np.where(wall, walls.get("mu", 0.0), contact.get("mu", 0.0))
+        r_eff = np.where(wall, walls.get("r_eff_factor", 1.0) * rb, 1.0 / (1.0 / ra + 1.0 / rb))
+        self.roll_cap = np.where(wall, walls.get("mu_roll", 0.0), contact.get("mu_roll", 0.0)) * r_eff
+        self.twist_cap = np.where(wall, walls.get("mu_twist", 0.0),
+                                  contact.get("mu_twist", 0.0)) * r_eff
+        # levers from each centre to the contact point, and the branch vector's length (§4.2, §11.2)
+        self.lever_b = np.where(wall, rb, rb + self.gap / 2)
+        self.lever_a = np.where(wall, 0.0, ra + self.gap / 2)
+        self.branch = np.where(wall, rb + self.gap, self.lever_a + self.lever_b)
+        # a tangent basis (e1, e2) with e1 × e2 = n
+        helper = np.where(np.abs(self.normal[:, [0]]) < 0.9, [[1.0, 0.0, 0.0]], [[0.0, 1.0, 0.0]])
+        e1 = np.cross(self.normal, helper)
+        self.e1 = e1 / np.linalg.norm(e1, axis=1)[:, None]
+        self.e2 = np.cross(self.normal, self.e1)
+
+    @property
+    def contacts(self):
+        return len(self.a)
+
+    def run_actions(self):
+        """The run's actions in the program's unknowns, one column each: R_n, R_t·e1, R_t·e2,
+        T_t·e1, T_t·e2, T_n."""
+        dot = lambda u, v: np.einsum("ij,ij->i", u, v)  # noqa: E731
+        return np.column_stack([
+            self.run_normal, dot(self.run_tangential, self.e1), dot(self.run_tangential, self.e2),
+            dot(self.run_rolling, self.e1), dot(self.run_rolling, self.e2), self.run_twist])
+
+
+class Program:
+    """The balance, the thresholds and the stress of the touching contacts, as sparse rows."""
+
+    def __init__(self, packing, facets, touching_gap=None, force_cap_factor=100.0):
+        p = packing
+        self.packing = p
+        closed = p.run_normal + p.cohesion > 0.0  # is_closed of contact/local_problem.hpp
+        largest_closed_gap = float(p.gap[closed].max()) if closed.any() else 0.0
+        self.touching_gap = max(TOUCHING_GAP, largest_closed_gap) if touching_gap is None \
+            else touching_gap
+        self.free = np.flatnonzero(p.gap <= self.touching_gap)
+        self.split = np.flatnonzero(p.cohesion[self.free] > 0)  # may pull: a sign to choose
+        self.held = np.flatnonzero(p.gap > self.touching_gap)  # keeps −F_c n: open
+        self.facets = facets
+        run = p.run_actions()[self.free]
+        self.run_x = run.T.reshape(-1)  # blocks of 6 × m, unknown by unknown
+        self.force_cap = force_cap_factor * max(1.0, float(np.abs(p.run_normal).max(initial=0.0)),
+                                                float(p.cohesion.max(initial=0.0)))
+        self._balance()
+
+    @property
+    def m(self):
+        return len(self.free)
+
+    def _balance(self):
+        """Rows: 6 a free sphere (force, torque), 1 for the piston (z)."""
+        p, free, m = self.packing, self.free, self.m
+        n, e1, e2 = p.normal[free], p.e1[free], p.e2[free]
+        a, b, wall = p.a[free], p.b[free], p.wall[free]
+        lb, la = p.lever_b[free], p.lever_a[free]
+        sphere_row = np.full(len(p.radius), -1, np.int64)
+        movable = np.flatnonzero(~p.fixed)
+        sphere_row[movable] = 6 * np.arange(len(movable))
+        piston_row = 6 * len(movable)
+        rows, cols, vals = [], [], []
+        cols_of = [np.arange(m) + k * m for k in range(6)]
+
+        def add(row, col, val):
+            keep = (row >= 0) & (val != 0.0)
+            rows.append(row[keep])
+            cols.append(col[keep])
+            vals.append(val[keep])
+
+        # on b: force R_n n + t1 e1 + t2 e2; couple r1 e1 + r2 e2 + T_n n − l_b n × F,
+        # n × e1 = e2, n × e2 = −e1; on a: minus the force, −T − l_a n × F (contact/velocity_change.hpp)
+        unit = (n, e1, e2)
+        for sign, body, lever in ((1.0, b, lb), (-1.0, np.where(wall, -1, a), la)):
+            base = np.where(body >= 0, sphere_row[np.maximum(body, 0)], -1)
+            for k in range(3):  # force rows
+                for u, vec in enumerate(unit):
+                    add(np.where(base >= 0, base + k, -1), cols_of[u], sign * vec[:, k])
+            for k in range(3):  # torque rows
+                row = np.where(base >= 0, base + 3 + k, -1)
+                add(row, cols_of[1], -lever * e2[:, k])  # −l n × (t1 e1) = −l t1 e2
+                add(row, cols_of[2], lever * e1[:, k])   # −l n × (t2 e2) = +l t2 e1
+                for u, vec in ((3, e1), (4, e2), (5, n)):
+                    add(row, cols_of[u], sign * vec[:, k])
+        rhs = np.zeros(piston_row + 1)
+        force = -p.load_force[movable]
+        torque = -p.load_torque[movable]
+        rhs[:piston_row] = np.column_stack([force, torque]).reshape(-1)
+        # the held contacts' fixed forces −F_c n (their couples are zero) go to the right
+        for c in self.held:
+            fixed_force = -p.cohesion[c] * p.normal[c]
+            if p.b[c] >= 0 and not p.fixed[p.b[c]]:
+                rhs[sphere_row[p.b[c]]:sphere_row[p.b[c]] + 3] -= fixed_force
+            if p.a[c] >= 0 and not p.fixed[p.a[c]]:
+                rhs[sphere_row[p.a[c]]:sphere_row[p.a[c]] + 3] += fixed_force
+        self.has_piston = p.piston_load is not None and np.any(p.a == -2)
+        if self.has_piston:  # Σ over piston contacts of −F_z = the load
+            on_piston = np.flatnonzero(a == -2)
+            for u, vec in enumerate(unit):
+                add(np.full(len(on_piston), piston_row), cols_of[u][on_piston], -vec[on_piston, 2])
+            held_piston = self.held[p.a[self.held] == -2]
+            rhs[piston_row] = p.piston_load - float(np.sum(p.cohesion[held_piston] *
+                                                           p.normal[held_piston, 2]))
+            size = piston_row + 1
+        else:
+            size = piston_row
+            rhs = rhs[:size]
+        self.balance = scipy.sparse.csr_matrix(
+            (np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(size, 6 * m))
+        self.rhs = rhs
+        # each equation holds as well as the run's forces hold it, and no better than to
+        # 1e-7 of the largest load (the solver's own tolerance): the run's forces are admissible
+        residual = np.abs(self.balance @ self.run_x - rhs)
+        floor = 1e-7 * max(1.0, float(np.abs(rhs).max(initial=0.0)))
+        self.slack = residual * (1 + 1e-6) + floor
+        force_rows = (np.arange(size) % 6 < 3) & (np.arange(size) < piston_row)
+        torque_rows = (np.arange(size) % 6 >= 3) & (np.arange(size) < piston_row)
+        self.tolerance = {kind: float(self.slack[rows].max(initial=0.0)) for kind, rows in (
+            ("force", force_rows), ("torque", torque_rows), ("piston", np.arange(size) >= piston_row))}
+
+    def thresholds(self, scale):
+        """Rows G x ≤ h: the polygons of the two discs (radius × scale) and torsion's interval,
+        for the contacts whose threshold is not zero (bounds() holds the others' modes at 0)."""
+        p, free, m, k = self.packing, self.free, self.m, self.facets
+        mu, roll, twist, fc = p.mu[free], p.roll_cap[free], p.twist_cap[free], p.cohesion[free]
+        rows, cols, vals, rhs = [], [], [], []
+        count = 0
+
+        def block(which, columns, coefficients, bound):
+            nonlocal count
+            idx = np.flatnonzero(which)
+            for column, coefficient in zip(columns, coefficients):
+                rows.append(count + np.arange(len(idx)))
+                cols.append(column[idx])
+                vals.append(np.broadcast_to(coefficient, (m,))[idx])
+            rhs.append(bound[idx])
+            count += len(idx)
+
+        unknown = [np.arange(m) + q * m for q in range(6)]
+        for first, cap in ((1, mu), (3, roll)):  # cos θ x1 + sin θ x2 − s cap R_n ≤ s cap F_c
+            for th in 2 * math.pi * np.arange(k) / k:
+                block(cap > 0, (unknown[first], unknown[first + 1], unknown[0]),
+                      (math.cos(th), math.sin(th), -scale * cap), scale * cap * fc)
+        for sign in (1.0, -1.0):  # ±T_n − s μ_n r_eff R_n ≤ s μ_n r_eff F_c
+            block(twist > 0, (unknown[5], unknown[0]), (sign, -scale * twist), scale * twist * fc)
+        matrix = scipy.sparse.csr_matrix(
+            (np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+            shape=(count, 6 * m))
+        return matrix, np.concatenate(rhs)
+
+    def bounds(self):
+        """Variable bounds: −F_c ≤ R_n ≤ the force cap; a mode without threshold at 0; the rest
+        free (held by the thresholds)."""
+        p, m, free = self.packing, self.m, self.free
+        lower = np.full(6 * m, -np.inf)
+        upper = np.full(6 * m, np.inf)
+        lower[:m] = -p.cohesion[free]
+        upper[:m] = self.force_cap
+        for q, cap in ((1, p.mu), (2, p.mu), (3, p.roll_cap), (4, p.roll_cap), (5, p.twist_cap)):
+            zero = q * m + np.flatnonzero(cap[free] == 0)
+            lower[zero] = upper[zero] = 0.0
+        return lower, upper
+
+    def stress_row(self, i, j):
+        """σ_ij as a row over the unknowns and the constant of the held contacts (§11.2)."""
+        p, free, m = self.packing, self.free, self.m
+        scale = p.branch[free] * p.normal[free, j] / p.volume
+        row = np.concatenate([scale * p.normal[free, i], scale * p.e1[free, i],
+                              scale * p.e2[free, i], np.zeros(3 * m)])
+        held = self.held
+        constant = float(np.sum(p.branch[held] * p.normal[held, j] * -p.cohesion[held] *
+                                p.normal[held, i]) / p.volume)
+        return row, constant
+
+
+def _minimise(cost, ranges, lower, upper):
+    """min cost·x over lower ≤ x ≤ upper and low ≤ A x ≤ high for each (A, low, high), by HiGHS's
+    interior-point method (with crossover: a vertex), the fastest of SciPy's HiGHS methods at
+    10⁴ contacts (docs/physics.md §11.3). Returns the result (status 0: optimal)."""
+    blocks, limits = [], []
+    for matrix, low, high in ranges:
+        for sign, side in ((1.0, high), (-1.0, low)):
+            finite = np.flatnonzero(np.isfinite(side))
+            if len(finite):
+                blocks.append(sign * matrix[finite])
+                limits.append(sign * side[finite])
+    return scipy.optimize.linprog(cost, A_ub=scipy.sparse.vstack(blocks).tocsr(),
+                                  b_ub=np.concatenate(limits),
+                                  bounds=np.column_stack([lower, upper]), method="highs-ipm")
+
+
+def _sparse(rows, cols, vals, shape):
+    return scipy.sparse.csr_matrix(
+        (np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=shape)
+
+
+def _split_rows(program, scale, n_var):
+    """The sign of each cohesive touching contact as a disjunction (module docstring): its
+    tension part (R_n^T, R_t^T) and compression part (the rest) each obey the normal and sliding
+    laws of their side, scaled by the binary z (1: tensile) — the convex hull of the two sides
+    for z between 0 and 1 — and the compression part is at most the force cap × (1 − z).
+    Columns: the 6m unknowns, then z, R_n^T, R_t^T·e1, R_t^T·e2 of each such contact."""
+    p, m, k_idx = program.packing, program.m, program.split
+    k = len(k_idx)
+    fc = p.cohesion[program.free][k_idx]
+    mu = scale * p.mu[program.free][k_idx]
+    z, fn_t, t1_t, t2_t = (6 * m + q * k + np.arange(k) for q in range(4))
+    fn, t1, t2 = (k_idx + q * m for q in range(3))
+    r = np.arange(k)
+    rows, cols, vals, lo, hi = [], [], [], [], []
+    block = [0]
+
+    def rowset(entries, low, high):
+        for col, val in entries:
+            rows.append(block[0] * k + r)
+            cols.append(col)
+            vals.append(np.broadcast_to(val, (k,)).astype(float))
+        lo.append(np.broadcast_to(low, (k,)).astype(float))
+        hi.append(np.broadcast_to(high, (k,)).astype(float))
+        block[0] += 1
+
+    ones = np.ones(k)
+    rowset([(fn_t, ones), (z, fc)], 0.0, np.inf)                # R_n^T ≥ −F_c z
+    rowset([(fn, ones), (fn_t, -ones)], 0.0, np.inf)            # R_n^C = R_n − R_n^T ≥ 0
+    rowset([(fn, ones), (fn_t, -ones), (z, np.full(k, program.force_cap))],
+           -np.inf, program.force_cap)                          # R_n^C ≤ cap (1 − z)
+    for th in 2 * math.pi * np.arange(program.facets) / program.facets:
+        c, s_ = math.cos(th), math.sin(th)
+        # tension side: d·R_t^T ≤ μ (R_n^T + F_c z)
+        rowset([(t1_t, c * ones), (t2_t, s_ * ones), (fn_t, -mu), (z, -mu * fc)], -np.inf, 0.0)
+        # compression side: d·(R_t − R_t^T) ≤ μ (R_n − R_n^T + F_c (1 − z))
+        rowset([(t1, c * ones), (t2, s_ * ones), (t1_t, -c * ones), (t2_t, -s_ * ones),
+                (fn, -mu), (fn_t, mu), (z, mu * fc)], -np.inf, mu * fc)
+    return (_sparse(rows, cols, vals, (block[0] * k, n_var)), np.concatenate(lo),
+            np.concatenate(hi))
+
+
+def _relaxed_extreme(program, i, j, part, sense, scale):
+    """A bound on the smallest (sense +1) or largest (−1) σ_ij, or its part "plus"/"minus",
+    over the force sets with polygons of radius × scale: each contact's sign relaxed to a number
+    z between 0 and 1 (the convex hull of its two sides, _split_rows), so no force set passes it.
+    Returns (the bound or None when infeasible, the optimum's normal forces of the contacts with
+    a sign)."""
+    p, m = program.packing, program.m
+    row, constant = program.stress_row(i, j)
+    g, h = program.thresholds(scale)
+    lower, upper = program.bounds()
+    k = len(program.split) if part != "total" else 0
+    n_var = 6 * m + 4 * k
+    widen = lambda mat: scipy.sparse.hstack(  # noqa: E731
+        [mat, scipy.sparse.csr_matrix((mat.shape[0], 4 * k))]).tocsr()
+    ranges = [(widen(program.balance), program.rhs - program.slack, program.rhs + program.slack),
+              (widen(g), np.full(len(h), -np.inf), h)]
+    cost = np.concatenate([row, np.zeros(4 * k)])
+    if part != "total":
+        ranges.append(_split_rows(program, scale, n_var))
+        fc = p.cohesion[program.free][program.split]
+        lower = np.concatenate([lower, np.zeros(k), -fc, np.full(2 * k, -np.inf)])
+        upper = np.concatenate([upper, np.ones(k), np.zeros(k), np.full(2 * k, np.inf)])
+        # σ⁻ = the tension parts' σ_ij + the held contacts (all pulling, or carrying nothing)
+        minus = np.zeros(n_var)
+        for q in range(3):
+            minus[6 * m + (q + 1) * k:6 * m + (q + 2) * k] = row[q * m + program.split]
+        cost = minus if part == "minus" else cost - minus
+        constant = constant if part == "minus" else 0.0
+    res = _minimise(sense * cost, ranges, lower, upper)
+    if res.status != 0:
+        return None, None
+    return sense * float(res.fun) + constant, res.x[:m][program.split]
+
+
+def _signed_extreme(program, i, j, part, sense, scale, signs=None):
+    """The smallest (sense +1) or largest (−1) σ_ij, or its part, over the force sets with
+    polygons of radius × scale in which each contact with a sign keeps `signs` (1: tensile,
+    R_n ≤ 0; 0: compressive, R_n ≥ 0): a linear program whose optimum a force set reaches.
+    Returns (the optimum or None when infeasible, its normal forces of the contacts with a sign)."""
+    m = program.m
+    row, constant = program.stress_row(i, j)
+    g, h = program.thresholds(scale)
+    lower, upper = program.bounds()
+    ranges = [(program.balance, program.rhs - program.slack, program.rhs + program.slack),
+              (g, np.full(len(h), -np.inf), h)]
+    if part != "total":
+        tensile = np.zeros(m, bool)
+        tensile[program.split[signs > 0.5]] = True
+        upper[:m] = np.where(tensile, 0.0, upper[:m])
+        lower[:m] = np.where(tensile, lower[:m], 0.0)
+        counted = tensile if part == "minus" else ~tensile
+        row = row * np.tile(counted, 6)
+        constant = constant if part == "minus" else 0.0
+    res = _minimise(sense * row, ranges, lower, upper)
+    if res.status != 0:
+        return None, None
+    return sense * float(res.fun) + constant, res.x[:m][program.split]
+
+
+def _search(program, i, j, part, sense, scale, starts, rounds=3):
+    """The best σ value that force sets with fixed signs reach, from each start's signs: each
+    round keeps the signs of the last optimum and turns over those of its contacts at zero normal
+    force (free to go either way), while that improves the value. None if none is feasible."""
+    best = None
+    zero = 1e-9 * max(1.0, program.force_cap)
+    for signs in starts:
+        for _ in range(rounds):
+            value, normal = _signed_extreme(program, i, j, part, sense, scale, signs)
+            if value is None:
+                break
+            improved = best is None or sense * value < sense * best - 1e-9 * abs(best)
+            if best is None or sense * value < sense * best:
+                best = value
+            if not improved:
+                break
+            signs = np.where(np.abs(normal) <= zero, 1.0 - signs, (normal < 0).astype(float))
+    return best
+
+
+def _component(name):
+    if len(name) != 2 or name[0] not in AXES or name[1] not in AXES:
+        raise StressBoundsError(f"--components: got '{name}', expected two of x, y, z (zz, xx, xz, …)")
+    return AXES[name[0]], AXES[name[1]]
+
+
+def _run_value(summary, i, j, part):
+    stress = summary.get("stress", {})
+    key = {"total": "sigma", "plus": "sigma_compressive", "minus": "sigma_tensile"}[part]
+    return float(stress[key][i][j])
+
+
+def admissible_stress(folder, components=("zz",), facets=16, force_cap_factor=100.0):
+    """The admissible interval of σ_ij, σ⁺_ij and σ⁻_ij for each component (module docstring).
+
+    For each quantity and side: the bound (a linear program with the circumscribed polygons and
+    each contact's sign relaxed), and the best value found by force sets that are admissible
+    (the inscribed polygons, signs fixed and searched from the run's, the bound's and all
+    compressive; or the run's own value). Raises StressBoundsError for a folder that is not a
+    blocked run's."""
+    if facets < 3:
+        raise StressBoundsError(f"--facets: got {facets}, expected an integer ≥ 3")
+    if not force_cap_factor > 1:
+        raise StressBoundsError(f"--force-cap: got {force_cap_factor}, expected a number > 1")
+    started = time.perf_counter()
+    packing = Packing(folder)
+    program = Program(packing, facets, force_cap_factor=force_cap_factor)
+    inner = math.cos(math.pi / facets)
+    outer = 1.0 / inner
+    result = {
+        "method": "linear programs (HiGHS through SciPy): the bound with each contact's sign "
+                  "relaxed, the attained values with signs fixed and searched",
+        "facets": facets,
+        "threshold_excess": outer - 1.0,
+        "touching_gap": program.touching_gap,
+        "balance_tolerance": program.tolerance,
+        "force_cap": program.force_cap,
+        "contacts": {"touching": program.m, "held": len(program.held), "signed": len(program.split)},
+    }
+    run_signs = (packing.run_normal[program.free][program.split] < 0).astype(float)
+    for name in components:
+        i, j = _component(name)
+        for part, suffix in (("total", ""), ("plus", "_plus"), ("minus", "_minus")):
+            run = _run_value(packing.summary, i, j, part)
+            entry = {"run": run}
+            for sense, side in ((1, "min"), (-1, "max")):
+                bound, relaxed = _relaxed_extreme(program, i, j, part, sense, outer)
+                if part == "total":
+                    found, _ = _signed_extreme(program, i, j, part, sense, inner)
+                else:
+                    starts = [run_signs, np.zeros(len(program.split))]
+                    if relaxed is not None:
+                        starts.insert(1, (relaxed < 0).astype(float))
+                    found = _search(program, i, j, part, sense, inner, starts)
+                candidates = [run] + ([] if found is None else [found])
+                attained = min(candidates) if sense > 0 else max(candidates)
+                # a bound is never inside what a force set reaches: where the solver's
+                # tolerance (1e-7 relative) puts it there, the reached value is the bound
+                entry[side] = None if bound is None else (
+                    min(bound, attained) if sense > 0 else max(bound, attained))
+                entry[f"{side}_attained"] = attained
+            result[f"sigma_{name}{suffix}"] = entry
+    result["seconds"] = time.perf_counter() - started
+    return result
+
+
+def add_to_summary(folder, result):
+    """Writes `result` into folder/summary.json under "admissible_stress", atomically."""
+    path = pathlib.Path(folder) / "summary.json"
+    data = json.loads(path.read_text())
+    data[FIELD] = result
+    temporary = path.with_name(f".summary.json.{os.getpid()}.tmp")
+    with open(temporary, "w") as out:
+        out.write(json.dumps(data, indent=2, sort_keys=True) + "\n")
+        out.flush()
+        os.fsync(out.fileno())
+    os.replace(temporary, path)
+
+
+def line(result, pressure=None):
+    """One line a component part: min … max of the bound, the attained values and the run's."""
+    lines = []
+    scale = 1.0 / pressure if pressure else 1.0
+    unit = "/p" if pressure else " [F_coh/R^2]"
+    for key, entry in result.items():
+        if not key.startswith("sigma_"):
+            continue
+        def show(v):
+            return "none" if v is None else f"{v * scale:.4g}"
+        lines.append(f"{key}{unit}: [{show(entry['min'])}, {show(entry['max'])}] "
+                     f"(attained [{show(entry['min_attained'])}, {show(entry['max_attained'])}], "
+                     f"the run {show(entry['run'])})")
+    return "\n".join(lines)
+
+
+def run_folders(folders):
+    """The run folders named: a sweep's folder (one with results.csv) stands for its finished,
+    blocked runs (runs/<point>/seed_<s>, docs/sweeps.md); any other folder for itself."""
+    for folder in map(pathlib.Path, folders):
+        if not (folder / "results.csv").is_file():
+            yield folder
+            continue
+        for summary in sorted(folder.glob("runs/*/seed_*/summary.json")):
+            try:
+                blocked = summaries.read_summary(summary).get("run", {}).get("blocked")
+            except (OSError, summaries.SummaryError):
+                blocked = False
+            if blocked:
+                yield summary.parent
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(
+        prog="cdpowder stress-bounds",
+        description="The admissible stress interval of a finished run's packing (physics.md "
+                    "§11.3), added to DIR/summary.json under \"admissible_stress\".")
+    parser.add_argument("folders", nargs="+", metavar="DIR",
+                        help="a finished, blocked run's folder, or a sweep's (its blocked runs)")
+    parser.add_argument("--components", default="zz",
+                        help="comma-separated components of σ, e.g. zz,xx (default zz)")
+    parser.add_argument("--facets", type=int, default=16,
+                        help="sides of the polygons that replace the friction discs (default 16)")
+    parser.add_argument("--force-cap", type=float, default=100.0,
+                        help="the largest normal force, × the run's largest (default 100)")
+    parser.add_argument("--no-write", action="store_true", help="print only; leave summary.json")
+    args = parser.parse_args(argv)
+    components = [c.strip() for c in args.components.split(",") if c.strip()]
+    status = 0
+    for folder in run_folders(args.folders):
+        try:
+            result = admissible_stress(folder, components, args.facets, args.force_cap)
+        except (StressBoundsError, OSError, summaries.SummaryError, KeyError) as error:
+            print(f"error: {error}", file=sys.stderr)
+            status = EXIT_USAGE
+            continue
+        if not args.no_write:
+            add_to_summary(folder, result)
+        piston = summaries.read_summary(pathlib.Path(folder) / "summary.json").get("piston", {})
+        print(f"{folder}: {result['contacts']['touching']} touching contacts, "
+              f"{result['seconds']:.1f} s")
+        print(line(result, piston.get("applied_pressure")))
+    return status
+
+
+if __name__ == "__main__":
+    sys.exit(main())

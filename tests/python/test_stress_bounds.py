@@ -1,0 +1,130 @@
+"""`cdpowder stress-bounds` (python/cdpowder/stress_bounds.py, physics.md §11.3): the admissible
+stress interval of a finished packing. Run by ctest (python_module_test); needs CDPOWDER_EXE
+and CDPOWDER_SOURCE_DIR in the environment."""
+import json
+import math
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from cdpowder import stress_bounds
+
+SOURCE = Path(os.environ["CDPOWDER_SOURCE_DIR"])
+QUICK = SOURCE / "examples/quick/scene.toml"
+ENVIRONMENT = {**os.environ, "CDPOWDER_PYTHON": sys.executable}
+
+# one sphere between the bottom and the piston: its normal forces are the load, and its
+# tangential forces a self-stress of the two wall contacts held by the rolling couples
+COLUMN = """
+[system]
+lx = 5.0
+ly = 5.0
+[particles]
+file = "column.csv"
+[contact]
+mu = 0.3
+mu_roll = 0.2
+mu_twist = 0.1
+[piston]
+enabled = true
+pressure = 0.01
+mass = 10.0
+[run]
+until_blocked = true
+max_duration = 500.0
+"""
+
+
+def program(*args, check=True):
+    done = subprocess.run([os.environ["CDPOWDER_EXE"], *map(str, args)], capture_output=True,
+                          text=True, env=ENVIRONMENT)
+    if check:
+        assert done.returncode == 0, done.stderr
+    return done
+
+
+@pytest.fixture(scope="module")
+def quick_run(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("quick") / "run"
+    program("compact", QUICK, "--out", folder, "--quiet")
+    return folder
+
+
+@pytest.fixture(scope="module")
+def column_run(tmp_path_factory):
+    base = tmp_path_factory.mktemp("column")
+    (base / "column.csv").write_text("id,x,y,z,r\n0,2.5,2.5,1.0,1.0\n")
+    (base / "column.toml").write_text(COLUMN)
+    program("compact", base / "column.toml", "--out", base / "run", "--quiet")
+    return base / "run"
+
+
+def test_the_program_has_the_runs_stress_and_balances_its_forces(quick_run):
+    packing = stress_bounds.Packing(quick_run)
+    prog = stress_bounds.Program(packing, facets=16)
+    sigma = np.array(packing.summary["stress"]["sigma"])
+    for i in range(3):
+        for j in range(3):
+            row, constant = prog.stress_row(i, j)
+            assert row @ prog.run_x + constant == pytest.approx(sigma[i, j], rel=1e-9, abs=1e-15)
+    # the run's forces balance every sphere in the program's equations to the run's accuracy:
+    # a wrong sign or lever would leave residuals of the order of the forces (0.1 F_coh)
+    residual = np.abs(prog.balance @ prog.run_x - prog.rhs)
+    assert residual.max() <= 1e-5
+    assert prog.tolerance["force"] <= 1e-5 and prog.tolerance["torque"] <= 1e-5
+
+
+def test_a_single_sphere_column_has_the_shear_interval_of_its_couples(column_run):
+    # |R_t| ≤ min(μ, μ_t) (F + F_coh) (sliding, and the rolling couples that balance the pair
+    # of tangential forces: 2 R |R_t| ≤ 2 μ_t R S); σ_xz = 2 R R_t,x / V
+    facets = 16
+    result = stress_bounds.admissible_stress(column_run, components=["xz", "zz"], facets=facets)
+    summary = json.loads((column_run / "summary.json").read_text())
+    load = summary["piston"]["load"]
+    exact = 2 * 1.0 * min(0.3, 0.2) * (load + 1.0) / summary["packing_volume"]
+    shear = result["sigma_xz"]
+    assert exact <= shear["max"] <= exact / math.cos(math.pi / facets) * (1 + 1e-6)
+    assert exact * math.cos(math.pi / facets) * (1 - 1e-6) <= shear["max_attained"] <= exact
+    assert shear["min"] == pytest.approx(-shear["max"], rel=1e-6)
+    # the normal forces are the load: σ_zz and its compressive part are p, the tension none
+    pressure = summary["piston"]["applied_pressure"]
+    for side in ("min", "max", "min_attained", "max_attained"):
+        assert result["sigma_zz"][side] == pytest.approx(pressure, rel=1e-5)
+    assert result["sigma_zz_plus"]["min_attained"] == pytest.approx(pressure, rel=1e-5)
+    assert result["sigma_zz_plus"]["max_attained"] == pytest.approx(pressure, rel=1e-5)
+
+
+def test_the_command_adds_an_interval_that_holds_the_run(quick_run):
+    done = program("stress-bounds", quick_run)
+    assert "sigma_zz_plus/p" in done.stdout
+    result = json.loads((quick_run / "summary.json").read_text())["admissible_stress"]
+    for key in ("sigma_zz", "sigma_zz_plus", "sigma_zz_minus"):
+        entry = result[key]
+        assert entry["min"] <= entry["min_attained"] <= entry["run"], key
+        assert entry["run"] <= entry["max_attained"] <= entry["max"], key
+    # σ_zz is the load for every balanced force set (physics.md §11.2)
+    pressure = json.loads((quick_run / "summary.json").read_text())["piston"]["applied_pressure"]
+    assert result["sigma_zz"]["min"] == pytest.approx(pressure, rel=1e-3)
+    assert result["sigma_zz"]["max"] == pytest.approx(pressure, rel=1e-3)
+    assert result["facets"] == 16 and result["contacts"]["touching"] > 0
+
+
+def test_mistakes_are_named(quick_run, tmp_path):
+    done = program("stress-bounds", tmp_path / "none", check=False)
+    assert done.returncode == 2 and "no scene.toml" in done.stderr
+    done = program("stress-bounds", quick_run, "--components", "zq", check=False)
+    assert done.returncode == 2 and "--components: got 'zq'" in done.stderr
+    done = program("stress-bounds", quick_run, "--facets", "2", check=False)
+    assert done.returncode == 2 and "--facets: got 2" in done.stderr
+    # a run that did not block: its forces balance nothing
+    short = tmp_path / "short"
+    program("compact", QUICK, "--out", short, "--quiet", "--set", "run.max_duration=1.0",
+            check=False)
+    before = (short / "summary.json").read_text()
+    done = program("stress-bounds", short, check=False)
+    assert done.returncode == 2 and "did not end blocked" in done.stderr
+    assert (short / "summary.json").read_text() == before
