@@ -287,6 +287,17 @@ class Program:
                                 p.normal[held, i]) / p.volume)
         return row, constant
 
+    def parts(self, x, i, j):
+        """(σ_ij, σ⁺_ij, σ⁻_ij) of the force set x, split as the run splits it (a contact with
+        R_n ≥ 0 in σ⁺, physics.md §11.2; the held contacts pull, in σ⁻)."""
+        row, constant = self.stress_row(i, j)
+        m = self.m
+        per_contact = (row.reshape(6, m) * x.reshape(6, m)).sum(axis=0)
+        tensile = x[:m] < 0.0
+        plus = float(per_contact[~tensile].sum())
+        minus = float(per_contact[tensile].sum()) + constant
+        return plus + minus, plus, minus
+
 
 def _minimise(cost, ranges, lower, upper):
     """min cost·x over lower ≤ x ≤ upper and low ≤ A x ≤ high for each (A, low, high), by HiGHS's
@@ -351,7 +362,7 @@ def _split_rows(program, scale, n_var):
 
 
 def _relaxed_extreme(program, i, j, part, sense, scale):
-    """A bound on the smallest (sense +1) or largest (−1) σ_ij, or its part "plus"/"minus",
+    """A bound on the smallest (sense +1) or largest (−1) σ_ij (part "total") or σ⁺_ij ("plus")
     over the force sets with polygons of radius × scale: each contact's sign relaxed to a number
     z between 0 and 1 (the convex hull of its two sides, _split_rows), so no force set passes it.
     Returns (the bound or None when infeasible, the optimum's normal forces of the contacts with
@@ -360,24 +371,22 @@ def _relaxed_extreme(program, i, j, part, sense, scale):
     row, constant = program.stress_row(i, j)
     g, h = program.thresholds(scale)
     lower, upper = program.bounds()
-    k = len(program.split) if part != "total" else 0
+    k = len(program.split) if part == "plus" else 0
     n_var = 6 * m + 4 * k
     widen = lambda mat: scipy.sparse.hstack(  # noqa: E731
         [mat, scipy.sparse.csr_matrix((mat.shape[0], 4 * k))]).tocsr()
     ranges = [(widen(program.balance), program.rhs - program.slack, program.rhs + program.slack),
               (widen(g), np.full(len(h), -np.inf), h)]
     cost = np.concatenate([row, np.zeros(4 * k)])
-    if part != "total":
+    if part == "plus":
         ranges.append(_split_rows(program, scale, n_var))
         fc = p.cohesion[program.free][program.split]
         lower = np.concatenate([lower, np.zeros(k), -fc, np.full(2 * k, -np.inf)])
         upper = np.concatenate([upper, np.ones(k), np.zeros(k), np.full(2 * k, np.inf)])
-        # σ⁻ = the tension parts' σ_ij + the held contacts (all pulling, or carrying nothing)
-        minus = np.zeros(n_var)
+        # σ⁺ = σ − σ⁻, σ⁻ = the tension parts' σ_ij + the held contacts' constant
         for q in range(3):
-            minus[6 * m + (q + 1) * k:6 * m + (q + 2) * k] = row[q * m + program.split]
-        cost = minus if part == "minus" else cost - minus
-        constant = constant if part == "minus" else 0.0
+            cost[6 * m + (q + 1) * k:6 * m + (q + 2) * k] = -row[q * m + program.split]
+        constant = 0.0
     res = _minimise(sense * cost, ranges, lower, upper)
     if res.status != 0:
         return None, None
@@ -385,48 +394,48 @@ def _relaxed_extreme(program, i, j, part, sense, scale):
 
 
 def _signed_extreme(program, i, j, part, sense, scale, signs=None):
-    """The smallest (sense +1) or largest (−1) σ_ij, or its part, over the force sets with
-    polygons of radius × scale in which each contact with a sign keeps `signs` (1: tensile,
-    R_n ≤ 0; 0: compressive, R_n ≥ 0): a linear program whose optimum a force set reaches.
-    Returns (the optimum or None when infeasible, its normal forces of the contacts with a sign)."""
+    """The smallest (sense +1) or largest (−1) σ_ij ("total") or σ⁺_ij ("plus") over the force
+    sets with polygons of radius × scale in which each contact with a sign keeps `signs` (1:
+    tensile, R_n ≤ 0; 0: compressive, R_n ≥ 0): a linear program whose optimum a force set
+    reaches. Returns (the optimum, the force set), or (None, None) when infeasible."""
     m = program.m
-    row, constant = program.stress_row(i, j)
+    row, _ = program.stress_row(i, j)
     g, h = program.thresholds(scale)
     lower, upper = program.bounds()
     ranges = [(program.balance, program.rhs - program.slack, program.rhs + program.slack),
               (g, np.full(len(h), -np.inf), h)]
-    if part != "total":
+    if part == "plus":
         tensile = np.zeros(m, bool)
         tensile[program.split[signs > 0.5]] = True
         upper[:m] = np.where(tensile, 0.0, upper[:m])
         lower[:m] = np.where(tensile, lower[:m], 0.0)
-        counted = tensile if part == "minus" else ~tensile
-        row = row * np.tile(counted, 6)
-        constant = constant if part == "minus" else 0.0
+        row = row * np.tile(~tensile, 6)
     res = _minimise(sense * row, ranges, lower, upper)
     if res.status != 0:
         return None, None
-    return sense * float(res.fun) + constant, res.x[:m][program.split]
+    return sense * float(res.fun), res.x
 
 
-def _search(program, i, j, part, sense, scale, starts, rounds=3):
-    """The best σ value that force sets with fixed signs reach, from each start's signs: each
-    round keeps the signs of the last optimum and turns over those of its contacts at zero normal
-    force (free to go either way), while that improves the value. None if none is feasible."""
+def _search(program, i, j, sense, scale, starts, record, rounds=3):
+    """Force sets with fixed signs that drive σ⁺_ij down (sense +1) or up (−1), each passed to
+    `record`: from each start's signs, each round keeps the signs of the last optimum and turns
+    over those of its contacts at zero normal force (free to go either way), while that improves
+    the optimum."""
     best = None
     zero = 1e-9 * max(1.0, program.force_cap)
     for signs in starts:
         for _ in range(rounds):
-            value, normal = _signed_extreme(program, i, j, part, sense, scale, signs)
+            value, x = _signed_extreme(program, i, j, "plus", sense, scale, signs)
             if value is None:
                 break
+            record(x)
             improved = best is None or sense * value < sense * best - 1e-9 * abs(best)
             if best is None or sense * value < sense * best:
                 best = value
             if not improved:
                 break
+            normal = x[:program.m][program.split]
             signs = np.where(np.abs(normal) <= zero, 1.0 - signs, (normal < 0).astype(float))
-    return best
 
 
 def _component(name):
@@ -469,27 +478,39 @@ def admissible_stress(folder, components=("zz",), facets=16, force_cap_factor=10
         "contacts": {"touching": program.m, "held": len(program.held), "signed": len(program.split)},
     }
     run_signs = (packing.run_normal[program.free][program.split] < 0).astype(float)
+    parts = ("total", "plus", "minus")
     for name in components:
         i, j = _component(name)
-        for part, suffix in (("total", ""), ("plus", "_plus"), ("minus", "_minus")):
-            run = _run_value(packing.summary, i, j, part)
-            entry = {"run": run}
-            for sense, side in ((1, "min"), (-1, "max")):
-                bound, relaxed = _relaxed_extreme(program, i, j, part, sense, outer)
-                if part == "total":
-                    found, _ = _signed_extreme(program, i, j, part, sense, inner)
-                else:
-                    starts = [run_signs, np.zeros(len(program.split))]
-                    if relaxed is not None:
-                        starts.insert(1, (relaxed < 0).astype(float))
-                    found = _search(program, i, j, part, sense, inner, starts)
-                candidates = [run] + ([] if found is None else [found])
-                attained = min(candidates) if sense > 0 else max(candidates)
+        reached = {part: [math.inf, -math.inf] for part in parts}
+
+        def record(x, i=i, j=j, reached=reached):
+            for part, value in zip(parts, program.parts(x, i, j)):
+                reached[part] = [min(reached[part][0], value), max(reached[part][1], value)]
+
+        record(program.run_x)
+        bound = {}
+        for sense, side in ((1, 0), (-1, 1)):
+            bound["total", side], _ = _relaxed_extreme(program, i, j, "total", sense, outer)
+            _, x = _signed_extreme(program, i, j, "total", sense, inner)
+            if x is not None:
+                record(x)
+            bound["plus", side], relaxed = _relaxed_extreme(program, i, j, "plus", sense, outer)
+            starts = [run_signs] + ([] if relaxed is None else [(relaxed < 0).astype(float)])
+            _search(program, i, j, sense, inner, starts, record)
+        # σ⁻ = σ − σ⁺ for every force set
+        known = all(value is not None for value in bound.values())
+        bound["minus", 0] = bound["total", 0] - bound["plus", 1] if known else None
+        bound["minus", 1] = bound["total", 1] - bound["plus", 0] if known else None
+        for part, suffix in zip(parts, ("", "_plus", "_minus")):
+            entry = {"run": _run_value(packing.summary, i, j, part)}
+            for side, key in ((0, "min"), (1, "max")):
+                attained = reached[part][side]
                 # a bound is never inside what a force set reaches: where the solver's
                 # tolerance (1e-7 relative) puts it there, the reached value is the bound
-                entry[side] = None if bound is None else (
-                    min(bound, attained) if sense > 0 else max(bound, attained))
-                entry[f"{side}_attained"] = attained
+                value = bound[part, side]
+                entry[key] = None if value is None else (
+                    min(value, attained) if side == 0 else max(value, attained))
+                entry[f"{key}_attained"] = attained
             result[f"sigma_{name}{suffix}"] = entry
     result["seconds"] = time.perf_counter() - started
     return result

@@ -263,6 +263,28 @@ class ReportOnKnownSweeps(unittest.TestCase):
         self.assertIn("| – | 0.001 | 0.8150 ± 0.0050 | 2 | – | – |", report)
         self.assertTrue((folder / "report" / "against_piston_pressure.png").exists())
 
+    def test_the_admissible_stress_of_the_runs_that_have_it_is_drawn(self):
+        write_sweep(self.dir, [(0.0, 0.0), (1.0, 1.0)], seeds=2)
+        self.assertNotIn("admissible", run_report(self.dir))
+        # `cdpowder stress-bounds` wrote its interval into two runs' summaries (physics.md
+        # §11.3); the others have none and are left out of the means
+        for seed, low in ((1, 1.5), (2, 2.5)):
+            folder = self.dir / "runs" / "contact.mu_roll=0.0,contact.mu_twist=0.0" / f"seed_{seed}"
+            folder.mkdir(parents=True)
+            p = 0.0025
+            interval = {"run": 3 * p, "min_attained": low * p, "max_attained": 6 * p,
+                        "min": -p, "max": None}
+            (folder / "summary.json").write_text(json.dumps({
+                "piston": {"applied_pressure": p},
+                "admissible_stress": {"sigma_zz_plus": interval}}))
+        report = run_report(self.dir)
+        self.assertIn("## The admissible σzz⁺/p", report)
+        self.assertIn("| `contact.mu_roll=0.0,contact.mu_twist=0.0` | 2 | 3.000 ± 0.000 | "
+                      "2.000 ± 0.500 | 6.000 ± 0.000 | -1.000 ± 0.000 | – |", report)
+        self.assertNotIn("contact.mu_roll=1.0,contact.mu_twist=1.0` | ", report.split(
+            "## The admissible")[1])
+        self.assertTrue((self.dir / "report" / "admissible.png").stat().st_size > 0)
+
     def test_a_ratio_of_added_porosities_is_paired_by_seed(self):
         # E1(μ, 0) = 2 E1(0, μ) seed by seed, E1 varying from seed to seed: the paired ratio
         # is 2 with no error, where independent errors would give a large one
