@@ -228,6 +228,9 @@ CLI::App* add_sweep_command(CLI::App& cli, cdpowder::app::SweepOptions& sweep) {
       ->check(count_problem("runs at a time, e.g. 2 (0: one per core)"), "N");
   command->add_flag("--quiet,-q", sweep.quiet, "No progress lines on stderr");
   add_checkpoint_option(*command, sweep.checkpoint_every);
+  command->add_flag("--stress-bounds", sweep.stress_bounds,
+                    "Once every run has finished, compute each blocked run's admissible stress "
+                    "interval (cdpowder stress-bounds OUT; physics.md §11.3)");
   command->add_flag("--dry-run", sweep.dry_run,
                     "List the runs and whether each is finished; run nothing");
   CLI::Option* list = command->add_flag(

@@ -18,4 +18,8 @@ struct StressBoundsOptions {
 /// (the message printed), with the exit code of bad input.
 int run_stress_bounds(const StressBoundsOptions& options);
 
+/// Runs the module on `arguments` as a child and waits for it; returns its exit status (2 when
+/// it could not be started, the message printed).
+int spawn_stress_bounds(const std::vector<std::string>& arguments);
+
 }  // namespace cdpowder::app

@@ -3,6 +3,7 @@
 #include "commands/sweep.hpp"
 
 #include "commands/simulate.hpp"
+#include "commands/stress_bounds.hpp"
 #include "commands/sweep_pool.hpp"
 #include "commands/sweep_runs.hpp"
 #include "commands/sweep_state.hpp"
@@ -262,7 +263,9 @@ int run_sweep(const SweepOptions& options) {
                                   plan.runs.size() - state.pending.size(), reused_count, jobs)
                      .c_str());
   }
-  return run_pending_runs(options, state, jobs, start, g_signals);
+  const int status = run_pending_runs(options, state, jobs, start, g_signals);
+  if (status != 0 || !options.stress_bounds) return status;
+  return spawn_stress_bounds({options.out.string()}) == 0 ? 0 : 1;
 }
 
 }  // namespace cdpowder::app

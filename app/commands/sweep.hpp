@@ -36,6 +36,9 @@ struct SweepOptions {
   /// --checkpoint-every T [t0]: passed to every run (`cdpowder compact --checkpoint-every`);
   /// an interrupted run with a checkpoint is continued from it (`cdpowder resume`)
   std::optional<double> checkpoint_every;
+  /// --stress-bounds: once every run has finished, `cdpowder stress-bounds OUT` (the admissible
+  /// stress interval of each blocked run, physics.md §11.3)
+  bool stress_bounds = false;
 };
 
 /// Checks every run's scene first (ConfigError, nothing written), then runs what is missing.

@@ -113,6 +113,16 @@ def test_the_command_adds_an_interval_that_holds_the_run(quick_run):
     assert result["facets"] == 16 and result["contacts"]["touching"] > 0
 
 
+def test_a_sweep_asks_for_the_interval_of_every_run(tmp_path):
+    sweep = tmp_path / "sweep.toml"
+    sweep.write_text(f'scene = "{QUICK}"\nseeds = [1]\n[grid]\n"contact.mu_roll" = [1.0]\n')
+    done = program("sweep", sweep, "--out", tmp_path / "out", "--quiet", "--stress-bounds")
+    assert "sigma_zz_plus/p" in done.stdout
+    [summary] = (tmp_path / "out" / "runs").glob("*/seed_1/summary.json")
+    entry = json.loads(summary.read_text())["admissible_stress"]["sigma_zz_plus"]
+    assert entry["min_attained"] <= entry["run"] <= entry["max_attained"]
+
+
 def test_mistakes_are_named(quick_run, tmp_path):
     done = program("stress-bounds", tmp_path / "none", check=False)
     assert done.returncode == 2 and "no scene.toml" in done.stderr
