@@ -33,6 +33,7 @@ Each quantity is reported as `min`, `max` (the bounds) and `min_attained`, `max_
 linear programs are solved by HiGHS (SciPy's `linprog`).
 """
 import argparse
+import contextlib
 import json
 import math
 import os
@@ -310,9 +311,25 @@ def _minimise(cost, ranges, lower, upper):
             if len(finite):
                 blocks.append(sign * matrix[finite])
                 limits.append(sign * side[finite])
-    return scipy.optimize.linprog(cost, A_ub=scipy.sparse.vstack(blocks).tocsr(),
-                                  b_ub=np.concatenate(limits),
-                                  bounds=np.column_stack([lower, upper]), method="highs-ipm")
+    with _silenced_stdout():
+        return scipy.optimize.linprog(cost, A_ub=scipy.sparse.vstack(blocks).tocsr(),
+                                      b_ub=np.concatenate(limits),
+                                      bounds=np.column_stack([lower, upper]), method="highs-ipm")
+
+
+@contextlib.contextmanager
+def _silenced_stdout():
+    """HiGHS's C library prints notes of its phases ("Solve 3: Forcing phase 2 …") on file
+    descriptor 1 whatever SciPy's `disp` says; they go to /dev/null, so stdout carries results."""
+    sys.stdout.flush()
+    saved = os.dup(1)
+    try:
+        with open(os.devnull, "w") as devnull:
+            os.dup2(devnull.fileno(), 1)
+            yield
+    finally:
+        os.dup2(saved, 1)
+        os.close(saved)
 
 
 def _sparse(rows, cols, vals, shape):
@@ -450,14 +467,15 @@ def _run_value(summary, i, j, part):
     return float(stress[key][i][j])
 
 
-def admissible_stress(folder, components=("zz",), facets=16, force_cap_factor=100.0):
+def admissible_stress(folder, components=("zz",), facets=16, force_cap_factor=100.0,
+                      progress=None):
     """The admissible interval of σ_ij, σ⁺_ij and σ⁻_ij for each component (module docstring).
 
     For each quantity and side: the bound (a linear program with the circumscribed polygons and
-    each contact's sign relaxed), and the best value found by force sets that are admissible
-    (the inscribed polygons, signs fixed and searched from the run's, the bound's and all
-    compressive; or the run's own value). Raises StressBoundsError for a folder that is not a
-    blocked run's."""
+    each contact's sign relaxed), and the extremes over the admissible force sets found (the
+    inscribed polygons, signs fixed and searched from the run's and the bound's; and the run's
+    own forces). `progress(text)`, if given, is called after each linear program. Raises
+    StressBoundsError for a folder that is not a blocked run's."""
     if facets < 3:
         raise StressBoundsError(f"--facets: got {facets}, expected an integer ≥ 3")
     if not force_cap_factor > 1:
@@ -487,16 +505,27 @@ def admissible_stress(folder, components=("zz",), facets=16, force_cap_factor=10
             for part, value in zip(parts, program.parts(x, i, j)):
                 reached[part] = [min(reached[part][0], value), max(reached[part][1], value)]
 
+        def solved(what, name=name):
+            solved.count += 1
+            if progress is not None:
+                progress(f"σ_{name}: {solved.count} linear programs ({what}), "
+                         f"{time.perf_counter() - started:.0f} s")
+
+        solved.count = 0
         record(program.run_x)
         bound = {}
         for sense, side in ((1, 0), (-1, 1)):
             bound["total", side], _ = _relaxed_extreme(program, i, j, "total", sense, outer)
+            solved("bound of σ")
             _, x = _signed_extreme(program, i, j, "total", sense, inner)
             if x is not None:
                 record(x)
+            solved("σ reached")
             bound["plus", side], relaxed = _relaxed_extreme(program, i, j, "plus", sense, outer)
+            solved("bound of σ⁺")
             starts = [run_signs] + ([] if relaxed is None else [(relaxed < 0).astype(float)])
-            _search(program, i, j, sense, inner, starts, record)
+            _search(program, i, j, sense, inner, starts,
+                    lambda x: (record(x), solved("σ⁺ reached")))
         # σ⁻ = σ − σ⁺ for every force set
         known = all(value is not None for value in bound.values())
         bound["minus", 0] = bound["total", 0] - bound["plus", 1] if known else None
@@ -580,7 +609,10 @@ def main(argv=None):
     status = 0
     for folder in run_folders(args.folders):
         try:
-            result = admissible_stress(folder, components, args.facets, args.force_cap)
+            result = admissible_stress(folder, components, args.facets, args.force_cap,
+                                       progress=lambda text, f=folder: print(
+                                           f"stress-bounds: {f}: {text}", file=sys.stderr,
+                                           flush=True))
         except (StressBoundsError, OSError, summaries.SummaryError, KeyError) as error:
             print(f"error: {error}", file=sys.stderr)
             status = EXIT_USAGE
