@@ -24,8 +24,8 @@ The programs (physics.md §11.3):
   circumscribed ones give bounds no admissible force set passes, inscribed ones force sets that
   are admissible;
 * σ⁺ and σ⁻ split the contacts by the sign of their normal force, which no convex program
-  expresses: the bound relaxes each sign to a number between 0 and 1 (the convex hull of its
-  two sides), the attained values fix the signs and search them.
+  expresses: σ⁻ is bounded by each contact's extremes in tension, σ⁺ = σ − σ⁻ by the
+  difference, and the attained values fix the signs and search them.
 
 Each quantity is reported as `min`, `max` (the bounds) and `min_attained`, `max_attained`
 (values admissible force sets reach, or the run's own), so the true extremes lie in
@@ -299,6 +299,30 @@ class Program:
         minus = float(per_contact[tensile].sum()) + constant
         return plus + minus, plus, minus
 
+    def constraints(self, scale):
+        """(ranges, lower, upper) of _minimise: the balance and the thresholds with polygons of
+        radius × scale, and the unknowns' bounds."""
+        g, h = self.thresholds(scale)
+        lower, upper = self.bounds()
+        ranges = [(self.balance, self.rhs - self.slack, self.rhs + self.slack),
+                  (g, np.full(len(h), -np.inf), h)]
+        return ranges, lower, upper
+
+    def minus_range(self, i, j, scale):
+        """Bounds on σ⁻_ij that hold for every force set: each contact that may pull adds, if
+        tensile, its σ_ij contribution w (R_n n_i + R_t·e_i) with −F_c ≤ R_n ≤ 0 and |R_t| at
+        most μ (R_n + F_c) × scale, whose extremes are at R_n = −F_c, or at R_n = 0 with the
+        largest R_t along the tangent part of e_i; if compressive, nothing."""
+        p, free = self.packing, self.free[self.split]
+        w = p.branch[free] * p.normal[free, j] / p.volume
+        fc, n_i = p.cohesion[free], p.normal[free, i]
+        pulled = -w * fc * n_i
+        sheared = np.abs(w) * scale * p.mu[free] * fc * np.sqrt(np.maximum(0.0, 1.0 - n_i**2))
+        _, constant = self.stress_row(i, j)
+        low = np.minimum(0.0, np.minimum(pulled, -sheared)).sum()
+        high = np.maximum(0.0, np.maximum(pulled, sheared)).sum()
+        return float(low) + constant, float(high) + constant
+
 
 def _minimise(cost, ranges, lower, upper):
     """min cost·x over lower ≤ x ≤ upper and low ≤ A x ≤ high for each (A, low, high), by HiGHS's
@@ -332,108 +356,36 @@ def _silenced_stdout():
         os.close(saved)
 
 
-def _sparse(rows, cols, vals, shape):
-    return scipy.sparse.csr_matrix(
-        (np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=shape)
-
-
-def _split_rows(program, scale, n_var):
-    """The sign of each cohesive touching contact as a disjunction (module docstring): its
-    tension part (R_n^T, R_t^T) and compression part (the rest) each obey the normal and sliding
-    laws of their side, scaled by the binary z (1: tensile) — the convex hull of the two sides
-    for z between 0 and 1 — and the compression part is at most the force cap × (1 − z).
-    Columns: the 6m unknowns, then z, R_n^T, R_t^T·e1, R_t^T·e2 of each such contact."""
-    p, m, k_idx = program.packing, program.m, program.split
-    k = len(k_idx)
-    fc = p.cohesion[program.free][k_idx]
-    mu = scale * p.mu[program.free][k_idx]
-    z, fn_t, t1_t, t2_t = (6 * m + q * k + np.arange(k) for q in range(4))
-    fn, t1, t2 = (k_idx + q * m for q in range(3))
-    r = np.arange(k)
-    rows, cols, vals, lo, hi = [], [], [], [], []
-    block = [0]
-
-    def rowset(entries, low, high):
-        for col, val in entries:
-            rows.append(block[0] * k + r)
-            cols.append(col)
-            vals.append(np.broadcast_to(val, (k,)).astype(float))
-        lo.append(np.broadcast_to(low, (k,)).astype(float))
-        hi.append(np.broadcast_to(high, (k,)).astype(float))
-        block[0] += 1
-
-    ones = np.ones(k)
-    rowset([(fn_t, ones), (z, fc)], 0.0, np.inf)                # R_n^T ≥ −F_c z
-    rowset([(fn, ones), (fn_t, -ones)], 0.0, np.inf)            # R_n^C = R_n − R_n^T ≥ 0
-    rowset([(fn, ones), (fn_t, -ones), (z, np.full(k, program.force_cap))],
-           -np.inf, program.force_cap)                          # R_n^C ≤ cap (1 − z)
-    for th in 2 * math.pi * np.arange(program.facets) / program.facets:
-        c, s_ = math.cos(th), math.sin(th)
-        # tension side: d·R_t^T ≤ μ (R_n^T + F_c z)
-        rowset([(t1_t, c * ones), (t2_t, s_ * ones), (fn_t, -mu), (z, -mu * fc)], -np.inf, 0.0)
-        # compression side: d·(R_t − R_t^T) ≤ μ (R_n − R_n^T + F_c (1 − z))
-        rowset([(t1, c * ones), (t2, s_ * ones), (t1_t, -c * ones), (t2_t, -s_ * ones),
-                (fn, -mu), (fn_t, mu), (z, mu * fc)], -np.inf, mu * fc)
-    return (_sparse(rows, cols, vals, (block[0] * k, n_var)), np.concatenate(lo),
-            np.concatenate(hi))
-
-
-def _relaxed_extreme(program, i, j, part, sense, scale):
-    """A bound on the smallest (sense +1) or largest (−1) σ_ij (part "total") or σ⁺_ij ("plus")
-    over the force sets with polygons of radius × scale: each contact's sign relaxed to a number
-    z between 0 and 1 (the convex hull of its two sides, _split_rows), so no force set passes it.
-    Returns (the bound or None when infeasible, the optimum's normal forces of the contacts with
-    a sign)."""
-    p, m = program.packing, program.m
+def _total_extreme(program, i, j, sense, scale):
+    """The smallest (sense +1) or largest (−1) σ_ij over the force sets with polygons of
+    radius × scale: one linear program. Returns (the optimum, the force set), or (None, None)
+    when infeasible."""
     row, constant = program.stress_row(i, j)
-    g, h = program.thresholds(scale)
-    lower, upper = program.bounds()
-    k = len(program.split) if part == "plus" else 0
-    n_var = 6 * m + 4 * k
-    widen = lambda mat: scipy.sparse.hstack(  # noqa: E731
-        [mat, scipy.sparse.csr_matrix((mat.shape[0], 4 * k))]).tocsr()
-    ranges = [(widen(program.balance), program.rhs - program.slack, program.rhs + program.slack),
-              (widen(g), np.full(len(h), -np.inf), h)]
-    cost = np.concatenate([row, np.zeros(4 * k)])
-    if part == "plus":
-        ranges.append(_split_rows(program, scale, n_var))
-        fc = p.cohesion[program.free][program.split]
-        lower = np.concatenate([lower, np.zeros(k), -fc, np.full(2 * k, -np.inf)])
-        upper = np.concatenate([upper, np.ones(k), np.zeros(k), np.full(2 * k, np.inf)])
-        # σ⁺ = σ − σ⁻, σ⁻ = the tension parts' σ_ij + the held contacts' constant
-        for q in range(3):
-            cost[6 * m + (q + 1) * k:6 * m + (q + 2) * k] = -row[q * m + program.split]
-        constant = 0.0
-    res = _minimise(sense * cost, ranges, lower, upper)
+    res = _minimise(sense * row, *program.constraints(scale))
     if res.status != 0:
         return None, None
-    return sense * float(res.fun) + constant, res.x[:m][program.split]
+    return sense * float(res.fun) + constant, res.x
 
 
-def _signed_extreme(program, i, j, part, sense, scale, signs=None):
-    """The smallest (sense +1) or largest (−1) σ_ij ("total") or σ⁺_ij ("plus") over the force
-    sets with polygons of radius × scale in which each contact with a sign keeps `signs` (1:
-    tensile, R_n ≤ 0; 0: compressive, R_n ≥ 0): a linear program whose optimum a force set
-    reaches. Returns (the optimum, the force set), or (None, None) when infeasible."""
+def _signed_extreme(program, i, j, sense, scale, signs):
+    """The smallest (sense +1) or largest (−1) σ⁺_ij over the force sets with polygons of
+    radius × scale in which each contact with a sign keeps `signs` (1: tensile, R_n ≤ 0; 0:
+    compressive, R_n ≥ 0): a linear program whose optimum a force set reaches. Returns (the
+    optimum, the force set), or (None, None) when infeasible."""
     m = program.m
     row, _ = program.stress_row(i, j)
-    g, h = program.thresholds(scale)
-    lower, upper = program.bounds()
-    ranges = [(program.balance, program.rhs - program.slack, program.rhs + program.slack),
-              (g, np.full(len(h), -np.inf), h)]
-    if part == "plus":
-        tensile = np.zeros(m, bool)
-        tensile[program.split[signs > 0.5]] = True
-        upper[:m] = np.where(tensile, 0.0, upper[:m])
-        lower[:m] = np.where(tensile, lower[:m], 0.0)
-        row = row * np.tile(~tensile, 6)
-    res = _minimise(sense * row, ranges, lower, upper)
+    ranges, lower, upper = program.constraints(scale)
+    tensile = np.zeros(m, bool)
+    tensile[program.split[signs > 0.5]] = True
+    upper[:m] = np.where(tensile, 0.0, upper[:m])
+    lower[:m] = np.where(tensile, lower[:m], 0.0)
+    res = _minimise(sense * row * np.tile(~tensile, 6), ranges, lower, upper)
     if res.status != 0:
         return None, None
     return sense * float(res.fun), res.x
 
 
-def _search(program, i, j, sense, scale, starts, record, rounds=3):
+def _search(program, i, j, sense, scale, starts, record, rounds):
     """Force sets with fixed signs that drive σ⁺_ij down (sense +1) or up (−1), each passed to
     `record`: from each start's signs, each round keeps the signs of the last optimum and turns
     over those of its contacts at zero normal force (free to go either way), while that improves
@@ -442,7 +394,7 @@ def _search(program, i, j, sense, scale, starts, record, rounds=3):
     zero = 1e-9 * max(1.0, program.force_cap)
     for signs in starts:
         for _ in range(rounds):
-            value, x = _signed_extreme(program, i, j, "plus", sense, scale, signs)
+            value, x = _signed_extreme(program, i, j, sense, scale, signs)
             if value is None:
                 break
             record(x)
@@ -468,7 +420,7 @@ def _run_value(summary, i, j, part):
 
 
 def admissible_stress(folder, components=("zz",), facets=16, force_cap_factor=100.0,
-                      progress=None):
+                      progress=None, rounds=8):
     """The admissible interval of σ_ij, σ⁺_ij and σ⁻_ij for each component (module docstring).
 
     For each quantity and side: the bound (a linear program with the circumscribed polygons and
@@ -478,6 +430,8 @@ def admissible_stress(folder, components=("zz",), facets=16, force_cap_factor=10
     StressBoundsError for a folder that is not a blocked run's."""
     if facets < 3:
         raise StressBoundsError(f"--facets: got {facets}, expected an integer ≥ 3")
+    if rounds < 1:
+        raise StressBoundsError(f"--rounds: got {rounds}, expected an integer ≥ 1")
     if not force_cap_factor > 1:
         raise StressBoundsError(f"--force-cap: got {force_cap_factor}, expected a number > 1")
     started = time.perf_counter()
@@ -486,9 +440,11 @@ def admissible_stress(folder, components=("zz",), facets=16, force_cap_factor=10
     inner = math.cos(math.pi / facets)
     outer = 1.0 / inner
     result = {
-        "method": "linear programs (HiGHS through SciPy): the bound with each contact's sign "
-                  "relaxed, the attained values with signs fixed and searched",
+        "method": "linear programs (HiGHS through SciPy's linprog): sigma's bounds; sigma-'s "
+                  "from each contact's extremes in tension, sigma+'s as their difference; the "
+                  "attained values from force sets with the signs fixed and searched",
         "facets": facets,
+        "rounds": rounds,
         "threshold_excess": outer - 1.0,
         "touching_gap": program.touching_gap,
         "balance_tolerance": program.tolerance,
@@ -514,22 +470,23 @@ def admissible_stress(folder, components=("zz",), facets=16, force_cap_factor=10
         solved.count = 0
         record(program.run_x)
         bound = {}
+        starts = [run_signs, np.zeros(len(program.split))]
         for sense, side in ((1, 0), (-1, 1)):
-            bound["total", side], _ = _relaxed_extreme(program, i, j, "total", sense, outer)
+            bound["total", side], _ = _total_extreme(program, i, j, sense, outer)
             solved("bound of σ")
-            _, x = _signed_extreme(program, i, j, "total", sense, inner)
+            _, x = _total_extreme(program, i, j, sense, inner)
             if x is not None:
                 record(x)
+                starts.append((x[:program.m][program.split] < 0).astype(float))
             solved("σ reached")
-            bound["plus", side], relaxed = _relaxed_extreme(program, i, j, "plus", sense, outer)
-            solved("bound of σ⁺")
-            starts = [run_signs] + ([] if relaxed is None else [(relaxed < 0).astype(float)])
+        # σ⁺ = σ − σ⁻ for every force set, and σ⁻ lies within each contact's extremes in tension
+        bound["minus", 0], bound["minus", 1] = program.minus_range(i, j, outer)
+        known = bound["total", 0] is not None and bound["total", 1] is not None
+        bound["plus", 0] = bound["total", 0] - bound["minus", 1] if known else None
+        bound["plus", 1] = bound["total", 1] - bound["minus", 0] if known else None
+        for sense in (1, -1):
             _search(program, i, j, sense, inner, starts,
-                    lambda x: (record(x), solved("σ⁺ reached")))
-        # σ⁻ = σ − σ⁺ for every force set
-        known = all(value is not None for value in bound.values())
-        bound["minus", 0] = bound["total", 0] - bound["plus", 1] if known else None
-        bound["minus", 1] = bound["total", 1] - bound["plus", 0] if known else None
+                    lambda x: (record(x), solved("σ⁺ reached")), rounds)
         for part, suffix in zip(parts, ("", "_plus", "_minus")):
             entry = {"run": _run_value(packing.summary, i, j, part)}
             for side, key in ((0, "min"), (1, "max")):
@@ -603,6 +560,9 @@ def main(argv=None):
                         help="sides of the polygons that replace the friction discs (default 16)")
     parser.add_argument("--force-cap", type=float, default=100.0,
                         help="the largest normal force, × the run's largest (default 100)")
+    parser.add_argument("--rounds", type=int, default=8,
+                        help="rounds of the search over the contacts' signs from each start "
+                             "(default 8)")
     parser.add_argument("--no-write", action="store_true", help="print only; leave summary.json")
     args = parser.parse_args(argv)
     components = [c.strip() for c in args.components.split(",") if c.strip()]
@@ -610,7 +570,7 @@ def main(argv=None):
     for folder in run_folders(args.folders):
         try:
             result = admissible_stress(folder, components, args.facets, args.force_cap,
-                                       progress=lambda text, f=folder: print(
+                                       rounds=args.rounds, progress=lambda text, f=folder: print(
                                            f"stress-bounds: {f}: {text}", file=sys.stderr,
                                            flush=True))
         except (StressBoundsError, OSError, summaries.SummaryError, KeyError) as error:
