@@ -144,7 +144,8 @@ class Packing:
 class Program:
     """The balance, the thresholds and the stress of the touching contacts, as sparse rows."""
 
-    def __init__(self, packing, facets, touching_gap=None, force_cap_factor=100.0):
+    def __init__(self, packing, facets, touching_gap=None, force_cap_factor=100.0,
+                 time_limit=300.0):
         p = packing
         self.packing = p
         closed = p.run_normal + p.cohesion > 0.0  # is_closed of contact/local_problem.hpp
@@ -155,6 +156,8 @@ class Program:
         self.split = np.flatnonzero(p.cohesion[self.free] > 0)  # may pull: a sign to choose
         self.held = np.flatnonzero(p.gap > self.touching_gap)  # keeps −F_c n: open
         self.facets = facets
+        self.time_limit = time_limit  # [s] a linear program
+        self.stopped = 0  # programs stopped at the time limit
         run = p.run_actions()[self.free]
         self.run_x = run.T.reshape(-1)  # blocks of 6 × m, unknown by unknown
         self.force_cap = force_cap_factor * max(1.0, float(np.abs(p.run_normal).max(initial=0.0)),
@@ -324,10 +327,11 @@ class Program:
         return float(low) + constant, float(high) + constant
 
 
-def _minimise(cost, ranges, lower, upper):
+def _minimise(cost, ranges, lower, upper, time_limit):
     """min cost·x over lower ≤ x ≤ upper and low ≤ A x ≤ high for each (A, low, high), by HiGHS's
     interior-point method (with crossover: a vertex), the fastest of SciPy's HiGHS methods at
-    10⁴ contacts (docs/physics.md §11.3). Returns the result (status 0: optimal)."""
+    10⁴ contacts (docs/physics.md §11.3), stopped after `time_limit` seconds. Returns the result
+    (status 0: optimal; 1: stopped at the time limit)."""
     blocks, limits = [], []
     for matrix, low, high in ranges:
         for sign, side in ((1.0, high), (-1.0, low)):
@@ -338,7 +342,8 @@ def _minimise(cost, ranges, lower, upper):
     with _silenced_stdout():
         return scipy.optimize.linprog(cost, A_ub=scipy.sparse.vstack(blocks).tocsr(),
                                       b_ub=np.concatenate(limits),
-                                      bounds=np.column_stack([lower, upper]), method="highs-ipm")
+                                      bounds=np.column_stack([lower, upper]), method="highs-ipm",
+                                      options={"time_limit": float(time_limit)})
 
 
 @contextlib.contextmanager
@@ -361,7 +366,8 @@ def _total_extreme(program, i, j, sense, scale):
     radius × scale: one linear program. Returns (the optimum, the force set), or (None, None)
     when infeasible."""
     row, constant = program.stress_row(i, j)
-    res = _minimise(sense * row, *program.constraints(scale))
+    res = _minimise(sense * row, *program.constraints(scale), program.time_limit)
+    program.stopped += res.status == 1
     if res.status != 0:
         return None, None
     return sense * float(res.fun) + constant, res.x
@@ -379,7 +385,8 @@ def _signed_extreme(program, i, j, sense, scale, signs):
     tensile[program.split[signs > 0.5]] = True
     upper[:m] = np.where(tensile, 0.0, upper[:m])
     lower[:m] = np.where(tensile, lower[:m], 0.0)
-    res = _minimise(sense * row * np.tile(~tensile, 6), ranges, lower, upper)
+    res = _minimise(sense * row * np.tile(~tensile, 6), ranges, lower, upper, program.time_limit)
+    program.stopped += res.status == 1
     if res.status != 0:
         return None, None
     return sense * float(res.fun), res.x
@@ -420,23 +427,27 @@ def _run_value(summary, i, j, part):
 
 
 def admissible_stress(folder, components=("zz",), facets=16, force_cap_factor=100.0,
-                      progress=None, rounds=8):
+                      progress=None, rounds=8, time_limit=300.0):
     """The admissible interval of σ_ij, σ⁺_ij and σ⁻_ij for each component (module docstring).
 
     For each quantity and side: the bound (a linear program with the circumscribed polygons and
     each contact's sign relaxed), and the extremes over the admissible force sets found (the
     inscribed polygons, signs fixed and searched from the run's and the bound's; and the run's
-    own forces). `progress(text)`, if given, is called after each linear program. Raises
+    own forces). `progress(text)`, if given, is called after each linear program; a program
+    stopped at `time_limit` seconds gives nothing (a bound stays None, a search start ends).
+    Raises
     StressBoundsError for a folder that is not a blocked run's."""
     if facets < 3:
         raise StressBoundsError(f"--facets: got {facets}, expected an integer ≥ 3")
+    if not time_limit > 0:
+        raise StressBoundsError(f"--time-limit: got {time_limit}, expected seconds > 0")
     if rounds < 1:
         raise StressBoundsError(f"--rounds: got {rounds}, expected an integer ≥ 1")
     if not force_cap_factor > 1:
         raise StressBoundsError(f"--force-cap: got {force_cap_factor}, expected a number > 1")
     started = time.perf_counter()
     packing = Packing(folder)
-    program = Program(packing, facets, force_cap_factor=force_cap_factor)
+    program = Program(packing, facets, force_cap_factor=force_cap_factor, time_limit=time_limit)
     inner = math.cos(math.pi / facets)
     outer = 1.0 / inner
     result = {
@@ -445,6 +456,7 @@ def admissible_stress(folder, components=("zz",), facets=16, force_cap_factor=10
                   "attained values from force sets with the signs fixed and searched",
         "facets": facets,
         "rounds": rounds,
+        "time_limit": time_limit,
         "threshold_excess": outer - 1.0,
         "touching_gap": program.touching_gap,
         "balance_tolerance": program.tolerance,
@@ -498,6 +510,7 @@ def admissible_stress(folder, components=("zz",), facets=16, force_cap_factor=10
                     min(value, attained) if side == 0 else max(value, attained))
                 entry[f"{key}_attained"] = attained
             result[f"sigma_{name}{suffix}"] = entry
+    result["stopped_programs"] = program.stopped
     result["seconds"] = time.perf_counter() - started
     return result
 
@@ -563,6 +576,9 @@ def main(argv=None):
     parser.add_argument("--rounds", type=int, default=8,
                         help="rounds of the search over the contacts' signs from each start "
                              "(default 8)")
+    parser.add_argument("--time-limit", type=float, default=300.0,
+                        help="seconds for each linear program; one stopped there gives nothing "
+                             "(default 300)")
     parser.add_argument("--no-write", action="store_true", help="print only; leave summary.json")
     args = parser.parse_args(argv)
     components = [c.strip() for c in args.components.split(",") if c.strip()]
@@ -570,7 +586,8 @@ def main(argv=None):
     for folder in run_folders(args.folders):
         try:
             result = admissible_stress(folder, components, args.facets, args.force_cap,
-                                       rounds=args.rounds, progress=lambda text, f=folder: print(
+                                       rounds=args.rounds, time_limit=args.time_limit,
+                                       progress=lambda text, f=folder: print(
                                            f"stress-bounds: {f}: {text}", file=sys.stderr,
                                            flush=True))
         except (StressBoundsError, OSError, summaries.SummaryError, KeyError) as error:
@@ -580,8 +597,10 @@ def main(argv=None):
         if not args.no_write:
             add_to_summary(folder, result)
         piston = summaries.read_summary(pathlib.Path(folder) / "summary.json").get("piston", {})
+        stopped = result["stopped_programs"]
         print(f"{folder}: {result['contacts']['touching']} touching contacts, "
-              f"{result['seconds']:.1f} s")
+              f"{result['seconds']:.1f} s" + (f", {stopped} linear programs stopped at the time "
+                                              "limit" if stopped else ""))
         print(line(result, piston.get("applied_pressure")))
     return status
 
