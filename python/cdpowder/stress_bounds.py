@@ -313,9 +313,10 @@ class Program:
 
     def minus_range(self, i, j, scale):
         """Bounds on σ⁻_ij that hold for every force set: each contact that may pull adds, if
-        tensile, its σ_ij contribution w (R_n n_i + R_t·e_i) with −F_c ≤ R_n ≤ 0 and |R_t| at
-        most μ (R_n + F_c) × scale, whose extremes are at R_n = −F_c, or at R_n = 0 with the
-        largest R_t along the tangent part of e_i; if compressive, nothing."""
+        tensile, its σ_ij contribution w (f n_i + t·e_i), with the normal force f between −F_c
+        and 0 and the tangential force t at most μ (f + F_c) × scale, whose extremes are at
+        f = −F_c, or at f = 0 with the largest t along the tangent part of e_i; if
+        compressive, nothing."""
         p, free = self.packing, self.free[self.split]
         w = p.branch[free] * p.normal[free, j] / p.volume
         fc, n_i = p.cohesion[free], p.normal[free, i]
