@@ -58,7 +58,7 @@ from cdpowder import summary as summaries
 FIELD = "admissible_stress"
 TOUCHING_GAP = 1e-6  # kTouchingGap of src/cdpowder/solver/build.cpp [R], physics.md §5.4
 AXES = {"x": 0, "y": 1, "z": 2}
-EXIT_USAGE, EXIT_FAILED = 2, 1
+EXIT_USAGE = 2
 
 
 class StressBoundsError(Exception):
@@ -73,7 +73,6 @@ class Packing:
         for name in ("scene.toml", "particles.csv", "contacts.csv", "summary.json"):
             if not (folder / name).is_file():
                 raise StressBoundsError(f"{folder}: no {name} (a finished run's folder is needed)")
-        self.folder = folder
         self.summary = summaries.read_summary(folder / "summary.json")
         run = self.summary.get("run", {})
         if not run.get("blocked"):
@@ -83,7 +82,6 @@ class Packing:
         self.scene = tomllib.loads((folder / "scene.toml").read_text())
         spheres = tables.read_particles(folder / "particles.csv")
         contacts = tables.read_contacts(folder / "contacts.csv")
-        self.position = spheres[["x", "y", "z"]].to_numpy(float)
         self.radius = spheres["r"].to_numpy(float)
         self.fixed = spheres["fixed"].to_numpy(bool)
         system = self.scene.get("system", {})
@@ -127,10 +125,6 @@ class Packing:
         e1 = np.cross(self.normal, helper)
         self.e1 = e1 / np.linalg.norm(e1, axis=1)[:, None]
         self.e2 = np.cross(self.normal, self.e1)
-
-    @property
-    def contacts(self):
-        return len(self.a)
 
     def run_actions(self):
         """The run's actions in the program's unknowns, one column each: R_n, R_t·e1, R_t·e2,
