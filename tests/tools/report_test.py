@@ -285,6 +285,56 @@ class ReportOnKnownSweeps(unittest.TestCase):
             "## The admissible")[1])
         self.assertTrue((self.dir / "report" / "admissible.png").stat().st_size > 0)
 
+    def test_additivity_across_the_modes_against_other_keys(self):
+        # the torque corners crossed with μ (the grid) and with the pressure (points that
+        # leave μ at the scene's 0.3, read from their summary.json). E is additive in every
+        # mode except rolling at μ = 0.1, which adds 0.02 less: I rolling = -0.02 there alone
+        folder = self.dir / "modes"
+        folder.mkdir()
+        e1 = {(0, 0): 0.0, (1, 0): 0.2, (0, 1): 0.1, (1, 1): 0.3}
+        with open(folder / "results.csv", "w", newline="") as f:
+            f.write("# synthetic additivity sweep\n")
+            w = csv.writer(f)
+            w.writerow(["point", "contact.mu", "contact.mu_roll", "contact.mu_twist",
+                        "piston.pressure"] + COLUMNS[3:])
+            settings = [(mu, "") for mu in (0.1, 0.3, 1.0)] + [("", 0.01)]
+            for mu, pressure in settings:
+                for (t, n), added_e in e1.items():
+                    name = f"mu={mu},p={pressure},t={t},n={n}"
+                    for s in (1, 2, 3):
+                        e = 0.6 + 0.01 * s + added_e + (0.05 if pressure else 0.0) \
+                            + (0.1 * float(mu) if mu != "" else 0.03)
+                        if mu == 0.1 and (t, n) in ((1, 0), (1, 1)):
+                            e -= 0.02
+                        run = f"runs/{name}/seed_{s}"
+                        w.writerow([name, mu, t, n, pressure, s, e, 0.95, 1.0, 2.0 - t, -1.0 + t,
+                                    1000, 50000, 10.0, 1, run])
+                        (folder / run).mkdir(parents=True)
+                        (folder / run / "summary.json").write_text(json.dumps(
+                            {"scene": {"contact": {"mu": 0.3}, "piston": {"pressure": 0.0025}}}))
+        report = run_report(folder)
+        self.assertIn("## Additivity beyond the torques", report)
+        self.assertIn("Reference: `contact.mu` = 0.3, `piston.pressure` = 0.0025.", report)
+        self.assertIn("### Against `contact.mu`", report)
+        self.assertIn("### Against `piston.pressure`", report)
+        rows = [line for line in report.splitlines() if line.startswith("| 0.1 |")]
+        self.assertEqual(len(rows), 1)
+        cells = rows[0].strip("| ").split(" | ")
+        # E1 rolling, and I rolling, I torsion, I both at μ = 0.1; the torques stay additive
+        # among themselves (ΔE_t = 0: rolling adds 0.02 less alone and with torsion)
+        self.assertEqual(cells[2], "0.1800 ± 0.0000")
+        self.assertEqual(cells[6:9], ["-0.0200 ± 0.0000", "0.0000 ± 0.0000",
+                                      "-0.0200 ± 0.0000"])
+        self.assertAlmostEqual(float(cells[5].split()[0]), 0.0)
+        self.assertIn("| 0.3 (ref) | 0.6500 ± 0.0058 |", report)
+        # the pressure's change adds 0.05 to E0 and nothing to the torques
+        row = [line for line in report.splitlines() if line.startswith("| 0.01 |")][0]
+        self.assertEqual(row.strip("| ").split(" | ")[1:5], [
+            "0.7000 ± 0.0058", "0.2000 ± 0.0000", "0.1000 ± 0.0000", "0.3000 ± 0.0000"])
+        self.assertIn("2 of 13 residuals (ΔE_t and I) lie more than 2 standard errors from "
+                      "zero", report)
+        self.assertTrue((folder / "report" / "additivity_against_contact_mu.png").exists())
+
     def test_a_ratio_of_added_porosities_is_paired_by_seed(self):
         # E1(μ, 0) = 2 E1(0, μ) seed by seed, E1 varying from seed to seed: the paired ratio
         # is 2 with no error, where independent errors would give a large one

@@ -14,6 +14,11 @@ each figure as .png, .svg and .pdf (--png-only: the PNGs alone, a quicker look):
   added_porosity   E1(μt, μn) = E(μt, μn) − E(0, 0) as a map
   additivity       ΔE = E1(μt, μn) − E1(μt, 0) − E1(0, μn) as a map
   table1_stress    the paper's Table 1: σzz+/p and σzz−/p beside the paper's values
+  additivity_against_KEY
+                   for a sweep that crosses the torque corners (μt, μn) ∈ {0, c}² with
+                   another key (μ, the pressure): E and σzz+/p at the four corners and the
+                   residuals of additivity across the modes, against the key
+                   (interactions.py)
   packing          one packing before and after compaction with the bottom wall, the cell
                    and the piston (the paper's Fig. 3)
   report.md        the points table, Table 1 beside the paper, the paper's claims with
@@ -34,7 +39,7 @@ import argparse
 import pathlib
 import sys
 
-from cdpowder.report import admissible, figures, sections
+from cdpowder.report import admissible, figures, interactions, sections
 from cdpowder.report.data import Stat, Sweep, parse_seeds, read_results
 from cdpowder.report.packing_figure import plot_packing
 
@@ -133,6 +138,7 @@ def main():
                                                                        sections.MU_N))]
     md += sections.against_keys(sweep, {k: figures.plot_against_key(sweep, k, out)
                                         for k in other_keys})
+    md += interactions.section(args.sweep_dir, sweep, out)
     md += admissible.section(args.sweep_dir, sweep, out)
     (out / "report.md").write_text("\n".join(md) + "\n")
     print(f"report: {out / 'report.md'}")
