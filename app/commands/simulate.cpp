@@ -124,6 +124,8 @@ int run_and_write(Session& s) {
   const bool reports = s.files.has_value();
   if (reports) {
     set_run_phase("writing the outputs");
+    // the run steps no more: the outputs' buffers take the memory of the step's scratch
+    release_step_scratch(work);
     s.files->finish(scene, world, work, s.state, result, s.initial_porosity);
     std::printf("%s\n", result_line(scene, world, work.contacts, result).c_str());
   }

@@ -4,6 +4,7 @@
 
 #include "cdpowder/contact/contact_law.hpp"
 #include "cdpowder/core/assert.hpp"
+#include "cdpowder/core/grow.hpp"
 #include "cdpowder/core/lanes.hpp"
 #include "cdpowder/detect/sphere_scan.hpp"
 #include "cdpowder/model/finite.hpp"
@@ -55,14 +56,22 @@ void find_pairs_one_by_one(const Bodies& bodies, const PeriodicBox& box, double 
   }
 }
 
+/// Candidates searched between two reservations of `out` (a multiple of every lane count):
+/// the room made for them is the most a block can add, so `out` never doubles.
+constexpr std::size_t kPairSearchBlock = 1024;
+
 /// Appends to `out` the geometry of every pair of list[first, last) whose centre distance is
 /// below R_a + R_b + cutoff, in list order: blocks of lanes, then the rest one by one.
 void find_pairs(const Bodies& bodies, const PeriodicBox& box, double cutoff,
                 const std::vector<CandidateList::Pair>& list, std::size_t first, std::size_t last,
                 std::vector<PairProblem>& out) {
-  const std::size_t rest =
-      CDP_LANES_FOR_CPU(find_pair_lanes)(bodies, box, cutoff, list.data(), first, last, out);
-  find_pairs_one_by_one(bodies, box, cutoff, list, rest, last, out);
+  for (std::size_t begin = first; begin < last; begin += kPairSearchBlock) {
+    const std::size_t end = std::min(last, begin + kPairSearchBlock);
+    reserve_for_more(out, end - begin);
+    const std::size_t rest =
+        CDP_LANES_FOR_CPU(find_pair_lanes)(bodies, box, cutoff, list.data(), begin, end, out);
+    find_pairs_one_by_one(bodies, box, cutoff, list, rest, end, out);
+  }
 }
 
 /// Appends to `out` the contacts of every sphere (in sphere order) with the wall `kind`: the
@@ -149,6 +158,7 @@ void detect_in_pieces(World& world, const DetectionSettings& settings, CellGrid&
     list.rebuild(bodies, box, grid, cutoff, settings.verlet_margin);
     search(false);
   }
+  reserve_for_more(contacts.pairs, scratch.pairs.size());
   contacts.pairs.insert(contacts.pairs.end(), scratch.pairs.begin(), scratch.pairs.end());
   contacts.walls.insert(contacts.walls.end(), scratch.walls.begin(), scratch.walls.end());
 }

@@ -40,6 +40,20 @@ const Contacts& last_step_contacts(const StepWorkspace& work) {
   return work.last_step_in_contacts ? work.contacts : work.action_cache.last();
 }
 
+void release_step_scratch(StepWorkspace& work) {
+  work.candidates = CandidateList{};
+  work.detection = DetectionScratch{};
+  NlgsWorkspace& solver = work.solver;
+  solver.accelerator = AndersonAccelerator(solver.accelerator.depth());
+  solver.start = {};
+  solver.swept = {};
+  solver.mixed = {};
+  solver.kinematic = KinematicChange{};
+  solver.coloured = ColouredPass{};
+  solver.order = TileOrder{};
+  solver.range_sums = {};
+}
+
 void take_last_step(StepWorkspace& work) {
   if (!work.last_step_in_contacts) return;
   work.action_cache.take(work.contacts);

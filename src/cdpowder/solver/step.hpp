@@ -100,4 +100,11 @@ void solve_step(const World& world, StepWorkspace& work, const StepSettings& set
 void commit_step(World& world, StepWorkspace& work, const StepSettings& settings,
                  StepReport& report);
 
+/// Frees the scratch a step rebuilds (the candidate list, the solver's mixing history and
+/// colour batches, the detection's pieces): a run's last outputs need the committed contacts
+/// alone, and without the scratch their buffers fit in the memory it held (a 16 240-sphere
+/// packing: about 20 % off the peak). Keeps the contacts, the action cache and the random
+/// streams; a workspace stepped on after it gives the same bits, only rebuilding first.
+void release_step_scratch(StepWorkspace& work);
+
 }  // namespace cdpowder

@@ -309,21 +309,19 @@ void mix_actions(Contacts& contacts, VelocityCache& velocities, TileThreads* thr
                  KinematicChange* kinematic) {
   bool mixed = false;
   if (tiled) {
-    mixed = mix_tiled_step(work.start, work.swept, work.mixed, modes, work.accelerator, contacts,
-                           velocities, work.coloured, threads, kinematic, work.range_sums);
+    // the mixed actions are written over work.start
+    mixed = mix_tiled_step(work.start, work.swept, modes, work.accelerator, contacts, velocities,
+                           work.coloured, threads, kinematic, work.range_sums);
   } else {
     flatten(contacts, modes, work.swept);
     mixed = work.accelerator.extrapolate(work.start, work.swept, work.mixed);
     if (mixed) {
       adopt(work.mixed, modes, contacts, velocities, coloured ? &work.coloured : nullptr);
       if (kinematic != nullptr) work.kinematic.velocities_changed(velocities);
+      work.start.swap(work.mixed);
     }
   }
-  if (mixed) {
-    work.start.swap(work.mixed);
-  } else {
-    work.start.swap(work.swept);
-  }
+  if (!mixed) work.start.swap(work.swept);
 }
 
 SolverStats iterate_until_done(Contacts& contacts, VelocityCache& velocities,

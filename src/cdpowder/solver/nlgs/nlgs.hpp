@@ -49,7 +49,7 @@ struct NlgsWorkspace {
   AndersonAccelerator accelerator;
   AlignedVector<double> start;  ///< actions the pass started from, flattened (4–8 per contact)
   AlignedVector<double> swept;  ///< actions after the pass
-  AlignedVector<double> mixed;  ///< accelerated actions
+  AlignedVector<double> mixed;  ///< accelerated actions (an untiled step; a tiled one: in start)
   std::vector<ContactIndex> blocks;  ///< block permutation of the per-step order
   KinematicChange kinematic;         ///< the kinematic rule's velocity snapshot
   ColouredPass coloured;             ///< colours and batches of solver.kernel = "coloured"

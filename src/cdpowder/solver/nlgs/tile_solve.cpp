@@ -11,8 +11,7 @@
 
 namespace cdpowder {
 
-bool mix_tiled_step(const AlignedVector<double>& start, AlignedVector<double>& swept,
-                    AlignedVector<double>& mixed, MixedModes modes,
+bool mix_tiled_step(AlignedVector<double>& start, AlignedVector<double>& swept, MixedModes modes,
                     AndersonAccelerator& accelerator, Contacts& contacts, VelocityCache& velocities,
                     ColouredPass& pass, TileThreads* threads, KinematicChange* kinematic,
                     std::vector<AndersonAccelerator::PassSums>& range_sums) {
@@ -39,7 +38,8 @@ bool mix_tiled_step(const AlignedVector<double>& start, AlignedVector<double>& s
     return false;
   }
 
-  mixed.resize(swept.size());
+  // the mixed actions take the place of the start (read by the passes above alone)
+  AlignedVector<double>& mixed = start;
   std::vector<ContactAction>& deltas = pass.deltas;
   deltas.resize(contacts.pairs.size());
   const std::size_t pairs = contacts.pairs.size();

@@ -23,14 +23,15 @@ struct MixedModes;  // mixed_actions.hpp (it brings the contact kernels, which o
 
 /// One mixing step of a tiled step: `swept` ← the actions after the pass (flattened), the
 /// accelerator's passes over each part's batched pairs and over the rest (overflow pairs,
-/// walls), its fit, and when that succeeds `mixed` ← the mixed actions, adopted by the
+/// walls), its fit, and when that succeeds `start` ← the mixed actions (the iterate the pass
+/// started from is not read after the accelerator's passes, so the mixing reuses its
+/// memory: one vector of 4–8 doubles a contact less), adopted by the
 /// contacts with the velocity cache moved by the change: the rest and the hub first (on the
 /// caller), then the tiles phase by phase, and the kinematic rule's new snapshot piece by
 /// piece. `range_sums` is scratch (the accelerator's sums of each range, in range order).
 /// Returns whether the mixing was adopted (false: no history yet, or the fit failed; nothing
 /// changed).
-bool mix_tiled_step(const AlignedVector<double>& start, AlignedVector<double>& swept,
-                    AlignedVector<double>& mixed, MixedModes modes,
+bool mix_tiled_step(AlignedVector<double>& start, AlignedVector<double>& swept, MixedModes modes,
                     AndersonAccelerator& accelerator, Contacts& contacts, VelocityCache& velocities,
                     ColouredPass& pass, TileThreads* threads, KinematicChange* kinematic,
                     std::vector<AndersonAccelerator::PassSums>& range_sums);
