@@ -356,6 +356,12 @@ int run_command_line(int argc, char** argv) {
     }
     return kExitBadInput;
   }
+  if (simulate_cmd->parsed() || compact_cmd->parsed() || resume_cmd->parsed()) {
+    if (const std::string why = cdpowder::copies_without_ranks(); !why.empty()) {
+      std::fprintf(stderr, "error: %s\n", why.c_str());
+      return kExitBadInput;
+    }
+  }
   return run_reporting_errors([&] {
     if (simulate_cmd->parsed()) return cdpowder::app::run_simulate(simulate);
     if (compact_cmd->parsed()) return cdpowder::app::run_compact(compact);

@@ -7,7 +7,10 @@
 
 #include <array>
 #include <cstddef>
+#include <cstdlib>
+#include <optional>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 namespace cdpowder {
@@ -33,6 +36,53 @@ TEST(Ranks, OneRankHasNobodyToExchangeWith) {
   std::array<std::byte, 1> byte{};
   const std::array<RankBytes, 1> message{RankBytes{0, byte}};
   EXPECT_THROW(exchange_with_ranks(message, {}, 0), std::logic_error);
+}
+
+/// Sets an environment variable for one scope and puts back what was there.
+class ScopedVariable {
+ public:
+  ScopedVariable(const char* name, const char* value) : name_(name) {
+    if (const char* old = std::getenv(name)) old_ = old;
+    ::setenv(name, value, 1);
+  }
+
+  ~ScopedVariable() {
+    if (old_) {
+      ::setenv(name_, old_->c_str(), 1);
+    } else {
+      ::unsetenv(name_);
+    }
+  }
+
+  ScopedVariable(const ScopedVariable&) = delete;
+  ScopedVariable& operator=(const ScopedVariable&) = delete;
+  ScopedVariable(ScopedVariable&&) = delete;
+  ScopedVariable& operator=(ScopedVariable&&) = delete;
+
+ private:
+  const char* name_;
+  std::optional<std::string> old_;
+};
+
+TEST(Ranks, SrunWithoutAnMpiPluginIsRefusedNamingThePlugin) {
+  // srun --mpi=none -n 2 sets the step's task count and none of the launchers' variables:
+  // each copy would run the whole job into the same folder
+  const ScopedVariable tasks("SLURM_STEP_NUM_TASKS", "2");
+  const std::string why = copies_without_ranks();
+  if (ranks_built()) {
+    EXPECT_NE(why.find("srun started 2 copies of cdpowder without an MPI plugin"),
+              std::string::npos)
+        << why;
+    EXPECT_NE(why.find("--mpi=pmix"), std::string::npos) << why;
+  } else {
+    EXPECT_NE(why.find("built without MPI"), std::string::npos) << why;
+  }
+}
+
+TEST(Ranks, ASlurmStepOfOneTaskRunsAsOneRank) {
+  // srun -n 1 (or sbatch's batch step): one process, no launcher needed
+  const ScopedVariable tasks("SLURM_STEP_NUM_TASKS", "1");
+  EXPECT_EQ(copies_without_ranks(), "");
 }
 
 }  // namespace

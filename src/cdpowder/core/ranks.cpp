@@ -1,6 +1,7 @@
 // ranks.cpp — MPI, when built in (ranks.hpp); one rank otherwise.
 #include "cdpowder/core/ranks.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cstdlib>
 #include <cstring>
@@ -27,6 +28,15 @@ bool started_by_launcher() {
     if (std::getenv(name) != nullptr) return true;
   }
   return false;
+}
+
+/// The value of the environment variable `name` as a count, 0 when unset or not a number.
+long count_in(const char* name) {
+  const char* text = std::getenv(name);
+  if (text == nullptr) return 0;
+  char* end = nullptr;
+  const long value = std::strtol(text, &end, 10);
+  return end != text && *end == '\0' ? value : 0;
 }
 
 #if defined(CDPOWDER_WITH_MPI)
@@ -62,6 +72,26 @@ RankSession::~RankSession() {
   g_rank = 0;
   g_ranks = 1;
 #endif
+}
+
+// Slurm's srun without an MPI plugin (--mpi=none, the usual default) starts the copies but
+// sets none of the launcher variables, only SLURM_STEP_NUM_TASKS; a build without MPI sees
+// mpirun's variables and could not join the ranks either.
+std::string copies_without_ranks() {
+  const long tasks = count_in("SLURM_STEP_NUM_TASKS");
+  const long launched = std::max({count_in("OMPI_COMM_WORLD_SIZE"), count_in("PMI_SIZE"), tasks});
+  if (launched <= 1) return {};
+  if (!ranks_built()) {
+    return "this cdpowder was built without MPI (CDPOWDER_MPI=OFF) and was started as one of " +
+           std::to_string(launched) +
+           " copies, each of which would run the whole job: run it as one process, or build "
+           "it with MPI";
+  }
+  if (started_by_launcher()) return {};
+  return "srun started " + std::to_string(tasks) +
+         " copies of cdpowder without an MPI plugin, so each would run the whole job on its "
+         "own: run `srun --mpi=pmix …` (or export SLURM_MPI_TYPE=pmix; docs/parallel.md, "
+         "\"Slurm\")";
 }
 
 bool ranks_built() {

@@ -10,6 +10,7 @@
 
 #include <cstddef>
 #include <span>
+#include <string>
 #include <vector>
 
 namespace cdpowder {
@@ -28,6 +29,14 @@ class RankSession {
   RankSession(RankSession&&) = delete;
   RankSession& operator=(RankSession&&) = delete;
 };
+
+/// Why a run (compact, simulate, resume) must not go on as a job of its own though a launcher
+/// started this process as one of several copies, each of which would run the whole job into
+/// the same folder; "" when it may. Slurm's srun without an MPI plugin (--mpi=none, its usual
+/// default) starts copies with no launcher variable, only SLURM_STEP_NUM_TASKS; a build without
+/// MPI cannot join mpirun's ranks. Not a question for a sweep's --task runners, which are
+/// meant to run side by side.
+[[nodiscard]] std::string copies_without_ranks();
 
 /// Whether this build has MPI ranks (CMake found MPI and CDPOWDER_MPI was not OFF).
 [[nodiscard]] bool ranks_built();
