@@ -22,4 +22,11 @@ std::string package_folder_of_build() {
              : std::string();
 }
 
+std::string python_path_for_child() {
+  const std::string package = package_folder_of_build();
+  if (package.empty()) return {};
+  const char* path = std::getenv("PYTHONPATH");
+  return path != nullptr && *path != '\0' ? package + ":" + path : package;
+}
+
 }  // namespace cdpowder::app

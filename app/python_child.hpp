@@ -17,4 +17,8 @@ inline constexpr const char* kPythonVariable = "CDPOWDER_PYTHON";
 /// package is where its prefix's Python finds it.
 [[nodiscard]] std::string package_folder_of_build();
 
+/// PYTHONPATH for a Python child: the build tree's package first, then this process's
+/// PYTHONPATH; "" for an installed program (the child keeps this process's PYTHONPATH).
+[[nodiscard]] std::string python_path_for_child();
+
 }  // namespace cdpowder::app

@@ -27,14 +27,10 @@ std::vector<std::string> module_words(const std::vector<std::string>& arguments)
   return words;
 }
 
-/// PYTHONPATH with the build tree's package first, or nothing for an installed program.
+/// PYTHONPATH with the build tree's package first, or as it is for an installed program.
 void put_package_on_python_path() {
-  const std::string package = package_folder_of_build();
-  if (package.empty()) return;
-  const char* path = std::getenv("PYTHONPATH");
-  const std::string joined =
-      path != nullptr && *path != '\0' ? fmt::format("{}:{}", package, path) : package;
-  ::setenv("PYTHONPATH", joined.c_str(), 1);
+  const std::string path = python_path_for_child();
+  if (!path.empty()) ::setenv("PYTHONPATH", path.c_str(), 1);
 }
 
 std::vector<char*> pointers(std::vector<std::string>& words) {

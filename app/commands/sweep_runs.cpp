@@ -79,23 +79,17 @@ std::vector<std::string> child_environment(const RunStart& run, bool python) {
   const std::string lock_prefix = std::string(kInheritedLockVariable) + "=";
   const std::string threads_prefix = std::string(kMaxThreadsVariable) + "=";
   const std::string path_prefix = "PYTHONPATH=";
-  const std::string package = python ? package_folder_of_build() : std::string();
+  const std::string python_path = python ? python_path_for_child() : std::string();
   std::vector<std::string> variables;
   bool threads_set = false;
-  bool path_set = false;
   for (char** v = environ; *v != nullptr; ++v) {
     const std::string_view variable(*v);
     threads_set = threads_set || variable.starts_with(threads_prefix);
     if (variable.starts_with(lock_prefix)) continue;
-    if (!package.empty() && variable.starts_with(path_prefix)) {
-      path_set = true;
-      variables.push_back(
-          fmt::format("{}{}:{}", path_prefix, package, variable.substr(path_prefix.size())));
-      continue;
-    }
+    if (!python_path.empty() && variable.starts_with(path_prefix)) continue;
     variables.emplace_back(variable);
   }
-  if (!package.empty() && !path_set) variables.push_back(path_prefix + package);
+  if (!python_path.empty()) variables.push_back(path_prefix + python_path);
   if (run.lock_fd >= 0) {
     variables.push_back(fmt::format("{}={}", kInheritedLockVariable, run.lock_fd));
   }
