@@ -138,3 +138,36 @@ def test_mistakes_are_named(quick_run, tmp_path):
     done = program("stress-bounds", short, check=False)
     assert done.returncode == 2 and "did not end blocked" in done.stderr
     assert (short / "summary.json").read_text() == before
+
+
+def test_solves_from_rest_lie_inside_the_interval(tmp_path):
+    # The quick packing at (0, 0), solved again from zero forces with four visiting orders at a
+    # tight tolerance: each is a balanced force set of the same packing (σ_zz/p = 1), so its
+    # σzz⁺ lies between the bounds; it differs from the run's own (the path the forces took)
+    # while every re-solve stays inside the interval the attained force sets span.
+    import pickle
+
+    import cdpowder
+    scene = cdpowder.Scene.from_toml(str(QUICK), {"contact.mu_roll": 0.0, "contact.mu_twist": 0.0})
+    folder = tmp_path / "run"
+    world = cdpowder.compact(scene, out=str(folder)).world
+    pressure = scene["piston.pressure"]
+    interval = stress_bounds.admissible_stress(folder)["sigma_zz_plus"]
+    resolved = []
+    for kernel, order, depth in (("coloured", "random_each_step", 5), ("scalar", "fixed", 5),
+                                 ("scalar", "random_each_pass", 0), ("coloured", "fixed", 0)):
+        again = scene.with_overrides({
+            "solver.warm_start": False, "solver.tolerance": 1e-8, "solver.max_passes": 200000,
+            "solver.kinematic_tolerance": 0.0, "solver.kernel": kernel,
+            "solver.visit_order": order, "solver.acceleration_depth": depth,
+            "run.duration": scene["solver.dt"], "run.until_blocked": False})
+        step = cdpowder.simulate(again, world=pickle.loads(pickle.dumps(world))).world
+        stress = step.stress()
+        assert stress["sigma"][2][2] == pytest.approx(pressure, rel=1e-4)
+        assert step.last_step.max_net_force < 1e-4
+        resolved.append(stress["sigma_plus"][2][2])
+    for value in resolved:
+        assert interval["min"] <= value <= interval["max"]
+        assert interval["min_attained"] <= value <= interval["max_attained"]
+    # the path dependence the interval measures: a solve from rest ends far from the run's
+    assert max(abs(value - interval["run"]) for value in resolved) > 0.1 * interval["run"]
