@@ -335,6 +335,27 @@ class ReportOnKnownSweeps(unittest.TestCase):
                       "zero", report)
         self.assertTrue((folder / "report" / "additivity_against_contact_mu.png").exists())
 
+    def test_a_loading_paths_stages_are_tabulated_and_paired(self):
+        # a Python protocol's runs (protocol.json "stages"): the packing of seed s has
+        # E = 0.8 + 0.01 s and keeps it to the second stage; the third takes 0.05 off
+        write_sweep(self.dir, [(0.0, 0.0)], seeds=2)
+        self.assertNotIn("## Loading path", run_report(self.dir))
+        for seed in (1, 2):
+            folder = self.dir / "runs" / "contact.mu_roll=0.0,contact.mu_twist=0.0" / f"seed_{seed}"
+            folder.mkdir(parents=True)
+            base = 0.8 + 0.01 * seed
+            stages = [{"pressure_over_p": f, "porosity": e, "sigma_zz_plus_over_applied": 2.0}
+                      for f, e in ((0.25, base), (1.0, base), (4.0, base - 0.05),
+                                   (0.25, base - 0.05))]
+            (folder / "protocol.json").write_text(json.dumps({"returned": {"stages": stages}}))
+        report = run_report(self.dir)
+        self.assertIn("## Loading path", report)
+        self.assertIn("| 2 | 1 | 0.8150 ± 0.0050 | 0.0000 ± 0.0000 | 0 of 2 | 2.00 ± 0.00 |",
+                      report)
+        self.assertIn("| 3 | 4 | 0.7650 ± 0.0050 | -0.0500 ± 0.0000 | 2 of 2 | 2.00 ± 0.00 |",
+                      report)
+        self.assertTrue((self.dir / "report" / "load_path.png").exists())
+
     def test_a_ratio_of_added_porosities_is_paired_by_seed(self):
         # E1(μ, 0) = 2 E1(0, μ) seed by seed, E1 varying from seed to seed: the paired ratio
         # is 2 with no error, where independent errors would give a large one

@@ -19,6 +19,8 @@ each figure as .png, .svg and .pdf (--png-only: the PNGs alone, a quicker look):
                    another key (μ, the pressure): E and σzz+/p at the four corners and the
                    residuals of additivity across the modes, against the key
                    (interactions.py)
+  load_path        for a Python protocol whose protocol.json holds a loading path's stages
+                   (examples/paper/load_path.py): E along the path (load_path.py)
   packing          one packing before and after compaction with the bottom wall, the cell
                    and the piston (the paper's Fig. 3)
   report.md        the points table, Table 1 beside the paper, the paper's claims with
@@ -39,7 +41,7 @@ import argparse
 import pathlib
 import sys
 
-from cdpowder.report import admissible, figures, interactions, sections
+from cdpowder.report import admissible, figures, interactions, load_path, sections
 from cdpowder.report.data import Stat, Sweep, parse_seeds, read_results
 from cdpowder.report.packing_figure import plot_packing
 
@@ -139,6 +141,7 @@ def main():
     md += sections.against_keys(sweep, {k: figures.plot_against_key(sweep, k, out)
                                         for k in other_keys})
     md += interactions.section(args.sweep_dir, sweep, out)
+    md += load_path.section(args.sweep_dir, sweep, out)
     md += admissible.section(args.sweep_dir, sweep, out)
     (out / "report.md").write_text("\n".join(md) + "\n")
     print(f"report: {out / 'report.md'}")
