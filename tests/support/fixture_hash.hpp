@@ -17,9 +17,11 @@
 namespace cdpowder::testing {
 
 /// The hash after `steps` steps (step(), a fixed Δt) of bench/fixtures/`name`, its saved scene
-/// with `overrides` (TOML key=value, as --set).
+/// with `overrides` (TOML key=value, as --set); with `release_after` ≥ 0, the step scratch is
+/// freed (release_step_scratch) after that many steps.
 inline std::uint64_t fixture_hash(const std::string& name, int steps,
-                                  const std::vector<SceneOverride>& overrides) {
+                                  const std::vector<SceneOverride>& overrides,
+                                  int release_after = -1) {
   const std::filesystem::path file =
       std::filesystem::path(CDPOWDER_SOURCE_DIR) / "bench/fixtures" / name;
   SavedRun saved = load_state(file);
@@ -29,7 +31,10 @@ inline std::uint64_t fixture_hash(const std::string& name, int steps,
   StepWorkspace work(scene.step.solver.seed);
   RunState run;
   restore_run(std::move(saved), saved_scene.run, saved_scene.step.solver.dt, world, work, run);
-  for (int k = 0; k < steps; ++k) step(world, work, scene.step);
+  for (int k = 0; k < steps; ++k) {
+    if (k == release_after) release_step_scratch(work);
+    step(world, work, scene.step);
+  }
   return state_hash(world, work);
 }
 

@@ -47,7 +47,6 @@ void release_step_scratch(StepWorkspace& work) {
   solver.accelerator = AndersonAccelerator(solver.accelerator.depth());
   solver.start = {};
   solver.swept = {};
-  solver.mixed = {};
   solver.kinematic = KinematicChange{};
   solver.coloured = ColouredPass{};
   solver.order = TileOrder{};

@@ -504,6 +504,19 @@ TEST(TileThreads, APaperSizeStepGivesTheSameStateHashOnTwoAndFourThreads) {
   }
 }
 
+// release_step_scratch frees what a step rebuilds (the mixing, the colour batches, the
+// candidate list): steps taken after it rebuild them, with the bits of a run never freed.
+TEST(StepScratch, StepsAfterItsReleaseGiveTheBitsOfAnUnbrokenRun) {
+  const std::vector<SceneOverride> settings{"solver.kinematic_tolerance=1e-4",
+                                            "solver.tile_width=3.0"};
+  const auto unbroken = fixture_hash("paper_front_mu00_t350.cdps", 3, settings);
+  EXPECT_EQ(fixture_hash("paper_front_mu00_t350.cdps", 3, settings, 1), unbroken);
+  // and untiled (the scalar kernel: the mixing of the whole step at once)
+  const std::vector<SceneOverride> untiled{"solver.kernel=\"scalar\""};
+  EXPECT_EQ(fixture_hash("paper_mid_mu11_t240.cdps", 3, untiled, 1),
+            fixture_hash("paper_mid_mu11_t240.cdps", 3, untiled));
+}
+
 // The stages after a threaded solve run their halves side by side (step.cpp): each step's
 // diagnostics on two threads have the bits of one.
 // The paper's 25 R cell in the default tiles (2 × 2: one tile a phase) has nothing to share:

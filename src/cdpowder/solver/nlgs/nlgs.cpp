@@ -307,18 +307,17 @@ bool passes_done(int pass, bool kinematic_rule, const SolverSettings& settings,
 void mix_actions(Contacts& contacts, VelocityCache& velocities, TileThreads* threads,
                  NlgsWorkspace& work, MixedModes modes, bool coloured, bool tiled,
                  KinematicChange* kinematic) {
+  // the mixed actions are written over work.start, which the mixing reads first
   bool mixed = false;
   if (tiled) {
-    // the mixed actions are written over work.start
     mixed = mix_tiled_step(work.start, work.swept, modes, work.accelerator, contacts, velocities,
                            work.coloured, threads, kinematic, work.range_sums);
   } else {
     flatten(contacts, modes, work.swept);
-    mixed = work.accelerator.extrapolate(work.start, work.swept, work.mixed);
+    mixed = work.accelerator.extrapolate(work.start, work.swept, work.start);
     if (mixed) {
-      adopt(work.mixed, modes, contacts, velocities, coloured ? &work.coloured : nullptr);
+      adopt(work.start, modes, contacts, velocities, coloured ? &work.coloured : nullptr);
       if (kinematic != nullptr) work.kinematic.velocities_changed(velocities);
-      work.start.swap(work.mixed);
     }
   }
   if (!mixed) work.start.swap(work.swept);

@@ -47,9 +47,10 @@ struct NlgsWorkspace {
 
   Rng rng;
   AndersonAccelerator accelerator;
-  AlignedVector<double> start;  ///< actions the pass started from, flattened (4–8 per contact)
-  AlignedVector<double> swept;  ///< actions after the pass
-  AlignedVector<double> mixed;  ///< accelerated actions (an untiled step; a tiled one: in start)
+  /// actions the pass started from, flattened (4–8 per contact); a mixing writes its
+  /// accelerated actions over them
+  AlignedVector<double> start;
+  AlignedVector<double> swept;       ///< actions after the pass
   std::vector<ContactIndex> blocks;  ///< block permutation of the per-step order
   KinematicChange kinematic;         ///< the kinematic rule's velocity snapshot
   ColouredPass coloured;             ///< colours and batches of solver.kernel = "coloured"
