@@ -70,7 +70,7 @@ TEST(KinematicChange, MeasuresTheRmsSurfaceChangeWhenAskedFor) {
   VelocityCache cache;
   cache.spheres = {sphere_of_radius(1.0, dt), sphere_of_radius(2.0, dt)};
   KinematicChange change;
-  change.begin_step(cache, false, true);
+  change.begin_step(cache, {}, true);
   cache.spheres[0].linear = Vec3(3e-4, 0.0, 4e-4);  // u(Δv, Δω) = 5e-4
   cache.spheres[1].angular = Vec3(0.0, 0.0, 4e-4);  // R |Δω| = 8e-4
   const PassMotion motion = change.after_pass(cache, false);
@@ -114,7 +114,7 @@ TEST(KinematicChange, TheLanesGiveTheBitsOfOneSphereAtATime) {
       KinematicChange change_rms;    // with the RMS change (solver.kinematic_norm = "rms")
       change.begin_step(cache);
       change_alone.begin_step(cache);
-      change_rms.begin_step(cache, false, true);
+      change_rms.begin_step(cache, {}, true);
       fill(1.1);
       const PassMotion motion = change.after_pass(cache, true);
       const PassMotion motion_alone = change_alone.after_pass(cache, false);

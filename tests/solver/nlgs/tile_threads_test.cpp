@@ -319,13 +319,14 @@ TEST(TileThreads, ASolveGivesTheBitsOfOneThread) {
   }
 }
 
-// A tiled step takes the spheres in pieces of KinematicChange::kPieceBlocks blocks: 10 001
-// spheres are three pieces. On three threads the measure and the snapshot after a mixing have
-// the bits of one thread; the largest change is the plain loop's and the RMS speed adds the
-// pieces' sums in piece order.
+// A tiled step takes the spheres in pieces, its tiles' records: here three of 4 097, 3 and
+// 5 901 spheres (each starts a block of four of its own), and an empty one. On three threads the
+// measure and the snapshot after a mixing have the bits of one thread; the largest change is
+// the plain loop's and the RMS speed adds the pieces' sums in piece order.
 TEST(KinematicChange, PiecesOnThreadsGiveTheBitsOfOneThread) {
   const double dt = 0.013;
   constexpr std::size_t kSpheres = 10001;
+  const std::array<std::uint32_t, 5> piece_start{0, 4097, 4100, 4100, kSpheres};
   VelocityCache cache;
   for (std::size_t i = 0; i < kSpheres; ++i) {
     // a solid sphere of radius r: Δt/m and Δt/I = Δt/(0.4 m r²)
@@ -348,9 +349,9 @@ TEST(KinematicChange, PiecesOnThreadsGiveTheBitsOfOneThread) {
   TileThreads threads(3);
   KinematicChange alone;
   KinematicChange on_threads;
-  alone.begin_step(cache, true, true);
-  on_threads.begin_step(cache, true, true);
-  ASSERT_EQ(alone.pieces(), 3U);
+  alone.begin_step(cache, piece_start, true);
+  on_threads.begin_step(cache, piece_start, true);
+  ASSERT_EQ(alone.pieces(), 4U);
   fill(1.1);
   const PassMotion a = alone.after_pass(cache, true);
   const PassMotion b = on_threads.after_pass(cache, true, &threads);
@@ -358,8 +359,8 @@ TEST(KinematicChange, PiecesOnThreadsGiveTheBitsOfOneThread) {
   EXPECT_EQ(a.rms_surface_speed, b.rms_surface_speed);
   EXPECT_EQ(a.rms_change, b.rms_change);
   double largest_sq = 0.0;
-  std::array<double, 3> piece_sum{};
-  std::array<double, 3> piece_change_sum{};
+  std::array<double, 4> piece_sum{};
+  std::array<double, 4> piece_change_sum{};
   for (std::size_t i = 0; i < kSpheres; ++i) {
     const SphereVelocity& v = cache.spheres[i];
     const SphereVelocity& was = before.spheres[i];
@@ -367,14 +368,16 @@ TEST(KinematicChange, PiecesOnThreadsGiveTheBitsOfOneThread) {
     const double change_sq =
         (v.linear - was.linear).squaredNorm() + r_sq * (v.angular - was.angular).squaredNorm();
     largest_sq = std::max(largest_sq, change_sq);
-    piece_sum[i / (4 * KinematicChange::kPieceBlocks)] +=
-        v.linear.squaredNorm() + r_sq * v.angular.squaredNorm();
-    piece_change_sum[i / (4 * KinematicChange::kPieceBlocks)] += change_sq;
+    const auto piece = static_cast<std::size_t>(
+        std::upper_bound(piece_start.begin(), piece_start.end(), i) - piece_start.begin() - 1);
+    piece_sum[piece] += v.linear.squaredNorm() + r_sq * v.angular.squaredNorm();
+    piece_change_sum[piece] += change_sq;
   }
   EXPECT_EQ(a.largest_change, std::sqrt(largest_sq));
-  const double sum_sq = piece_sum[0] + piece_sum[1] + piece_sum[2];
+  const double sum_sq = piece_sum[0] + piece_sum[1] + piece_sum[2] + piece_sum[3];
   EXPECT_EQ(a.rms_surface_speed, std::sqrt(sum_sq / static_cast<double>(kSpheres)));
-  const double change_sum_sq = piece_change_sum[0] + piece_change_sum[1] + piece_change_sum[2];
+  const double change_sum_sq =
+      piece_change_sum[0] + piece_change_sum[1] + piece_change_sum[2] + piece_change_sum[3];
   EXPECT_EQ(a.rms_change, std::sqrt(change_sum_sq / static_cast<double>(kSpheres)));
   // a mixing moves the velocities: the snapshot taken on threads is the one taken alone
   fill(2.9);

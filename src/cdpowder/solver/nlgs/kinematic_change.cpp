@@ -3,6 +3,7 @@
 #include "cdpowder/solver/nlgs/kinematic_change.hpp"
 
 #include "cdpowder/core/lanes.hpp"
+#include "cdpowder/solver/nlgs/tile_ranks.hpp"
 
 #include <algorithm>
 #include <array>
@@ -13,36 +14,60 @@ namespace cdpowder {
 #define CDP_LANE_CODE "cdpowder/solver/nlgs/kinematic_lanes.inc"
 #include "cdpowder/core/lanes_instantiate.inc"
 
-void KinematicChange::begin_step(const VelocityCache& velocities, bool in_pieces, bool rms_change) {
+void KinematicChange::begin_step(const VelocityCache& velocities,
+                                 std::span<const std::uint32_t> piece_start, bool rms_change,
+                                 TileRanks* ranks) {
   rms_change_ = rms_change;
+  ranks_ = ranks != nullptr && ranks->active() ? ranks : nullptr;
   const std::vector<SphereVelocity>& spheres = velocities.spheres;
   const std::size_t n = spheres.size();
-  const std::size_t blocks = blocks_of(n);
-  // pieces of kPieceBlocks blocks (the last one shorter), or one piece
-  const std::size_t pieces =
-      in_pieces ? std::max<std::size_t>(1, (blocks + kPieceBlocks - 1) / kPieceBlocks) : 1;
+  // the pieces' records, and their blocks: each piece starts a block of its own
+  if (piece_start.empty()) {
+    piece_records_.assign({0, n});
+  } else {
+    piece_records_.assign(piece_start.begin(), piece_start.end());
+  }
+  const std::size_t pieces = piece_records_.size() - 1;
   piece_blocks_.resize(pieces + 1);
-  for (std::size_t p = 0; p < pieces; ++p) piece_blocks_[p] = p * kPieceBlocks;
-  piece_blocks_[pieces] = blocks;
-  radius_sq_.assign(blocks * kBlock, 0.0);
-  for (std::size_t i = 0; i < n; ++i) {
-    // I/m = (Δt/m)/(Δt/I) = 0.4 R²; a fixed sphere (Δt/I = 0) does not turn
-    const SphereVelocity& s = spheres[i];
-    radius_sq_[i] =
-        s.dt_inverse_inertia > 0.0 ? 2.5 * s.dt_inverse_mass / s.dt_inverse_inertia : 0.0;
+  piece_blocks_[0] = 0;
+  for (std::size_t p = 0; p < pieces; ++p) {
+    piece_blocks_[p + 1] = piece_blocks_[p] + blocks_of(piece_records_[p + 1] - piece_records_[p]);
+  }
+  radius_sq_.assign(piece_blocks_[pieces] * kBlock, 0.0);
+  for (std::size_t p = 0; p < pieces; ++p) {
+    double* const r_sq = radius_sq_.data() + kBlock * piece_blocks_[p];
+    for (std::size_t i = piece_records_[p]; i < piece_records_[p + 1]; ++i) {
+      // I/m = (Δt/m)/(Δt/I) = 0.4 R²; a fixed sphere (Δt/I = 0) does not turn
+      const SphereVelocity& s = spheres[i];
+      r_sq[i - piece_records_[p]] =
+          s.dt_inverse_inertia > 0.0 ? 2.5 * s.dt_inverse_mass / s.dt_inverse_inertia : 0.0;
+    }
   }
   velocities_changed(velocities);
 }
 
+template <typename Task>
+void KinematicChange::for_my_pieces(PieceRunner* runner, const Task& task) {
+  if (ranks_ == nullptr) {
+    run_pieces(runner, pieces(), task);
+    return;
+  }
+  const std::span<const std::uint32_t> mine = ranks_->own_parts();
+  run_pieces(runner, static_cast<std::uint32_t>(mine.size()),
+             [&](std::uint32_t i) { task(mine[i]); });
+}
+
 void KinematicChange::copy_piece(const VelocityCache& velocities, std::uint32_t piece) {
-  const auto [first, last] = blocks_of_piece(piece);  // start_ sized by velocities_changed
+  const std::size_t first = piece_records_[piece];
+  const std::size_t blocks = piece_blocks_[piece + 1] - piece_blocks_[piece];
   CDP_LANES_FOR_CPU(copy_into)
-  (velocities.spheres.data(), velocities.spheres.size(), first, last, start_.data());
+  (velocities.spheres.data() + first, piece_records_[piece + 1] - first, 0, blocks,
+   start_.data() + piece_blocks_[piece]);
 }
 
 void KinematicChange::velocities_changed(const VelocityCache& velocities, PieceRunner* runner) {
-  start_.resize(radius_sq_.size() / kBlock);
-  run_pieces(runner, pieces(), [&](std::uint32_t piece) { copy_piece(velocities, piece); });
+  start_.resize(piece_blocks_.back());
+  for_my_pieces(runner, [&](std::uint32_t piece) { copy_piece(velocities, piece); });
   piston_start_ = velocities.piston_velocity;
 }
 
@@ -52,20 +77,24 @@ KinematicChange::PieceMotion KinematicChange::measure_piece(const VelocityCache&
                                                  : CDP_LANES_FOR_CPU(measure<true, false>))
                                   : (rms_change_ ? CDP_LANES_FOR_CPU(measure<false, true>)
                                                  : CDP_LANES_FOR_CPU(measure<false, false>));
-  const auto [first, last] = blocks_of_piece(piece);
+  const std::size_t first = piece_records_[piece];
+  const std::size_t first_block = piece_blocks_[piece];
   PieceMotion out;
-  measure(velocities.spheres.data(), velocities.spheres.size(), first, last, start_.data(),
-          radius_sq_.data(), out.largest_sq, out.sum_sq, out.change_sum_sq);
+  measure(velocities.spheres.data() + first, piece_records_[piece + 1] - first, 0,
+          piece_blocks_[piece + 1] - first_block, start_.data() + first_block,
+          radius_sq_.data() + kBlock * first_block, out.largest_sq, out.sum_sq, out.change_sum_sq);
   return out;
 }
 
 PassMotion KinematicChange::after_pass(const VelocityCache& velocities, bool with_speed,
                                        PieceRunner* runner) {
   measured_.resize(pieces());
-  run_pieces(runner, pieces(), [&](std::uint32_t piece) {
+  for_my_pieces(runner, [&](std::uint32_t piece) {
     measured_[piece] = measure_piece(velocities, piece, with_speed);
   });
-  // the pieces' sums in piece order: the same bits on any number of threads
+  // the other ranks' pieces from them
+  if (ranks_ != nullptr) ranks_->share_parts(measured_);
+  // the pieces' sums in piece order: the same bits on any number of threads and ranks
   double largest_sq = measured_.front().largest_sq;
   double sum_sq = measured_.front().sum_sq;
   double change_sum_sq = measured_.front().change_sum_sq;

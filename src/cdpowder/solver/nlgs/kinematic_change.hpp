@@ -19,6 +19,8 @@
 
 namespace cdpowder {
 
+class TileRanks;  // tile_ranks.hpp
+
 /// What one pass did to the end velocities. A sphere's surface velocity is measured as
 /// u = √(|v|² + R²|ω|²), within √2 of the fastest point of its surface |v| + R|ω|.
 struct PassMotion {
@@ -37,16 +39,16 @@ struct PassMotion {
 class KinematicChange {
  public:
   /// Remembers v*, ω*, V_P* before the first pass of a step, and R² of every sphere from
-  /// the cache's Δt/m and Δt/I (solid sphere: I = 0.4 m R²). With `in_pieces` (a tiled step,
-  /// tiles.hpp) the spheres are taken in pieces of consecutive indices, kPieceBlocks blocks
-  /// each (their count fixed by the sphere count alone), and the pieces' sums are added piece
-  /// by piece; without, one piece. With `rms_change` every after_pass of the step also sums
-  /// the squared changes (PassMotion::rms_change; solver.kinematic_norm = "rms").
-  void begin_step(const VelocityCache& velocities, bool in_pieces = false, bool rms_change = false);
-
-  /// Blocks of a piece when the spheres are taken in pieces: 4 096 spheres, 256 kB of velocity
-  /// records.
-  static constexpr std::size_t kPieceBlocks = 1024;
+  /// the cache's Δt/m and Δt/I (solid sphere: I = 0.4 m R²). The spheres are taken in pieces
+  /// of consecutive records: piece p is records [piece_start[p], piece_start[p + 1]) (a tiled
+  /// step's tiles, their records in tile order: tile_order.hpp); empty, one piece of all. The
+  /// pieces are fixed by the tiling alone, and their sums are added piece by piece, so the bits
+  /// do not depend on how many threads or ranks take them. With `ranks` active (tile_ranks.hpp)
+  /// this rank measures its own tiles' pieces, and the pieces' measures go to every rank. With
+  /// `rms_change` every after_pass of the step also sums the squared changes
+  /// (PassMotion::rms_change; solver.kinematic_norm = "rms").
+  void begin_step(const VelocityCache& velocities, std::span<const std::uint32_t> piece_start = {},
+                  bool rms_change = false, TileRanks* ranks = nullptr);
 
   /// Remembers the velocities again after something other than a pass changed them (the
   /// mixing), so the next pass is measured from them; the pieces on the threads of `runner`
@@ -65,6 +67,14 @@ class KinematicChange {
     return static_cast<std::uint32_t>(piece_blocks_.size() - 1);
   }
 
+  /// One piece's largest squared change and sums of squared speeds and changes, on a cache line
+  /// of its own (threads write them side by side; ranks send them as bytes).
+  struct alignas(64) PieceMotion {
+    double largest_sq = 0.0;
+    double sum_sq = 0.0;
+    double change_sum_sq = 0.0;
+  };
+
   /// Spheres side by side: a block holds four, field by field (lane l = sphere 4b + l), so
   /// the pass runs 2 (SSE2) or 4 (AVX2) lanes at a time (lanes.hpp).
   static constexpr std::size_t kBlock = 4;
@@ -81,26 +91,23 @@ class KinematicChange {
   };
 
  private:
-  /// One piece's largest squared change and sum of squared speeds, on a cache line of its own
-  /// (threads write them side by side).
-  struct alignas(64) PieceMotion {
-    double largest_sq = 0.0;
-    double sum_sq = 0.0;
-    double change_sum_sq = 0.0;
-  };
-
   [[nodiscard]] PieceMotion measure_piece(const VelocityCache& velocities, std::uint32_t piece,
                                           bool with_speed);
   void copy_piece(const VelocityCache& velocities, std::uint32_t piece);
 
-  /// piece p's blocks: [piece_blocks_[p], piece_blocks_[p + 1])
-  [[nodiscard]] std::pair<std::size_t, std::size_t> blocks_of_piece(std::uint32_t piece) const {
-    return {piece_blocks_[piece], piece_blocks_[piece + 1]};
-  }
+  /// Runs measure or copy for the pieces this rank takes: its own tiles' with `ranks_`
+  /// active, else all.
+  template <typename Task>
+  void for_my_pieces(PieceRunner* runner, const Task& task);
 
   std::vector<Block> start_;
-  AlignedVector<double> radius_sq_;  ///< R² per place in the blocks, zeros to a whole block
+  /// R² per place in the blocks, each piece's last block filled with zeros
+  AlignedVector<double> radius_sq_;
+  /// piece p: records [piece_records_[p], piece_records_[p + 1]) in blocks
+  /// [piece_blocks_[p], piece_blocks_[p + 1]) of the snapshot (its records from 4·first on)
+  std::vector<std::size_t> piece_records_{0, 0};
   std::vector<std::size_t> piece_blocks_{0, 0};
+  TileRanks* ranks_ = nullptr;         ///< begin_step's, when active
   std::vector<PieceMotion> measured_;  ///< scratch of after_pass
   double piston_start_ = 0.0;
   bool rms_change_ = false;  ///< begin_step's rms_change

@@ -353,7 +353,11 @@ SolverStats iterate_until_done(Contacts& contacts, VelocityCache& velocities,
       }
     }
     if (kinematic_rule && pass == 1) {
-      work.kinematic.begin_step(velocities, tiled, settings.kinematic_norm == KinematicNorm::Rms);
+      // a tiled step's pieces are its tiles, their records in tile order (tile_order.hpp)
+      work.kinematic.begin_step(velocities,
+                                tiled ? std::span<const std::uint32_t>(work.order.part_start)
+                                      : std::span<const std::uint32_t>(),
+                                settings.kinematic_norm == KinematicNorm::Rms, &work.ranks);
     }
     // the estimates of the kinematic rule need a full window of passes (ρ over two passes at the
     // start of a step is optimistic), so its test and the RMS speed wait for it; the windows

@@ -209,6 +209,25 @@ void TileRanks::share_pass(std::vector<PartSums>& part_sums, VelocityCache& velo
   }
 }
 
+void TileRanks::share_part_bytes(std::span<std::byte> per_part, std::size_t size) {
+  if (!active_) return;
+  const auto& my_parts = rank_parts_[static_cast<std::size_t>(rank_)];
+  my_bytes_.resize(my_parts.size() * size);
+  std::byte* out = my_bytes_.data();
+  for (const std::uint32_t p : my_parts) {
+    out = std::copy_n(per_part.data() + p * size, size, out);
+  }
+  gather_items(my_bytes_, all_bytes_, counts_, ranks_,
+               [&](int r) { return rank_parts_[static_cast<std::size_t>(r)].size() * size; });
+  const std::byte* in = all_bytes_.data();
+  for (int r = 0; r < ranks_; ++r) {
+    for (const std::uint32_t p : rank_parts_[static_cast<std::size_t>(r)]) {
+      if (r != rank_) std::copy_n(in, size, per_part.data() + p * size);
+      in += size;
+    }
+  }
+}
+
 void TileRanks::share_actions(Contacts& contacts, const ColouredPass& pass) {
   if (!active_ || actions_shared_) return;
   actions_shared_ = true;

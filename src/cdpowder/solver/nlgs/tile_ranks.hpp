@@ -26,6 +26,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <span>
+#include <type_traits>
 #include <vector>
 
 namespace cdpowder {
@@ -49,6 +50,20 @@ class TileRanks {
     return mine_[phase];
   }
 
+  /// The tiles' parts this rank solves, in part order (when active).
+  [[nodiscard]] std::span<const std::uint32_t> own_parts() const {
+    return rank_parts_[static_cast<std::size_t>(rank_)];
+  }
+
+  /// per_part[p] of every rank's own tiles' parts p to every rank (when active): a value per
+  /// part that its rank computed, such as a piece's sums of the kinematic rule. T is copied
+  /// as bytes.
+  template <typename T>
+  void share_parts(std::vector<T>& per_part) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    share_part_bytes(std::as_writable_bytes(std::span<T>(per_part)), sizeof(T));
+  }
+
   /// After phase `phase` (which this rank solved its parts of): the rows it wrote go to the
   /// ranks that hold them, and the rows others wrote come in.
   void after_phase(std::size_t phase, VelocityCache& velocities);
@@ -70,6 +85,9 @@ class TileRanks {
   void share_actions(Contacts& contacts, const ColouredPass& pass);
 
  private:
+  /// share_parts on the bytes of per_part, `size` bytes a part.
+  void share_part_bytes(std::span<std::byte> per_part, std::size_t size);
+
   /// A message after a phase: rows of records to or from one rank.
   struct RowMessage {
     int peer = 0;
@@ -106,6 +124,7 @@ class TileRanks {
   std::vector<SphereVelocity> my_records_, all_records_;
   std::vector<ContactAction> my_actions_, all_actions_;
   std::vector<PassSums> my_sums_, all_sums_;
+  std::vector<std::byte> my_bytes_, all_bytes_;
 };
 
 }  // namespace cdpowder
