@@ -1,9 +1,10 @@
 #!/usr/bin/python3
 """The `parallel` label, MPI ranks: the compaction of same_bits_test.py (about 2 000 spheres in
 8 × 8 tiles) ends on the same bits as one process with `mpirun -np P` for P = 1, 2, 3 and 4,
-and a run stopped on 4 ranks (SIGUSR1 to mpirun, which forwards it: every rank stops after the
-same step and rank 0 writes a checkpoint) and resumed on 2 ranks and as one process ends on
-the bits of the run never stopped. The ranks may outnumber the cores (--oversubscribe): the
+also under the relative-change stopping rule (np 3), and a run stopped on 4 ranks (SIGUSR1 to
+mpirun, which forwards it: every rank stops after the same step and rank 0 writes a
+checkpoint) and resumed on 2 ranks and as one process ends on the bits of the run never
+stopped. The ranks may outnumber the cores (--oversubscribe): the
 bits are compared, never the times. As root (a CI container) Open MPI needs
 OMPI_ALLOW_RUN_AS_ROOT=1 and OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1, which this test sets."""
 import argparse
@@ -73,6 +74,19 @@ def main():
                    f"{ranks} ranks")
             expect_same(reference, folder, f"{ranks} ranks")
             print(f"ranks {ranks}: the bits of one process")
+
+        # the relative-change rule sums over every contact's action after every pass: the
+        # ranks share their tiles' actions for it
+        relative = ["--set", 'solver.stopping_rule="relative_change"',
+                    "--set", "solver.tolerance=1e-4"]
+        relative_one = scratch / "relative_one_process"
+        finish(compact(args.cdpowder, args.scene, relative_one, 0, 4.0, relative),
+               "relative-change rule, one process")
+        relative_ranks = scratch / "relative_3_ranks"
+        finish(compact(args.cdpowder, args.scene, relative_ranks, 3, 4.0, relative),
+               "relative-change rule, 3 ranks")
+        expect_same(outputs(relative_one), relative_ranks, "relative-change rule, 3 ranks")
+        print("relative-change rule, ranks 3: the bits of one process")
 
         # stopped on 4 ranks after its first checkpoint (every 2 t0; checkpoints change no
         # bit), resumed on 2 ranks and as one process; a run that ended first is tried again

@@ -610,8 +610,8 @@ PassSums run_coloured_pass(Contacts& contacts, VelocityCache& velocities, const 
   for (const std::uint32_t slot : pass.slot_order) {
     if (slot == kTilePhases) {
       // the hub: its contacts touch spheres of any tile (every rank solves it, on the same
-      // records)
-      if (shared) ranks->share_records(velocities);
+      // records of its spheres)
+      if (shared) ranks->share_hub_records(velocities);
       for (std::size_t p = pass.phase_parts[kTilePhases]; p < parts; ++p) {
         part_sums[p].sums = run_coloured_part(contacts, velocities, pass, p);
       }
@@ -634,7 +634,7 @@ PassSums run_coloured_pass(Contacts& contacts, VelocityCache& velocities, const 
       part_sums[first + i].sums = run_coloured_part(contacts, velocities, pass, first + i);
     });
   }
-  if (shared) ranks->share_pass(part_sums, velocities);
+  if (shared) ranks->share_pass(part_sums);
   PassSums sums;
   for (const PartSums& part : part_sums) sums.add_part(part.sums);
   sums.add_part(split_sums);

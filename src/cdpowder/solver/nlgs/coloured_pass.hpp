@@ -255,9 +255,9 @@ PassSums run_coloured_part(Contacts& contacts, VelocityCache& velocities, const 
 /// side on `threads` when given) and the rest (the hub, then the split piston contacts) in
 /// pass.slot_order, their sums added in part order, the split piston's last: the same bits on
 /// any number of threads. With `ranks` active (tile_ranks.hpp) this rank solves its own tiles
-/// of each phase and shares the rows they wrote, the hub runs on records every rank holds,
-/// and the pass ends with every rank's results on every rank: the same bits on any number of
-/// ranks. Sets pass.open_rare for the next pass from its sums.
+/// of each phase and shares the rows they wrote, the hub runs on its spheres' records gathered
+/// from every rank, and the pass ends with every rank's tiles' sums on every rank: the same
+/// bits on any number of ranks. Sets pass.open_rare for the next pass from its sums.
 PassSums run_coloured_pass(Contacts& contacts, VelocityCache& velocities, const ColouredPass& pass,
                            TileThreads* threads = nullptr, TileRanks* ranks = nullptr);
 

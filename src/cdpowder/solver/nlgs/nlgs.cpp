@@ -212,10 +212,11 @@ SolverStats solve_nlgs(Contacts& contacts, VelocityCache& velocities,
   // the records tile by tile during the passes (tile_order.hpp): the same bits
   if (tiles != nullptr) enter_tile_order(*tiles, contacts, velocities, work.coloured, work.order);
   // the tiles of each phase shared among the ranks of an MPI job (tile_ranks.hpp)
-  work.ranks.plan(tiles, work.coloured, work.order);
+  work.ranks.plan(tiles, work.coloured, work.order, contacts);
   SolverStats stats = iterate_until_done(contacts, velocities, settings, reference_force,
                                          threaded ? pool : nullptr, work, modes);
-  work.ranks.share_actions(contacts, work.coloured);  // every rank ends with every action
+  // every rank ends with every record and action
+  work.ranks.share_solution(contacts, work.coloured, velocities);
   if (choose) {
     const std::chrono::duration<double> took = std::chrono::steady_clock::now() - start;
     work.thread_choice.record(
@@ -311,7 +312,7 @@ void mix_actions(Contacts& contacts, VelocityCache& velocities, TileThreads* thr
   bool mixed = false;
   if (tiled) {
     mixed = mix_tiled_step(work.start, work.swept, modes, work.accelerator, contacts, velocities,
-                           work.coloured, threads, kinematic, work.range_sums);
+                           work.coloured, threads, kinematic, work.range_sums, &work.ranks);
   } else {
     flatten(contacts, modes, work.swept);
     mixed = work.accelerator.extrapolate(work.start, work.swept, work.start);
@@ -369,6 +370,10 @@ SolverStats iterate_until_done(Contacts& contacts, VelocityCache& velocities,
     sums = coloured ? run_coloured_pass(contacts, velocities, work.coloured, threads, &work.ranks)
                     : run_scalar_pass(contacts, velocities);
     if (kinematic_rule) motion = work.kinematic.after_pass(velocities, window_full, threads);
+    // the relative-change rule sums over every action (an MPI job's ranks hold their own tiles')
+    if (settings.stopping_rule == StoppingRule::RelativeChange) {
+      work.ranks.share_actions(contacts, work.coloured);
+    }
     measure_pass(pass, sums, motion, kinematic_rule, contacts, velocities, settings,
                  reference_force, windows, stats);
     if (passes_done(pass, kinematic_rule, settings, stats)) {
@@ -384,8 +389,9 @@ SolverStats iterate_until_done(Contacts& contacts, VelocityCache& velocities,
     // affine combination that need not obey the contact laws (R_n < −F_c, forces outside
     // the friction cone, forces on open contacts), so a step must end on a pass's output.
     if (accelerate && pass % settings.acceleration_interval == 0 && pass < settings.max_passes) {
-      // the mixing reads every tile's actions (an MPI job's ranks hold their own tiles')
-      work.ranks.share_actions(contacts, work.coloured);
+      // an MPI job's ranks mix their own tiles, and every rank the rest (overflow pairs and
+      // walls of every tile), whose actions each rank holds of its own tiles alone
+      work.ranks.share_sequential_actions(contacts, work.coloured);
       if (stats.residual > kRestartGrowth * best_residual) work.accelerator.reset();
       best_residual = std::min(best_residual, stats.residual);
       mix_actions(contacts, velocities, threads, work, modes, coloured, tiled, kinematic);

@@ -41,7 +41,8 @@ void gather_items(std::vector<T>& mine, std::vector<T>& all, std::vector<int>& c
 
 }  // namespace
 
-void TileRanks::plan(const StepTiles* tiles, const ColouredPass& pass, const TileOrder& order) {
+void TileRanks::plan(const StepTiles* tiles, const ColouredPass& pass, const TileOrder& order,
+                     const Contacts& contacts) {
   ranks_ = rank_count();
   rank_ = this_rank();
   active_ = ranks_ > 1 && tiles != nullptr && tiles->tiled();
@@ -78,6 +79,8 @@ void TileRanks::plan(const StepTiles* tiles, const ColouredPass& pass, const Til
     rank_parts_[static_cast<std::size_t>(row_owner_[part_row[p]])].push_back(p);
   }
 
+  plan_hub(pass, contacts, part_row);
+
   for (std::size_t f = 0; f < kTilePhases; ++f) {
     mine_[f].clear();
     sends_[f].clear();
@@ -112,6 +115,57 @@ void TileRanks::plan(const StepTiles* tiles, const ColouredPass& pass, const Til
     }
     for (auto* list : {&sends_[f], &receives_[f]}) {
       for (RowMessage& m : *list) m.buffer.resize(row_records(m.rows));
+    }
+  }
+}
+
+void TileRanks::plan_hub(const ColouredPass& pass, const Contacts& contacts,
+                         const std::vector<std::uint32_t>& part_row) {
+  // the places of the hub's spheres: its parts' pairs and sequential groups, the split piston's
+  std::vector<std::uint32_t> places;
+  const std::size_t pairs = contacts.pairs.size();
+  const auto add_pair = [&](const PairProblem& p) {
+    places.push_back(p.a);
+    places.push_back(p.b);
+  };
+  for (std::size_t part = pass.phase_parts[kTilePhases]; part < pass.parts(); ++part) {
+    for (std::uint32_t k = pass.colouring.first_member(part);
+         k < pass.colouring.first_member(part + 1); ++k) {
+      add_pair(contacts.pairs[k]);
+    }
+    for (std::uint32_t j = pass.part_sequential[part]; j < pass.part_sequential[part + 1]; ++j) {
+      const ContactIndex k = pass.sequential[j];
+      if (k < pairs) {
+        add_pair(contacts.pairs[k]);
+      } else {
+        places.push_back(contacts.walls[k - pairs].sphere);
+      }
+    }
+  }
+  for (const ContactIndex w : pass.split_piston.walls) places.push_back(contacts.walls[w].sphere);
+  std::sort(places.begin(), places.end());
+  places.erase(std::unique(places.begin(), places.end()), places.end());
+  // each to the rank whose rows hold it: place → part (part_start_) → row → owner
+  rank_hub_places_.assign(static_cast<std::size_t>(ranks_), {});
+  std::size_t part = 0;
+  for (const std::uint32_t place : places) {
+    while (part_start_[part + 1] <= place) ++part;
+    rank_hub_places_[static_cast<std::size_t>(row_owner_[part_row[part]])].push_back(place);
+  }
+}
+
+void TileRanks::share_hub_records(VelocityCache& velocities) {
+  if (!active_ || shared_) return;
+  const auto& mine = rank_hub_places_[static_cast<std::size_t>(rank_)];
+  my_hub_.resize(mine.size());
+  for (std::size_t i = 0; i < mine.size(); ++i) my_hub_[i] = velocities.spheres[mine[i]];
+  gather_items(my_hub_, all_hub_, counts_, ranks_,
+               [&](int r) { return rank_hub_places_[static_cast<std::size_t>(r)].size(); });
+  const SphereVelocity* in = all_hub_.data();
+  for (int r = 0; r < ranks_; ++r) {
+    for (const std::uint32_t place : rank_hub_places_[static_cast<std::size_t>(r)]) {
+      if (r != rank_) velocities.spheres[place] = *in;
+      ++in;
     }
   }
 }
@@ -184,16 +238,23 @@ void TileRanks::share_records(VelocityCache& velocities) {
   shared_ = true;
 }
 
-std::size_t TileRanks::part_actions(const ColouredPass& pass, std::uint32_t part) {
+std::size_t TileRanks::part_actions(const ColouredPass& pass, std::uint32_t part,
+                                    bool sequential_only) {
   const std::size_t batched =
-      pass.colouring.first_member(part + 1) - pass.colouring.first_member(part);
+      sequential_only ? 0
+                      : pass.colouring.first_member(part + 1) - pass.colouring.first_member(part);
   const std::size_t sequential = pass.part_sequential[part + 1] - pass.part_sequential[part];
   return batched + sequential;
 }
 
-void TileRanks::share_pass(std::vector<PartSums>& part_sums, VelocityCache& velocities) {
-  if (!active_) return;
+void TileRanks::share_solution(Contacts& contacts, const ColouredPass& pass,
+                               VelocityCache& velocities) {
   share_records(velocities);
+  share_actions(contacts, pass);
+}
+
+void TileRanks::share_pass(std::vector<PartSums>& part_sums) {
+  if (!active_) return;
   actions_shared_ = false;
   const auto& my_parts = rank_parts_[static_cast<std::size_t>(rank_)];
   my_sums_.clear();
@@ -231,12 +292,23 @@ void TileRanks::share_part_bytes(std::span<std::byte> per_part, std::size_t size
 void TileRanks::share_actions(Contacts& contacts, const ColouredPass& pass) {
   if (!active_ || actions_shared_) return;
   actions_shared_ = true;
+  gather_actions(contacts, pass, false);
+}
+
+void TileRanks::share_sequential_actions(Contacts& contacts, const ColouredPass& pass) {
+  if (!active_ || actions_shared_) return;
+  gather_actions(contacts, pass, true);
+}
+
+void TileRanks::gather_actions(Contacts& contacts, const ColouredPass& pass, bool sequential_only) {
   const std::size_t pairs = contacts.pairs.size();
   // a part's actions: its batched pairs (colour order), then its sequential group
   const auto for_each_action = [&](std::uint32_t p, auto&& visit) {
-    for (std::uint32_t k = pass.colouring.first_member(p); k < pass.colouring.first_member(p + 1);
-         ++k) {
-      visit(contacts.pair_actions[k]);
+    if (!sequential_only) {
+      for (std::uint32_t k = pass.colouring.first_member(p); k < pass.colouring.first_member(p + 1);
+           ++k) {
+        visit(contacts.pair_actions[k]);
+      }
     }
     for (std::uint32_t j = pass.part_sequential[p]; j < pass.part_sequential[p + 1]; ++j) {
       const ContactIndex k = pass.sequential[j];
@@ -250,7 +322,7 @@ void TileRanks::share_actions(Contacts& contacts, const ColouredPass& pass) {
   gather_items(my_actions_, all_actions_, counts_, ranks_, [&](int r) {
     std::size_t n = 0;
     for (const std::uint32_t p : rank_parts_[static_cast<std::size_t>(r)]) {
-      n += part_actions(pass, p);
+      n += part_actions(pass, p, sequential_only);
     }
     return n;
   });
@@ -258,7 +330,7 @@ void TileRanks::share_actions(Contacts& contacts, const ColouredPass& pass) {
   for (int r = 0; r < ranks_; ++r) {
     for (const std::uint32_t p : rank_parts_[static_cast<std::size_t>(r)]) {
       if (r == rank_) {
-        action += part_actions(pass, p);
+        action += part_actions(pass, p, sequential_only);
       } else {
         for_each_action(p, [&](ContactAction& a) { a = *action++; });
       }

@@ -6,13 +6,16 @@
 // every phase. A tile's contacts write the spheres of its own row and of the next, so after a
 // phase the rows a rank wrote go to the ranks that hold them (the row's owner and the owner of
 // the row below, for which it is the ghost row): one message per pair of neighbours. Before
-// the hub (its contacts touch any tile) and at the end of a pass, every rank's own rows and
-// its tiles' contact actions and sums go to every rank, so the hub, the kinematic rule, the
-// mixing and everything after the solve run on the same bits everywhere. The order of the
+// the hub (its contacts touch any tile) its spheres' records go to every rank; at the end of a
+// pass the tiles' sums; at the end of the solve every rank's records and actions, so everything
+// after the solve runs on the same bits everywhere. The order of the
 // solve is the tiles', so the bits are those of one process on any number of ranks.
 //
-// Today the state is replicated: the end of each pass sends every rank's records to all
-// (O(N) a pass), and the hub, the kinematic rule and the mixing are done by every rank.
+// Today the state is replicated, and the hub is solved by every rank on its spheres' records,
+// gathered before it (a few spheres, and the piston's); every record goes to every rank once a
+// step, at the end of the solve. The kinematic rule and the mixing run on
+// each rank's own tiles (their sums shared with share_parts); the mixing's range of the rest
+// (overflow pairs and walls of every tile) on every rank, after share_sequential_actions.
 // Ranks that own their rows' state alone are the next step (docs/architecture.md).
 #pragma once
 
@@ -41,7 +44,10 @@ class TileRanks {
   /// messages after each phase. Inactive (every rank solves every part, nothing is sent) in a
   /// job of one rank or for a step that is not tiled (`tiles` null). Needs the records in tile
   /// order (`order`, tile_order.hpp): a tile's records are its part's range of places.
-  void plan(const StepTiles* tiles, const ColouredPass& pass, const TileOrder& order);
+  /// `contacts` are the solve's (in colour order, the spheres named by their places): the hub's
+  /// spheres are those of the hub's contacts and of the split piston's.
+  void plan(const StepTiles* tiles, const ColouredPass& pass, const TileOrder& order,
+            const Contacts& contacts);
 
   [[nodiscard]] bool active() const { return active_; }
 
@@ -69,22 +75,37 @@ class TileRanks {
   void after_phase(std::size_t phase, VelocityCache& velocities);
 
   /// Whether every rank holds the same records (since the step began, or since the last
-  /// share_records): the hub may run.
+  /// share_records).
   [[nodiscard]] bool records_shared() const { return shared_; }
 
   /// Every rank's own rows to every rank.
   void share_records(VelocityCache& velocities);
 
-  /// The end of a pass: the records (share_records, if not shared) and the sums of every
-  /// rank's tiles to every rank. The tiles' actions wait for share_actions: nothing reads
-  /// another rank's actions until the mixing or the end of the solve.
-  void share_pass(std::vector<PartSums>& part_sums, VelocityCache& velocities);
+  /// Before the hub: the records of the hub's spheres (its contacts' and the split piston's)
+  /// from the ranks whose rows hold them to every rank, which then solves the hub on them.
+  /// Between passes a rank's records are current for its own rows and its ghost row alone.
+  void share_hub_records(VelocityCache& velocities);
+
+  /// The end of a pass: the sums of every rank's tiles to every rank. The tiles' actions and
+  /// records wait for share_solution: nothing reads another rank's tiles until then.
+  void share_pass(std::vector<PartSums>& part_sums);
+
+  /// The end of the solve: every rank's records and actions to every rank.
+  void share_solution(Contacts& contacts, const ColouredPass& pass, VelocityCache& velocities);
 
   /// The contact actions of every rank's tiles to every rank, when they changed since the
-  /// last time (a pass ran): before a mixing and at the end of the solve.
+  /// last time (a pass ran): at the end of the solve, and for the relative-change rule after
+  /// every pass.
   void share_actions(Contacts& contacts, const ColouredPass& pass);
 
+  /// The actions of every rank's tiles' sequential groups (their overflow pairs and walls) to
+  /// every rank: before a mixing, whose range of the rest (tile_solve.hpp) every rank mixes.
+  void share_sequential_actions(Contacts& contacts, const ColouredPass& pass);
+
  private:
+  /// The places of the hub's spheres, by the rank whose rows hold them (rank_hub_places_).
+  void plan_hub(const ColouredPass& pass, const Contacts& contacts,
+                const std::vector<std::uint32_t>& part_row);
   /// share_parts on the bytes of per_part, `size` bytes a part.
   void share_part_bytes(std::span<std::byte> per_part, std::size_t size);
 
@@ -102,8 +123,11 @@ class TileRanks {
   /// The records of the spheres of `rows`.
   [[nodiscard]] std::size_t row_records(std::span<const std::uint32_t> rows) const;
   /// The contact actions of part p: its batched pairs, then its sequential group (overflow
-  /// pairs and walls).
-  [[nodiscard]] static std::size_t part_actions(const ColouredPass& pass, std::uint32_t part);
+  /// pairs and walls); with `sequential_only` its sequential group alone.
+  [[nodiscard]] static std::size_t part_actions(const ColouredPass& pass, std::uint32_t part,
+                                                bool sequential_only = false);
+  /// Every rank's tiles' actions (or their sequential groups' alone) to every rank.
+  void gather_actions(Contacts& contacts, const ColouredPass& pass, bool sequential_only);
 
   bool active_ = false;
   bool shared_ = true;
@@ -124,6 +148,9 @@ class TileRanks {
   std::vector<SphereVelocity> my_records_, all_records_;
   std::vector<ContactAction> my_actions_, all_actions_;
   std::vector<PassSums> my_sums_, all_sums_;
+  /// each rank's hub spheres: the places in its rows of the hub's spheres, ascending
+  std::vector<std::vector<std::uint32_t>> rank_hub_places_;
+  std::vector<SphereVelocity> my_hub_, all_hub_;
   std::vector<std::byte> my_bytes_, all_bytes_;
 };
 

@@ -11,29 +11,59 @@
 
 namespace cdpowder {
 
-bool mix_tiled_step(AlignedVector<double>& start, AlignedVector<double>& swept, MixedModes modes,
-                    AndersonAccelerator& accelerator, Contacts& contacts, VelocityCache& velocities,
-                    ColouredPass& pass, TileThreads* threads, KinematicChange* kinematic,
-                    std::vector<AndersonAccelerator::PassSums>& range_sums) {
-  const std::size_t stride = modes.doubles_per_action();
-  // the combined contact indices (pairs, then walls) of range r: part r's batched pairs for
-  // r < parts (the pairs are stored in colour order during the solve), then the rest
-  const PairColouring& colouring = pass.colouring;
+namespace {
+
+/// The combined contact indices (pairs, then walls) of range r: part r's batched pairs for
+/// r < parts (the pairs are stored in colour order during the solve), then the rest.
+std::pair<std::size_t, std::size_t> range_of(const ColouredPass& pass, const Contacts& contacts,
+                                             std::uint32_t r) {
   const auto parts = static_cast<std::uint32_t>(pass.parts());
-  const auto range = [&](std::uint32_t r) {
-    return r < parts ? std::pair<std::size_t, std::size_t>{colouring.first_member(r),
-                                                           colouring.first_member(r + 1)}
-                     : std::pair<std::size_t, std::size_t>{colouring.first_member(parts),
-                                                           contacts.size()};
-  };
+  const PairColouring& colouring = pass.colouring;
+  return r < parts
+             ? std::pair<std::size_t, std::size_t>{colouring.first_member(r),
+                                                   colouring.first_member(r + 1)}
+             : std::pair<std::size_t, std::size_t>{colouring.first_member(parts), contacts.size()};
+}
+
+/// The accelerator's first stage over every range: `swept` ← the actions, `range_sums` ← each
+/// range's sums. An MPI job's ranks (`ranks` active) each take their own tiles' ranges, and
+/// the hub's and the rest on every rank (their actions are every rank's:
+/// TileRanks::share_sequential_actions); the tiles' sums then go to every rank.
+void pass_over_ranges(const AlignedVector<double>& start, AlignedVector<double>& swept,
+                      MixedModes modes, AndersonAccelerator& accelerator, const Contacts& contacts,
+                      const ColouredPass& pass, TileThreads* threads,
+                      std::vector<AndersonAccelerator::PassSums>& range_sums, TileRanks* ranks) {
+  const std::size_t stride = modes.doubles_per_action();
+  const auto parts = static_cast<std::uint32_t>(pass.parts());
   swept.resize(stride * contacts.size());
   accelerator.begin(swept.size());
   range_sums.resize(parts + 1);
-  run_pieces(threads, parts + 1, [&](std::uint32_t r) {
-    const auto [first, last] = range(r);
+  const auto pass_range = [&](std::uint32_t r) {
+    const auto [first, last] = range_of(pass, contacts, r);
     flatten_range(contacts, modes, first, last, swept);
     range_sums[r] = accelerator.pass(start.data(), swept.data(), first * stride, last * stride);
-  });
+  };
+  if (ranks == nullptr || !ranks->active()) {
+    run_pieces(threads, parts + 1, pass_range);
+    return;
+  }
+  const std::span<const std::uint32_t> mine = ranks->own_parts();
+  run_pieces(threads, static_cast<std::uint32_t>(mine.size()),
+             [&](std::uint32_t i) { pass_range(mine[i]); });
+  for (std::uint32_t r = pass.phase_parts[kTilePhases]; r <= parts; ++r) pass_range(r);
+  ranks->share_parts(range_sums);
+}
+
+}  // namespace
+
+bool mix_tiled_step(AlignedVector<double>& start, AlignedVector<double>& swept, MixedModes modes,
+                    AndersonAccelerator& accelerator, Contacts& contacts, VelocityCache& velocities,
+                    ColouredPass& pass, TileThreads* threads, KinematicChange* kinematic,
+                    std::vector<AndersonAccelerator::PassSums>& range_sums, TileRanks* ranks) {
+  const auto parts = static_cast<std::uint32_t>(pass.parts());
+  const auto range = [&](std::uint32_t r) { return range_of(pass, contacts, r); };
+  pass_over_ranges(start, swept, modes, accelerator, contacts, pass, threads, range_sums, ranks);
+  const bool shared = ranks != nullptr && ranks->active();
   if (!accelerator.fit(std::span<const AndersonAccelerator::PassSums>(range_sums))) {
     return false;
   }
@@ -79,6 +109,14 @@ bool mix_tiled_step(AlignedVector<double>& start, AlignedVector<double>& swept, 
       take_part(part);
     }
     for (std::size_t phase = 0; phase < kTilePhases; ++phase) {
+      if (shared) {
+        // this rank's tiles of the phase, then the rows they moved to the ranks that hold them
+        const std::span<const std::uint32_t> mine = ranks->phase_parts(phase);
+        run_pieces(threads, static_cast<std::uint32_t>(mine.size()),
+                   [&](std::uint32_t i) { take_part(mine[i]); });
+        ranks->after_phase(phase, velocities);
+        continue;
+      }
       const std::uint32_t first = pass.phase_parts[phase];
       run_pieces(threads, pass.phase_parts[phase + 1] - first,
                  [&](std::uint32_t i) { take_part(first + i); });

@@ -12,6 +12,7 @@
 #include "cdpowder/solver/nlgs/anderson.hpp"
 #include "cdpowder/solver/nlgs/coloured_pass.hpp"
 #include "cdpowder/solver/nlgs/kinematic_change.hpp"
+#include "cdpowder/solver/nlgs/tile_ranks.hpp"
 #include "cdpowder/solver/nlgs/tile_threads.hpp"
 
 #include <vector>
@@ -29,11 +30,16 @@ struct MixedModes;  // mixed_actions.hpp (it brings the contact kernels, which o
 /// contacts with the velocity cache moved by the change: the rest and the hub first (on the
 /// caller), then the tiles phase by phase, and the kinematic rule's new snapshot piece by
 /// piece. `range_sums` is scratch (the accelerator's sums of each range, in range order).
+/// With `ranks` active (tile_ranks.hpp) this rank passes over and mixes its own tiles' ranges,
+/// and the hub's and the rest as every rank does (the rest's actions shared before:
+/// TileRanks::share_sequential_actions); the tiles' sums go to every rank, and the rows a
+/// phase's tiles moved go to the ranks that hold them: the bits of one process.
 /// Returns whether the mixing was adopted (false: no history yet, or the fit failed; nothing
 /// changed).
 bool mix_tiled_step(AlignedVector<double>& start, AlignedVector<double>& swept, MixedModes modes,
                     AndersonAccelerator& accelerator, Contacts& contacts, VelocityCache& velocities,
                     ColouredPass& pass, TileThreads* threads, KinematicChange* kinematic,
-                    std::vector<AndersonAccelerator::PassSums>& range_sums);
+                    std::vector<AndersonAccelerator::PassSums>& range_sums,
+                    TileRanks* ranks = nullptr);
 
 }  // namespace cdpowder
