@@ -335,6 +335,37 @@ class ReportOnKnownSweeps(unittest.TestCase):
                       "zero", report)
         self.assertTrue((folder / "report" / "additivity_against_contact_mu.png").exists())
 
+    def test_a_string_key_tells_settings_apart_without_a_line_of_its_own(self):
+        # capture radius 2 and 3 (numbers) and, at 3, the other capture rule (a string that
+        # points leave at the scene's "centre_distance"): three settings, not two with twice the
+        # seeds each
+        folder = self.dir / "labels"
+        folder.mkdir()
+        with open(folder / "results.csv", "w", newline="") as f:
+            f.write("# synthetic sweep with a string key\n")
+            w = csv.writer(f)
+            w.writerow(["point", "contact.mu_roll", "contact.mu_twist",
+                        "deposition.capture_radius", "deposition.capture_rule"] + COLUMNS[3:])
+            for radius, rule, shift in ((2.0, "", -0.05), (3.0, "", 0.0),
+                                        (3.0, "surface_gap", 0.02)):
+                for t, n in ((0, 0), (1, 0), (0, 1), (1, 1)):
+                    name = f"r={radius},rule={rule},t={t},n={n}"
+                    for s in (1, 2):
+                        e = 0.6 + 0.01 * s + 0.2 * t + 0.1 * n + shift
+                        run = f"runs/{name}/seed_{s}"
+                        w.writerow([name, t, n, radius if radius != 3.0 else "", rule, s, e,
+                                    0.95, 1.0, 2.0, -1.0, 1000, 50000, 10.0, 1, run])
+                        (folder / run).mkdir(parents=True)
+                        (folder / run / "summary.json").write_text(json.dumps(
+                            {"scene": {"deposition": {"capture_radius": 3.0,
+                                                      "capture_rule": "centre_distance"}}}))
+        report = run_report(folder)
+        self.assertIn("Reference: `deposition.capture_radius` = 3, `deposition.capture_rule` = "
+                      "centre_distance.", report)
+        self.assertIn("### Against `deposition.capture_radius`", report)
+        self.assertNotIn("### Against `deposition.capture_rule`", report)
+        self.assertIn("| 3 (ref) | 0.6150 ± 0.0050 |", report)
+
     def test_a_loading_paths_stages_are_tabulated_and_paired(self):
         # a Python protocol's runs (protocol.json "stages"): the packing of seed s has
         # E = 0.8 + 0.01 s and keeps it to the second stage; the third takes 0.05 off

@@ -30,43 +30,65 @@ SIGNIFICANT = 2.0
 ROUND_OFF = 1e-9
 
 
-def _scene_value(summary, key):
+def _scene_value(summary, key, numeric=True):
+    """The resolved scene's value of `key`: a number, or (numeric false) a string; NaN
+    otherwise."""
     value = summary.get("scene", {})
     for part in key.split("."):
         if not isinstance(value, dict) or part not in value:
             return math.nan
         value = value[part]
-    return value if isinstance(value, (int, float)) and not isinstance(value, bool) else math.nan
+    if isinstance(value, bool):
+        return math.nan
+    if numeric:
+        return value if isinstance(value, (int, float)) else math.nan
+    return value if isinstance(value, str) else math.nan
+
+
+def _missing(value):
+    return not isinstance(value, str) and math.isnan(value)
 
 
 def filled_runs(sweep_dir, sweep):
-    """sweep.kept with the numeric parameter columns' empty cells filled from each run's
-    resolved scene (summary.json "scene"), so a point that leaves a key at the scene's value
-    is placed at that value."""
+    """sweep.kept with the parameter columns' empty cells filled from each run's resolved scene
+    (summary.json "scene"), so a point that leaves a key at the scene's value is placed at that
+    value; returns it, the numeric keys and the other (string) keys."""
     runs = sweep.kept.copy()
-    keys = [k for k in parameter_columns(runs) if pd.api.types.is_numeric_dtype(runs[k])]
+    columns = parameter_columns(runs)
+    keys = [k for k in columns if pd.api.types.is_numeric_dtype(runs[k])]
+    labels = [k for k in columns if k not in keys]
     for key in keys:
         runs[key] = runs[key].astype(float)
-    missing = runs[keys].isna().any(axis=1) if keys else pd.Series(False, index=runs.index)
+    for key in labels:
+        runs[key] = runs[key].astype(object)
+    missing = (runs[keys + labels].isna().any(axis=1) if keys + labels
+               else pd.Series(False, index=runs.index))
     for index in runs.index[missing]:
         try:
             summary = json.loads((sweep_dir / runs.at[index, "folder"] / "summary.json")
                                  .read_text())
         except (OSError, ValueError, TypeError):
             continue
-        for key in keys:
-            if math.isnan(runs.at[index, key]):
-                runs.at[index, key] = _scene_value(summary, key)
-    return runs, keys
+        for key in keys + labels:
+            if _missing(runs.at[index, key]):
+                runs.at[index, key] = _scene_value(summary, key, key in keys)
+    return runs, keys, labels
+
+
+def _text(value):
+    return f"{value:g}" if isinstance(value, (int, float)) else str(value)
 
 
 class Interactions:
     """The torque corners of each setting of a sweep's other keys, paired by seed."""
 
-    def __init__(self, runs, keys):
-        self.others = [k for k in keys if k not in (MU_T, MU_N)]
+    def __init__(self, runs, keys, labels=()):
+        # the other keys: numbers, then strings (a string key tells settings apart and has no
+        # line of its own)
+        self.numeric = [k for k in keys if k not in (MU_T, MU_N)]
+        self.others = self.numeric + list(labels)
         self.ok = False
-        if MU_T not in keys or MU_N not in keys or not self.others:
+        if MU_T not in keys or MU_N not in keys or not self.numeric:
             return
         runs = runs.dropna(subset=[MU_T, MU_N] + self.others)
         nonzero = sorted(set(runs[MU_T][runs[MU_T] > 0]) | set(runs[MU_N][runs[MU_N] > 0]))
@@ -83,8 +105,9 @@ class Interactions:
         self.settings = sorted(full)
         # the reference: each key at its most frequent value (ties: the smallest)
         self.reference = tuple(
-            float(self.runs[k].value_counts().sort_index(kind="stable").idxmax())
-            for k in self.others)
+            self.runs[k].value_counts().sort_index(kind="stable").idxmax() for k in self.others)
+        self.reference = tuple(float(v) if k in self.numeric else v
+                               for k, v in zip(self.others, self.reference))
         self.ok = self.reference in full
         self._by_seed = {}
 
@@ -126,7 +149,7 @@ class Interactions:
         """{key: [settings that differ from the reference in that key alone, the reference
         among them, by rising value]}."""
         out = {}
-        for i, key in enumerate(self.others):
+        for i, key in enumerate(self.numeric):
             line = [s for s in self.settings
                     if all(s[j] == self.reference[j] for j in range(len(s)) if j != i)]
             if len(line) > 1:
@@ -148,12 +171,12 @@ class Interactions:
 def section(sweep_dir, sweep, out):
     """The markdown lines of the section with a figure per key; [] where the sweep does not
     cross the torque corners with another key."""
-    runs, keys = filled_runs(sweep_dir, sweep)
-    found = Interactions(runs, keys)
+    runs, keys, labels = filled_runs(sweep_dir, sweep)
+    found = Interactions(runs, keys, labels)
     if not found.ok:
         return []
     c = f"{found.c:g}"
-    ref = ", ".join(f"`{k}` = {v:g}" for k, v in zip(found.others, found.reference))
+    ref = ", ".join(f"`{k}` = {_text(v)}" for k, v in zip(found.others, found.reference))
     md = ["## Additivity beyond the torques", "",
           f"The torque corners (μt, μn) ∈ {{0, {c}}}² at each setting of the other keys. "
           f"Reference: {ref}. Paired by seed: E1 = E − E(0, 0) at the same setting; ΔE_t = "
