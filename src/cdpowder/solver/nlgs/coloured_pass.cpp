@@ -616,7 +616,7 @@ PassSums run_coloured_pass(Contacts& contacts, VelocityCache& velocities, const 
         part_sums[p].sums = run_coloured_part(contacts, velocities, pass, p);
       }
       if (pass.split_piston.active()) {
-        split_sums = run_split_piston(contacts, velocities, pass.split_piston, threads);
+        split_sums = run_split_piston(contacts, velocities, pass.split_piston, threads, ranks);
       }
       continue;
     }

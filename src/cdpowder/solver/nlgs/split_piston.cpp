@@ -4,9 +4,11 @@
 
 #include "cdpowder/contact/local_solve.hpp"
 #include "cdpowder/solver/nlgs/group_by_part.hpp"
+#include "cdpowder/solver/nlgs/tile_ranks.hpp"
 #include "cdpowder/solver/nlgs/visit_contact.hpp"
 
 #include <cstddef>
+#include <span>
 
 namespace cdpowder {
 
@@ -47,11 +49,11 @@ WallProblem with_split_mass(const WallProblem& w, const VelocityCache& velocitie
 }  // namespace
 
 PassSums run_split_piston(Contacts& contacts, VelocityCache& velocities, const SplitPiston& split,
-                          PieceRunner* pieces) {
+                          PieceRunner* pieces, TileRanks* ranks) {
   const double start_velocity = velocities.piston_velocity;
   const auto n = static_cast<double>(split.pieces());
   split.results.resize(split.pieces());
-  run_pieces(pieces, split.pieces(), [&](std::uint32_t p) {
+  const auto solve_piece = [&](std::uint32_t p) {
     SplitPiston::PieceResult& result = split.results[p];
     result.sums = PassSums{};
     double velocity = start_velocity;  // V_t, this tile's copy of V_P
@@ -62,7 +64,17 @@ PassSums run_split_piston(Contacts& contacts, VelocityCache& velocities, const S
       add_visit(result.sums, change, action.normal_force, w.cohesion);
     }
     result.velocity = velocity;
-  });
+  };
+  if (ranks != nullptr && ranks->active()) {
+    // this rank's tiles, then every piece's result from the rank that solved it
+    const std::span<const std::uint32_t> mine = ranks->own_piston_pieces();
+    run_pieces(pieces, static_cast<std::uint32_t>(mine.size()),
+               [&](std::uint32_t i) { solve_piece(mine[i]); });
+    ranks->after_piston(velocities);
+    ranks->share_piston_pieces(split.results);
+  } else {
+    run_pieces(pieces, split.pieces(), solve_piece);
+  }
   // the tiles' impulses on the piston, added in tile order: ΔV_P = Σ_t (V_t − V_P)/n
   double change = 0.0;
   PassSums sums;

@@ -23,6 +23,8 @@
 
 namespace cdpowder {
 
+class TileRanks;  // tile_ranks.hpp
+
 struct SplitPiston {
   /// the piston's wall contacts (indices into Contacts::walls), tile by tile in tile order,
   /// each tile's in storage order
@@ -56,7 +58,9 @@ void group_piston_contacts(const Contacts& contacts, const StepTiles* tiles, Spl
 /// One pass over the pieces (side by side on `pieces` when given), then V_P moved once;
 /// returns the pieces' sums added in piece order. Each visit solves its contact's problem with
 /// the split mass: the piston's response n Δt/M_P and the normal block 1/(Δt w_n) with it.
+/// With `ranks` active (tile_ranks.hpp) this rank solves its own tiles' pieces, and every
+/// piece's sums and V_t go to every rank before V_P moves: the same bits on every rank.
 PassSums run_split_piston(Contacts& contacts, VelocityCache& velocities, const SplitPiston& split,
-                          PieceRunner* pieces);
+                          PieceRunner* pieces, TileRanks* ranks = nullptr);
 
 }  // namespace cdpowder

@@ -80,6 +80,7 @@ void TileRanks::plan(const StepTiles* tiles, const ColouredPass& pass, const Til
   }
 
   plan_hub(pass, contacts, part_row);
+  plan_piston(pass, contacts, part_row);
 
   for (std::size_t f = 0; f < kTilePhases; ++f) {
     mine_[f].clear();
@@ -142,7 +143,6 @@ void TileRanks::plan_hub(const ColouredPass& pass, const Contacts& contacts,
       }
     }
   }
-  for (const ContactIndex w : pass.split_piston.walls) places.push_back(contacts.walls[w].sphere);
   std::sort(places.begin(), places.end());
   places.erase(std::unique(places.begin(), places.end()), places.end());
   // each to the rank whose rows hold it: place → part (part_start_) → row → owner
@@ -152,6 +152,56 @@ void TileRanks::plan_hub(const ColouredPass& pass, const Contacts& contacts,
     while (part_start_[part + 1] <= place) ++part;
     rank_hub_places_[static_cast<std::size_t>(row_owner_[part_row[part]])].push_back(place);
   }
+}
+
+void TileRanks::plan_piston(const ColouredPass& pass, const Contacts& contacts,
+                            const std::vector<std::uint32_t>& part_row) {
+  // a piece's contacts are those of one tile: its first contact's sphere names it
+  const SplitPiston& split = pass.split_piston;
+  rank_piston_pieces_.assign(static_cast<std::size_t>(ranks_), {});
+  piston_sends_.clear();
+  piston_receives_.clear();
+  const std::uint32_t ny = grid_.ny;
+  for (std::uint32_t p = 0; p < split.pieces(); ++p) {
+    const std::uint32_t place = contacts.walls[split.walls[split.piece_start[p]]].sphere;
+    const std::uint32_t row = part_row[part_of_place(place)];
+    const int owner = row_owner_[row];
+    rank_piston_pieces_[static_cast<std::size_t>(owner)].push_back(p);
+    // the piece's spheres to the rank for which their row is the ghost row
+    const int holder = row_owner_[(row + ny - 1) % ny];
+    if (holder == owner || (owner != rank_ && holder != rank_)) continue;
+    std::vector<PlaceMessage>& list = owner == rank_ ? piston_sends_ : piston_receives_;
+    const int peer = owner == rank_ ? holder : owner;
+    auto message = std::find_if(list.begin(), list.end(),
+                                [&](const PlaceMessage& m) { return m.peer == peer; });
+    if (message == list.end()) message = list.insert(list.end(), PlaceMessage{peer, {}, {}});
+    for (std::uint32_t j = split.piece_start[p]; j < split.piece_start[p + 1]; ++j) {
+      message->places.push_back(contacts.walls[split.walls[j]].sphere);
+    }
+  }
+  for (auto* list : {&piston_sends_, &piston_receives_}) {
+    for (PlaceMessage& m : *list) m.buffer.resize(m.places.size());
+  }
+}
+
+void TileRanks::after_piston(VelocityCache& velocities) {
+  if (!active_) return;
+  std::vector<RankBytes> out;
+  std::vector<RankBytes> in;
+  for (PlaceMessage& m : piston_sends_) {
+    for (std::size_t i = 0; i < m.places.size(); ++i) m.buffer[i] = velocities.spheres[m.places[i]];
+    out.push_back({m.peer, bytes_of(m.buffer)});
+  }
+  for (PlaceMessage& m : piston_receives_) in.push_back({m.peer, bytes_of(m.buffer)});
+  exchange_with_ranks(out, in, static_cast<int>(kTilePhases));
+  for (const PlaceMessage& m : piston_receives_) {
+    for (std::size_t i = 0; i < m.places.size(); ++i) velocities.spheres[m.places[i]] = m.buffer[i];
+  }
+}
+
+std::uint32_t TileRanks::part_of_place(std::uint32_t place) const {
+  const auto after = std::upper_bound(part_start_.begin(), part_start_.end(), place);
+  return static_cast<std::uint32_t>(after - part_start_.begin() - 1);
 }
 
 void TileRanks::share_hub_records(VelocityCache& velocities) {
@@ -270,20 +320,19 @@ void TileRanks::share_pass(std::vector<PartSums>& part_sums) {
   }
 }
 
-void TileRanks::share_part_bytes(std::span<std::byte> per_part, std::size_t size) {
+void TileRanks::share_bytes(std::span<std::byte> items, std::size_t size,
+                            const std::vector<std::vector<std::uint32_t>>& rank_items) {
   if (!active_) return;
-  const auto& my_parts = rank_parts_[static_cast<std::size_t>(rank_)];
-  my_bytes_.resize(my_parts.size() * size);
+  const auto& mine = rank_items[static_cast<std::size_t>(rank_)];
+  my_bytes_.resize(mine.size() * size);
   std::byte* out = my_bytes_.data();
-  for (const std::uint32_t p : my_parts) {
-    out = std::copy_n(per_part.data() + p * size, size, out);
-  }
+  for (const std::uint32_t i : mine) out = std::copy_n(items.data() + i * size, size, out);
   gather_items(my_bytes_, all_bytes_, counts_, ranks_,
-               [&](int r) { return rank_parts_[static_cast<std::size_t>(r)].size() * size; });
+               [&](int r) { return rank_items[static_cast<std::size_t>(r)].size() * size; });
   const std::byte* in = all_bytes_.data();
   for (int r = 0; r < ranks_; ++r) {
-    for (const std::uint32_t p : rank_parts_[static_cast<std::size_t>(r)]) {
-      if (r != rank_) std::copy_n(in, size, per_part.data() + p * size);
+    for (const std::uint32_t i : rank_items[static_cast<std::size_t>(r)]) {
+      if (r != rank_) std::copy_n(in, size, items.data() + i * size);
       in += size;
     }
   }
@@ -315,25 +364,44 @@ void TileRanks::gather_actions(Contacts& contacts, const ColouredPass& pass, boo
       visit(k < pairs ? contacts.pair_actions[k] : contacts.wall_actions[k - pairs]);
     }
   };
-  my_actions_.clear();
-  for (const std::uint32_t p : rank_parts_[static_cast<std::size_t>(rank_)]) {
-    for_each_action(p, [&](const ContactAction& a) { my_actions_.push_back(a); });
-  }
-  gather_items(my_actions_, all_actions_, counts_, ranks_, [&](int r) {
+  // a piston piece's actions: its contacts' (split_piston.hpp)
+  const SplitPiston& split = pass.split_piston;
+  const auto for_each_piston_action = [&](std::uint32_t p, auto&& visit) {
+    for (std::uint32_t j = split.piece_start[p]; j < split.piece_start[p + 1]; ++j) {
+      visit(contacts.wall_actions[split.walls[j]]);
+    }
+  };
+  const auto actions_of = [&](int r) {
     std::size_t n = 0;
     for (const std::uint32_t p : rank_parts_[static_cast<std::size_t>(r)]) {
       n += part_actions(pass, p, sequential_only);
     }
+    for (const std::uint32_t p : rank_piston_pieces_[static_cast<std::size_t>(r)]) {
+      n += split.piece_start[p + 1] - split.piece_start[p];
+    }
     return n;
-  });
+  };
+  my_actions_.clear();
+  const auto keep = [&](const ContactAction& a) { my_actions_.push_back(a); };
+  for (const std::uint32_t p : rank_parts_[static_cast<std::size_t>(rank_)]) {
+    for_each_action(p, keep);
+  }
+  for (const std::uint32_t p : rank_piston_pieces_[static_cast<std::size_t>(rank_)]) {
+    for_each_piston_action(p, keep);
+  }
+  gather_items(my_actions_, all_actions_, counts_, ranks_, actions_of);
   const ContactAction* action = all_actions_.data();
+  const auto take = [&](ContactAction& a) { a = *action++; };
   for (int r = 0; r < ranks_; ++r) {
+    if (r == rank_) {
+      action += actions_of(r);
+      continue;
+    }
     for (const std::uint32_t p : rank_parts_[static_cast<std::size_t>(r)]) {
-      if (r == rank_) {
-        action += part_actions(pass, p, sequential_only);
-      } else {
-        for_each_action(p, [&](ContactAction& a) { a = *action++; });
-      }
+      for_each_action(p, take);
+    }
+    for (const std::uint32_t p : rank_piston_pieces_[static_cast<std::size_t>(r)]) {
+      for_each_piston_action(p, take);
     }
   }
 }

@@ -67,7 +67,26 @@ class TileRanks {
   template <typename T>
   void share_parts(std::vector<T>& per_part) {
     static_assert(std::is_trivially_copyable_v<T>);
-    share_part_bytes(std::as_writable_bytes(std::span<T>(per_part)), sizeof(T));
+    share_bytes(std::as_writable_bytes(std::span<T>(per_part)), sizeof(T), rank_parts_);
+  }
+
+  /// The split piston's pieces (split_piston.hpp: the tiles with piston contacts, in tile
+  /// order) this rank solves: its own tiles' (when active).
+  [[nodiscard]] std::span<const std::uint32_t> own_piston_pieces() const {
+    return rank_piston_pieces_[static_cast<std::size_t>(rank_)];
+  }
+
+  /// After this rank solved its piston pieces: their spheres' records to the rank that holds
+  /// their row as its ghost row (the owner of the row below), and those of the row above from
+  /// its owner.
+  void after_piston(VelocityCache& velocities);
+
+  /// per_piece[p] of every rank's own piston pieces p to every rank (when active), as
+  /// share_parts does for parts.
+  template <typename T>
+  void share_piston_pieces(std::vector<T>& per_piece) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    share_bytes(std::as_writable_bytes(std::span<T>(per_piece)), sizeof(T), rank_piston_pieces_);
   }
 
   /// After phase `phase` (which this rank solved its parts of): the rows it wrote go to the
@@ -81,8 +100,9 @@ class TileRanks {
   /// Every rank's own rows to every rank.
   void share_records(VelocityCache& velocities);
 
-  /// Before the hub: the records of the hub's spheres (its contacts' and the split piston's)
-  /// from the ranks whose rows hold them to every rank, which then solves the hub on them.
+  /// Before the hub: the records of the hub's spheres (its contacts') from the ranks whose rows
+  /// hold them to every rank, which then solves the hub on them; each rank then solves its
+  /// own tiles' piston contacts (run_split_piston).
   /// Between passes a rank's records are current for its own rows and its ghost row alone.
   void share_hub_records(VelocityCache& velocities);
 
@@ -98,21 +118,36 @@ class TileRanks {
   /// every pass.
   void share_actions(Contacts& contacts, const ColouredPass& pass);
 
-  /// The actions of every rank's tiles' sequential groups (their overflow pairs and walls) to
-  /// every rank: before a mixing, whose range of the rest (tile_solve.hpp) every rank mixes.
+  /// The actions of every rank's tiles' sequential groups (their overflow pairs and walls) and
+  /// piston contacts to every rank: before a mixing, whose range of the rest (tile_solve.hpp)
+  /// every rank mixes.
   void share_sequential_actions(Contacts& contacts, const ColouredPass& pass);
 
  private:
-  /// The places of the hub's spheres, by the rank whose rows hold them (rank_hub_places_).
+  /// The places of the hub's pairs' spheres, by the rank whose rows hold them
+  /// (rank_hub_places_).
   void plan_hub(const ColouredPass& pass, const Contacts& contacts,
                 const std::vector<std::uint32_t>& part_row);
-  /// share_parts on the bytes of per_part, `size` bytes a part.
-  void share_part_bytes(std::span<std::byte> per_part, std::size_t size);
+  /// items[i] (`size` bytes each) of every rank r's items i ∈ rank_items[r] to every rank.
+  void share_bytes(std::span<std::byte> items, std::size_t size,
+                   const std::vector<std::vector<std::uint32_t>>& rank_items);
+  /// Each rank's piston pieces (rank_piston_pieces_).
+  void plan_piston(const ColouredPass& pass, const Contacts& contacts,
+                   const std::vector<std::uint32_t>& part_row);
+  /// The part of the sphere at `place` (part_start_).
+  [[nodiscard]] std::uint32_t part_of_place(std::uint32_t place) const;
 
   /// A message after a phase: rows of records to or from one rank.
   struct RowMessage {
     int peer = 0;
     std::vector<std::uint32_t> rows;
+    std::vector<SphereVelocity> buffer;
+  };
+
+  /// A message after the split piston: records of single spheres to or from one rank.
+  struct PlaceMessage {
+    int peer = 0;
+    std::vector<std::uint32_t> places;
     std::vector<SphereVelocity> buffer;
   };
 
@@ -140,6 +175,9 @@ class TileRanks {
   std::vector<int> row_owner_;             ///< the rank that solves row j's tiles
   std::vector<std::vector<std::uint32_t>> rank_rows_;   ///< each rank's rows
   std::vector<std::vector<std::uint32_t>> rank_parts_;  ///< each rank's tiles' parts
+  /// each rank's split-piston pieces (the pieces of its tiles), ascending
+  std::vector<std::vector<std::uint32_t>> rank_piston_pieces_;
+  std::vector<PlaceMessage> piston_sends_, piston_receives_;
   std::array<std::vector<std::uint32_t>, kTilePhases> mine_;
   std::array<std::vector<RowMessage>, kTilePhases> sends_;
   std::array<std::vector<RowMessage>, kTilePhases> receives_;
