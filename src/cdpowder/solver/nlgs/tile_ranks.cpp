@@ -122,7 +122,7 @@ void TileRanks::plan(const StepTiles* tiles, const ColouredPass& pass, const Til
 
 void TileRanks::plan_hub(const ColouredPass& pass, const Contacts& contacts,
                          const std::vector<std::uint32_t>& part_row) {
-  // the places of the hub's spheres: its parts' pairs and sequential groups, the split piston's
+  // the places of the hub's spheres: its parts' pairs and sequential groups
   std::vector<std::uint32_t> places;
   const std::size_t pairs = contacts.pairs.size();
   const auto add_pair = [&](const PairProblem& p) {
@@ -147,10 +147,9 @@ void TileRanks::plan_hub(const ColouredPass& pass, const Contacts& contacts,
   places.erase(std::unique(places.begin(), places.end()), places.end());
   // each to the rank whose rows hold it: place → part (part_start_) → row → owner
   rank_hub_places_.assign(static_cast<std::size_t>(ranks_), {});
-  std::size_t part = 0;
   for (const std::uint32_t place : places) {
-    while (part_start_[part + 1] <= place) ++part;
-    rank_hub_places_[static_cast<std::size_t>(row_owner_[part_row[part]])].push_back(place);
+    const int owner = row_owner_[part_row[part_of_place(place)]];
+    rank_hub_places_[static_cast<std::size_t>(owner)].push_back(place);
   }
 }
 
@@ -186,6 +185,7 @@ void TileRanks::plan_piston(const ColouredPass& pass, const Contacts& contacts,
 
 void TileRanks::after_piston(VelocityCache& velocities) {
   if (!active_) return;
+  shared_ = false;  // the pieces' spheres moved on their own ranks
   std::vector<RankBytes> out;
   std::vector<RankBytes> in;
   for (PlaceMessage& m : piston_sends_) {
@@ -206,18 +206,7 @@ std::uint32_t TileRanks::part_of_place(std::uint32_t place) const {
 
 void TileRanks::share_hub_records(VelocityCache& velocities) {
   if (!active_ || shared_) return;
-  const auto& mine = rank_hub_places_[static_cast<std::size_t>(rank_)];
-  my_hub_.resize(mine.size());
-  for (std::size_t i = 0; i < mine.size(); ++i) my_hub_[i] = velocities.spheres[mine[i]];
-  gather_items(my_hub_, all_hub_, counts_, ranks_,
-               [&](int r) { return rank_hub_places_[static_cast<std::size_t>(r)].size(); });
-  const SphereVelocity* in = all_hub_.data();
-  for (int r = 0; r < ranks_; ++r) {
-    for (const std::uint32_t place : rank_hub_places_[static_cast<std::size_t>(r)]) {
-      if (r != rank_) velocities.spheres[place] = *in;
-      ++in;
-    }
-  }
+  share_bytes(bytes_of(velocities.spheres), sizeof(SphereVelocity), rank_hub_places_);
 }
 
 std::size_t TileRanks::row_records(std::span<const std::uint32_t> rows) const {
@@ -306,18 +295,7 @@ void TileRanks::share_solution(Contacts& contacts, const ColouredPass& pass,
 void TileRanks::share_pass(std::vector<PartSums>& part_sums) {
   if (!active_) return;
   actions_shared_ = false;
-  const auto& my_parts = rank_parts_[static_cast<std::size_t>(rank_)];
-  my_sums_.clear();
-  for (const std::uint32_t p : my_parts) my_sums_.push_back(part_sums[p].sums);
-  gather_items(my_sums_, all_sums_, counts_, ranks_,
-               [&](int r) { return rank_parts_[static_cast<std::size_t>(r)].size(); });
-  const PassSums* sum = all_sums_.data();
-  for (int r = 0; r < ranks_; ++r) {
-    for (const std::uint32_t p : rank_parts_[static_cast<std::size_t>(r)]) {
-      if (r != rank_) part_sums[p].sums = *sum;
-      ++sum;
-    }
-  }
+  share_parts(part_sums);
 }
 
 void TileRanks::share_bytes(std::span<std::byte> items, std::size_t size,

@@ -12,10 +12,10 @@
 // solve is the tiles', so the bits are those of one process on any number of ranks.
 //
 // Today the state is replicated, and the hub is solved by every rank on its spheres' records,
-// gathered before it (a few spheres, and the piston's); every record goes to every rank once a
-// step, at the end of the solve. The kinematic rule and the mixing run on
-// each rank's own tiles (their sums shared with share_parts); the mixing's range of the rest
-// (overflow pairs and walls of every tile) on every rank, after share_sequential_actions.
+// gathered before it (a few spheres); every record goes to every rank once a step, at the end
+// of the solve. The kinematic rule, the mixing and the split piston run on each rank's own
+// tiles (their sums shared with share_parts and share_piston_pieces); the mixing's range of the
+// rest (overflow pairs and walls of every tile) on every rank, after share_sequential_actions.
 // Ranks that own their rows' state alone are the next step (docs/architecture.md).
 #pragma once
 
@@ -45,7 +45,7 @@ class TileRanks {
   /// job of one rank or for a step that is not tiled (`tiles` null). Needs the records in tile
   /// order (`order`, tile_order.hpp): a tile's records are its part's range of places.
   /// `contacts` are the solve's (in colour order, the spheres named by their places): the hub's
-  /// spheres are those of the hub's contacts and of the split piston's.
+  /// spheres are those of the hub's contacts.
   void plan(const StepTiles* tiles, const ColouredPass& pass, const TileOrder& order,
             const Contacts& contacts);
 
@@ -92,10 +92,6 @@ class TileRanks {
   /// After phase `phase` (which this rank solved its parts of): the rows it wrote go to the
   /// ranks that hold them, and the rows others wrote come in.
   void after_phase(std::size_t phase, VelocityCache& velocities);
-
-  /// Whether every rank holds the same records (since the step began, or since the last
-  /// share_records).
-  [[nodiscard]] bool records_shared() const { return shared_; }
 
   /// Every rank's own rows to every rank.
   void share_records(VelocityCache& velocities);
@@ -185,10 +181,8 @@ class TileRanks {
   std::vector<int> counts_;
   std::vector<SphereVelocity> my_records_, all_records_;
   std::vector<ContactAction> my_actions_, all_actions_;
-  std::vector<PassSums> my_sums_, all_sums_;
   /// each rank's hub spheres: the places in its rows of the hub's spheres, ascending
   std::vector<std::vector<std::uint32_t>> rank_hub_places_;
-  std::vector<SphereVelocity> my_hub_, all_hub_;
   std::vector<std::byte> my_bytes_, all_bytes_;
 };
 
