@@ -54,9 +54,10 @@ bool has_usable_checkpoint(SweepCommand command, const std::filesystem::path& fo
   if (!std::filesystem::exists(file)) return false;
   try {
     const StateHeader header = read_state_header(file);
-    if (header.format_version != kStateFormatVersion) {
-      why_not = fmt::format("its checkpoint is of state format {}, this build reads format {}",
-                            header.format_version, kStateFormatVersion);
+    if (!readable_state_format(header.format_version)) {
+      why_not =
+          fmt::format("its checkpoint is of state format {}, this build reads formats {} to {}",
+                      header.format_version, kOldestStateFormatVersion, kStateFormatVersion);
       return false;
     }
     if (header.scene_toml != scene_text) {

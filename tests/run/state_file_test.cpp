@@ -225,7 +225,7 @@ TEST(StateFile, BadFilesAreRefusedWithTheReason) {
   other_format[8] = 7;  // the format version's low byte
   const std::string refused = message_of(other_format);
   EXPECT_NE(refused.find("state format 7"), std::string::npos) << refused;
-  EXPECT_NE(refused.find("reads format 1 only"), std::string::npos) << refused;
+  EXPECT_NE(refused.find("reads formats 1 to 2"), std::string::npos) << refused;
   EXPECT_NE(refused.find("run/state.cdps"), std::string::npos) << refused;
 
   try {

@@ -1,6 +1,7 @@
 // run_loop.cpp — the time loop with its stop conditions.
 #include "cdpowder/run/run_loop.hpp"
 
+#include "cdpowder/analysis/energy_budget.hpp"
 #include "cdpowder/analysis/porosity.hpp"
 #include "cdpowder/analysis/stress.hpp"
 #include "cdpowder/run/blocked_state.hpp"
@@ -181,6 +182,9 @@ class RunLoop {
       state.started = true;
       state.start_time = world.time;
       state.dt = settings.solver.dt;
+      state.result.energy_start.piston_height = world.walls.piston.height;
+      state.result.energy_start.kinetic_energy = kinetic_energy(world);
+      state.result.energy_start.height_moment = height_moment(world);
     }
     // long solves (a static solve of 20 000 passes) ask the stop request after every pass
     current_.solver.stop_request = stop_requested ? &stop_requested : nullptr;
@@ -270,6 +274,12 @@ class RunLoop {
     r.max_overlap_seen = std::max(r.max_overlap_seen, report.diagnostics.max_overlap);
     r.max_cohesive_opening_per_range = std::max(r.max_cohesive_opening_per_range,
                                                 report.diagnostics.max_cohesive_opening_per_range);
+    // the first step's bonds are the packing's at the start, not changes of the run
+    if (r.steps == 1) {
+      r.energy_start.cohesive_energy = report.diagnostics.cohesive_energy;
+    } else {
+      r.bonds += report.diagnostics.bonds;
+    }
     for (std::size_t s = 0; s < r.stage_seconds.size(); ++s) r.stage_seconds[s] += report.times[s];
   }
 

@@ -17,6 +17,15 @@
 
 namespace cdpowder {
 
+/// Where a run's energy budget starts (analysis/energy_budget.hpp, physics.md §17, "The energy
+/// budget"): the state the run began from, measured before its first step.
+struct EnergyAtStart {
+  double piston_height = 0.0;    ///< Z_P [R]
+  double kinetic_energy = 0.0;   ///< spheres and piston [F_coh R]
+  double height_moment = 0.0;    ///< Σ m z of the free spheres (height_moment)
+  double cohesive_energy = 0.0;  ///< U_coh of the first step's contacts [F_coh R]
+};
+
 struct RunResult {
   bool blocked = false;      ///< the blocked state was reached (until_blocked runs)
   bool interrupted = false;  ///< stopped early on request (stop_requested returned true)
@@ -33,6 +42,12 @@ struct RunResult {
   /// largest max_cohesive_opening_speed × Δt / d_coh of any step: above ≈ 0.1 the cohesion
   /// range is crossed in a few steps and Δt should be smaller (physics.md §6.4)
   double max_cohesive_opening_per_range = 0.0;
+  /// cohesive bonds formed and broken over the run's steps after its first (whose cache may
+  /// be empty); the budget's start (energy_start) holds the first step's bonds instead
+  BondChanges bonds;
+  EnergyAtStart energy_start;
+  /// false for a run continued from a format-1 state file, which kept no budget
+  bool energy_known = true;
   double wall_seconds = 0.0;
   StageTimes stage_seconds{};  ///< summed over all steps
   StepReport last;             ///< report of the final step

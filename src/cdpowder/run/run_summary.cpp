@@ -3,6 +3,7 @@
 #include "cdpowder/run/run_summary.hpp"
 
 #include "cdpowder/analysis/coordination.hpp"
+#include "cdpowder/analysis/energy_budget.hpp"
 #include "cdpowder/analysis/porosity.hpp"
 #include "cdpowder/analysis/stress.hpp"
 #include "cdpowder/core/lanes.hpp"
@@ -65,6 +66,43 @@ RunSummary::Stress stress_of(const World& world, const Contacts& contacts, doubl
   s.sigma_zz_tensile_over_pressure = loaded ? sigma.tensile(2, 2) / pressure : kAbsent;
   return s;
 }
+
+}  // namespace
+
+RunSummary::Energy energy_budget(const ContactLaws& laws, const World& world,
+                                 const RunResult& result) {
+  RunSummary::Energy e;
+  e.complete = result.energy_known && result.steps > 0 && budget_is_complete(world);
+  if (!e.complete) {
+    e.piston_work = e.gravity_work = e.kinetic_start = e.kinetic_end = e.cohesive_start =
+        e.cohesive_end = e.breaking_work = e.dissipated = kAbsent;
+    return e;
+  }
+  const EnergyAtStart& start = result.energy_start;
+  const Piston& piston = world.walls.piston;
+  const double g_z = world.gravity.z();
+  e.piston_work = piston.enabled ? piston.force * (start.piston_height - piston.height) : 0.0;
+  if (g_z != 0.0) {  // (a zero g_z times a fall would write −0)
+    e.gravity_work =
+        g_z * (height_moment(world) - start.height_moment) +
+        (piston.enabled ? g_z * piston.mass * (piston.height - start.piston_height) : 0.0);
+  }
+  e.kinetic_start = start.kinetic_energy;
+  e.kinetic_end = kinetic_energy(world);
+  e.cohesive_start = start.cohesive_energy;
+  e.cohesive_end = result.last.diagnostics.cohesive_energy;
+  e.bonds_formed = result.bonds.formed();
+  e.bonds_broken = result.bonds.broken();
+  e.breaking_work = static_cast<double>(result.bonds.pairs_broken) * laws.spheres.cohesion_force *
+                        laws.spheres.cohesion_range +
+                    static_cast<double>(result.bonds.walls_broken) * laws.walls.cohesion_force *
+                        laws.walls.cohesion_range;
+  e.dissipated = e.piston_work + e.gravity_work - (e.kinetic_end - e.kinetic_start) -
+                 (e.cohesive_end - e.cohesive_start);
+  return e;
+}
+
+namespace {
 
 RunSummary::Run run_counts(const Scene& scene, const RunResult& result) {
   RunSummary::Run r;
@@ -420,6 +458,7 @@ RunSummary summarise_run(const Scene& scene, const World& world, const Contacts&
   s.kinetic_energy = d.kinetic_energy;
   s.max_speed = d.max_speed;
   s.rms_speed = d.rms_speed;
+  s.energy = energy_budget(scene.step.laws, world, result);
   s.run = run_counts(scene, result);
   s.fault = result.fault;
   s.scene_toml = scene.effective_toml;
@@ -465,6 +504,13 @@ std::string run_summary_json(const RunSummary& s) {
   j["kinetic_energy"] = s.kinetic_energy;
   j["max_speed"] = s.max_speed;
   j["rms_speed"] = s.rms_speed;
+  const RunSummary::Energy& e = s.energy;
+  j["energy"] = {{"complete", e.complete},         {"piston_work", e.piston_work},
+                 {"gravity_work", e.gravity_work}, {"kinetic_start", e.kinetic_start},
+                 {"kinetic_end", e.kinetic_end},   {"cohesive_start", e.cohesive_start},
+                 {"cohesive_end", e.cohesive_end}, {"bonds_formed", e.bonds_formed},
+                 {"bonds_broken", e.bonds_broken}, {"breaking_work", e.breaking_work},
+                 {"dissipated", e.dissipated}};
   j["run"] = run_json(s.run);
   j["fault"] = s.fault ? fault_json(*s.fault) : json(nullptr);
   j["scene"] = scene_json(s.scene_toml);
@@ -512,6 +558,18 @@ RunSummary parse_run_summary(std::string_view json_text) {
   s.kinetic_energy = top.number("kinetic_energy");
   s.max_speed = top.number("max_speed");
   s.rms_speed = top.number("rms_speed");
+  const Fields e = top.section("energy");
+  s.energy = {e.flag("complete"),
+              e.number("piston_work"),
+              e.number("gravity_work"),
+              e.number("kinetic_start"),
+              e.number("kinetic_end"),
+              e.number("cohesive_start"),
+              e.number("cohesive_end"),
+              e.count<std::int64_t>("bonds_formed"),
+              e.count<std::int64_t>("bonds_broken"),
+              e.number("breaking_work"),
+              e.number("dissipated")};
   s.run = read_run(top.section("run", true), s.schema);
   if (top.has("fault")) s.fault = read_fault(top.section("fault"));
   s.scene_toml = top.text("scene_toml", true);

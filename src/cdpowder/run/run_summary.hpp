@@ -116,6 +116,25 @@ struct RunSummary {
   double max_speed = 0.0;       ///< [R/t0]
   double rms_speed = 0.0;       ///< mass-weighted [R/t0]
 
+  /// The run's energy budget (analysis/energy_budget.hpp, physics.md §17, "The energy budget"), all
+  /// in [F_coh R]: piston_work + gravity_work = ΔK + ΔU_coh + dissipated. NaN (null in the file)
+  /// and complete false where it is not known: a run continued from a format-1 state file, a scene
+  /// with forces the budget leaves out (budget_is_complete), or a summary written before the budget
+  /// existed.
+  struct Energy {
+    bool complete = false;
+    double piston_work = 0.0;   ///< F (Z_P,start − Z_P,end), the applied force's
+    double gravity_work = 0.0;  ///< −g_z Δ(Σ m z) − g_z M_P ΔZ_P
+    double kinetic_start = 0.0;
+    double kinetic_end = 0.0;
+    double cohesive_start = 0.0;    ///< U_coh of the first step's contacts
+    double cohesive_end = 0.0;      ///< U_coh of the last step's (the final solve's) contacts
+    std::int64_t bonds_formed = 0;  ///< over the steps after the first
+    std::int64_t bonds_broken = 0;
+    double breaking_work = 0.0;  ///< Σ over broken bonds of F_coh d_coh (each family's law)
+    double dissipated = 0.0;     ///< what is left: W − ΔK − ΔU_coh ≥ 0
+  } energy;
+
   struct Run {
     bool blocked = false;
     /// which test found the rest: "window" (the window mean of the imbalance) or "probe"
@@ -145,6 +164,11 @@ struct RunSummary {
   std::optional<RunFault> fault;
   std::string scene_toml;  ///< the fully resolved scene (the "scene" object is its JSON form)
 };
+
+/// The energy budget of a run (RunSummary::Energy, physics.md §17, "The energy budget") from its
+/// start (RunResult::energy_start), its bond counts and the world it ends on.
+RunSummary::Energy energy_budget(const ContactLaws& laws, const World& world,
+                                 const RunResult& result);
 
 /// The summary of a run that ended in `world` with `contacts` holding its last forces.
 /// `initial_porosity` is that of the starting packing.

@@ -35,6 +35,9 @@ constexpr std::size_t kSphereBytes = 18 * kDoubleBytes + 1;
 struct Encode {
   ByteWriter& out;
 
+  /// Whether the file has the fields added in format `version`: every file written now has.
+  [[nodiscard]] static bool has(std::uint32_t /*version*/) { return true; }
+
   void operator()(const double& x) { out.f64(x); }
 
   void operator()(const Vec3& x) { out.vec3(x); }
@@ -83,6 +86,10 @@ struct Encode {
 
 struct Decode {
   ByteReader& in;
+  std::uint32_t format = kStateFormatVersion;  ///< the file's
+
+  /// Whether the file has the fields added in format `version`.
+  [[nodiscard]] bool has(std::uint32_t version) const { return format >= version; }
 
   void operator()(double& x) { x = in.f64(); }
 
@@ -156,6 +163,21 @@ void solver_stats_fields(Io& io, Stats& s) {
   io(s.force_scale);
 }
 
+/// A run read from a format-1 file, which kept no energy budget (writing changes nothing).
+void mark_energy_unknown(RunResult& r) {
+  r.energy_known = false;
+}
+
+void mark_energy_unknown(const RunResult& /*r*/) {}
+
+template <typename Io, typename Bonds>
+void bond_fields(Io& io, Bonds& b) {
+  io(b.pairs_formed);
+  io(b.pairs_broken);
+  io(b.walls_formed);
+  io(b.walls_broken);
+}
+
 template <typename Io, typename Report>
 void step_report_fields(Io& io, Report& r) {
   io(r.dt);
@@ -174,6 +196,10 @@ void step_report_fields(Io& io, Report& r) {
   io(d.max_net_force);
   io(d.max_cohesive_opening_speed);
   io(d.max_cohesive_opening_per_range);
+  if (io.has(2)) {  // the energy budget's (analysis/energy_budget.hpp)
+    bond_fields(io, d.bonds);
+    io(d.cohesive_energy);
+  }
   io(r.times);
 }
 
@@ -190,6 +216,16 @@ void run_result_fields(Io& io, Result& r) {
   io(r.repeated_passes);
   io(r.max_overlap_seen);
   io(r.max_cohesive_opening_per_range);
+  if (io.has(2)) {  // the energy budget's; a format-1 run's budget is unknown
+    bond_fields(io, r.bonds);
+    io(r.energy_start.piston_height);
+    io(r.energy_start.kinetic_energy);
+    io(r.energy_start.height_moment);
+    io(r.energy_start.cohesive_energy);
+    io(r.energy_known);
+  } else {
+    mark_energy_unknown(r);
+  }
   io(r.wall_seconds);
   io(r.stage_seconds);
   step_report_fields(io, r.last);
@@ -376,7 +412,7 @@ std::string encode_state(std::string_view scene_toml, const World& world, const 
 namespace {
 
 /// Everything after the format version, read into `saved` (the checksum not checked).
-void decode_sections(ByteReader& in, SavedRun& saved) {
+void decode_sections(ByteReader& in, std::uint32_t format, SavedRun& saved) {
   saved.program_version = in.string();
   saved.git_commit = in.string();
   in.tag("SCEN");
@@ -385,7 +421,7 @@ void decode_sections(ByteReader& in, SavedRun& saved) {
   saved.actions = read_actions(in);
   in.tag("RNGS");
   saved.pass_order = read_rng(in);
-  Decode io{in};
+  Decode io{in, format};
   bool has_detector = false;
   BlockedStateDetector::Memory memory;
   run_fields(io, saved.result, has_detector, memory, saved);
@@ -400,10 +436,10 @@ void decode_sections(ByteReader& in, SavedRun& saved) {
 std::string damage_of(std::string_view bytes) {
   ByteReader in(bytes, "");
   static_cast<void>(in.u64());  // the magic
-  static_cast<void>(in.u32());  // the format version
+  const std::uint32_t format = in.u32();
   SavedRun ignored;
   try {
-    decode_sections(in, ignored);
+    decode_sections(in, format, ignored);
   } catch (const StateFileError&) {
     if (in.section().empty())
       return fmt::format("its header is damaged (before byte {})", in.offset());
@@ -426,9 +462,9 @@ SavedRun decode_state(std::string_view bytes, const std::string& source) {
   in.tag(kStateFileMagic.substr(4, 4));
   SavedRun saved;
   saved.format_version = in.u32();
-  if (saved.format_version != kStateFormatVersion) {
-    in.fail(fmt::format("state format {}; this build of cdpowder reads format {} only",
-                        saved.format_version, kStateFormatVersion));
+  if (!readable_state_format(saved.format_version)) {
+    in.fail(fmt::format("state format {}; this build of cdpowder reads formats {} to {}",
+                        saved.format_version, kOldestStateFormatVersion, kStateFormatVersion));
   }
   // the checksum before anything else: a damaged file is named as damaged, not as whatever
   // field the damage happened to hit
@@ -439,7 +475,7 @@ SavedRun decode_state(std::string_view bytes, const std::string& source) {
         "{}: the checksum does not match: the file is truncated or damaged ({} bytes; {})", source,
         bytes.size(), damage_of(bytes)));
   }
-  decode_sections(in, saved);
+  decode_sections(in, saved.format_version, saved);
   // a file whose checksum was fitted again after an edit: its values are checked as a
   // particles file's are, so a forged state is refused instead of run
   if (const std::optional<std::string> problem = saved_state_problem(saved)) {
@@ -541,7 +577,7 @@ StateHeader read_state_header(const std::filesystem::path& path) {
   start.tag(kStateFileMagic.substr(0, 4));
   start.tag(kStateFileMagic.substr(4, 4));
   header.format_version = start.u32();
-  if (header.format_version != kStateFormatVersion) return header;
+  if (!readable_state_format(header.format_version)) return header;
   length_and_text();
   length_and_text();
   take(4);

@@ -29,9 +29,18 @@
 
 namespace cdpowder {
 
-/// Format of the files this build writes and the only one it reads. Bump it with every
-/// change of the layout (and say so in docs/outputs.md).
-inline constexpr std::uint32_t kStateFormatVersion = 1;
+/// Format of the files this build writes. Bump it with every change of the layout (and say
+/// so in docs/outputs.md). Format 2 added the energy budget (analysis/energy_budget.hpp).
+inline constexpr std::uint32_t kStateFormatVersion = 2;
+
+/// The oldest format this build reads: a format-1 file continues bit-identical, with its
+/// energy budget unknown (RunResult::energy_known false), since its start was not saved.
+inline constexpr std::uint32_t kOldestStateFormatVersion = 1;
+
+/// Whether this build reads state files of `format`.
+[[nodiscard]] constexpr bool readable_state_format(std::uint32_t format) {
+  return format >= kOldestStateFormatVersion && format <= kStateFormatVersion;
+}
 
 /// The first eight bytes of every state file.
 inline constexpr std::string_view kStateFileMagic = "CDPSTATE";
