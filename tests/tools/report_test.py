@@ -285,6 +285,26 @@ class ReportOnKnownSweeps(unittest.TestCase):
             "## The admissible")[1])
         self.assertTrue((self.dir / "report" / "admissible.png").stat().st_size > 0)
 
+    def test_the_energy_budget_of_the_runs_that_have_one_is_tabled_as_fractions_of_the_work(self):
+        write_sweep(self.dir, [(0.0, 0.0), (1.0, 1.0)], seeds=3)
+        self.assertNotIn("energy budget", run_report(self.dir))
+        # two runs with a complete budget (physics.md §17): W = 100 + 0; one with an incomplete
+        # one (a format-1 checkpoint) is left out
+        for seed, broken, complete in ((1, 100, True), (2, 300, True), (3, 0, False)):
+            folder = self.dir / "runs" / "contact.mu_roll=0.0,contact.mu_twist=0.0" / f"seed_{seed}"
+            folder.mkdir(parents=True, exist_ok=True)
+            (folder / "summary.json").write_text(json.dumps({"porosity": 0.6, "energy": {
+                "complete": complete, "piston_work": 100.0, "gravity_work": 0.0,
+                "bonds_formed": 1000, "bonds_broken": broken, "breaking_work": 0.01 * broken,
+                "cohesive_start": -10.0, "cohesive_end": -15.0, "dissipated": 105.0}}))
+        report = run_report(self.dir)
+        self.assertIn("## Where the piston's work goes", report)
+        # breaking work 1 and 3 of W = 100; −ΔU_coh = 5; dissipated 105
+        self.assertIn("| `contact.mu_roll=0.0,contact.mu_twist=0.0` | 2 | 0.600 ± 0.000 | 100 ± 0 | "
+                      "1000 ± 0 | 200 ± 100 | 0.020 ± 0.010 | 0.050 ± 0.000 | 1.050 ± 0.000 |",
+                      report)
+        self.assertTrue((self.dir / "report" / "energy_budget.png").stat().st_size > 0)
+
     def test_additivity_across_the_modes_against_other_keys(self):
         # the torque corners crossed with μ (the grid) and with the pressure (points that
         # leave μ at the scene's 0.3, read from their summary.json). E is additive in every

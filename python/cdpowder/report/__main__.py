@@ -19,6 +19,8 @@ each figure as .png, .svg and .pdf (--png-only: the PNGs alone, a quicker look):
                    another key (μ, the pressure): E and σzz+/p at the four corners and the
                    residuals of additivity across the modes, against the key
                    (interactions.py)
+  energy_budget    where the piston's work goes: the runs' energy budgets (summary.json
+                   "energy") as fractions of the work, beside the porosity (energy.py)
   load_path        for a Python protocol whose protocol.json holds a loading path's stages
                    (examples/paper/load_path.py): E along the path (load_path.py)
   packing          one packing before and after compaction with the bottom wall, the cell
@@ -41,7 +43,7 @@ import argparse
 import pathlib
 import sys
 
-from cdpowder.report import admissible, figures, interactions, load_path, sections
+from cdpowder.report import admissible, energy, figures, interactions, load_path, sections
 from cdpowder.report.data import Stat, Sweep, parse_seeds, read_results
 from cdpowder.report.packing_figure import plot_packing
 
@@ -143,6 +145,7 @@ def main():
     md += interactions.section(args.sweep_dir, sweep, out)
     md += load_path.section(args.sweep_dir, sweep, out)
     md += admissible.section(args.sweep_dir, sweep, out)
+    md += energy.section(args.sweep_dir, sweep, out)
     (out / "report.md").write_text("\n".join(md) + "\n")
     print(f"report: {out / 'report.md'}")
 
