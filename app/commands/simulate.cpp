@@ -13,6 +13,7 @@
 #include "cdpowder/config/config_error.hpp"
 #include "cdpowder/config/scene_reader.hpp"
 #include "cdpowder/core/ranks.hpp"
+#include "cdpowder/io/atomic_file.hpp"
 #include "cdpowder/io/provenance.hpp"
 #include "cdpowder/run/checkpoint_interval.hpp"
 #include "cdpowder/run/folder_lock.hpp"
@@ -80,6 +81,29 @@ int exit_status(RunEnding ending) {
   return 0;
 }
 
+/// An MPI job's VTK outputs: every rank writes its pieces (run_folder.hpp, write_vtk_pieces)
+/// before rank 0 writes their collections and the summary. A rank that cannot write its pieces
+/// throws its OutputError (its message names the file); rank 0 then throws one that says so,
+/// and the other ranks return false, so no summary is written and every rank fails.
+bool write_pieces(const Session& s) {
+  std::optional<OutputError> failed;
+  try {
+    write_vtk_pieces(s.out, s.scene, s.world, s.work.contacts, this_rank(), rank_count());
+  } catch (const OutputError& error) {
+    failed = error;
+  } catch (const std::filesystem::filesystem_error& error) {
+    failed = OutputError(error.what());
+  }
+  if (!any_rank(failed.has_value())) return true;
+  if (failed) throw *failed;
+  if (this_rank() == 0) {
+    throw OutputError(
+        "another rank could not write its piece of the VTK outputs (its message "
+        "names the file): the run's outputs are not written");
+  }
+  return false;
+}
+
 /// Runs to the end, writes every output and prints the result line; returns the exit code.
 int run_and_write(Session& s) {
   const Scene& scene = s.scene;
@@ -120,6 +144,7 @@ int run_and_write(Session& s) {
   }
   progress.finish();
   s.progress = nullptr;
+  if (rank_count() > 1 && !write_pieces(s)) return kExitOutputFailed;
   // rank 0 of an MPI job writes and reports; every rank ends with the same exit status
   const bool reports = s.files.has_value();
   if (reports) {

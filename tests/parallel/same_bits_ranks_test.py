@@ -4,7 +4,9 @@
 also under the relative-change stopping rule (np 3), and a run stopped on 4 ranks (SIGUSR1 to
 mpirun, which forwards it: every rank stops after the same step and rank 0 writes a
 checkpoint) and resumed on 2 ranks and as one process ends on the bits of the run never
-stopped. The ranks may outnumber the cores (--oversubscribe): the
+stopped. On P ranks the VTK outputs are particles.pvtp and contacts.pvtp over one piece a rank,
+which VTK's own reader (python3-vtk9) loads as the points and lines of one process's
+particles.vtp and contacts.vtp; a run resumed on other ranks leaves no file of the ranks before. The ranks may outnumber the cores (--oversubscribe): the
 bits are compared, never the times. As root (a CI container) Open MPI needs
 OMPI_ALLOW_RUN_AS_ROOT=1 and OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1, which this test sets."""
 import argparse
@@ -47,6 +49,47 @@ def finish(process, what, allowed=(0, 4)):
     same_bits_test.finish(process, what, allowed, timeout=900)
 
 
+def vtk_data(path):
+    """The data set of a .vtp, or of a .pvtp with its pieces, as VTK's own readers load it."""
+    import vtk
+    reader = vtk.vtkXMLPPolyDataReader() if path.suffix == ".pvtp" else vtk.vtkXMLPolyDataReader()
+    reader.SetFileName(str(path))
+    reader.Update()
+    return reader.GetOutput()
+
+
+def expect_same_vtk(one, folder, ranks, what):
+    """folder's VTK files are `ranks` pieces (or one process's .vtp files for 0) holding one's."""
+    from vtk.util.numpy_support import vtk_to_numpy
+    import numpy
+    pieces = ranks > 1
+    for kind in ("particles", "contacts"):
+        whole, collection = folder / f"{kind}.vtp", folder / f"{kind}.pvtp"
+        if whole.exists() == pieces or collection.exists() != pieces:
+            sys.exit(f"{what}: expected {collection.name if pieces else whole.name} alone")
+        names = sorted(p.name for p in (folder / kind).glob("*.vtp")) if pieces else []
+        if pieces and names != sorted(f"{kind}_{r}.vtp" for r in range(ranks)):
+            sys.exit(f"{what}: the pieces are {names}, expected one for each of {ranks} ranks")
+        if not pieces and (folder / kind).exists():
+            sys.exit(f"{what}: the pieces of the ranks before are left in {kind}/")
+    if not pieces:
+        return
+    reference, got = vtk_data(one / "particles.vtp"), vtk_data(folder / "particles.pvtp")
+    order = numpy.argsort(vtk_to_numpy(got.GetPointData().GetArray("id")))
+    same = got.GetNumberOfPoints() == reference.GetNumberOfPoints() and numpy.array_equal(
+        vtk_to_numpy(reference.GetPoints().GetData()), vtk_to_numpy(got.GetPoints().GetData())[order])
+    for name in ("radius", "velocity", "angular_velocity", "coordination"):
+        same = same and numpy.array_equal(vtk_to_numpy(reference.GetPointData().GetArray(name)),
+                                          vtk_to_numpy(got.GetPointData().GetArray(name))[order])
+    if not same:
+        sys.exit(f"{what}: particles.pvtp's pieces differ from one process's particles.vtp")
+    reference, got = vtk_data(one / "contacts.vtp"), vtk_data(folder / "contacts.pvtp")
+    forces = [numpy.sort(vtk_to_numpy(d.GetCellData().GetArray("normal_force")))
+              for d in (reference, got)]
+    if got.GetNumberOfLines() != reference.GetNumberOfLines() or not numpy.array_equal(*forces):
+        sys.exit(f"{what}: contacts.pvtp's pieces differ from one process's contacts.vtp")
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--cdpowder", required=True)
@@ -73,6 +116,7 @@ def main():
             finish(compact(args.cdpowder, args.scene, folder, ranks, args.duration),
                    f"{ranks} ranks")
             expect_same(reference, folder, f"{ranks} ranks")
+            expect_same_vtk(one, folder, ranks, f"{ranks} ranks")
             print(f"ranks {ranks}: the bits of one process")
 
         # the relative-change rule sums over every contact's action after every pass: the
@@ -118,6 +162,7 @@ def main():
                 sys.exit(f"resume on {ranks} ranks: exit {resumed.returncode}\n{resumed.stderr}")
             where = f"{ranks} ranks" if ranks else "one process"
             expect_same(reference, folder, f"stopped on 4 ranks, resumed on {where}")
+            expect_same_vtk(one, folder, ranks, f"stopped on 4 ranks, resumed on {where}")
             print(f"stopped on 4 ranks, resumed on {where}: the bits of the run never stopped")
 
 

@@ -45,14 +45,17 @@ def finish(process, what, allowed=(0, 4), timeout=600):
 
 
 def outputs(folder):
-    """What must be equal: the data rows of the CSVs and the summary's results."""
+    """What must be equal: the data rows of the CSVs, the summary's results and its energy
+    budget."""
     def rows(name):
         text = (folder / name).read_text()
         return [line for line in text.splitlines() if not line.startswith("#")]
     summary = json.loads((folder / "summary.json").read_text())
     run = summary["run"]
+    energy = summary["energy"]
     return {"particles.csv": rows("particles.csv"), "contacts.csv": rows("contacts.csv"),
-            "summary": (summary["porosity"], run["steps"], run["total_passes"])}
+            "summary": (summary["porosity"], run["steps"], run["total_passes"]),
+            "energy": (energy["dissipated"], energy["bonds_formed"], energy["bonds_broken"])}
 
 
 def expect_same(reference, folder, what):

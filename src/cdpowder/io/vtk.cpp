@@ -211,6 +211,7 @@ struct NetworkLine {
   double tangential_force;
   bool cohesive;
   int kind;
+  BodyIndex owner;  ///< whose rank writes the line: a pair's a, a wall contact's sphere
 };
 
 std::vector<NetworkLine> network_lines(const World& world, const Contacts& contacts) {
@@ -226,13 +227,13 @@ std::vector<NetworkLine> network_lines(const World& world, const Contacts& conta
     if (c.is_pair()) {
       const Vec3& a = bodies.position[c.a];
       lines.push_back({a, a + world.box.minimum_image(b - a), c.normal, force, action.normal_force,
-                       tangential, c.cohesive, kKindPair});
+                       tangential, c.cohesive, kKindPair, c.a});
       return;
     }
     // n points from the wall into the sphere: the contact point is R behind the centre
     lines.push_back({b, b - bodies.radius[c.b] * c.normal, c.normal, force, action.normal_force,
                      tangential, c.cohesive,
-                     *c.wall == WallKind::Bottom ? kKindBottom : kKindPiston});
+                     *c.wall == WallKind::Bottom ? kKindBottom : kKindPiston, c.b});
   });
   return lines;
 }
@@ -256,34 +257,56 @@ std::string pvd(const std::vector<std::pair<double, std::string>>& entries,
 
 }  // namespace
 
-void write_particles_vtp(OutputSink& sink, const World& world, const Contacts* contacts,
-                         VtkFormat format) {
+namespace {
+
+/// The particles of `world`, or those of `selection` (sphere indices, ascending), as a .vtp
+/// document.
+void particles_document(OutputSink& sink, const World& world, const Contacts* contacts,
+                        const std::vector<BodyIndex>* selection, VtkFormat format) {
   const Bodies& bodies = world.bodies;
-  const std::size_t n = bodies.size();
+  const std::vector<int> coordination =
+      contacts != nullptr ? contacts_per_sphere(*contacts, bodies.size()) : std::vector<int>{};
+  std::vector<std::int64_t> ids;
+  std::vector<Vec3> position;
+  std::vector<double> radius;
+  std::vector<Vec3> velocity;
+  std::vector<Vec3> angular_velocity;
+  std::vector<std::int32_t> coordinated;
+  const auto take = [&](std::size_t i) {
+    ids.push_back(static_cast<std::int64_t>(i));
+    if (selection == nullptr) return;  // the whole arrays are written as they are
+    position.push_back(bodies.position[i]);
+    radius.push_back(bodies.radius[i]);
+    velocity.push_back(bodies.velocity[i]);
+    angular_velocity.push_back(bodies.angular_velocity[i]);
+    if (contacts != nullptr) coordinated.push_back(coordination[i]);
+  };
+  if (selection == nullptr) {
+    for (std::size_t i = 0; i < bodies.size(); ++i) take(i);
+    if (contacts != nullptr) coordinated.assign(coordination.begin(), coordination.end());
+  } else {
+    for (const BodyIndex i : *selection) take(i);
+  }
+  const bool whole = selection == nullptr;
+  const std::size_t n = ids.size();
   VtpDocument doc(format, sink);
   doc.begin_polydata(n, n, 0);
   doc.xml("<Points>\n");
-  doc.vectors("Points", bodies.position);
+  doc.vectors("Points", whole ? bodies.position : position);
   doc.xml("</Points>\n");
   doc.cells("Verts", n, 1);
   doc.xml("<PointData Scalars=\"radius\" Vectors=\"velocity\">\n");
-  std::vector<std::int64_t> ids(n);
-  for (std::size_t i = 0; i < n; ++i) ids[i] = static_cast<std::int64_t>(i);
   doc.array("Int64", "id", 1, ids);
-  doc.doubles("radius", bodies.radius);
-  doc.vectors("velocity", bodies.velocity);
-  doc.vectors("angular_velocity", bodies.angular_velocity);
-  if (contacts != nullptr) {
-    const std::vector<int> coordination = contacts_per_sphere(*contacts, n);
-    doc.ints("coordination", std::vector<std::int32_t>(coordination.begin(), coordination.end()));
-  }
+  doc.doubles("radius", whole ? bodies.radius : radius);
+  doc.vectors("velocity", whole ? bodies.velocity : velocity);
+  doc.vectors("angular_velocity", whole ? bodies.angular_velocity : angular_velocity);
+  if (contacts != nullptr) doc.ints("coordination", coordinated);
   doc.xml("</PointData>\n");
   doc.finish();
 }
 
-void write_contacts_vtp(OutputSink& sink, const World& world, const Contacts& contacts,
-                        VtkFormat format) {
-  const std::vector<NetworkLine> lines = network_lines(world, contacts);
+/// `lines` as a .vtp document of lines.
+void contacts_document(OutputSink& sink, const std::vector<NetworkLine>& lines, VtkFormat format) {
   const std::size_t n = lines.size();
   std::vector<Vec3> points;
   std::vector<Vec3> forces;
@@ -320,6 +343,89 @@ void write_contacts_vtp(OutputSink& sink, const World& world, const Contacts& co
   doc.ints("kind", kind);
   doc.xml("</CellData>\n");
   doc.finish();
+}
+
+/// A data array a .pvtp declares: VTK's type name, the array's name, components per tuple.
+struct DeclaredArray {
+  const char* type;
+  const char* name;
+  int components;
+};
+
+/// A .pvtp over `pieces` files KIND/KIND_r.vtp that declares their points and the `arrays` of
+/// their `data_section` (PointData or CellData, with its `attributes`).
+std::string pvtp(std::string_view kind, int pieces, std::string_view data_section,
+                 std::string_view attributes, const std::vector<DeclaredArray>& arrays) {
+  Buffer out;
+  fmt::format_to(std::back_inserter(out),
+                 "<?xml version=\"1.0\"?>\n"
+                 "<VTKFile type=\"PPolyData\" version=\"1.0\" byte_order=\"LittleEndian\" "
+                 "header_type=\"UInt64\">\n"
+                 "<PPolyData GhostLevel=\"0\">\n"
+                 "<PPoints>\n<PDataArray type=\"Float64\" Name=\"Points\" "
+                 "NumberOfComponents=\"3\"/>\n</PPoints>\n"
+                 "<P{} {}>\n",
+                 data_section, attributes);
+  for (const DeclaredArray& a : arrays) {
+    fmt::format_to(std::back_inserter(out),
+                   "<PDataArray type=\"{}\" Name=\"{}\" NumberOfComponents=\"{}\"/>\n", a.type,
+                   a.name, a.components);
+  }
+  fmt::format_to(std::back_inserter(out), "</P{}>\n", data_section);
+  for (int r = 0; r < pieces; ++r) {
+    fmt::format_to(std::back_inserter(out), "<Piece Source=\"{}/{}_{}.vtp\"/>\n", kind, kind, r);
+  }
+  fmt::format_to(std::back_inserter(out), "</PPolyData>\n</VTKFile>\n");
+  return fmt::to_string(out);
+}
+
+}  // namespace
+
+void write_particles_vtp(OutputSink& sink, const World& world, const Contacts* contacts,
+                         VtkFormat format) {
+  particles_document(sink, world, contacts, nullptr, format);
+}
+
+void write_contacts_vtp(OutputSink& sink, const World& world, const Contacts& contacts,
+                        VtkFormat format) {
+  contacts_document(sink, network_lines(world, contacts), format);
+}
+
+void write_particles_piece(OutputSink& sink, const World& world, const Contacts* contacts,
+                           const std::vector<int>& sphere_rank, int rank, VtkFormat format) {
+  std::vector<BodyIndex> mine;
+  for (std::size_t i = 0; i < sphere_rank.size(); ++i) {
+    if (sphere_rank[i] == rank) mine.push_back(static_cast<BodyIndex>(i));
+  }
+  particles_document(sink, world, contacts, &mine, format);
+}
+
+void write_contacts_piece(OutputSink& sink, const World& world, const Contacts& contacts,
+                          const std::vector<int>& sphere_rank, int rank, VtkFormat format) {
+  std::vector<NetworkLine> lines = network_lines(world, contacts);
+  std::erase_if(lines, [&](const NetworkLine& line) { return sphere_rank[line.owner] != rank; });
+  contacts_document(sink, lines, format);
+}
+
+std::string particles_pvtp(int pieces, bool with_coordination) {
+  std::vector<DeclaredArray> arrays{{"Int64", "id", 1},
+                                    {"Float64", "radius", 1},
+                                    {"Float64", "velocity", 3},
+                                    {"Float64", "angular_velocity", 3}};
+  if (with_coordination) arrays.push_back({"Int32", "coordination", 1});
+  return pvtp("particles", pieces, "PointData", R"(Scalars="radius" Vectors="velocity")", arrays);
+}
+
+std::string contacts_pvtp(int pieces) {
+  return pvtp("contacts", pieces, "CellData",
+              R"(Scalars="normal_force" Vectors="force" Normals="normal")",
+              {{"Float64", "normal_force", 1},
+               {"Float64", "force", 3},
+               {"Float64", "normal", 3},
+               {"Int32", "tensile", 1},
+               {"Float64", "tangential_force", 1},
+               {"Int32", "cohesive", 1},
+               {"Int32", "kind", 1}});
 }
 
 void write_walls_vtp(OutputSink& sink, const World& world, VtkFormat format) {

@@ -52,6 +52,21 @@ void write_contacts_vtp(OutputSink& sink, const World& world, const Contacts& co
 std::string contacts_vtp(const World& world, const Contacts& contacts,
                          VtkFormat format = VtkFormat::Ascii);
 
+/// The pieces of an MPI job (VTK's parallel convention, which ParaView opens as one data set):
+/// rank r writes the spheres with sphere_rank[i] == r to particles/particles_r.vtp (their `id`
+/// names them) and the closed contacts of its spheres (a pair's first sphere, a wall contact's
+/// sphere) to contacts/contacts_r.vtp; rank 0 writes particles.pvtp and contacts.pvtp, which
+/// name the `pieces` files and declare their arrays. The pieces together hold the points and
+/// lines of particles.vtp and contacts.vtp, in another order.
+void write_particles_piece(OutputSink& sink, const World& world, const Contacts* contacts,
+                           const std::vector<int>& sphere_rank, int rank,
+                           VtkFormat format = VtkFormat::Ascii);
+void write_contacts_piece(OutputSink& sink, const World& world, const Contacts& contacts,
+                          const std::vector<int>& sphere_rank, int rank,
+                          VtkFormat format = VtkFormat::Ascii);
+std::string particles_pvtp(int pieces, bool with_coordination);
+std::string contacts_pvtp(int pieces);
+
 /// The bottom wall, the piston and the periodic cell of `world` as a .vtp document.
 void write_walls_vtp(OutputSink& sink, const World& world, VtkFormat format = VtkFormat::Ascii);
 std::string walls_vtp(const World& world, VtkFormat format = VtkFormat::Ascii);

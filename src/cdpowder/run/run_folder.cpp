@@ -4,12 +4,14 @@
 
 #include "cdpowder/config/config_error.hpp"
 #include "cdpowder/config/scene_reader.hpp"
+#include "cdpowder/core/ranks.hpp"
 #include "cdpowder/io/atomic_file.hpp"
 #include "cdpowder/io/provenance.hpp"
 #include "cdpowder/io/state_csv.hpp"
 #include "cdpowder/run/run_summary.hpp"
 #include "cdpowder/run/state_file.hpp"
 #include "cdpowder/setup/scene_setup.hpp"
+#include "cdpowder/solver/nlgs/tiles.hpp"
 
 #include <fmt/format.h>
 
@@ -23,6 +25,24 @@
 namespace cdpowder {
 
 namespace {
+
+/// Removes the VTK outputs of the other kind from `folder`: with `pieces` > 1 (an MPI job's
+/// .pvtp files) the whole-state particles.vtp and contacts.vtp and any piece beyond the job's
+/// ranks; with 0 the .pvtp files and their pieces. A run continued on another number of ranks
+/// must not leave an earlier process's files beside its own.
+void remove_other_vtk_outputs(const std::filesystem::path& folder, int pieces) {
+  for (const char* kind : {"particles", "contacts"}) {
+    if (pieces == 0) {
+      std::filesystem::remove(folder / fmt::format("{}.pvtp", kind));
+      std::filesystem::remove_all(folder / kind);
+      continue;
+    }
+    std::filesystem::remove(folder / fmt::format("{}.vtp", kind));
+    for (int r = pieces;; ++r) {
+      if (!std::filesystem::remove(folder / kind / fmt::format("{}_{}.vtp", kind, r))) break;
+    }
+  }
+}
 
 /// A temporary file of an atomic write: ".NAME.PID.tmp".
 bool is_temporary(const std::string& file) {
@@ -207,6 +227,25 @@ void remove_stale_temporaries(const std::filesystem::path& folder) {
   }
 }
 
+void write_vtk_pieces(const std::filesystem::path& folder, const Scene& scene, const World& world,
+                      const Contacts& contacts, int rank, int ranks) {
+  const VtkFormat vtk = vtk_format_for(scene.run.vtk_format, world.bodies.size());
+  const std::vector<int> sphere_rank =
+      sphere_ranks(world.bodies.position, world.box, world.bodies.max_radius(),
+                   scene.step.solver.tile_width, ranks);
+  for (const char* kind : {"particles", "contacts"}) {
+    std::filesystem::create_directories(folder / kind);
+  }
+  write_file_atomically(folder / "particles" / fmt::format("particles_{}.vtp", rank),
+                        [&](OutputSink& sink) {
+                          write_particles_piece(sink, world, &contacts, sphere_rank, rank, vtk);
+                        });
+  write_file_atomically(folder / "contacts" / fmt::format("contacts_{}.vtp", rank),
+                        [&](OutputSink& sink) {
+                          write_contacts_piece(sink, world, contacts, sphere_rank, rank, vtk);
+                        });
+}
+
 void write_deposit_outputs(const std::filesystem::path& folder, const Scene& scene,
                            const World& world) {
   std::filesystem::create_directories(folder);
@@ -321,12 +360,21 @@ void RunFolder::finish(const Scene& scene, const World& world, const StepWorkspa
     write_contacts_csv(sink, work.contacts, header_);
   });
   const VtkFormat vtk = vtk_format_for(scene.run.vtk_format, world.bodies.size());
-  write_file_atomically(folder_ / "particles.vtp", [&](OutputSink& sink) {
-    write_particles_vtp(sink, world, &work.contacts, vtk);
-  });
-  write_file_atomically(folder_ / "contacts.vtp", [&](OutputSink& sink) {
-    write_contacts_vtp(sink, world, work.contacts, vtk);
-  });
+  if (const int pieces = rank_count(); pieces > 1) {
+    // the ranks' pieces are on the disk (write_vtk_pieces): their collections, and no file of
+    // a run continued from an earlier process on other ranks
+    write_file_atomically(folder_ / "particles.pvtp", particles_pvtp(pieces, true));
+    write_file_atomically(folder_ / "contacts.pvtp", contacts_pvtp(pieces));
+    remove_other_vtk_outputs(folder_, pieces);
+  } else {
+    write_file_atomically(folder_ / "particles.vtp", [&](OutputSink& sink) {
+      write_particles_vtp(sink, world, &work.contacts, vtk);
+    });
+    write_file_atomically(folder_ / "contacts.vtp", [&](OutputSink& sink) {
+      write_contacts_vtp(sink, world, work.contacts, vtk);
+    });
+    remove_other_vtk_outputs(folder_, 0);
+  }
   write_file_atomically(folder_ / "walls.vtp",
                         [&](OutputSink& sink) { write_walls_vtp(sink, world, vtk); });
   if (snapshot_cadence_.enabled() && world.step != last_snapshot_step_) {
@@ -366,7 +414,11 @@ std::vector<std::string> missing_run_outputs(const std::filesystem::path& folder
   // run cut short: every run writes scene.toml first
   if (!std::filesystem::exists(folder / "scene.toml")) return missing;
   for (const std::string_view name : kFinishedRunOutputs) {
-    if (!std::filesystem::is_regular_file(folder / name)) missing.emplace_back(name);
+    if (std::filesystem::is_regular_file(folder / name)) continue;
+    // an MPI job's collection over its ranks' pieces stands for the .vtp file
+    const std::string collection = fmt::format("{}.pvtp", name.substr(0, name.find('.')));
+    if (name.ends_with(".vtp") && std::filesystem::is_regular_file(folder / collection)) continue;
+    missing.emplace_back(name);
   }
   return missing;
 }

@@ -26,14 +26,18 @@ namespace cdpowder {
 
 /// The files and folders a run writes into its folder; a sweep's log.txt (written before
 /// the run starts) and the run lock are not among them.
-inline constexpr std::array<std::string_view, 16> kRunOutputs{
-    "summary.json", "scene.toml",        "initial_particles.csv", "particles.csv",
-    "contacts.csv", "timeseries.csv",    "particles.vtp",         "contacts.vtp",
-    "walls.vtp",    "particles.pvd",     "contacts.pvd",          "walls.pvd",
-    "snapshots",    "failed_state.cdps", "checkpoint.cdps",       "checkpoint.toml"};
+inline constexpr std::array<std::string_view, 20> kRunOutputs{
+    "summary.json",    "scene.toml",        "initial_particles.csv",
+    "particles.csv",   "contacts.csv",      "timeseries.csv",
+    "particles.vtp",   "contacts.vtp",      "walls.vtp",
+    "particles.pvd",   "contacts.pvd",      "walls.pvd",
+    "snapshots",       "failed_state.cdps", "checkpoint.cdps",
+    "checkpoint.toml", "particles.pvtp",    "contacts.pvtp",
+    "particles",       "contacts"};
 
 /// The outputs every run writes by its end, the summary last: a folder with a summary and
-/// without one of these was cut short by a build that wrote the summary first.
+/// without one of these was cut short by a build that wrote the summary first. An MPI job
+/// writes particles.pvtp and contacts.pvtp (over its ranks' pieces) for the two .vtp files.
 inline constexpr std::array<std::string_view, 8> kFinishedRunOutputs{
     "scene.toml",     "initial_particles.csv", "particles.csv", "contacts.csv",
     "timeseries.csv", "particles.vtp",         "contacts.vtp",  "walls.vtp"};
@@ -89,6 +93,14 @@ void remove_stale_temporaries(const std::filesystem::path& folder);
 void write_deposit_outputs(const std::filesystem::path& folder, const Scene& scene,
                            const World& world);
 
+/// An MPI job's pieces of the VTK outputs (io/vtk.hpp, write_particles_piece): rank `rank` of
+/// `ranks` writes folder/particles/particles_RANK.vtp and folder/contacts/contacts_RANK.vtp,
+/// each atomically, with the spheres of its strip of tile rows (sphere_ranks,
+/// solver/nlgs/tiles.hpp). Every rank writes its own before rank 0's RunFolder::finish writes
+/// the .pvtp files that name them. Throws OutputError when a piece cannot be written.
+void write_vtk_pieces(const std::filesystem::path& folder, const Scene& scene, const World& world,
+                      const Contacts& contacts, int rank, int ranks);
+
 /// A run's outputs while it runs. Messages for the user (a time series that could not be
 /// written, a snapshot missing at a checkpoint) go to `warn`; the library prints nothing.
 class RunFolder {
@@ -121,9 +133,10 @@ class RunFolder {
                        const RunState& state);
 
   /// Every output of the ended run, each written atomically and synced: particles.csv,
-  /// contacts.csv, the .vtp files, the last snapshot, timeseries.csv, a failed run's
-  /// failed_state.cdps (the state at the fault), and summary.json last, once the rest is on
-  /// the disk. A finished run (not interrupted) then drops its checkpoint.
+  /// contacts.csv, the .vtp files (in an MPI job, rank_count() > 1, the .pvtp files over the
+  /// ranks' pieces, which write_vtk_pieces has written), the last snapshot, timeseries.csv, a
+  /// failed run's failed_state.cdps (the state at the fault), and summary.json last, once the rest
+  /// is on the disk. A finished run (not interrupted) then drops its checkpoint.
   void finish(const Scene& scene, const World& world, const StepWorkspace& work,
               const RunState& state, const RunResult& result, double initial_porosity);
 

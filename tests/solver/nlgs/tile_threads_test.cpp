@@ -173,6 +173,20 @@ TEST(Tiles, TheGridIsEvenAndFixedByTheCell) {
   EXPECT_EQ(grid(25.0, 5.0, 3.0), (std::array<std::uint32_t, 2>{8, 1}));
 }
 
+// Each sphere's rank (the piece of the VTK files it writes) is the rank whose strip of tile rows
+// holds it: rows [r ny / P, (r + 1) ny / P), as the ranks solve them; with more ranks than rows
+// some have none. 8 rows of 3.125 R in a 25 R cell (width 3).
+TEST(Tiles, EachSphereBelongsToTheRankWhoseStripHoldsItsRow) {
+  const PeriodicBox box{25.0, 25.0};
+  std::vector<Vec3> at;
+  for (int row = 0; row < 8; ++row) at.emplace_back(1.0, 3.125 * row + 1.0, 1.0);
+  at.emplace_back(3.0, -1.0, 1.0);  // not wrapped yet: the last row
+  EXPECT_EQ(sphere_ranks(at, box, 1.0, 3.0, 1), std::vector<int>(9, 0));
+  EXPECT_EQ(sphere_ranks(at, box, 1.0, 3.0, 3), (std::vector<int>{0, 0, 1, 1, 1, 2, 2, 2, 2}));
+  EXPECT_EQ(sphere_ranks(at, box, 1.0, 3.0, 16), (std::vector<int>{1, 3, 5, 7, 9, 11, 13, 15, 15}));
+  EXPECT_EQ(strip_start(3, 8, 3), 8U);
+}
+
 /// The SmallPacking's first step in tiles of kSmallTileWidth.
 StepTiles small_tiles(const SmallPacking& packing) {
   StepTiles tiles;

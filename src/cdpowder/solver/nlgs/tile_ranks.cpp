@@ -63,11 +63,7 @@ void TileRanks::plan(const StepTiles* tiles, const ColouredPass& pass, const Til
   row_owner_.assign(ny, 0);
   rank_rows_.assign(static_cast<std::size_t>(ranks_), {});
   for (int r = 0; r < ranks_; ++r) {
-    const std::uint64_t first =
-        static_cast<std::uint64_t>(r) * ny / static_cast<std::uint64_t>(ranks_);
-    const std::uint64_t last =
-        static_cast<std::uint64_t>(r + 1) * ny / static_cast<std::uint64_t>(ranks_);
-    for (auto j = static_cast<std::uint32_t>(first); j < last; ++j) {
+    for (std::uint32_t j = strip_start(r, ny, ranks_); j < strip_start(r + 1, ny, ranks_); ++j) {
       row_owner_[j] = r;
       rank_rows_[static_cast<std::size_t>(r)].push_back(j);
     }

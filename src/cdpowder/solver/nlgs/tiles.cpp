@@ -91,4 +91,23 @@ void assign_tiles(const std::vector<Vec3>& positions, const PeriodicBox& box, do
   }
 }
 
+std::vector<int> sphere_ranks(const std::vector<Vec3>& positions, const PeriodicBox& box,
+                              double max_radius, double width, int ranks) {
+  const TileGrid grid = tile_grid(box, max_radius, width);
+  std::vector<int> row_rank(grid.ny, 0);
+  for (int r = 0; r < ranks; ++r) {
+    for (std::uint32_t j = strip_start(r, grid.ny, ranks); j < strip_start(r + 1, grid.ny, ranks);
+         ++j) {
+      row_rank[j] = r;
+    }
+  }
+  std::vector<int> rank_of(positions.size(), 0);
+  for (std::size_t i = 0; i < positions.size(); ++i) {
+    Vec3 at = positions[i];
+    box.wrap(at);
+    rank_of[i] = row_rank[tile_of(at.y(), box.ly, grid.ny)];
+  }
+  return rank_of;
+}
+
 }  // namespace cdpowder

@@ -55,6 +55,20 @@ struct TileGrid {
 /// The grid of `box` for tiles of `width` (0: kTileWidthRadii × `max_radius`).
 TileGrid tile_grid(const PeriodicBox& box, double max_radius, double width);
 
+/// The first tile row of rank `rank`'s strip when `ranks` ranks share `ny` rows: rank r solves
+/// rows [strip_start(r), strip_start(r + 1)) (solver/nlgs/tile_ranks.hpp), none where ny < ranks
+/// leaves it none.
+[[nodiscard]] inline std::uint32_t strip_start(int rank, std::uint32_t ny, int ranks) {
+  return static_cast<std::uint32_t>(static_cast<std::uint64_t>(rank) * ny /
+                                    static_cast<std::uint64_t>(ranks));
+}
+
+/// Each sphere's rank among `ranks`: the rank whose strip holds the sphere's tile row in the grid
+/// of tile_grid(box, max_radius, width). The piece of the run's VTK files that rank writes
+/// (run/run_folder.hpp, write_vtk_pieces).
+std::vector<int> sphere_ranks(const std::vector<Vec3>& positions, const PeriodicBox& box,
+                              double max_radius, double width, int ranks);
+
 /// A step's tiling: each sphere's part, the parts of each phase and the hub.
 struct StepTiles {
   TileGrid grid;
