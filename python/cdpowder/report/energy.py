@@ -60,22 +60,46 @@ def section(sweep_dir, sweep, out):
     return md + ["", f"![energy budget]({draw(found, out)}.png)", ""]
 
 
+def short(point):
+    """A point's name on an axis: its keys without their section, one a line."""
+    return "\n".join(part.split("=")[0].split(".")[-1] + "=" + part.split("=", 1)[1]
+                     if "=" in part else part for part in point.split(","))
+
+
 def draw(found, out):
-    """Per point: the breaking work, the net cohesive energy given back and the dissipation as
-    fractions of W (means over seeds), with the porosity on a second axis."""
-    fig, ax = plt.subplots(figsize=(max(4.5, 0.7 * len(found) + 2), 3.4))
+    """Per point, means over seeds with their standard errors: (a) the bonds broken in a run,
+    with the porosity on a second axis; (b) the breaking work, the cohesive energy given back
+    and the dissipation as fractions of W, on a log scale (the breaking work is a hundredth of
+    the rest)."""
     x = np.arange(len(found))
-    for offset, (name, colour) in zip((-0.25, 0.0, 0.25), (
+    labels = [short(point) for point in found]
+    fig, (bonds, shares) = plt.subplots(1, 2, figsize=(max(8.0, 1.6 * len(found) + 2), 3.8))
+    broken = [Stat(values["bonds broken"]) for values in found.values()]
+    # a log scale has no 0: a point with no bond broken (or no share) has no bar
+    bonds.bar(x, [s.mean if s.mean > 0 else np.nan for s in broken],
+              yerr=[s.error_bar() for s in broken],
+              color="tab:red", label="bonds broken")
+    bonds.set_yscale("log")
+    bonds.set_ylabel("bonds broken in a run")
+    bonds.set_title("(a)", loc="left")
+    porosity = bonds.twinx()
+    porosity.errorbar(x, [Stat(values["E"]).mean for values in found.values()],
+                      yerr=[Stat(values["E"]).error_bar() for values in found.values()],
+                      fmt="ko", label="E")
+    porosity.set_ylabel("porosity E")
+    for offset, (name, colour) in zip((-0.27, 0.0, 0.27), (
             ("breaking work / W", "tab:red"), ("−ΔU_coh / W", "tab:green"),
             ("dissipated / W", "tab:blue"))):
         stats = [Stat(values[name]) for values in found.values()]
-        ax.bar(x + offset, [s.mean for s in stats], width=0.25, color=colour, label=name,
-               yerr=[s.error_bar() for s in stats])
-    ax.set_ylabel("fraction of W")
-    ax.set_xticks(x, list(found), rotation=30, ha="right", fontsize=7)
-    porosity = ax.twinx()
-    porosity.plot(x, [Stat(values["E"]).mean for values in found.values()], "ko", label="E")
-    porosity.set_ylabel("porosity E")
-    ax.legend(frameon=False, fontsize=7, loc="upper left")
+        shares.bar(x + offset, [s.mean if s.mean > 0 else np.nan for s in stats], width=0.27,
+                   color=colour,
+                   label=name)
+    shares.set_yscale("log")
+    shares.set_ylabel("fraction of W")
+    shares.set_title("(b)", loc="left")
+    shares.legend(frameon=False, fontsize=7)
+    for ax in (bonds, shares):
+        ax.set_xticks(x, labels, fontsize=6, rotation=30, ha="right")
+    fig.tight_layout()
     save(fig, out, "energy_budget")
     return "energy_budget"
