@@ -90,7 +90,7 @@ TEST(EnergyBudget, ABondPulledOpenByGravityCostsCohesionTimesRangeAndNothingIsDi
   const RunResult result = run_simulation(s.world, s.work, s.settings, run, {});
   const double fall = 8.0 - s.world.bodies.position[1].z();
   ASSERT_GT(fall, 0.05);  // beyond d_coh = 0.01: broken
-  const RunSummary::Energy e = energy_budget(s.settings.laws, s.world, result);
+  const RunSummary::Energy e = energy_budget(s.settings.laws, s.world, s.work.contacts, result);
   ASSERT_TRUE(e.complete);
   EXPECT_EQ(e.bonds_broken, 1);
   EXPECT_EQ(e.bonds_formed, 0);
@@ -121,8 +121,10 @@ TEST(EnergyBudget, SurvivesAStateFileToTheBitAndIsUnknownAfterAFormatOneFile) {
               resumed.settings.solver.dt, resumed.world, resumed.work, resumed_state);
   const RunResult result =
       run_simulation(resumed.world, resumed.work, resumed.settings, run, resumed_state, {});
-  const RunSummary::Energy a = energy_budget(whole.settings.laws, whole.world, uninterrupted);
-  const RunSummary::Energy b = energy_budget(resumed.settings.laws, resumed.world, result);
+  const RunSummary::Energy a =
+      energy_budget(whole.settings.laws, whole.world, whole.work.contacts, uninterrupted);
+  const RunSummary::Energy b =
+      energy_budget(resumed.settings.laws, resumed.world, resumed.work.contacts, result);
   EXPECT_EQ(a.bonds_broken, b.bonds_broken);
   EXPECT_EQ(a.bonds_formed, b.bonds_formed);
   EXPECT_EQ(a.dissipated, b.dissipated);
@@ -133,7 +135,8 @@ TEST(EnergyBudget, SurvivesAStateFileToTheBitAndIsUnknownAfterAFormatOneFile) {
                                   "bench/fixtures/paper_mid_mu11_t240.cdps");
   EXPECT_EQ(old.format_version, 1U);
   EXPECT_FALSE(old.result.energy_known);
-  EXPECT_TRUE(std::isnan(energy_budget(ContactLaws{}, old.world, old.result).dissipated));
+  EXPECT_TRUE(
+      std::isnan(energy_budget(ContactLaws{}, old.world, Contacts{}, old.result).dissipated));
 }
 
 }  // namespace

@@ -38,12 +38,10 @@ struct StepDiagnostics {
   /// max over cohesion-active contacts of V_n Δt / d_coh, each with its own d_coh (sphere
   /// pairs and walls may differ); §6.4 asks for ≤ 0.1 [-]
   double max_cohesive_opening_per_range = 0.0;
-  /// cohesive bonds the step formed and broke against the step before (bond_changes, taken
-  /// after the build; against an empty cache, the first step of a workspace counts every
+  /// cohesive bonds the step formed and broke against the step before (counted by the build,
+  /// solver/build.hpp; against an empty cache, the first step of a workspace counts every
   /// bond as formed: the run loop leaves a run's first step out of its sums)
   BondChanges bonds;
-  /// the cohesion's potential energy at the start of the step (cohesive_energy) [F_coh R]
-  double cohesive_energy = 0.0;
   /// max over the spheres of |v| + r|ω| after the step (SphereMeasures) [R/t0]
   double largest_surface_speed = 0.0;
   /// integrate() found every sphere's position and velocities finite; false when not

@@ -276,7 +276,8 @@ class RunLoop {
                                                 report.diagnostics.max_cohesive_opening_per_range);
     // the first step's bonds are the packing's at the start, not changes of the run
     if (r.steps == 1) {
-      r.energy_start.cohesive_energy = report.diagnostics.cohesive_energy;
+      // the step's contacts, built on the gaps the run started from
+      r.energy_start.cohesive_energy = cohesive_energy(work_.contacts, settings_.laws);
     } else {
       r.bonds += report.diagnostics.bonds;
     }

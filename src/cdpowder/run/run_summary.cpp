@@ -70,7 +70,7 @@ RunSummary::Stress stress_of(const World& world, const Contacts& contacts, doubl
 }  // namespace
 
 RunSummary::Energy energy_budget(const ContactLaws& laws, const World& world,
-                                 const RunResult& result) {
+                                 const Contacts& contacts, const RunResult& result) {
   RunSummary::Energy e;
   e.complete = result.energy_known && result.steps > 0 && budget_is_complete(world);
   if (!e.complete) {
@@ -90,7 +90,7 @@ RunSummary::Energy energy_budget(const ContactLaws& laws, const World& world,
   e.kinetic_start = start.kinetic_energy;
   e.kinetic_end = kinetic_energy(world);
   e.cohesive_start = start.cohesive_energy;
-  e.cohesive_end = result.last.diagnostics.cohesive_energy;
+  e.cohesive_end = cohesive_energy(contacts, laws);
   e.bonds_formed = result.bonds.formed();
   e.bonds_broken = result.bonds.broken();
   e.breaking_work = static_cast<double>(result.bonds.pairs_broken) * laws.spheres.cohesion_force *
@@ -458,7 +458,7 @@ RunSummary summarise_run(const Scene& scene, const World& world, const Contacts&
   s.kinetic_energy = d.kinetic_energy;
   s.max_speed = d.max_speed;
   s.rms_speed = d.rms_speed;
-  s.energy = energy_budget(scene.step.laws, world, result);
+  s.energy = energy_budget(scene.step.laws, world, contacts, result);
   s.run = run_counts(scene, result);
   s.fault = result.fault;
   s.scene_toml = scene.effective_toml;

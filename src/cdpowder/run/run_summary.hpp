@@ -166,9 +166,10 @@ struct RunSummary {
 };
 
 /// The energy budget of a run (RunSummary::Energy, physics.md §17, "The energy budget") from its
-/// start (RunResult::energy_start), its bond counts and the world it ends on.
+/// start (RunResult::energy_start), its bond counts, the world it ends on and `contacts`, its
+/// last step's (whose gaps give U_coh at the end).
 RunSummary::Energy energy_budget(const ContactLaws& laws, const World& world,
-                                 const RunResult& result);
+                                 const Contacts& contacts, const RunResult& result);
 
 /// The summary of a run that ended in `world` with `contacts` holding its last forces.
 /// `initial_porosity` is that of the starting packing.

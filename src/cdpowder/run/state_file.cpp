@@ -196,10 +196,7 @@ void step_report_fields(Io& io, Report& r) {
   io(d.max_net_force);
   io(d.max_cohesive_opening_speed);
   io(d.max_cohesive_opening_per_range);
-  if (io.has(2)) {  // the energy budget's (analysis/energy_budget.hpp)
-    bond_fields(io, d.bonds);
-    io(d.cohesive_energy);
-  }
+  if (io.has(2)) bond_fields(io, d.bonds);  // the energy budget's (analysis/energy_budget.hpp)
   io(r.times);
 }
 

@@ -5,7 +5,9 @@
 #include "cdpowder/core/assert.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <numeric>
 
 namespace cdpowder {
 
@@ -136,8 +138,8 @@ StepResponse response_of(const World& world, const VelocityCache& velocities, Bo
 /// kApply also the action's velocity change (apply_warm_start otherwise).
 template <bool kApply>
 void build_pairs(const World& world, const StepSettings& settings, const ActionCache& cache,
-                 std::size_t first, std::size_t last, Contacts& contacts,
-                 VelocityCache& velocities) {
+                 std::size_t first, std::size_t last, Contacts& contacts, VelocityCache& velocities,
+                 std::int64_t& kept_bonds) {
   const double dt = settings.solver.dt;
   const ContactLaws& laws = settings.laws;
   const bool lookup = reads_cache(settings);
@@ -164,6 +166,7 @@ void build_pairs(const World& world, const StepSettings& settings, const ActionC
     const bool cohesive = is_cohesive(laws.spheres, laws.cohesion_rule, p.gap, last_step);
     p.cohesion = cohesive ? laws.spheres.cohesion_force : 0.0;
     contacts.pair_cohesive[k] = cohesive ? 1 : 0;
+    kept_bonds += cohesive && last_step.cohesive ? 1 : 0;
     ContactAction& action = contacts.pair_actions[k];
     if (settings.solver.warm_start && last_step) {
       warm_start(*last_step.action, p.normal, p.cohesion, action);
@@ -182,7 +185,7 @@ void build_pairs(const World& world, const StepSettings& settings, const ActionC
 /// build_pairs for every wall contact.
 template <bool kApply>
 void build_walls(const World& world, const StepSettings& settings, const ActionCache& cache,
-                 Contacts& contacts, VelocityCache& velocities) {
+                 Contacts& contacts, VelocityCache& velocities, std::int64_t& kept_bonds) {
   const double dt = settings.solver.dt;
   const ContactLaws& laws = settings.laws;
   const bool lookup = reads_cache(settings);
@@ -210,6 +213,7 @@ void build_walls(const World& world, const StepSettings& settings, const ActionC
     const bool cohesive = is_cohesive(laws.walls, laws.cohesion_rule, w.gap, last_step);
     w.cohesion = cohesive ? laws.walls.cohesion_force : 0.0;
     contacts.wall_cohesive[k] = cohesive ? 1 : 0;
+    kept_bonds += cohesive && last_step.cohesive ? 1 : 0;
     ContactAction& action = contacts.wall_actions[k];
     if (settings.solver.warm_start && last_step) {
       warm_start(*last_step.action, w.normal, w.cohesion, action);
@@ -261,11 +265,33 @@ BodyIndex owner_split(const Contacts& contacts, std::size_t sphere_count) {
   return contacts.pairs[contacts.pairs.size() / 2].a;
 }
 
+/// The bonds formed and broken from the counts of bonds now, in the last step (the cache) and
+/// in both (`kept_*`, counted by the build's lookups); without lookups (no warm start, the
+/// graph rule) by a merge of the two lists' keys.
+BondChanges bonds_of_step(const StepSettings& settings, const ActionCache& cache,
+                          const Contacts& contacts, std::int64_t kept_pairs,
+                          std::int64_t kept_walls) {
+  if (!(settings.laws.spheres.cohesion_force > 0.0 || settings.laws.walls.cohesion_force > 0.0)) {
+    return {};
+  }
+  if (!reads_cache(settings)) return bond_changes(cache.last(), contacts);
+  const auto bonds = [](const std::vector<std::uint8_t>& flags) {
+    return std::accumulate(flags.begin(), flags.end(), std::int64_t{0});
+  };
+  const Contacts& last = cache.last();
+  BondChanges c;
+  c.pairs_formed = bonds(contacts.pair_cohesive) - kept_pairs;
+  c.pairs_broken = bonds(last.pair_cohesive) - kept_pairs;
+  c.walls_formed = bonds(contacts.wall_cohesive) - kept_walls;
+  c.walls_broken = bonds(last.wall_cohesive) - kept_walls;
+  return c;
+}
+
 }  // namespace
 
-void build_local_problems(const World& world, const StepSettings& settings,
-                          const ActionCache& cache, Contacts& contacts, VelocityCache& velocities,
-                          PieceRunner* pieces) {
+BondChanges build_local_problems(const World& world, const StepSettings& settings,
+                                 const ActionCache& cache, Contacts& contacts,
+                                 VelocityCache& velocities, PieceRunner* pieces) {
   const double dt = settings.solver.dt;
   const std::size_t sphere_count = world.bodies.size();
   velocities.spheres.resize(sphere_count);
@@ -276,11 +302,14 @@ void build_local_problems(const World& world, const StepSettings& settings,
   contacts.wall_cohesive.resize(contacts.walls.size());
 
   const std::size_t pair_count = contacts.pairs.size();
+  // bonds of the last step that are bonds still, each piece its own count
+  std::array<std::int64_t, 2> kept_pairs{};
+  std::int64_t kept_walls = 0;
   if (pieces == nullptr) {
     // one pass: each contact's record, and its warm start applied at once
     predict_spheres(world, dt, 0, sphere_count, velocities);
-    build_pairs<true>(world, settings, cache, 0, pair_count, contacts, velocities);
-    build_walls<true>(world, settings, cache, contacts, velocities);
+    build_pairs<true>(world, settings, cache, 0, pair_count, contacts, velocities, kept_pairs[0]);
+    build_walls<true>(world, settings, cache, contacts, velocities, kept_walls);
   } else {
     // two passes of two pieces: (1) the predicted velocities, a half of the spheres each, and
     // the contacts' records and warm-start actions, a half of the pairs each (the walls with
@@ -290,10 +319,12 @@ void build_local_problems(const World& world, const StepSettings& settings,
       const IndexRange spheres = half_of(sphere_count, piece);
       predict_spheres(world, dt, spheres.first, spheres.last, velocities);
       if (piece == 0) {
-        build_pairs<false>(world, settings, cache, 0, middle_pair, contacts, velocities);
+        build_pairs<false>(world, settings, cache, 0, middle_pair, contacts, velocities,
+                           kept_pairs[0]);
       } else {
-        build_pairs<false>(world, settings, cache, middle_pair, pair_count, contacts, velocities);
-        build_walls<false>(world, settings, cache, contacts, velocities);
+        build_pairs<false>(world, settings, cache, middle_pair, pair_count, contacts, velocities,
+                           kept_pairs[1]);
+        build_walls<false>(world, settings, cache, contacts, velocities, kept_walls);
       }
     });
     const auto all = static_cast<BodyIndex>(sphere_count);
@@ -313,6 +344,7 @@ void build_local_problems(const World& world, const StepSettings& settings,
                                return s.linear.allFinite() && s.angular.allFinite();
                              }),
              "non-finite predicted velocity");
+  return bonds_of_step(settings, cache, contacts, kept_pairs[0] + kept_pairs[1], kept_walls);
 }
 
 }  // namespace cdpowder

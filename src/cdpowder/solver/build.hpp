@@ -3,6 +3,7 @@
 // predicted velocities v* = v + Δt (F_ext/m + g) + Δt W·(warm-start actions) (§5.3, §7.6).
 #pragma once
 
+#include "cdpowder/analysis/energy_budget.hpp"
 #include "cdpowder/contact/action_cache.hpp"
 #include "cdpowder/contact/local_problem.hpp"
 #include "cdpowder/contact/velocity_cache.hpp"
@@ -18,8 +19,10 @@ namespace cdpowder {
 /// With `pieces`, in two halves side by side on the runner's threads: the predicted
 /// velocities and the contacts' records a half each, then the warm start's velocity changes,
 /// each half those of its own spheres in contact order. The same bits as on one thread.
-void build_local_problems(const World& world, const StepSettings& settings,
-                          const ActionCache& cache, Contacts& contacts, VelocityCache& velocities,
-                          PieceRunner* pieces = nullptr);
+/// Returns the cohesive bonds the step formed and broke against the cache (the energy budget,
+/// analysis/energy_budget.hpp), counted where the lookup finds each contact's last step.
+BondChanges build_local_problems(const World& world, const StepSettings& settings,
+                                 const ActionCache& cache, Contacts& contacts,
+                                 VelocityCache& velocities, PieceRunner* pieces = nullptr);
 
 }  // namespace cdpowder

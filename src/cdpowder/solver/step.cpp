@@ -3,7 +3,6 @@
 #include "cdpowder/solver/step.hpp"
 
 #include "cdpowder/analysis/cohesive_opening.hpp"
-#include "cdpowder/analysis/energy_budget.hpp"
 #include "cdpowder/detect/detect_contacts.hpp"
 #include "cdpowder/solver/build.hpp"
 #include "cdpowder/solver/integrate.hpp"
@@ -88,13 +87,8 @@ StepReport begin_step(World& world, StepWorkspace& work, const StepSettings& set
                   &work.detection);
   clock.lap(Stage::DetectContacts, report.times);
 
-  build_local_problems(world, settings, work.action_cache, work.contacts, work.velocities, threads);
-  // the energy budget's bonds and cohesive energy (analysis/energy_budget.hpp), while the
-  // cache still holds the step before: a pass over the contacts each, in contact order
-  if (settings.laws.spheres.cohesion_force > 0.0 || settings.laws.walls.cohesion_force > 0.0) {
-    report.diagnostics.bonds = bond_changes(work.action_cache.last(), work.contacts);
-    report.diagnostics.cohesive_energy = cohesive_energy(work.contacts, settings.laws);
-  }
+  report.diagnostics.bonds = build_local_problems(world, settings, work.action_cache, work.contacts,
+                                                  work.velocities, threads);
   clock.lap(Stage::BuildLocalProblems, report.times);
   return report;
 }
@@ -141,7 +135,6 @@ void commit_step(World& world, StepWorkspace& work, const StepSettings& settings
   diagnostics.max_cohesive_opening_speed = report.diagnostics.max_cohesive_opening_speed;
   diagnostics.max_cohesive_opening_per_range = report.diagnostics.max_cohesive_opening_per_range;
   diagnostics.bonds = report.diagnostics.bonds;
-  diagnostics.cohesive_energy = report.diagnostics.cohesive_energy;
   report.diagnostics = diagnostics;
   clock.lap(Stage::Analyse, report.times);
 }

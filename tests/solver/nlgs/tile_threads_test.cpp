@@ -469,9 +469,10 @@ TEST(StagesInPieces, BuildGivesTheProblemsOfOnePiece) {
     VelocityCache velocities_one;
     VelocityCache velocities_two;
     TileThreads threads(2);
-    build_local_problems(scene.world, scene.settings, cache_one, contacts_one, velocities_one);
-    build_local_problems(scene.world, scene.settings, cache_two, contacts_two, velocities_two,
-                         &threads);
+    const BondChanges bonds_one =
+        build_local_problems(scene.world, scene.settings, cache_one, contacts_one, velocities_one);
+    const BondChanges bonds_two = build_local_problems(scene.world, scene.settings, cache_two,
+                                                       contacts_two, velocities_two, &threads);
     EXPECT_TRUE(same_bits(contacts_two.pairs, contacts_one.pairs));
     EXPECT_TRUE(same_bits(contacts_two.pair_actions, contacts_one.pair_actions));
     EXPECT_TRUE(same_bits(contacts_two.pair_cohesive, contacts_one.pair_cohesive));
@@ -480,12 +481,52 @@ TEST(StagesInPieces, BuildGivesTheProblemsOfOnePiece) {
     EXPECT_TRUE(same_bits(contacts_two.wall_cohesive, contacts_one.wall_cohesive));
     EXPECT_TRUE(same_bits(velocities_two.spheres, velocities_one.spheres));
     EXPECT_TRUE(same_bits(velocities_two.piston_velocity, velocities_one.piston_velocity));
+    // the bonds counted by the lookups (or, without the warm start, by a merge of the keys)
+    // are those of a merge of the keys, on any pieces
+    EXPECT_EQ(bonds_one.formed(), bonds_two.formed());
+    EXPECT_EQ(bonds_one.broken(), bonds_two.broken());
+    const BondChanges merged = bond_changes(cache_one.last(), contacts_one);
+    EXPECT_EQ(bonds_one.pairs_formed, merged.pairs_formed);
+    EXPECT_EQ(bonds_one.pairs_broken, merged.pairs_broken);
+    EXPECT_EQ(bonds_one.walls_formed, merged.walls_formed);
+    EXPECT_EQ(bonds_one.walls_broken, merged.walls_broken);
     // the warm start moved the spheres away from v + Δt g
     if (warm_start) {
       const auto moved =
           std::count_if(velocities_one.spheres.begin(), velocities_one.spheres.end(),
                         [&](const SphereVelocity& s) { return s.angular.squaredNorm() > 0.0; });
       EXPECT_GT(moved, 100);
+    }
+  }
+}
+
+// Bonds formed and broken as the build counts them, on one piece and two, against a merge of
+// the two lists' keys: a shorter range than the last step's breaks bonds, a longer one forms
+// them (the graph rule decides on the gap alone).
+TEST(StagesInPieces, TheBuildCountsTheBondsAMergeOfTheKeysFinds) {
+  for (const double range : {1e-9, 0.5}) {
+    SmallPacking packing = stepped_packing();
+    TinyScene& scene = packing.scene;
+    take_last_step(scene.work);
+    scene.settings.laws.spheres.cohesion_range = range;
+    detect_contacts(scene.world, scene.settings.detection(), scene.work.grid, scene.work.contacts);
+    Contacts contacts_one = scene.work.contacts;
+    Contacts contacts_two = scene.work.contacts;
+    VelocityCache velocities_one;
+    VelocityCache velocities_two;
+    TileThreads threads(2);
+    const BondChanges one = build_local_problems(
+        scene.world, scene.settings, scene.work.action_cache, contacts_one, velocities_one);
+    const BondChanges two =
+        build_local_problems(scene.world, scene.settings, scene.work.action_cache, contacts_two,
+                             velocities_two, &threads);
+    const BondChanges merged = bond_changes(scene.work.action_cache.last(), contacts_one);
+    EXPECT_GT(range < 0.01 ? merged.pairs_broken : merged.pairs_formed, 0) << range;
+    for (const BondChanges& c : {one, two}) {
+      EXPECT_EQ(c.pairs_formed, merged.pairs_formed) << range;
+      EXPECT_EQ(c.pairs_broken, merged.pairs_broken) << range;
+      EXPECT_EQ(c.walls_formed, merged.walls_formed) << range;
+      EXPECT_EQ(c.walls_broken, merged.walls_broken) << range;
     }
   }
 }
