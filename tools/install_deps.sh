@@ -7,6 +7,7 @@ packages=(
   libeigen3-dev libtomlplusplus-dev libcli11-dev libfmt-dev libpcg-cpp-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev zlib1g-dev libopenmpi-dev openmpi-bin
   python3 python3-numpy python3-pandas python3-scipy python3-matplotlib python3-vtk9 help2man
+  coinor-libclp1
   python3-dev pybind11-dev python3-pytest pyflakes3 python3-venv python3-pip python3-setuptools
   python3-wheel python3-sphinx python3-myst-parser
 )

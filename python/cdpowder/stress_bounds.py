@@ -30,7 +30,8 @@ The programs (physics.md §11.3):
 Each quantity is reported as `min`, `max` (the bounds) and `min_attained`, `max_attained`
 (values admissible force sets reach, or the run's own), so the true extremes lie in
 [min, min_attained] and [max_attained, max]. Units: F_coh/R², as summary.json's "stress". The
-linear programs are solved by HiGHS (SciPy's `linprog`).
+linear programs are solved by COIN-OR Clp's barrier (cdpowder.clp) where Debian's
+coinor-libclp1 is installed, else by HiGHS (SciPy's `linprog`); `--solver` chooses.
 """
 import argparse
 import contextlib
@@ -47,7 +48,7 @@ try:
     import scipy.optimize
     import scipy.sparse
 
-    from cdpowder import tables
+    from cdpowder import clp, tables
 except ImportError as missing:  # the command's one message, not a traceback
     sys.exit(f"error: stress-bounds needs NumPy, pandas and SciPy ({missing}); Debian's "
              "python3-numpy, python3-pandas and python3-scipy (tools/install_deps.sh), or "
@@ -56,8 +57,13 @@ except ImportError as missing:  # the command's one message, not a traceback
 from cdpowder import summary as summaries
 
 FIELD = "admissible_stress"
+SOLVER_NAMES = {"clp": "COIN-OR Clp, barrier without crossover",
+                "highs": "HiGHS through SciPy's linprog, interior point with crossover"}
 TOUCHING_GAP = 1e-6  # kTouchingGap of src/cdpowder/solver/build.cpp [R], physics.md §5.4
 AXES = {"x": 0, "y": 1, "z": 2}
+# a search goes on while its optimum improves by more than this, relative: ten times the
+# solvers' tolerance, so that a barrier's last digits do not keep it going to --rounds
+IMPROVEMENT = 1e-6
 EXIT_USAGE = 2
 
 
@@ -139,7 +145,7 @@ class Program:
     """The balance, the thresholds and the stress of the touching contacts, as sparse rows."""
 
     def __init__(self, packing, facets, touching_gap=None, force_cap_factor=100.0,
-                 time_limit=300.0):
+                 time_limit=300.0, solver="highs"):
         p = packing
         self.packing = p
         closed = p.run_normal + p.cohesion > 0.0  # is_closed of contact/local_problem.hpp
@@ -151,7 +157,9 @@ class Program:
         self.held = np.flatnonzero(p.gap > self.touching_gap)  # keeps −F_c n: open
         self.facets = facets
         self.time_limit = time_limit  # [s] a linear program
+        self.solver = solver  # "clp" or "highs" (_minimise)
         self.stopped = 0  # programs stopped at the time limit
+        self.fallbacks = 0  # programs Clp found no answer for, solved again by HiGHS
         run = p.run_actions()[self.free]
         self.run_x = run.T.reshape(-1)  # blocks of 6 × m, unknown by unknown
         self.force_cap = force_cap_factor * max(1.0, float(np.abs(p.run_normal).max(initial=0.0)),
@@ -322,11 +330,31 @@ class Program:
         return float(low) + constant, float(high) + constant
 
 
-def _minimise(cost, ranges, lower, upper, time_limit):
-    """min cost·x over lower ≤ x ≤ upper and low ≤ A x ≤ high for each (A, low, high), by HiGHS's
-    interior-point method (with crossover: a vertex), the fastest of SciPy's HiGHS methods at
-    10⁴ contacts (docs/physics.md §11.3), stopped after `time_limit` seconds. Returns the result
-    (status 0: optimal; 1: stopped at the time limit)."""
+class _Optimum:
+    """What _minimise returns: status (0 optimal, 1 stopped at the time limit, 2 neither), fun
+    (cost·x) and x, as SciPy's `linprog` does."""
+
+    def __init__(self, status, fun=None, x=None):
+        self.status, self.fun, self.x = status, fun, x
+
+
+def _minimise(cost, ranges, lower, upper, time_limit, solver="clp", counts=None):
+    """min cost·x over lower ≤ x ≤ upper and low ≤ A x ≤ high for each (A, low, high), stopped
+    after `time_limit` seconds. "clp": COIN-OR Clp's barrier (cdpowder.clp), about six times
+    faster at paper scale; "highs": HiGHS's interior-point method with crossover, through SciPy's
+    `linprog` (docs/physics.md §11.3); it also decides a program Clp finds infeasible, since
+    Clp's barrier without crossover can only say that it found no admissible answer. Returns
+    an _Optimum; `counts.fallbacks`, if given, counts the programs HiGHS decided for Clp."""
+    if solver == "clp":
+        matrix = scipy.sparse.vstack([a for a, _, _ in ranges])
+        status, fun, x = clp.minimise(cost, matrix, np.concatenate([low for _, low, _ in ranges]),
+                                      np.concatenate([high for _, _, high in ranges]), lower,
+                                      upper, time_limit)
+        if status in (clp.OPTIMAL, clp.STOPPED):
+            return _Optimum(0 if status == clp.OPTIMAL else 1, fun, x)
+        solver = "highs"  # Clp found no answer it could stand by: HiGHS decides
+        if counts is not None:
+            counts.fallbacks += 1
     blocks, limits = [], []
     for matrix, low, high in ranges:
         for sign, side in ((1.0, high), (-1.0, low)):
@@ -335,10 +363,23 @@ def _minimise(cost, ranges, lower, upper, time_limit):
                 blocks.append(sign * matrix[finite])
                 limits.append(sign * side[finite])
     with _silenced_stdout():
-        return scipy.optimize.linprog(cost, A_ub=scipy.sparse.vstack(blocks).tocsr(),
-                                      b_ub=np.concatenate(limits),
-                                      bounds=np.column_stack([lower, upper]), method="highs-ipm",
-                                      options={"time_limit": float(time_limit)})
+        res = scipy.optimize.linprog(cost, A_ub=scipy.sparse.vstack(blocks).tocsr(),
+                                     b_ub=np.concatenate(limits),
+                                     bounds=np.column_stack([lower, upper]), method="highs-ipm",
+                                     options={"time_limit": float(time_limit)})
+    return _Optimum(res.status if res.status in (0, 1) else 2, res.fun, res.x)
+
+
+def solver_named(name):
+    """The solver a name asks for: "auto" is Clp where libClp is found, else HiGHS."""
+    if name == "auto":
+        return "clp" if clp.available() else "highs"
+    if name not in ("clp", "highs"):
+        raise StressBoundsError(f"--solver: got '{name}', expected auto, clp or highs")
+    if name == "clp" and not clp.available():
+        raise StressBoundsError("--solver: clp asked for, but COIN-OR Clp (libClp.so.1, Debian's "
+                                "coinor-libclp1) was not found; use --solver highs")
+    return name
 
 
 @contextlib.contextmanager
@@ -361,7 +402,8 @@ def _total_extreme(program, i, j, sense, scale):
     radius × scale: one linear program. Returns (the optimum, the force set), or (None, None)
     when infeasible."""
     row, constant = program.stress_row(i, j)
-    res = _minimise(sense * row, *program.constraints(scale), program.time_limit)
+    res = _minimise(sense * row, *program.constraints(scale), program.time_limit,
+                   program.solver, program)
     program.stopped += res.status == 1
     if res.status != 0:
         return None, None
@@ -380,7 +422,8 @@ def _signed_extreme(program, i, j, sense, scale, signs):
     tensile[program.split[signs > 0.5]] = True
     upper[:m] = np.where(tensile, 0.0, upper[:m])
     lower[:m] = np.where(tensile, lower[:m], 0.0)
-    res = _minimise(sense * row * np.tile(~tensile, 6), ranges, lower, upper, program.time_limit)
+    res = _minimise(sense * row * np.tile(~tensile, 6), ranges, lower, upper, program.time_limit,
+                   program.solver, program)
     program.stopped += res.status == 1
     if res.status != 0:
         return None, None
@@ -391,7 +434,7 @@ def _search(program, i, j, sense, scale, starts, record, rounds):
     """Force sets with fixed signs that drive σ⁺_ij down (sense +1) or up (−1), each passed to
     `record`: from each start's signs, each round keeps the signs of the last optimum and turns
     over those of its contacts at zero normal force (free to go either way), while that improves
-    the optimum."""
+    the best optimum of the search by more than IMPROVEMENT."""
     best = None
     zero = 1e-9 * max(1.0, program.force_cap)
     for signs in starts:
@@ -400,7 +443,7 @@ def _search(program, i, j, sense, scale, starts, record, rounds):
             if value is None:
                 break
             record(x)
-            improved = best is None or sense * value < sense * best - 1e-9 * abs(best)
+            improved = best is None or sense * value < sense * best - IMPROVEMENT * abs(best)
             if best is None or sense * value < sense * best:
                 best = value
             if not improved:
@@ -422,7 +465,7 @@ def _run_value(summary, i, j, part):
 
 
 def admissible_stress(folder, components=("zz",), facets=16, force_cap_factor=100.0,
-                      progress=None, rounds=8, time_limit=300.0):
+                      progress=None, rounds=8, time_limit=300.0, solver="auto"):
     """The admissible interval of σ_ij, σ⁺_ij and σ⁻_ij for each component (module docstring).
 
     For each quantity and side: the bound (a linear program with the circumscribed polygons and
@@ -430,7 +473,7 @@ def admissible_stress(folder, components=("zz",), facets=16, force_cap_factor=10
     inscribed polygons, signs fixed and searched from the run's and the bound's; and the run's
     own forces). `progress(text)`, if given, is called after each linear program; a program
     stopped at `time_limit` seconds gives nothing (a bound stays None, a search start ends).
-    Raises
+    `solver`: "clp", "highs" or "auto" (solver_named). Raises
     StressBoundsError for a folder that is not a blocked run's."""
     if facets < 3:
         raise StressBoundsError(f"--facets: got {facets}, expected an integer ≥ 3")
@@ -440,15 +483,18 @@ def admissible_stress(folder, components=("zz",), facets=16, force_cap_factor=10
         raise StressBoundsError(f"--rounds: got {rounds}, expected an integer ≥ 1")
     if not force_cap_factor > 1:
         raise StressBoundsError(f"--force-cap: got {force_cap_factor}, expected a number > 1")
+    solver = solver_named(solver)
     started = time.perf_counter()
     packing = Packing(folder)
-    program = Program(packing, facets, force_cap_factor=force_cap_factor, time_limit=time_limit)
+    program = Program(packing, facets, force_cap_factor=force_cap_factor, time_limit=time_limit,
+                      solver=solver)
     inner = math.cos(math.pi / facets)
     outer = 1.0 / inner
     result = {
-        "method": "linear programs (HiGHS through SciPy's linprog): sigma's bounds; sigma-'s "
-                  "from each contact's extremes in tension, sigma+'s as their difference; the "
-                  "attained values from force sets with the signs fixed and searched",
+        "method": "linear programs: sigma's bounds; sigma-'s from each contact's extremes in "
+                  "tension, sigma+'s as their difference; the attained values from force sets "
+                  "with the signs fixed and searched",
+        "solver": SOLVER_NAMES[solver],
         "facets": facets,
         "rounds": rounds,
         "time_limit": time_limit,
@@ -477,7 +523,11 @@ def admissible_stress(folder, components=("zz",), facets=16, force_cap_factor=10
         solved.count = 0
         record(program.run_x)
         bound = {}
-        starts = [run_signs, np.zeros(len(program.split))]
+        # each start is the sign pattern of a force set (the run's, σ's extremes), so every
+        # program of a search is feasible: a round turns over only contacts at R_n = 0. (All
+        # compressive, once a start too, is no force set's at paper scale, and there both
+        # solvers spent minutes on it without an answer.)
+        starts = [run_signs]
         for sense, side in ((1, 0), (-1, 1)):
             bound["total", side], _ = _total_extreme(program, i, j, sense, outer)
             solved("bound of σ")
@@ -506,6 +556,7 @@ def admissible_stress(folder, components=("zz",), facets=16, force_cap_factor=10
                 entry[f"{key}_attained"] = attained
             result[f"sigma_{name}{suffix}"] = entry
     result["stopped_programs"] = program.stopped
+    result["highs_fallbacks"] = program.fallbacks
     result["seconds"] = time.perf_counter() - started
     return result
 
@@ -574,6 +625,9 @@ def main(argv=None):
     parser.add_argument("--time-limit", type=float, default=300.0,
                         help="seconds for each linear program; one stopped there gives nothing "
                              "(default 300)")
+    parser.add_argument("--solver", default="auto", choices=("auto", "clp", "highs"),
+                        help="the linear programs' solver: COIN-OR Clp's barrier or HiGHS "
+                             "(SciPy); auto takes Clp where libClp is found (default auto)")
     parser.add_argument("--no-write", action="store_true", help="print only; leave summary.json")
     args = parser.parse_args(argv)
     components = [c.strip() for c in args.components.split(",") if c.strip()]
@@ -582,6 +636,7 @@ def main(argv=None):
         try:
             result = admissible_stress(folder, components, args.facets, args.force_cap,
                                        rounds=args.rounds, time_limit=args.time_limit,
+                                       solver=args.solver,
                                        progress=lambda text, f=folder: print(
                                            f"stress-bounds: {f}: {text}", file=sys.stderr,
                                            flush=True))

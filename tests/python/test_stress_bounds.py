@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from cdpowder import stress_bounds
+from cdpowder import clp, stress_bounds
 
 SOURCE = Path(os.environ["CDPOWDER_SOURCE_DIR"])
 QUICK = SOURCE / "examples/quick/scene.toml"
@@ -113,6 +113,23 @@ def test_the_command_adds_an_interval_that_holds_the_run(quick_run):
     assert result["facets"] == 16 and result["contacts"]["touching"] > 0
 
 
+@pytest.mark.skipif(not clp.available(), reason="COIN-OR Clp (coinor-libclp1) is not installed")
+def test_both_solvers_agree(quick_run):
+    # Clp's barrier and HiGHS solve the same programs: σ's bounds agree to the solvers'
+    # tolerance, and each one's attained values hold the run's
+    one = stress_bounds.admissible_stress(quick_run, solver="clp")
+    highs = stress_bounds.admissible_stress(quick_run, solver="highs")
+    assert one["solver"].startswith("COIN-OR Clp") and highs["solver"].startswith("HiGHS")
+    for key in ("sigma_zz", "sigma_zz_plus", "sigma_zz_minus"):
+        for result in (one, highs):
+            entry = result[key]
+            assert entry["min"] <= entry["min_attained"] <= entry["run"] <= \
+                entry["max_attained"] <= entry["max"], key
+    for side in ("min", "max"):
+        assert one["sigma_zz"][side] == pytest.approx(highs["sigma_zz"][side], rel=1e-6)
+    assert one["stopped_programs"] == 0 and highs["highs_fallbacks"] == 0
+
+
 def test_a_sweep_asks_for_the_interval_of_every_run(tmp_path):
     sweep = tmp_path / "sweep.toml"
     sweep.write_text(f'scene = "{QUICK}"\nseeds = [1]\n[grid]\n"contact.mu_roll" = [1.0]\n')
@@ -130,6 +147,8 @@ def test_mistakes_are_named(quick_run, tmp_path):
     assert done.returncode == 2 and "--components: got 'zq'" in done.stderr
     done = program("stress-bounds", quick_run, "--facets", "2", check=False)
     assert done.returncode == 2 and "--facets: got 2" in done.stderr
+    done = program("stress-bounds", quick_run, "--solver", "glpk", check=False)
+    assert done.returncode == 2 and "--solver: invalid choice: 'glpk'" in done.stderr
     # a run that did not block: its forces balance nothing
     short = tmp_path / "short"
     program("compact", QUICK, "--out", short, "--quiet", "--set", "run.max_duration=1.0",

@@ -1,0 +1,135 @@
+"""cdpowder.clp: linear programs by COIN-OR Clp's interior-point method, through its C interface.
+
+The admissible stress interval (cdpowder.stress_bounds, physics.md §11.3) solves linear
+programs of 10⁴–10⁵ rows whose balance rows are ranges a few 1e-7 wide. HiGHS 1.2 (SciPy 1.10's
+`linprog`) takes 30–40 s for one at paper scale (1 015 spheres, (0, 0)); Clp's barrier, without
+presolve (which fixes those narrow ranges as equalities and then stalls) and without crossover
+(the optimum's value and an admissible force set are what the bounds need, not a vertex),
+takes about 5 s (docs/lab/2026-11-30-stress-bounds-on-clp.md).
+
+Debian's `coinor-libclp1` provides libClp.so.1; `available()` says whether it was found.
+
+    status, objective, x = minimise(cost, matrix, row_lower, row_upper, lower, upper, seconds)
+
+minimises cost·x over lower ≤ x ≤ upper and row_lower ≤ matrix x ≤ row_upper (±inf for a side
+without bound). Status 0: optimal; 1: primal infeasible; 2: dual infeasible; 3: stopped at the
+time limit; 4: stopped on difficulties (Clp_status's codes). Without crossover Clp may call an
+infeasible program optimal, so an answer that leaves a bound by more than FEASIBILITY (relative
+to 1 + |bound|) is reported infeasible.
+"""
+import ctypes
+import ctypes.util
+
+import numpy as np
+import scipy.sparse
+
+_COIN_DBL_MAX = np.finfo(float).max
+_BARRIER_NO_CROSSOVER = 4  # ClpSolve::useBarrierNoCross
+_PRESOLVE_OFF = 1  # ClpSolve::presolveOff
+OPTIMAL, INFEASIBLE, UNBOUNDED, STOPPED, DIFFICULT = range(5)
+FEASIBILITY = 1e-7  # the largest relative excess over a bound an answer may have
+# Clp's default primal tolerance (1e-7, on its scaled program) leaves answers 3–4e-7 outside the
+# narrow balance ranges of a sign-fixed program at paper scale; 1e-8 keeps them within 5e-8.
+PRIMAL_TOLERANCE = 1e-8
+
+_library = None
+
+
+def _load():
+    """libClp with the prototypes of the functions used here, or None when it is missing."""
+    global _library
+    if _library is not None:
+        return _library or None
+    name = ctypes.util.find_library("Clp")
+    try:
+        lib = ctypes.CDLL(name or "libClp.so.1")
+    except OSError:
+        _library = False
+        return None
+    model, solve = ctypes.c_void_p, ctypes.c_void_p
+    doubles, ints = ctypes.POINTER(ctypes.c_double), ctypes.POINTER(ctypes.c_int)
+    prototypes = {
+        "Clp_newModel": (model, []),
+        "Clp_deleteModel": (None, [model]),
+        "ClpSolve_new": (solve, []),
+        "ClpSolve_delete": (None, [solve]),
+        "ClpSolve_setSolveType": (None, [solve, ctypes.c_int, ctypes.c_int]),
+        "ClpSolve_setPresolveType": (None, [solve, ctypes.c_int, ctypes.c_int]),
+        "Clp_setLogLevel": (None, [model, ctypes.c_int]),
+        "Clp_setMaximumSeconds": (None, [model, ctypes.c_double]),
+        "Clp_setPrimalTolerance": (None, [model, ctypes.c_double]),
+        "Clp_loadProblem": (None, [model, ctypes.c_int, ctypes.c_int, ints, ints, doubles,
+                                   doubles, doubles, doubles, doubles, doubles]),
+        "Clp_initialSolveWithOptions": (ctypes.c_int, [model, solve]),
+        "Clp_status": (ctypes.c_int, [model]),
+        "Clp_getObjValue": (ctypes.c_double, [model]),
+        "Clp_getColSolution": (doubles, [model]),
+    }
+    for function, (result, arguments) in prototypes.items():
+        getattr(lib, function).restype = result
+        getattr(lib, function).argtypes = arguments
+    _library = lib
+    return lib
+
+
+def available():
+    """Whether libClp can be loaded."""
+    return _load() is not None
+
+
+def _pointer(array, kind):
+    return array.ctypes.data_as(ctypes.POINTER(kind))
+
+
+def _finite_or_max(values):
+    """Clp's infinity is COIN_DBL_MAX, not inf."""
+    values = np.asarray(values, float)
+    return np.ascontiguousarray(np.clip(values, -_COIN_DBL_MAX, _COIN_DBL_MAX))
+
+
+def _violation(values, low, high):
+    """The largest excess of values over [low, high], relative to 1 + |bound|."""
+    low, high = np.asarray(low, float), np.asarray(high, float)
+    low_finite, high_finite = np.isfinite(low), np.isfinite(high)
+    low, high = np.where(low_finite, low, 0.0), np.where(high_finite, high, 0.0)
+    below = np.where(low_finite, (low - values) / (1.0 + np.abs(low)), 0.0)
+    above = np.where(high_finite, (values - high) / (1.0 + np.abs(high)), 0.0)
+    return float(max(0.0, below.max(initial=0.0), above.max(initial=0.0)))
+
+
+def minimise(cost, matrix, row_lower, row_upper, lower, upper, seconds):
+    """Returns (status, cost·x, x) of min cost·x (module docstring); x is None unless optimal."""
+    lib = _load()
+    if lib is None:
+        raise OSError("COIN-OR Clp (libClp.so.1, Debian's coinor-libclp1) was not found")
+    columns = scipy.sparse.csc_matrix(matrix)
+    columns.sort_indices()
+    rows, width = columns.shape
+    start = np.ascontiguousarray(columns.indptr, np.int32)
+    index = np.ascontiguousarray(columns.indices, np.int32)
+    value = np.ascontiguousarray(columns.data, float)
+    arrays = [_finite_or_max(a) for a in (lower, upper, cost, row_lower, row_upper)]
+    model = lib.Clp_newModel()
+    options = lib.ClpSolve_new()
+    try:
+        lib.Clp_setLogLevel(model, 0)
+        lib.Clp_setMaximumSeconds(model, float(seconds))
+        lib.Clp_setPrimalTolerance(model, PRIMAL_TOLERANCE)
+        lib.Clp_loadProblem(model, width, rows, _pointer(start, ctypes.c_int),
+                            _pointer(index, ctypes.c_int), _pointer(value, ctypes.c_double),
+                            *(_pointer(a, ctypes.c_double) for a in arrays))
+        lib.ClpSolve_setSolveType(options, _BARRIER_NO_CROSSOVER, -1)
+        lib.ClpSolve_setPresolveType(options, _PRESOLVE_OFF, -1)
+        lib.Clp_initialSolveWithOptions(model, options)
+        status = lib.Clp_status(model)
+        if status != OPTIMAL:
+            return status, None, None
+        x = np.ctypeslib.as_array(lib.Clp_getColSolution(model), shape=(width,)).copy()
+        # without crossover Clp can call an infeasible program optimal: the answer is checked
+        if _violation(columns @ x, row_lower, row_upper) > FEASIBILITY or \
+                _violation(x, lower, upper) > FEASIBILITY:
+            return INFEASIBLE, None, None
+        return status, float(lib.Clp_getObjValue(model)), x
+    finally:
+        lib.ClpSolve_delete(options)
+        lib.Clp_deleteModel(model)
