@@ -13,7 +13,7 @@ Debian's `coinor-libclp1` provides libClp.so.1; `available()` says whether it wa
 
 minimises cost·x over lower ≤ x ≤ upper and row_lower ≤ matrix x ≤ row_upper (±inf for a side
 without bound). Status 0: optimal; 1: primal infeasible; 2: dual infeasible; 3: stopped at the
-time limit; 4: stopped on difficulties (Clp_status's codes). Without crossover Clp may call an
+time or the iteration limit; 4: stopped on difficulties (Clp_status's codes). Without crossover Clp may call an
 infeasible program optimal, so an answer that leaves a bound by more than FEASIBILITY (relative
 to 1 + |bound|) is reported infeasible.
 """

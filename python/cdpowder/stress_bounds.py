@@ -145,7 +145,7 @@ class Program:
     """The balance, the thresholds and the stress of the touching contacts, as sparse rows."""
 
     def __init__(self, packing, facets, touching_gap=None, force_cap_factor=100.0,
-                 time_limit=300.0, solver="highs"):
+                 time_limit=300.0, solver="auto"):
         p = packing
         self.packing = p
         closed = p.run_normal + p.cohesion > 0.0  # is_closed of contact/local_problem.hpp
@@ -157,7 +157,7 @@ class Program:
         self.held = np.flatnonzero(p.gap > self.touching_gap)  # keeps −F_c n: open
         self.facets = facets
         self.time_limit = time_limit  # [s] a linear program
-        self.solver = solver  # "clp" or "highs" (_minimise)
+        self.solver = solver_named(solver)  # "clp" or "highs" (_minimise)
         self.stopped = 0  # programs stopped at the time limit
         self.fallbacks = 0  # programs Clp found no answer for, solved again by HiGHS
         run = p.run_actions()[self.free]
@@ -338,23 +338,30 @@ class _Optimum:
         self.status, self.fun, self.x = status, fun, x
 
 
-def _minimise(cost, ranges, lower, upper, time_limit, solver="clp", counts=None):
+def _minimise(program, cost, ranges, lower, upper):
     """min cost·x over lower ≤ x ≤ upper and low ≤ A x ≤ high for each (A, low, high), stopped
-    after `time_limit` seconds. "clp": COIN-OR Clp's barrier (cdpowder.clp), about six times
-    faster at paper scale; "highs": HiGHS's interior-point method with crossover, through SciPy's
-    `linprog` (docs/physics.md §11.3); it also decides a program Clp finds infeasible, since
-    Clp's barrier without crossover can only say that it found no admissible answer. Returns
-    an _Optimum; `counts.fallbacks`, if given, counts the programs HiGHS decided for Clp."""
-    if solver == "clp":
+    after the program's time limit, by its solver. "clp": COIN-OR Clp's barrier (cdpowder.clp),
+    about six times faster at paper scale; "highs": HiGHS's interior-point method with
+    crossover, through SciPy's `linprog` (docs/physics.md §11.3); it also decides a program Clp
+    finds infeasible, since Clp's barrier without crossover can only say that it found no
+    admissible answer. Counts the program's stopped programs and fallbacks. Returns an
+    _Optimum."""
+    optimum = _solve(program, cost, ranges, lower, upper)
+    program.stopped += optimum.status == 1
+    return optimum
+
+
+def _solve(program, cost, ranges, lower, upper):
+    """_minimise's program by the program's solver, from Clp to HiGHS when Clp has no answer."""
+    time_limit = program.time_limit
+    if program.solver == "clp":
         matrix = scipy.sparse.vstack([a for a, _, _ in ranges])
         status, fun, x = clp.minimise(cost, matrix, np.concatenate([low for _, low, _ in ranges]),
                                       np.concatenate([high for _, _, high in ranges]), lower,
                                       upper, time_limit)
         if status in (clp.OPTIMAL, clp.STOPPED):
             return _Optimum(0 if status == clp.OPTIMAL else 1, fun, x)
-        solver = "highs"  # Clp found no answer it could stand by: HiGHS decides
-        if counts is not None:
-            counts.fallbacks += 1
+        program.fallbacks += 1  # Clp found no answer it could stand by: HiGHS decides
     blocks, limits = [], []
     for matrix, low, high in ranges:
         for sign, side in ((1.0, high), (-1.0, low)):
@@ -402,9 +409,7 @@ def _total_extreme(program, i, j, sense, scale):
     radius × scale: one linear program. Returns (the optimum, the force set), or (None, None)
     when infeasible."""
     row, constant = program.stress_row(i, j)
-    res = _minimise(sense * row, *program.constraints(scale), program.time_limit,
-                   program.solver, program)
-    program.stopped += res.status == 1
+    res = _minimise(program, sense * row, *program.constraints(scale))
     if res.status != 0:
         return None, None
     return sense * float(res.fun) + constant, res.x
@@ -422,9 +427,7 @@ def _signed_extreme(program, i, j, sense, scale, signs):
     tensile[program.split[signs > 0.5]] = True
     upper[:m] = np.where(tensile, 0.0, upper[:m])
     lower[:m] = np.where(tensile, lower[:m], 0.0)
-    res = _minimise(sense * row * np.tile(~tensile, 6), ranges, lower, upper, program.time_limit,
-                   program.solver, program)
-    program.stopped += res.status == 1
+    res = _minimise(program, sense * row * np.tile(~tensile, 6), ranges, lower, upper)
     if res.status != 0:
         return None, None
     return sense * float(res.fun), res.x
