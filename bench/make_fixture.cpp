@@ -47,8 +47,8 @@ int main(int argc, char** argv) {
     cdpowder::save_state(out, scene.effective_toml, world, work, state);
     fmt::print("{}: t = {} t0, step {}, {} spheres, {} stored actions, state hash {}\n",
                out.string(), world.time, world.step, world.bodies.size(),
-               cdpowder::carried_pairs(cdpowder::last_step_contacts(work)).size() +
-                   cdpowder::carried_walls(cdpowder::last_step_contacts(work)).size(),
+               cdpowder::last_step_actions(work).pairs.size() +
+                   cdpowder::last_step_actions(work).walls.size(),
                cdpowder::hash_text(cdpowder::state_hash(world, work)));
     return 0;
   } catch (const std::exception& error) {

@@ -157,7 +157,7 @@ TEST(StateFile, TheStreamedFileHoldsTheEncodedBytes) {
                                 << " encoded";
   ByteWriter sections;
   write_world(sections, engine.world);
-  write_actions(sections, last_step_contacts(engine.work));
+  write_actions(sections, last_step_actions(engine.work));
   EXPECT_EQ(state_hash(engine.world, engine.work), fnv1a64(sections.bytes()));
 }
 
@@ -173,17 +173,17 @@ TEST(StateHash, ChangesWithOneUlpOfAnyVelocityOrAction) {
   v.y() = std::nextafter(old, 1.0);
   EXPECT_NE(state_hash(engine.world, engine.work), before);
   v.y() = old;
-  const Contacts& last_step = last_step_contacts(engine.work);
-  ASSERT_FALSE(carried_pairs(last_step).empty());
-  std::vector<CachedAction> pairs = carried_pairs(last_step);
+  const CarriedActions last_step = last_step_actions(engine.work);
+  ASSERT_FALSE(last_step.pairs.empty());
+  std::vector<CachedAction> pairs = last_step.pairs;
   pairs[3].action.twisting_torque = std::nextafter(pairs[3].action.twisting_torque, 1.0);
   StepWorkspace changed(scene.step.solver.seed);
-  changed.action_cache.restore(pairs, carried_walls(last_step));
+  changed.action_cache.restore(pairs, last_step.walls);
   EXPECT_NE(state_hash(engine.world, changed), before);
   // the same entries restored unchanged give the same hash: the cache a state file gives
   // back is the state of the contacts it was written from
   StepWorkspace same(scene.step.solver.seed);
-  same.action_cache.restore(carried_pairs(last_step), carried_walls(last_step));
+  same.action_cache.restore(last_step.pairs, last_step.walls);
   EXPECT_EQ(state_hash(engine.world, same), before);
 }
 

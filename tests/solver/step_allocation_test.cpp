@@ -93,8 +93,8 @@ struct Allocations {
 };
 
 /// Allocations during `steps` steps of the quick example's compaction with `overrides`,
-/// after its first two steps, which size the workspace: its two sets of contact arrays, the
-/// step's and the warm-start cache's, trade places every step (ActionCache::take).
+/// after its first two steps, which size the workspace: the step's actions and cohesion flags
+/// and the warm-start cache's trade places every step (ActionCache::take).
 Allocations allocations_of_steps(int steps, const std::vector<SceneOverride>& overrides) {
   SceneReadOptions how;
   how.compaction = true;

@@ -12,9 +12,9 @@ namespace cdpowder {
 
 namespace {
 
-/// formed/broken of one family: records sorted by key, with their cohesion flags.
-template <typename Record>
-void count_family(const std::vector<Record>& last, const std::vector<std::uint8_t>& last_bond,
+/// formed/broken of one family: records (or keys) sorted by key, with their cohesion flags.
+template <typename LastRecord, typename Record>
+void count_family(const std::vector<LastRecord>& last, const std::vector<std::uint8_t>& last_bond,
                   const std::vector<Record>& now, const std::vector<std::uint8_t>& now_bond,
                   std::int64_t& formed, std::int64_t& broken) {
   std::size_t i = 0;
@@ -34,6 +34,15 @@ void count_family(const std::vector<Record>& last, const std::vector<std::uint8_
 }
 
 }  // namespace
+
+BondChanges bond_changes(const KeyedContacts& last, const Contacts& now) {
+  BondChanges c;
+  count_family(last.pair_keys, last.pair_cohesive, now.pairs, now.pair_cohesive, c.pairs_formed,
+               c.pairs_broken);
+  count_family(last.wall_keys, last.wall_cohesive, now.walls, now.wall_cohesive, c.walls_formed,
+               c.walls_broken);
+  return c;
+}
 
 BondChanges bond_changes(const Contacts& last, const Contacts& now) {
   BondChanges c;

@@ -5,6 +5,7 @@
 // stores: W_piston + W_gravity = ΔK + ΔU_coh + D with D ≥ 0.
 #pragma once
 
+#include "cdpowder/contact/action_cache.hpp"
 #include "cdpowder/contact/contact_law.hpp"
 #include "cdpowder/contact/local_problem.hpp"
 #include "cdpowder/model/world.hpp"
@@ -40,6 +41,8 @@ struct BondChanges {
 /// each family, both sorted by key (contact/action_cache.hpp). `last` is the step before's
 /// contacts as the warm-start cache holds them (ActionCache::last): every bond of that step
 /// is there, also after a restore from a state file.
+[[nodiscard]] BondChanges bond_changes(const KeyedContacts& last, const Contacts& now);
+/// The same between two steps' contacts.
 [[nodiscard]] BondChanges bond_changes(const Contacts& last, const Contacts& now);
 
 /// The cohesion's potential energy at the start of the step `contacts` was built for:

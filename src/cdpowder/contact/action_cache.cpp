@@ -33,17 +33,21 @@ void check_ascending(const std::vector<Record>& records, const char* what) {
   static_cast<void>(what);  // read by the assertion alone
 }
 
-/// Appends the saved `entries` to one family's arrays, each record made from its key by
-/// `record_of` (the bodies alone: all a lookup reads).
-template <typename Record, typename RecordOf>
-void fill(const std::vector<CachedAction>& entries, std::vector<Record>& records,
-          std::vector<ContactAction>& actions, std::vector<std::uint8_t>& cohesive,
-          RecordOf record_of) {
+/// Appends the saved `entries` to one family's arrays.
+void fill(const std::vector<CachedAction>& entries, std::vector<std::uint64_t>& keys,
+          std::vector<ContactAction>& actions, std::vector<std::uint8_t>& cohesive) {
   for (const CachedAction& entry : entries) {
-    records.push_back(record_of(entry.key));
+    keys.push_back(entry.key);
     actions.push_back(entry.action);
     cohesive.push_back(entry.cohesive ? 1 : 0);
   }
+}
+
+/// keys ← the keys of `records`, in their order.
+template <typename Record>
+void keys_of(const std::vector<Record>& records, std::vector<std::uint64_t>& keys) {
+  keys.resize(records.size());
+  for (std::size_t k = 0; k < records.size(); ++k) keys[k] = contact_key(records[k]);
 }
 
 }  // namespace
@@ -56,6 +60,14 @@ std::vector<CachedAction> carried_walls(const Contacts& contacts) {
   return carried(contacts.walls, contacts.wall_actions, contacts.wall_cohesive);
 }
 
+std::vector<CachedAction> carried_pairs(const KeyedContacts& contacts) {
+  return carried(contacts.pair_keys, contacts.pair_actions, contacts.pair_cohesive);
+}
+
+std::vector<CachedAction> carried_walls(const KeyedContacts& contacts) {
+  return carried(contacts.wall_keys, contacts.wall_actions, contacts.wall_cohesive);
+}
+
 void ActionCache::take(Contacts& contacts) {
   check_ascending(contacts.pairs, "pairs not strictly ascending by key (a, b)");
   check_ascending(contacts.walls, "walls not strictly ascending by key (wall, sphere)");
@@ -64,10 +76,10 @@ void ActionCache::take(Contacts& contacts) {
                  contacts.wall_actions.size() == contacts.walls.size() &&
                  contacts.wall_cohesive.size() == contacts.walls.size(),
              "a contact without its action or cohesion flag");
-  last_.pairs.swap(contacts.pairs);
+  keys_of(contacts.pairs, last_.pair_keys);
   last_.pair_actions.swap(contacts.pair_actions);
   last_.pair_cohesive.swap(contacts.pair_cohesive);
-  last_.walls.swap(contacts.walls);
+  keys_of(contacts.walls, last_.wall_keys);
   last_.wall_actions.swap(contacts.wall_actions);
   last_.wall_cohesive.swap(contacts.wall_cohesive);
 }
@@ -78,28 +90,15 @@ void ActionCache::store(const Contacts& contacts) {
 }
 
 std::size_t ActionCache::pair_cursor_at(std::uint64_t key) const {
-  const std::vector<PairProblem>& records = last_.pairs;
-  return static_cast<std::size_t>(
-      std::lower_bound(records.begin(), records.end(), key,
-                       [](const PairProblem& p, std::uint64_t k) { return contact_key(p) < k; }) -
-      records.begin());
+  const std::vector<std::uint64_t>& keys = last_.pair_keys;
+  return static_cast<std::size_t>(std::lower_bound(keys.begin(), keys.end(), key) - keys.begin());
 }
 
 void ActionCache::restore(const std::vector<CachedAction>& pairs,
                           const std::vector<CachedAction>& walls) {
   last_.clear();
-  fill(pairs, last_.pairs, last_.pair_actions, last_.pair_cohesive, [](std::uint64_t key) {
-    PairProblem p;
-    p.a = static_cast<BodyIndex>(key >> 32U);
-    p.b = static_cast<BodyIndex>(key & 0xffff'ffffU);
-    return p;
-  });
-  fill(walls, last_.walls, last_.wall_actions, last_.wall_cohesive, [](std::uint64_t key) {
-    WallProblem w;
-    w.wall = static_cast<WallKind>(key >> 32U);
-    w.sphere = static_cast<BodyIndex>(key & 0xffff'ffffU);
-    return w;
-  });
+  fill(pairs, last_.pair_keys, last_.pair_actions, last_.pair_cohesive);
+  fill(walls, last_.wall_keys, last_.wall_actions, last_.wall_cohesive);
 }
 
 }  // namespace cdpowder

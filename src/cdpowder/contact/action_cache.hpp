@@ -1,8 +1,10 @@
 // action_cache.hpp — last step's contact actions, keyed by the contact's bodies, for the
 // warm start (physics.md §7.4) and the history cohesion rule (§6.2).
 // Both the cache and each step's contact list are sorted by key, so the lookup is one
-// merge pass: O(contacts), no hashing, no allocation once capacity is reached. The cache is
-// the last step's contact arrays themselves, taken over by swap at the start of the next step.
+// merge pass: O(contacts), no hashing, no allocation once capacity is reached. The cache
+// holds the last step's keys (8 bytes a contact, copied) and its actions and cohesion flags
+// (taken over by swap at the start of the next step); the geometry stays with the step's
+// contacts, which the next detection refills (a copy of it cost 120 bytes a contact).
 #pragma once
 
 #include "cdpowder/contact/local_problem.hpp"
@@ -30,6 +32,31 @@ inline std::uint64_t contact_key(const PairProblem& p) {
 inline std::uint64_t contact_key(const WallProblem& w) {
   return wall_key(w.wall, w.sphere);
 }
+
+/// A key stands for itself (KeyedContacts holds the keys alone).
+inline std::uint64_t contact_key(std::uint64_t key) {
+  return key;
+}
+
+/// A step's contacts as the warm start, the bond count and a state file read them: each
+/// family's keys (ascending), actions and cohesion flags, without their geometry.
+struct KeyedContacts {
+  std::vector<std::uint64_t> pair_keys;
+  std::vector<ContactAction> pair_actions;
+  std::vector<std::uint8_t> pair_cohesive;
+  std::vector<std::uint64_t> wall_keys;
+  std::vector<ContactAction> wall_actions;
+  std::vector<std::uint8_t> wall_cohesive;
+
+  void clear() {
+    pair_keys.clear();
+    pair_actions.clear();
+    pair_cohesive.clear();
+    wall_keys.clear();
+    wall_actions.clear();
+    wall_cohesive.clear();
+  }
+};
 
 /// One stored contact as a state file saves it: its key, its action and its cohesion.
 struct CachedAction {
@@ -61,14 +88,22 @@ struct LastAction {
 /// (ascending) key order: what a state file saves of a step's actions.
 [[nodiscard]] std::vector<CachedAction> carried_pairs(const Contacts& contacts);
 [[nodiscard]] std::vector<CachedAction> carried_walls(const Contacts& contacts);
+[[nodiscard]] std::vector<CachedAction> carried_pairs(const KeyedContacts& contacts);
+[[nodiscard]] std::vector<CachedAction> carried_walls(const KeyedContacts& contacts);
+
+/// Both families' carried actions (carried_pairs, carried_walls).
+struct CarriedActions {
+  std::vector<CachedAction> pairs;
+  std::vector<CachedAction> walls;
+};
 
 class ActionCache {
  public:
-  /// Makes a solved step's contacts the last step's without copying them: swaps their
-  /// records, actions and cohesion flags with the cache's own arrays. `contacts` is left with
-  /// the cache's former arrays, whose contents are unspecified: the next detection clears
-  /// them. (Copying the actions instead cost ≈ 7 µs of a front step, waiting on memory;
-  /// docs/lab/2026-11-28-warm-start-swap-and-whole-run-overhead.md.)
+  /// Makes a solved step's contacts the last step's: copies their keys and swaps their
+  /// actions and cohesion flags with the cache's own arrays. `contacts` keeps its records and
+  /// is left with the cache's former actions and flags, whose contents are unspecified: the
+  /// next detection clears them. (Copying the actions instead cost ≈ 7 µs of a front step,
+  /// waiting on memory; docs/lab/2026-11-28-warm-start-swap-and-whole-run-overhead.md.)
   void take(Contacts& contacts);
 
   /// take() on a copy of `contacts`, for tools and tests that go on reading theirs (it
@@ -80,46 +115,41 @@ class ActionCache {
   /// cursor on. Empty if the contact did not exist in the previous step or carried nothing
   /// over. The cache is only read, so pieces side by side look up with cursors of their own.
   LastAction find_pair(std::size_t& cursor, std::uint64_t key) const {
-    return find(last_.pairs, last_.pair_actions, last_.pair_cohesive, cursor, key);
+    return find(last_.pair_keys, last_.pair_actions, last_.pair_cohesive, cursor, key);
   }
 
   LastAction find_wall(std::size_t& cursor, std::uint64_t key) const {
-    return find(last_.walls, last_.wall_actions, last_.wall_cohesive, cursor, key);
+    return find(last_.wall_keys, last_.wall_actions, last_.wall_cohesive, cursor, key);
   }
 
   /// The cursor of a piece whose first lookup is `key`: the first entry not below it.
   [[nodiscard]] std::size_t pair_cursor_at(std::uint64_t key) const;
 
-  /// The last step's contacts as the cache holds them: records (of which the lookups read
-  /// the bodies alone), actions and cohesion flags.
-  [[nodiscard]] const Contacts& last() const { return last_; }
+  /// The last step's contacts as the cache holds them: keys, actions and cohesion flags.
+  [[nodiscard]] const KeyedContacts& last() const { return last_; }
 
   /// Replaces the cache with entries read back from a state file; each family must be
-  /// sorted by key, as carried_pairs and carried_walls give them. The records it makes hold
-  /// the bodies alone.
+  /// sorted by key, as carried_pairs and carried_walls give them.
   void restore(const std::vector<CachedAction>& pairs, const std::vector<CachedAction>& walls);
 
  private:
   /// Inline: the build calls it once per contact per step (as a call of its own it took ≈ 5 %
   /// of the build's time; docs/lab/2026-11-28-build-pairs-and-warm-start-store.md).
-  template <typename Record>
-  static LastAction find(const std::vector<Record>& records,
+  static LastAction find(const std::vector<std::uint64_t>& keys,
                          const std::vector<ContactAction>& actions,
                          const std::vector<std::uint8_t>& cohesive, std::size_t& cursor,
                          std::uint64_t key) {
     // a key below an entry the cursor has passed would miss that entry: lookups must ascend
-    CDP_ASSERT(cursor == 0 || contact_key(records[cursor - 1]) < key,
-               "lookups not in ascending key order");
-    while (cursor < records.size() && contact_key(records[cursor]) < key) ++cursor;
-    if (cursor == records.size() || contact_key(records[cursor]) != key) return {};
+    CDP_ASSERT(cursor == 0 || keys[cursor - 1] < key, "lookups not in ascending key order");
+    while (cursor < keys.size() && keys[cursor] < key) ++cursor;
+    if (cursor == keys.size() || keys[cursor] != key) return {};
     const ContactAction& action = actions[cursor];
     const bool was_cohesive = cohesive[cursor] != 0;
     if (!carries_over(action, was_cohesive)) return {};
     return {&action, was_cohesive};
   }
 
-  /// Only the records, actions and cohesion flags of the last step (no visit order).
-  Contacts last_;
+  KeyedContacts last_;
 };
 
 }  // namespace cdpowder

@@ -349,13 +349,11 @@ World read_world(ByteReader& in) {
   return world;
 }
 
-void write_actions(ByteWriter& out, const Contacts& last_step) {
+void write_actions(ByteWriter& out, const CarriedActions& last_step) {
   Encode io{out};
   io.tag("ACTS");
-  const std::vector<CachedAction> pairs = carried_pairs(last_step);
-  const std::vector<CachedAction> walls = carried_walls(last_step);
-  entries_fields(io, pairs);
-  entries_fields(io, walls);
+  entries_fields(io, last_step.pairs);
+  entries_fields(io, last_step.walls);
 }
 
 ActionCache read_actions(ByteReader& in) {
@@ -385,7 +383,7 @@ void write_state(ByteWriter& out, std::string_view scene_toml, const World& worl
   out.tag("SCEN");
   out.string(scene_toml);
   write_world(out, world);
-  write_actions(out, last_step_contacts(work));
+  write_actions(out, last_step_actions(work));
   out.tag("RNGS");
   out.string(rng_text(work.solver.rng));
   Encode io{out};

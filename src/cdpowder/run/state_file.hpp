@@ -66,12 +66,12 @@ struct SavedRun {
 };
 
 /// The World and the warm-start actions through the shared serialiser (also state_hash):
-/// write_actions saves the actions of the last committed step's contacts
-/// (last_step_contacts, solver/step.hpp) that carry over; read_actions gives them back as the
-/// cache the next step starts from.
+/// write_actions saves the actions of the last committed step's contacts that carry over
+/// (last_step_actions, solver/step.hpp); read_actions gives them back as the cache the next
+/// step starts from.
 void write_world(ByteWriter& out, const World& world);
 World read_world(ByteReader& in);
-void write_actions(ByteWriter& out, const Contacts& last_step);
+void write_actions(ByteWriter& out, const CarriedActions& last_step);
 ActionCache read_actions(ByteReader& in);
 
 /// The whole file's bytes for a run after some steps.

@@ -12,7 +12,7 @@ std::uint64_t state_hash(const World& world, const StepWorkspace& work) {
   NullSink nowhere;  // hashed as written, never held
   ByteWriter bytes(nowhere);
   write_world(bytes, world);
-  write_actions(bytes, last_step_contacts(work));
+  write_actions(bytes, last_step_actions(work));
   return bytes.checksum();
 }
 

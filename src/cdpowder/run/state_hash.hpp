@@ -14,7 +14,7 @@
 
 namespace cdpowder {
 
-/// The World and the last committed step's actions (last_step_contacts), as a state file
+/// The World and the last committed step's actions (last_step_actions), as a state file
 /// stores them.
 std::uint64_t state_hash(const World& world, const StepWorkspace& work);
 

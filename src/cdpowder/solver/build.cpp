@@ -278,7 +278,7 @@ BondChanges bonds_of_step(const StepSettings& settings, const ActionCache& cache
   const auto bonds = [](const std::vector<std::uint8_t>& flags) {
     return std::accumulate(flags.begin(), flags.end(), std::int64_t{0});
   };
-  const Contacts& last = cache.last();
+  const KeyedContacts& last = cache.last();
   BondChanges c;
   c.pairs_formed = bonds(contacts.pair_cohesive) - kept_pairs;
   c.pairs_broken = bonds(last.pair_cohesive) - kept_pairs;

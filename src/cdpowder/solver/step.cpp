@@ -36,8 +36,12 @@ StepReport step(World& world, StepWorkspace& work, const StepSettings& settings)
   return report;
 }
 
-const Contacts& last_step_contacts(const StepWorkspace& work) {
-  return work.last_step_in_contacts ? work.contacts : work.action_cache.last();
+CarriedActions last_step_actions(const StepWorkspace& work) {
+  if (work.last_step_in_contacts) {
+    return {carried_pairs(work.contacts), carried_walls(work.contacts)};
+  }
+  const KeyedContacts& cached = work.action_cache.last();
+  return {carried_pairs(cached), carried_walls(cached)};
 }
 
 void release_step_scratch(StepWorkspace& work) {

@@ -45,7 +45,7 @@ struct StepWorkspace {
   ActionCache action_cache;
   /// `contacts` holds the last committed step, whose actions the next begin_step takes into
   /// action_cache (by swap, ActionCache::take); until then they are the state's actions
-  /// (last_step_contacts).
+  /// (last_step_actions).
   bool last_step_in_contacts = false;
   NlgsWorkspace solver;
   /// The last step's solve ran on the threads (StepReport::solver.threaded): the next step's
@@ -53,12 +53,11 @@ struct StepWorkspace {
   bool threaded = false;
 };
 
-/// The last committed step's contacts, whose actions warm-start the next step and are what a
-/// state file saves: work.contacts from commit_step until the next begin_step takes them,
-/// the action cache's after that (or after a state file has been read back). For their keys,
-/// actions and cohesion flags only: the cache's records may hold the bodies alone (after a
-/// state file) and are no step's geometry.
-const Contacts& last_step_contacts(const StepWorkspace& work);
+/// The actions of the last committed step that carry over (carried_pairs, carried_walls), which
+/// warm-start the next step and are what a state file saves: of work.contacts from commit_step
+/// until the next begin_step takes them, of the action cache after that (or after a state
+/// file has been read back).
+CarriedActions last_step_actions(const StepWorkspace& work);
 
 /// begin_step's first act: the last committed step's contacts into the action cache (a swap
 /// of arrays, ActionCache::take) if work.contacts still holds them. A tool or test that runs

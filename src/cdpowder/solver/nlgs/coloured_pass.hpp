@@ -170,6 +170,10 @@ struct ColouredPass {
   /// the step's pairs in storage order while Contacts holds them in colour order (the passes
   /// only read them; restore_storage_order swaps them back)
   std::vector<PairProblem> stored_pairs;
+  /// the pairs' actions in the other order while prepare_coloured_pass and
+  /// restore_storage_order reorder them; in between (the passes and the mixing) the mixing's
+  /// pair action changes, since the restore writes every entry anew (one array of 64 bytes a
+  /// pair less than a scratch of its own)
   std::vector<ContactAction> action_scratch;
   /// false when no contact of the step has a rolling or torsion threshold and no torque is
   /// non-zero: the pair kernels then leave the torques alone (they stay +0, the bits are the
@@ -180,7 +184,6 @@ struct ColouredPass {
   /// call needs it (coloured_kernel.inc). A hint about speed alone, so a pass taken as const
   /// updates it (run_coloured_pass), and tests may set it.
   mutable bool open_rare = false;
-  std::vector<ContactAction> deltas;  ///< scratch of the mixing: pair action changes
   /// a tiled step's piston contacts, tile by tile with the piston's mass split (not in the
   /// hub's sequential group); inactive when the step is not tiled
   SplitPiston split_piston;

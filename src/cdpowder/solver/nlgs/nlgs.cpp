@@ -95,7 +95,7 @@ void adopt(const AlignedVector<double>& mixed, MixedModes modes, Contacts& conta
       return delta;
     };
     if (coloured != nullptr) {
-      std::vector<ContactAction>& deltas = coloured->deltas;
+      std::vector<ContactAction>& deltas = coloured->action_scratch;  // free during the solve
       deltas.resize(contacts.pairs.size());
       for (std::size_t k = 0; k < contacts.pairs.size(); ++k) {
         deltas[k] = take(contacts.pair_actions[k]);

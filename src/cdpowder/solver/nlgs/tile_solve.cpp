@@ -70,7 +70,7 @@ bool mix_tiled_step(AlignedVector<double>& start, AlignedVector<double>& swept, 
 
   // the mixed actions take the place of the start (read by the passes above alone)
   AlignedVector<double>& mixed = start;
-  std::vector<ContactAction>& deltas = pass.deltas;
+  std::vector<ContactAction>& deltas = pass.action_scratch;  // free during the solve
   deltas.resize(contacts.pairs.size());
   const std::size_t pairs = contacts.pairs.size();
   with_modes(modes, [&](auto rolling, auto twisting) {
