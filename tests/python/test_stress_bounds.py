@@ -71,11 +71,20 @@ def test_the_program_has_the_runs_stress_and_balances_its_forces(quick_run):
         for j in range(3):
             row, constant = prog.stress_row(i, j)
             assert row @ prog.run_x + constant == pytest.approx(sigma[i, j], rel=1e-9, abs=1e-15)
-    # the run's forces balance every sphere in the program's equations to the run's accuracy:
-    # a wrong sign or lever would leave residuals of the order of the forces (0.1 F_coh)
+    # the run's forces balance every sphere and the piston in the program's equations to the
+    # run's own accuracy gauges (its largest net force on a sphere, the piston's force
+    # imbalance); a wrong sign or lever would leave residuals of the order of the forces
+    # (0.1 F_coh)
     residual = np.abs(prog.balance @ prog.run_x - prog.rhs)
-    assert residual.max() <= 1e-5
-    assert prog.tolerance["force"] <= 1e-5 and prog.tolerance["torque"] <= 1e-5
+    rows = np.arange(len(residual))
+    spheres = rows < len(residual) - 1 if prog.has_piston else rows >= 0
+    net_force = packing.summary["accuracy"]["max_net_force"]
+    assert residual[spheres & (rows % 6 < 3)].max() <= net_force * (1 + 1e-9) + 1e-12
+    assert residual[spheres & (rows % 6 >= 3)].max() <= 1e-5
+    piston = packing.summary["piston"]
+    assert residual[-1] == pytest.approx(piston["force_imbalance"] * piston["load"], rel=1e-6)
+    assert residual.max() <= 1e-3
+    assert prog.tolerance["force"] <= 1e-3 and prog.tolerance["torque"] <= 1e-5
 
 
 def test_a_single_sphere_column_has_the_shear_interval_of_its_couples(column_run):
@@ -116,7 +125,8 @@ def test_the_command_adds_an_interval_that_holds_the_run(quick_run):
 @pytest.mark.skipif(not clp.available(), reason="COIN-OR Clp (coinor-libclp1) is not installed")
 def test_both_solvers_agree(quick_run):
     # Clp's barrier and HiGHS solve the same programs: σ's bounds agree to the solvers'
-    # tolerance, and each one's attained values hold the run's
+    # tolerance (1e-7 of the load in each equation, about 2e-6 of σ_zz on this packing), and each
+    # one's attained values hold the run's
     one = stress_bounds.admissible_stress(quick_run, solver="clp")
     highs = stress_bounds.admissible_stress(quick_run, solver="highs")
     assert one["solver"].startswith("COIN-OR Clp") and highs["solver"].startswith("HiGHS")
@@ -126,7 +136,7 @@ def test_both_solvers_agree(quick_run):
             assert entry["min"] <= entry["min_attained"] <= entry["run"] <= \
                 entry["max_attained"] <= entry["max"], key
     for side in ("min", "max"):
-        assert one["sigma_zz"][side] == pytest.approx(highs["sigma_zz"][side], rel=1e-6)
+        assert one["sigma_zz"][side] == pytest.approx(highs["sigma_zz"][side], rel=1e-5)
     assert one["stopped_programs"] == 0 and highs["stopped_programs"] == 0
 
 

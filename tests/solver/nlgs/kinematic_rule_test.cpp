@@ -206,10 +206,12 @@ struct FrontStepErrors {
 FrontStepErrors kinematic_rule_on_the_front_step(PassKernel kernel, std::uint64_t order_seed,
                                                  double kappa) {
   FrontStepErrors out;
-  SolverSettings converged_settings;  // ten times tighter than the paper example, 2000 sweeps
+  // ten times tighter than the paper example; the tail of such a solve takes 640–2 240 passes
+  // over the ten solves of the test (two kernels, five orders), so it may take 4 000
+  SolverSettings converged_settings;
   converged_settings.kernel = kernel;
   converged_settings.tolerance = 1e-4;
-  converged_settings.max_passes = 2000;
+  converged_settings.max_passes = 4000;
   VelocityCache converged;
   out.converged = solve_front_step(converged_settings, order_seed, converged);
 

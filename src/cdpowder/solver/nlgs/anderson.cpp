@@ -32,17 +32,19 @@ void dispatch_by_count(int count, F&& f) {
   dispatch_impl(count, f, std::make_integer_sequence<int, kUnrolled>{});
 }
 
-using SlotPointers = std::array<const double*, AndersonAccelerator::kMaxDepth>;
+/// The stored differences of the slots in a fit: ΔF's (single precision) and ΔG's.
+using FSlotPointers = std::array<const float*, AndersonAccelerator::kMaxDepth>;
+using GSlotPointers = std::array<const double*, AndersonAccelerator::kMaxDepth>;
 using SlotWeights = std::array<double, AndersonAccelerator::kMaxDepth>;
 
 /// The vectors pass 1 streams through: the iterates x and g, the last f and g (updated), the
-/// new slot's differences (written); n doubles each.
+/// new slot's differences (written, ΔF rounded to single precision); n values each.
 struct PassOneVectors {
   const double* x;
   const double* g;
   double* last_f;
   double* last_g;
-  double* new_f;
+  float* new_f;
   double* new_g;
   std::size_t n;
 };
@@ -87,10 +89,12 @@ void AndersonAccelerator::begin(std::size_t n) {
   if (n != size_) {
     size_ = n;
     constexpr std::size_t kLine = kCacheLine / sizeof(double);
+    constexpr std::size_t kFloatLine = kCacheLine / sizeof(float);
     stride_ = (n + kLine - 1) / kLine * kLine;
+    f_stride_ = (n + kFloatLine - 1) / kFloatLine * kFloatLine;
     last_f_.resize(n);
     last_g_.resize(n);
-    delta_f_.resize(stride_ * static_cast<std::size_t>(depth_));
+    delta_f_.resize(f_stride_ * static_cast<std::size_t>(depth_));
     delta_g_.resize(stride_ * static_cast<std::size_t>(depth_));
     reset();
   }
@@ -118,13 +122,13 @@ AndersonAccelerator::PassSums AndersonAccelerator::pass(const double* x, const d
     return sums;
   }
   // pass 1: f = g − x, the new differences, ΔF_newᵀΔF_s and ΔF_sᵀ f for every slot
-  SlotPointers other_f{};
+  FSlotPointers other_f{};
   for (int j = 0; j < n_others_; ++j) {
     other_f[static_cast<std::size_t>(j)] =
-        delta_f_.data() + static_cast<std::size_t>(others_[static_cast<std::size_t>(j)]) * stride_ +
-        first;
+        delta_f_.data() +
+        static_cast<std::size_t>(others_[static_cast<std::size_t>(j)]) * f_stride_ + first;
   }
-  double* new_f = delta_f_.data() + static_cast<std::size_t>(slot_) * stride_;
+  float* new_f = delta_f_.data() + static_cast<std::size_t>(slot_) * f_stride_;
   double* new_g = delta_g_.data() + static_cast<std::size_t>(slot_) * stride_;
   const PassOneVectors vectors{
       x + first,     g + first,   last_f_.data() + first, last_g_.data() + first, new_f + first,
@@ -188,7 +192,7 @@ bool AndersonAccelerator::fit(std::span<const PassSums> ranges) {
 void AndersonAccelerator::mix(const double* g, double* next, std::size_t first,
                               std::size_t last) const {
   // pass 2: next = g − Σ γ_s ΔG_s
-  SlotPointers slot_g{};
+  GSlotPointers slot_g{};
   for (int a = 0; a < fitted_; ++a) {
     slot_g[static_cast<std::size_t>(a)] =
         delta_g_.data() + static_cast<std::size_t>(others_[static_cast<std::size_t>(a)]) * stride_ +

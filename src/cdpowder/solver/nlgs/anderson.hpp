@@ -9,12 +9,19 @@
 // Numer. Anal. 49 (2011) 1715, "type II"). Same column: 31 passes with m = 5.
 // It needs a stationary map, so the visiting order is fixed within a step.
 //
-// Cost: the vectors hold 4 to 8 doubles per contact (nlgs.cpp leaves out modes that are zero
+// Cost: the vectors hold 4 to 8 values per contact (nlgs.cpp leaves out modes that are zero
 // throughout a step), so for a paper-size packing they leave the
 // L1/L2 caches and the mixing is bound by memory traffic. The history is a ring of
 // contiguous slots (no shifting, no allocation after the first step of a size), and one
 // pass computes the new differences together with all their inner products; a second pass
-// forms the mixed iterate: ≈ 2m + 10 doubles moved per entry instead of ≈ 7m + 12.
+// forms the mixed iterate: ≈ 2m + 10 values moved per entry instead of ≈ 7m + 12.
+// The m stored differences ΔF are single precision (ΔG, the iterates, f and g stay double):
+// with m = 5 and 8 values a contact that saves 160 of the history's 768 bytes. ΔF only
+// decides the weights γ; the fit uses the rounded differences throughout (its Gram matrix and
+// right-hand side are those of the stored vectors), so it stays a least-squares fit, and any γ
+// gives an affine combination g − ΔG γ of the map's outputs. ΔG stays double: rounded, it would add
+// about 6e-8 of the history's steps to every mixed iterate, a floor that stalled final static
+// solves at 1e-6 (docs/lab/2026-11-30-memory-per-contact.md).
 #pragma once
 
 #include "cdpowder/core/aligned_vector.hpp"
@@ -76,15 +83,17 @@ class AndersonAccelerator {
 
  private:
   int depth_ = 5;
-  std::size_t size_ = 0;    ///< length n of the iterates the buffers are laid out for
-  std::size_t stride_ = 0;  ///< n rounded up to whole cache lines: slot s starts at s × stride_
+  std::size_t size_ = 0;      ///< length n of the iterates the buffers are laid out for
+  std::size_t stride_ = 0;    ///< n rounded up to whole cache lines of doubles (ΔG's slots)
+  std::size_t f_stride_ = 0;  ///< n rounded up to whole cache lines of floats (ΔF's slots)
   bool has_last_ = false;
   int count_ = 0;   ///< stored differences
   int newest_ = 0;  ///< ring slot of the newest difference
   AlignedVector<double> last_f_;
   AlignedVector<double> last_g_;
-  AlignedVector<double> delta_f_;  ///< slot s holds f_{j+1} − f_j in [s stride_, s stride_ + n)
-  AlignedVector<double> delta_g_;  ///< slot s holds g_{j+1} − g_j
+  /// slot s holds f_{j+1} − f_j, rounded to single precision, in [s f_stride_, s f_stride_ + n)
+  AlignedVector<float> delta_f_;
+  AlignedVector<double> delta_g_;  ///< slot s holds g_{j+1} − g_j in [s stride_, s stride_ + n)
   /// ΔF_sᵀΔF_t between ring slots s and t (row-major, kMaxDepth × kMaxDepth): a pass
   /// computes only the products of its new difference.
   std::array<double, static_cast<std::size_t>(kMaxDepth) * kMaxDepth> gram_{};
