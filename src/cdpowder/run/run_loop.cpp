@@ -284,8 +284,13 @@ class RunLoop {
     for (std::size_t s = 0; s < r.stage_seconds.size(); ++s) r.stage_seconds[s] += report.times[s];
   }
 
-  /// The static solve on a copy, used by both tests below.
-  [[nodiscard]] RestSolve solve_copy_at_rest() const {
+  /// The static solve on a copy, used by both tests below. The run's own step scratch is freed
+  /// first (release_step_scratch): the copy's solve builds its own, and the two sets side by
+  /// side were the peak of a run's memory (a 16 240-sphere compaction: 78.6 MB against 41.3 MB
+  /// for steps of its blocked packing). A run that goes on rebuilds its scratch in the next
+  /// step, with the same bits.
+  [[nodiscard]] RestSolve solve_copy_at_rest() {
+    release_step_scratch(work_);
     RestSolve rest{world_, work_, {}};
     rest.report = solve_at_rest(rest.world, rest.work, current_, run_.blocked);
     return rest;
