@@ -350,7 +350,8 @@ TEST(ColouredPass, BatchedActionChangesMoveTheVelocitiesAsOneByOne) {
         }
       }
       for (std::size_t k = 0; k < contacts.pairs.size(); ++k) {
-        apply_pair_action(contacts.pairs[k], deltas[k], one_by_one);
+        apply_pair_action(sweep.pair_record(contacts, static_cast<ContactIndex>(k)), deltas[k],
+                          one_by_one);
       }
       apply_pair_deltas(sweep, deltas, contacts, batched);
       EXPECT_TRUE(same_bits(one_by_one.spheres, batched.spheres));
@@ -359,8 +360,9 @@ TEST(ColouredPass, BatchedActionChangesMoveTheVelocitiesAsOneByOne) {
   allow_kernel_isa(lanes::Isa::Avx512);
 }
 
-// The solver stores the pairs in colour order during a step: the same sweeps as on the
-// pairs in storage order, and restore_storage_order gives the storage order back.
+// The solver stores the pairs' actions in colour order during a step (the records stay in
+// storage order): the same sweeps as on the pairs in storage order, and restore_storage_order
+// gives the storage order back.
 TEST(ColouredPass, StoringThePairsInColourOrderChangesNoBit) {
   SmallPacking packing(0.1);
   Contacts in_place = packing.scene.work.contacts;

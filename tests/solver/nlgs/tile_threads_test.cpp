@@ -224,7 +224,8 @@ TEST(Tiles, ThePhasesTilesShareNoSphere) {
           const ContactIndex k = pass.sequential[j];
           ++visits;
           if (k < contacts.pairs.size()) {
-            spheres[p].insert({contacts.pairs[k].a, contacts.pairs[k].b});
+            const PairProblem& pair = pass.pair_record(contacts, k);
+            spheres[p].insert({pair.a, pair.b});
             continue;
           }
           const WallProblem& w = contacts.walls[k - contacts.pairs.size()];

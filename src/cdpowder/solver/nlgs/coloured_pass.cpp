@@ -34,10 +34,11 @@ namespace cdpowder {
 
 namespace {
 
-/// Lane `lane` of `pair`: pair contact k (in colour order) of the step, pairs[k].
-void fill_lane(const std::vector<PairProblem>& pairs, const VelocityCache& velocities,
+/// Lane `lane` of `pair`: pair contact k (in colour order) of the step, whose record is
+/// pass.pair_record(contacts, k).
+void fill_lane(const Contacts& contacts, const ColouredPass& pass, const VelocityCache& velocities,
                ContactIndex k, std::size_t lane, BatchPair& pair) {
-  const PairProblem& p = pairs[k];
+  const PairProblem& p = pass.pair_record(contacts, k);
   const SphereVelocity& a = velocities.spheres[p.a];
   const SphereVelocity& b = velocities.spheres[p.b];
   pair.x_row[lane] = k * kRecordDoubles;
@@ -141,17 +142,17 @@ std::uint64_t wall_key_of(const WallProblem& w) {
 }
 
 /// The values of part p's batches and wall batches filled again lane by lane, each lane from
-/// the contact its row names (pairs in colour order, `pairs`): what build_batches writes, when
-/// the colouring and the rows are those of its last call.
-void refill_part(const std::vector<PairProblem>& pairs, const Contacts& contacts,
-                 const VelocityCache& velocities, std::size_t part, ColouredPass& pass) {
+/// the contact its row names (its colour-order index): what build_batches writes, when the
+/// colouring and the rows are those of its last call.
+void refill_part(const Contacts& contacts, const VelocityCache& velocities, std::size_t part,
+                 ColouredPass& pass) {
   const PairColouring& colouring = pass.colouring;
   const std::uint32_t first = pass.colour_batches[colouring.first_colour(part)] / 2;
   const std::uint32_t last = pass.colour_batches[colouring.first_colour(part + 1)] / 2;
   for (std::uint32_t i = first; i < last; ++i) {
     BatchPair& pair = pass.batch_pairs[i];
     for (std::size_t lane = 0; lane < kPairLanes; ++lane) {
-      fill_lane(pairs, velocities, pair.x_row[lane] / kRecordDoubles, lane, pair);
+      fill_lane(contacts, pass, velocities, pair.x_row[lane] / kRecordDoubles, lane, pair);
     }
   }
   for (std::uint32_t i = pass.part_wall_batches[part] / 2; i < pass.part_wall_batches[part + 1] / 2;
@@ -284,7 +285,7 @@ void build_batches(const Contacts& contacts, const VelocityCache& velocities, Co
   pass.colour_batches.assign(colours + 1, 0);
   std::size_t next = 0;
   const auto fill_pair = [&](ContactIndex k, std::size_t lane, BatchPair& pair) {
-    fill_lane(contacts.pairs, velocities, k, lane, pair);
+    fill_lane(contacts, pass, velocities, k, lane, pair);
   };
   for (std::size_t c = 0; c < colours; ++c) {
     fill_batches(
@@ -365,27 +366,23 @@ void assign_wall_parts(const Contacts& contacts, const StepTiles* tiles,
 namespace {
 
 /// A step whose colouring is kept (ColouringInputs): part by part (on the threads of `pieces`
-/// when given), the part's pairs and actions into colour order (its members, and for the last
-/// part also the overflow pairs, are a range of it), then its batches' values from them. The
+/// when given), the part's actions into colour order (its members, and for the last part also
+/// the overflow pairs, are a range of it), then its batches' values from the records. The
 /// members are colour-order indices already (set by the build from these inputs).
 void refill_kept_colouring(Contacts& contacts, const VelocityCache& velocities, ColouredPass& pass,
                            PieceRunner* pieces) {
   const PairColouring& colouring = pass.colouring;
   const std::vector<ContactIndex>& from = pass.storage_index;
-  std::vector<PairProblem>& pairs = pass.stored_pairs;
   std::vector<ContactAction>& actions = pass.action_scratch;
-  pairs.resize(contacts.pairs.size());
   actions.resize(contacts.pair_actions.size());
   const auto parts = static_cast<std::uint32_t>(colouring.parts());
   run_pieces(pieces, parts, [&](std::uint32_t part) {
     const std::size_t first = colouring.first_member(part);
     const std::size_t last =
         part + 1 < parts ? colouring.first_member(part + 1) : contacts.pairs.size();
-    gather_range(contacts.pairs, from, first, last, pairs);
     gather_range(contacts.pair_actions, from, first, last, actions);
-    refill_part(pairs, contacts, velocities, part, pass);
+    refill_part(contacts, velocities, part, pass);
   });
-  contacts.pairs.swap(pairs);
   contacts.pair_actions.swap(actions);
 }
 
@@ -398,9 +395,8 @@ void prepare_coloured_pass(Contacts& contacts, const VelocityCache& velocities, 
       tiles == nullptr ? std::span<const std::uint32_t>{} : std::span(tiles->sphere_part);
   pass.phase_parts = tiles == nullptr ? std::array<std::uint32_t, kTilePhases + 1>{0, 1, 1, 1, 1}
                                       : tiles->phase_parts;
-  // the pairs are only read while they are in colour order: their storage order stays in
-  // stored_pairs and comes back by a swap; the cohesion flags are not read by the passes and
-  // stay in storage order
+  // the actions are in colour order during the solve; the records and the cohesion flags stay
+  // in storage order (ColouredPass::pair_record)
   if (pass.built_from.match(contacts.pairs, contacts.walls, sphere_part, chunk)) {
     refill_kept_colouring(contacts, velocities, pass, pieces);
     pass.in_colour_order = true;
@@ -423,35 +419,24 @@ void prepare_coloured_pass(Contacts& contacts, const VelocityCache& velocities, 
                kMaxColours, chunk, colouring, pass.masks);
   assign_wall_parts(contacts, tiles, pass.wall_part);
   group_piston_contacts(contacts, tiles, pass.split_piston);
-  // store the pairs in the order the batches visit them, overflow last
+  // store the actions in the order the batches visit them, overflow last
   std::vector<ContactIndex>& from = pass.storage_index;
   from.assign(colouring.members.begin(), colouring.members.end());
   from.insert(from.end(), colouring.overflow.begin(), colouring.overflow.end());
-  gather_into(contacts.pairs, from, pass.stored_pairs);
   gather_into(contacts.pair_actions, from, pass.action_scratch);
   pass.in_colour_order = true;
   std::iota(colouring.members.begin(), colouring.members.end(), ContactIndex{0});
   std::iota(colouring.overflow.begin(), colouring.overflow.end(),
             static_cast<ContactIndex>(colouring.members.size()));
   build_batches(contacts, velocities, pass);
-  // (the pairs in storage order are in stored_pairs now)
-  pass.built_from.record(pass.stored_pairs, contacts.walls, sphere_part, chunk);
+  pass.built_from.record(contacts.pairs, contacts.walls, sphere_part, chunk);
 }
 
 void restore_storage_order(Contacts& contacts, ColouredPass& pass) {
   if (!pass.in_colour_order) return;  // not prepared
   const std::vector<ContactIndex>& from = pass.storage_index;
-  CDP_ASSERT(from.size() == contacts.pairs.size(), "a storage index per pair");
-  // unchanged by the passes, so stored_pairs is still their storage order (debug builds check
-  // that the two hold the same pairs)
-  CDP_ASSERT(pass.stored_pairs.size() == from.size() &&
-                 std::equal(from.begin(), from.end(), contacts.pairs.begin(),
-                            [&](ContactIndex stored, const PairProblem& p) {
-                              const PairProblem& q = pass.stored_pairs[stored];
-                              return q.a == p.a && q.b == p.b;
-                            }),
-             "the pairs in colour order are the stored pairs");
-  contacts.pairs.swap(pass.stored_pairs);
+  CDP_ASSERT(from.size() == contacts.pairs.size() && from.size() == contacts.pair_actions.size(),
+             "a storage index per pair");
   scatter_back(contacts.pair_actions, from, pass.action_scratch);
   pass.in_colour_order = false;  // storage_index is kept for the next step's prepare
 }
@@ -556,7 +541,7 @@ void apply_part_deltas(const ColouredPass& pass, std::size_t part,
 void apply_overflow_deltas(const ColouredPass& pass, const std::vector<ContactAction>& deltas,
                            const Contacts& contacts, VelocityCache& velocities) {
   for (const ContactIndex k : pass.colouring.overflow) {
-    apply_pair_action(contacts.pairs[k], deltas[k], velocities);
+    apply_pair_action(pass.pair_record(contacts, k), deltas[k], velocities);
   }
 }
 
@@ -583,14 +568,14 @@ PassSums run_coloured_part(Contacts& contacts, VelocityCache& velocities, const 
       const std::size_t p = group - colours;
       const auto [bottom_first, bottom_last] = pass.bottom_walls[p];
       for (std::uint32_t j = pass.part_sequential[p]; j < bottom_first; ++j) {
-        visit_contact(pass.sequential[j], contacts, velocities, sums);
+        visit_contact(pass.sequential[j], contacts, velocities, sums, pass.record_of());
       }
       if (bottom_first < bottom_last) {
         solve_walls(pass.wall_batch_pairs.data(), pass.part_wall_batches[p],
                     pass.part_wall_batches[p + 1], spheres, contacts.wall_actions.data(), sums);
       }
       for (std::uint32_t j = bottom_last; j < pass.part_sequential[p + 1]; ++j) {
-        visit_contact(pass.sequential[j], contacts, velocities, sums);
+        visit_contact(pass.sequential[j], contacts, velocities, sums, pass.record_of());
       }
       continue;
     }

@@ -162,14 +162,11 @@ struct ColouredPass {
   /// each part's sums of the last pass (run_coloured_pass), added in part order
   mutable std::vector<PartSums> part_sums;
   std::vector<ContactIndex> storage_index;  ///< pair i is stored pair storage_index[i] of the step
-  /// whether Contacts holds the pairs in colour order (from prepare_coloured_pass to
+  /// whether Contacts holds the pairs' actions in colour order (from prepare_coloured_pass to
   /// restore_storage_order)
   bool in_colour_order = false;
   /// the inputs of the last build of the colouring, storage_index and the batches' rows
   ColouringInputs built_from;
-  /// the step's pairs in storage order while Contacts holds them in colour order (the passes
-  /// only read them; restore_storage_order swaps them back)
-  std::vector<PairProblem> stored_pairs;
   /// the pairs' actions in the other order while prepare_coloured_pass and
   /// restore_storage_order reorder them; in between (the passes and the mixing) the mixing's
   /// pair action changes, since the restore writes every entry anew (one array of 64 bytes a
@@ -205,25 +202,39 @@ struct ColouredPass {
 
   /// Whether the step is tiled: more than one part.
   [[nodiscard]] bool tiled() const { return parts() > 1; }
+
+  /// Where pair k of the actions' order (the colour order during the solve) has its record:
+  /// the records stay in storage order (the batches hold what the passes read of the batched
+  /// pairs; a colour-order copy of the records cost 128 bytes a pair). Null where the two
+  /// orders are one (no storage index: a colouring built in storage order, as tests do).
+  [[nodiscard]] const ContactIndex* record_of() const {
+    return storage_index.empty() ? nullptr : storage_index.data();
+  }
+
+  /// The record of pair k of the actions' order (record_of).
+  [[nodiscard]] const PairProblem& pair_record(const Contacts& contacts, ContactIndex k) const {
+    return contacts.pairs[storage_index.empty() ? k : storage_index[k]];
+  }
 };
 
 /// Colours the step's pairs greedily (chunks of kColourChunk contacts), part by part when
-/// `tiles` tiles the step (tiles.hpp; null or not tiled: one part), stores the pairs and their
-/// actions in the order the pass visits them (so a pass streams through them;
-/// restore_storage_order undoes it) and builds the batches. The cohesion flags stay in storage
-/// order: nothing reads them until the pairs are back. When the pairs, walls and tiles are the
-/// last build's (ColouringInputs), the colouring and the batches' rows are kept and only the
-/// batches' values are filled again, part by part, on the threads of `pieces` if given.
+/// `tiles` tiles the step (tiles.hpp; null or not tiled: one part), stores the pairs' actions
+/// in the order the pass visits them (so a pass streams through them; restore_storage_order
+/// undoes it) and builds the batches. The records and the cohesion flags stay in storage order:
+/// during the solve, pair k of the colour order is ColouredPass::pair_record(contacts, k). When the
+/// pairs, walls and tiles are the last build's (ColouringInputs), the colouring and the batches'
+/// rows are kept and only the batches' values are filled again, part by part, on the threads of
+/// `pieces` if given.
 void prepare_coloured_pass(Contacts& contacts, const VelocityCache& velocities, ColouredPass& pass,
                            std::size_t chunk = kColourChunk, const StepTiles* tiles = nullptr,
                            PieceRunner* pieces = nullptr);
 
-/// Puts the pairs and their actions back in storage order (sorted by sphere pair), as the rest
-/// of the step expects them.
+/// Puts the pairs' actions back in storage order (sorted by sphere pair), as the rest of the
+/// step expects them.
 void restore_storage_order(Contacts& contacts, ColouredPass& pass);
 
-/// Builds the batches and the sequential groups from pass.colouring and pass.wall_part (set
-/// by the caller). The next prepare_coloured_pass colours afresh.
+/// Builds the batches and the sequential groups from pass.colouring, pass.storage_index and
+/// pass.wall_part (set by the caller). The next prepare_coloured_pass colours afresh.
 void build_batches(const Contacts& contacts, const VelocityCache& velocities, ColouredPass& pass);
 
 /// Group order, part by part: storage order for VisitOrder::Fixed, else the part's chunks (and
@@ -236,8 +247,8 @@ void order_groups(ColouredPass& pass, VisitOrder policy, Rng& rng);
 /// give the same bits. Returns whether the kernel now runs on `widest`.
 bool allow_kernel_isa(lanes::Isa widest);
 
-/// Moves the velocity cache by the pair action changes deltas[k] (pairs stored in colour order,
-/// as during the solve), as apply_pair_action over the pairs in storage order would: the
+/// Moves the velocity cache by the pair action changes deltas[k] (in colour order, as the
+/// actions during the solve), as apply_pair_action over the pairs in storage order would: the
 /// batches colour by colour, a register of lanes at a time, then the overflow pairs. The same
 /// bits.
 void apply_pair_deltas(const ColouredPass& pass, const std::vector<ContactAction>& deltas,

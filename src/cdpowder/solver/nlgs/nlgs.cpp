@@ -113,15 +113,17 @@ void adopt(const AlignedVector<double>& mixed, MixedModes modes, Contacts& conta
 }
 
 /// Σ |X|² over all contacts (torques scaled by 1/r_eff), for the relative-change rule only:
-/// a separate pass, so the kernel does not pay for it under the default rule.
-double sum_action_size_sq(const Contacts& contacts) {
+/// a separate pass, so the kernel does not pay for it under the default rule. `record_of`:
+/// where pair k's record is (ColouredPass::record_of; null: at k).
+double sum_action_size_sq(const Contacts& contacts, const ContactIndex* record_of) {
   double sum = 0.0;
   const auto add = [&](const ContactAction& a, double inv_r_sq) {
     sum += detail::action_size_sq(a.normal_force, a.tangential_force, a.rolling_torque,
                                   a.twisting_torque, inv_r_sq);
   };
   for (std::size_t k = 0; k < contacts.pairs.size(); ++k) {
-    add(contacts.pair_actions[k], detail::torque_scale_sq(contacts.pairs[k].r_eff));
+    const PairProblem& p = contacts.pairs[record_of != nullptr ? record_of[k] : k];
+    add(contacts.pair_actions[k], detail::torque_scale_sq(p.r_eff));
   }
   for (std::size_t k = 0; k < contacts.walls.size(); ++k) {
     add(contacts.wall_actions[k], detail::torque_scale_sq(contacts.walls[k].radius));
@@ -197,15 +199,16 @@ SolverStats solve_nlgs(Contacts& contacts, VelocityCache& velocities,
   }
   if (tiles != nullptr && !tiles->tiled()) tiles = nullptr;
   TileThreads* const pool = work.threads.get(solve_threads(settings));
+  // before the actions go into colour order (the records stay in storage order)
+  const MixedModes modes = mixed_modes(contacts);
 
-  // the pairs are stored in colour order during the passes (and the mixing); a step whose
+  // the actions are stored in colour order during the passes (and the mixing); a step whose
   // phases have tiles to share runs on the threads or on this one alone, whichever was faster
   // lately: the same bits
   const bool choose = pool != nullptr && tiles != nullptr && tiles->tiles_to_share();
   const bool threaded = choose && work.thread_choice.threaded();
   prepare_coloured_pass(contacts, velocities, work.coloured, kColourChunk, tiles,
                         threaded ? pool : nullptr);
-  const MixedModes modes = mixed_modes(contacts);
   work.coloured.torques = modes.rolling || modes.twisting;
   order_groups(work.coloured, settings.visit_order, work.rng);
   const auto start = std::chrono::steady_clock::now();
@@ -255,16 +258,16 @@ struct ContractionWindows {
 /// residual, relative change, contraction and error estimate, and the kinematic rule's
 /// errors once its window is full.
 void measure_pass(int pass, const PassSums& sums, const PassMotion& motion, bool kinematic_rule,
-                  const Contacts& contacts, const VelocityCache& velocities,
-                  const SolverSettings& settings, double reference_force,
-                  ContractionWindows& windows, SolverStats& stats) {
+                  const Contacts& contacts, const ContactIndex* record_of,
+                  const VelocityCache& velocities, const SolverSettings& settings,
+                  double reference_force, ContractionWindows& windows, SolverStats& stats) {
   const double mean_closed =
       sums.closed > 0 ? sums.sum_closed_normal / static_cast<double>(sums.closed) : 0.0;
   stats.force_scale = std::max({reference_force, mean_closed, 1e-300});
   stats.passes = pass;
   stats.residual = std::sqrt(sums.max_change_sq) / stats.force_scale;
   if (settings.stopping_rule == StoppingRule::RelativeChange) {
-    const double size_sq = sum_action_size_sq(contacts);
+    const double size_sq = sum_action_size_sq(contacts, record_of);
     stats.relative_change = size_sq > 0.0 ? std::sqrt(sums.sum_change_sq / size_sq) : 0.0;
   }
   stats.contraction = windows.forces.add(pass, stats.residual);
@@ -374,7 +377,8 @@ SolverStats iterate_until_done(Contacts& contacts, VelocityCache& velocities,
     if (settings.stopping_rule == StoppingRule::RelativeChange) {
       work.ranks.share_actions(contacts, work.coloured);
     }
-    measure_pass(pass, sums, motion, kinematic_rule, contacts, velocities, settings,
+    measure_pass(pass, sums, motion, kinematic_rule, contacts,
+                 coloured ? work.coloured.record_of() : nullptr, velocities, settings,
                  reference_force, windows, stats);
     if (passes_done(pass, kinematic_rule, settings, stats)) {
       stats.converged = true;

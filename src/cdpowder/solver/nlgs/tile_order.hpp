@@ -2,8 +2,8 @@
 // (tiles.hpp). The spheres are numbered as the run made them (a deposit's order, close to
 // height order), so a tile's spheres lie all over the cache: every thread would stream through
 // all of it, and two threads share every cache line's neighbourhood. For the passes the records
-// go tile by tile (each tile's in index order), and the contacts of the solve (the copy in colour
-// order, the walls, the batches' rows) name the spheres by their place. The arithmetic of every
+// go tile by tile (each tile's in index order), and the contacts of the solve (the pairs' and
+// walls' records, the batches' rows) name the spheres by their place. The arithmetic of every
 // contact is the same, so the bits are those of the cache in index order; what changes is which
 // memory a tile touches: its own spheres, contiguous, and its neighbours' at the edges.
 #pragma once
@@ -30,7 +30,7 @@ struct TileOrder {
 };
 
 /// Puts the cache's records in tile order and renames the spheres in the solve's contacts
-/// (contacts.pairs in colour order, contacts.walls, the batches' rows of `pass`) to their places.
+/// (contacts.pairs, contacts.walls, the batches' rows of `pass`) to their places.
 void enter_tile_order(const StepTiles& tiles, Contacts& contacts, VelocityCache& velocities,
                       ColouredPass& pass, TileOrder& order);
 

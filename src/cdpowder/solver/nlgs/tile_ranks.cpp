@@ -128,12 +128,12 @@ void TileRanks::plan_hub(const ColouredPass& pass, const Contacts& contacts,
   for (std::size_t part = pass.phase_parts[kTilePhases]; part < pass.parts(); ++part) {
     for (std::uint32_t k = pass.colouring.first_member(part);
          k < pass.colouring.first_member(part + 1); ++k) {
-      add_pair(contacts.pairs[k]);
+      add_pair(pass.pair_record(contacts, k));
     }
     for (std::uint32_t j = pass.part_sequential[part]; j < pass.part_sequential[part + 1]; ++j) {
       const ContactIndex k = pass.sequential[j];
       if (k < pairs) {
-        add_pair(contacts.pairs[k]);
+        add_pair(pass.pair_record(contacts, k));
       } else {
         places.push_back(contacts.walls[k - pairs].sphere);
       }

@@ -44,8 +44,8 @@ class TileRanks {
   /// messages after each phase. Inactive (every rank solves every part, nothing is sent) in a
   /// job of one rank or for a step that is not tiled (`tiles` null). Needs the records in tile
   /// order (`order`, tile_order.hpp): a tile's records are its part's range of places.
-  /// `contacts` are the solve's (in colour order, the spheres named by their places): the hub's
-  /// spheres are those of the hub's contacts.
+  /// `contacts` are the solve's (the actions in colour order, the spheres named by their
+  /// places): the hub's spheres are those of the hub's contacts.
   void plan(const StepTiles* tiles, const ColouredPass& pass, const TileOrder& order,
             const Contacts& contacts);
 

@@ -14,7 +14,7 @@ namespace cdpowder {
 namespace {
 
 /// The combined contact indices (pairs, then walls) of range r: part r's batched pairs for
-/// r < parts (the pairs are stored in colour order during the solve), then the rest.
+/// r < parts (the actions are stored in colour order during the solve), then the rest.
 std::pair<std::size_t, std::size_t> range_of(const ColouredPass& pass, const Contacts& contacts,
                                              std::uint32_t r) {
   const auto parts = static_cast<std::uint32_t>(pass.parts());

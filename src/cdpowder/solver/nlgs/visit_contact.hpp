@@ -27,12 +27,15 @@ inline void add_visit(PassSums& sums, const VisitChange& change, double normal_f
 
 /// Solves contact k of the combined index range (pairs first, then walls) with the scalar
 /// kernels; returns the change and sets the contact's new normal force and its cohesion.
+/// `record_of` (the coloured pass's storage index) names pair k's record where the actions are
+/// in another order than the records (ColouredPass::pair_record); null: the same order.
 inline VisitChange solve_contact(ContactIndex k, Contacts& contacts, VelocityCache& velocities,
-                                 double& normal_force, double& cohesion) {
+                                 double& normal_force, double& cohesion,
+                                 const ContactIndex* record_of = nullptr) {
   const auto n_pairs = static_cast<ContactIndex>(contacts.pairs.size());
   std::vector<SphereVelocity>& spheres = velocities.spheres;
   if (k < n_pairs) {
-    const PairProblem& p = contacts.pairs[k];
+    const PairProblem& p = contacts.pairs[record_of != nullptr ? record_of[k] : k];
     ContactAction& action = contacts.pair_actions[k];
     const VisitChange change = solve_pair(p, action, spheres[p.a], spheres[p.b]);
     normal_force = action.normal_force;
@@ -47,12 +50,14 @@ inline VisitChange solve_contact(ContactIndex k, Contacts& contacts, VelocityCac
   return change;
 }
 
-/// One visit of contact k with the scalar kernels, added to the sums.
+/// One visit of contact k with the scalar kernels, added to the sums (`record_of` as in
+/// solve_contact).
 inline void visit_contact(ContactIndex k, Contacts& contacts, VelocityCache& velocities,
-                          PassSums& sums) {
+                          PassSums& sums, const ContactIndex* record_of = nullptr) {
   double normal_force = 0.0;
   double cohesion = 0.0;
-  const VisitChange change = solve_contact(k, contacts, velocities, normal_force, cohesion);
+  const VisitChange change =
+      solve_contact(k, contacts, velocities, normal_force, cohesion, record_of);
   add_visit(sums, change, normal_force, cohesion);
 }
 
