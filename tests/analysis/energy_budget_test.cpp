@@ -34,6 +34,15 @@ WallProblem wall(WallKind kind, BodyIndex sphere, double gap = 0.0, double cohes
   return w;
 }
 
+/// `contacts` as the warm-start cache holds them after their step (ActionCache::last).
+KeyedContacts as_cached(Contacts contacts) {
+  contacts.pair_actions.resize(contacts.pairs.size());
+  contacts.wall_actions.resize(contacts.walls.size());
+  ActionCache cache;
+  cache.take(contacts);
+  return cache.last();
+}
+
 TEST(BondChanges, CountsBondsFormedAndBrokenByKeyIncludingContactsThatLeftTheList) {
   Contacts last;
   last.pairs = {pair(0, 1), pair(0, 2), pair(1, 3), pair(2, 5)};
@@ -47,13 +56,14 @@ TEST(BondChanges, CountsBondsFormedAndBrokenByKeyIncludingContactsThatLeftTheLis
   // the bottom bond left the list; the piston contact bonds
   now.walls = {wall(WallKind::Piston, 2)};
   now.wall_cohesive = {1};
-  const BondChanges c = bond_changes(last, now);
+  const BondChanges c = bond_changes(as_cached(last), now);
   EXPECT_EQ(c.pairs_formed, 2);
   EXPECT_EQ(c.pairs_broken, 2);
   EXPECT_EQ(c.walls_formed, 1);
   EXPECT_EQ(c.walls_broken, 1);
-  EXPECT_EQ(bond_changes(now, now).formed() + bond_changes(now, now).broken(), 0);
-  EXPECT_EQ(bond_changes(Contacts{}, now).formed(), 4);  // an empty cache: all formed
+  EXPECT_EQ(bond_changes(as_cached(now), now).formed() + bond_changes(as_cached(now), now).broken(),
+            0);
+  EXPECT_EQ(bond_changes(KeyedContacts{}, now).formed(), 4);  // an empty cache: all formed
 }
 
 TEST(CohesiveEnergy, IsMinusCohesionTimesTheRangeLeftOverTheBonds) {

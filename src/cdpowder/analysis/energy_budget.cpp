@@ -12,11 +12,13 @@ namespace cdpowder {
 
 namespace {
 
-/// formed/broken of one family: records (or keys) sorted by key, with their cohesion flags.
-template <typename LastRecord, typename Record>
-void count_family(const std::vector<LastRecord>& last, const std::vector<std::uint8_t>& last_bond,
-                  const std::vector<Record>& now, const std::vector<std::uint8_t>& now_bond,
-                  std::int64_t& formed, std::int64_t& broken) {
+/// formed/broken of one family: the last step's keys and this step's records, both sorted by
+/// key, with their cohesion flags.
+template <typename Record>
+void count_family(const std::vector<std::uint64_t>& last,
+                  const std::vector<std::uint8_t>& last_bond, const std::vector<Record>& now,
+                  const std::vector<std::uint8_t>& now_bond, std::int64_t& formed,
+                  std::int64_t& broken) {
   std::size_t i = 0;
   std::size_t j = 0;
   while (i < last.size() || j < now.size()) {
@@ -40,15 +42,6 @@ BondChanges bond_changes(const KeyedContacts& last, const Contacts& now) {
   count_family(last.pair_keys, last.pair_cohesive, now.pairs, now.pair_cohesive, c.pairs_formed,
                c.pairs_broken);
   count_family(last.wall_keys, last.wall_cohesive, now.walls, now.wall_cohesive, c.walls_formed,
-               c.walls_broken);
-  return c;
-}
-
-BondChanges bond_changes(const Contacts& last, const Contacts& now) {
-  BondChanges c;
-  count_family(last.pairs, last.pair_cohesive, now.pairs, now.pair_cohesive, c.pairs_formed,
-               c.pairs_broken);
-  count_family(last.walls, last.wall_cohesive, now.walls, now.wall_cohesive, c.walls_formed,
                c.walls_broken);
   return c;
 }

@@ -42,8 +42,6 @@ struct BondChanges {
 /// contacts as the warm-start cache holds them (ActionCache::last): every bond of that step
 /// is there, also after a restore from a state file.
 [[nodiscard]] BondChanges bond_changes(const KeyedContacts& last, const Contacts& now);
-/// The same between two steps' contacts.
-[[nodiscard]] BondChanges bond_changes(const Contacts& last, const Contacts& now);
 
 /// The cohesion's potential energy at the start of the step `contacts` was built for:
 /// U = −Σ F_c (d_coh − max(g, 0)) over the cohesion-active contacts, each with its law's
