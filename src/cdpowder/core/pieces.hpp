@@ -6,6 +6,7 @@
 // same bits on one thread or two.
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 
@@ -43,6 +44,27 @@ void run_pieces(PieceRunner* runner, std::uint32_t pieces, const Task& task) {
       pieces,
       [](const void* t, std::uint32_t piece) noexcept { (*static_cast<const Task*>(t))(piece); },
       &task);
+}
+
+/// The consecutive indices of one piece of run_chunks.
+inline constexpr std::size_t kChunkIndices = 4096;
+
+/// Runs task(first, last) over [0, count) cut into pieces of kChunkIndices consecutive indices
+/// (the last one shorter) on `runner`, or once over the whole range on the caller when `runner`
+/// is null or the range is one piece. For loops whose iterations write no common memory and
+/// combine nothing (a gather, a scatter through a permutation, a renaming): how they are cut
+/// does not change what they compute.
+template <typename Task>
+void run_chunks(PieceRunner* runner, std::size_t count, const Task& task) {
+  if (runner == nullptr || count <= kChunkIndices) {
+    task(std::size_t{0}, count);
+    return;
+  }
+  const auto pieces = static_cast<std::uint32_t>((count + kChunkIndices - 1) / kChunkIndices);
+  run_pieces(runner, pieces, [&](std::uint32_t piece) {
+    const std::size_t first = std::size_t{piece} * kChunkIndices;
+    task(first, std::min(count, first + kChunkIndices));
+  });
 }
 
 /// The half [first, last) of [0, count) that piece `piece` (0 or 1) of two takes; the first

@@ -108,8 +108,10 @@ void solve_step(const World& world, StepWorkspace& work, const StepSettings& set
   StageClock clock;
   const double reference_force = settings.laws.spheres.cohesion_force;
   NlgsWorkspace& solver = work.solver;
+  // on the threads of the last step's solve, as the detection before it
   assign_tiles(world.bodies.position, world.box, world.bodies.max_radius(),
-               settings.solver.tile_width, work.contacts, solver.tiles);
+               settings.solver.tile_width, work.contacts, solver.tiles,
+               step_threads(work, settings, work.threaded));
   report.solver = solve_nlgs(work.contacts, work.velocities, settings.solver, reference_force,
                              solver, &solver.tiles);
   work.threaded = report.solver.threaded;

@@ -332,12 +332,15 @@ void gather_into(std::vector<T>& v, const std::vector<ContactIndex>& from,
   v.swap(scratch);
 }
 
-/// v[from[i]] = old v[i]
+/// v[from[i]] = old v[i]; each entry is written once, so in pieces on `pieces` when there is
+/// one (run_chunks)
 template <typename T>
-void scatter_back(std::vector<T>& v, const std::vector<ContactIndex>& from,
-                  std::vector<T>& scratch) {
+void scatter_back(std::vector<T>& v, const std::vector<ContactIndex>& from, std::vector<T>& scratch,
+                  PieceRunner* pieces) {
   scratch.resize(v.size());
-  for (std::size_t i = 0; i < from.size(); ++i) scratch[from[i]] = v[i];
+  run_chunks(pieces, from.size(), [&](std::size_t first, std::size_t last) {
+    for (std::size_t i = first; i < last; ++i) scratch[from[i]] = v[i];
+  });
   v.swap(scratch);
 }
 
@@ -432,12 +435,12 @@ void prepare_coloured_pass(Contacts& contacts, const VelocityCache& velocities, 
   pass.built_from.record(contacts.pairs, contacts.walls, sphere_part, chunk);
 }
 
-void restore_storage_order(Contacts& contacts, ColouredPass& pass) {
+void restore_storage_order(Contacts& contacts, ColouredPass& pass, PieceRunner* pieces) {
   if (!pass.in_colour_order) return;  // not prepared
   const std::vector<ContactIndex>& from = pass.storage_index;
   CDP_ASSERT(from.size() == contacts.pairs.size() && from.size() == contacts.pair_actions.size(),
              "a storage index per pair");
-  scatter_back(contacts.pair_actions, from, pass.action_scratch);
+  scatter_back(contacts.pair_actions, from, pass.action_scratch, pieces);
   pass.in_colour_order = false;  // storage_index is kept for the next step's prepare
 }
 

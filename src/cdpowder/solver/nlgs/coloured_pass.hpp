@@ -230,8 +230,8 @@ void prepare_coloured_pass(Contacts& contacts, const VelocityCache& velocities, 
                            PieceRunner* pieces = nullptr);
 
 /// Puts the pairs' actions back in storage order (sorted by sphere pair), as the rest of the
-/// step expects them.
-void restore_storage_order(Contacts& contacts, ColouredPass& pass);
+/// step expects them; in pieces on `pieces` when there is one (run_chunks).
+void restore_storage_order(Contacts& contacts, ColouredPass& pass, PieceRunner* pieces = nullptr);
 
 /// Builds the batches and the sequential groups from pass.colouring, pass.storage_index and
 /// pass.wall_part (set by the caller). The next prepare_coloured_pass colours afresh.

@@ -16,7 +16,7 @@ namespace cdpowder {
 
 void KinematicChange::begin_step(const VelocityCache& velocities,
                                  std::span<const std::uint32_t> piece_start, bool rms_change,
-                                 TileRanks* ranks) {
+                                 TileRanks* ranks, PieceRunner* runner) {
   rms_change_ = rms_change;
   ranks_ = ranks != nullptr && ranks->active() ? ranks : nullptr;
   const std::vector<SphereVelocity>& spheres = velocities.spheres;
@@ -34,7 +34,7 @@ void KinematicChange::begin_step(const VelocityCache& velocities,
     piece_blocks_[p + 1] = piece_blocks_[p] + blocks_of(piece_records_[p + 1] - piece_records_[p]);
   }
   radius_sq_.assign(piece_blocks_[pieces] * kBlock, 0.0);
-  for (std::size_t p = 0; p < pieces; ++p) {
+  run_pieces(runner, static_cast<std::uint32_t>(pieces), [&](std::uint32_t p) {
     double* const r_sq = radius_sq_.data() + kBlock * piece_blocks_[p];
     for (std::size_t i = piece_records_[p]; i < piece_records_[p + 1]; ++i) {
       // I/m = (Δt/m)/(Δt/I) = 0.4 R²; a fixed sphere (Δt/I = 0) does not turn
@@ -42,8 +42,8 @@ void KinematicChange::begin_step(const VelocityCache& velocities,
       r_sq[i - piece_records_[p]] =
           s.dt_inverse_inertia > 0.0 ? 2.5 * s.dt_inverse_mass / s.dt_inverse_inertia : 0.0;
     }
-  }
-  velocities_changed(velocities);
+  });
+  velocities_changed(velocities, runner);
 }
 
 template <typename Task>

@@ -46,9 +46,11 @@ class KinematicChange {
   /// do not depend on how many threads or ranks take them. With `ranks` active (tile_ranks.hpp)
   /// this rank measures its own tiles' pieces, and the pieces' measures go to every rank. With
   /// `rms_change` every after_pass of the step also sums the squared changes
-  /// (PassMotion::rms_change; solver.kinematic_norm = "rms").
+  /// (PassMotion::rms_change; solver.kinematic_norm = "rms"). The pieces on the threads of
+  /// `runner` when given.
   void begin_step(const VelocityCache& velocities, std::span<const std::uint32_t> piece_start = {},
-                  bool rms_change = false, TileRanks* ranks = nullptr);
+                  bool rms_change = false, TileRanks* ranks = nullptr,
+                  PieceRunner* runner = nullptr);
 
   /// Remembers the velocities again after something other than a pass changed them (the
   /// mixing), so the next pass is measured from them; the pieces on the threads of `runner`

@@ -207,17 +207,19 @@ SolverStats solve_nlgs(Contacts& contacts, VelocityCache& velocities,
   // lately: the same bits
   const bool choose = pool != nullptr && tiles != nullptr && tiles->tiles_to_share();
   const bool threaded = choose && work.thread_choice.threaded();
-  prepare_coloured_pass(contacts, velocities, work.coloured, kColourChunk, tiles,
-                        threaded ? pool : nullptr);
+  TileThreads* const runner = threaded ? pool : nullptr;
+  prepare_coloured_pass(contacts, velocities, work.coloured, kColourChunk, tiles, runner);
   work.coloured.torques = modes.rolling || modes.twisting;
   order_groups(work.coloured, settings.visit_order, work.rng);
   const auto start = std::chrono::steady_clock::now();
   // the records tile by tile during the passes (tile_order.hpp): the same bits
-  if (tiles != nullptr) enter_tile_order(*tiles, contacts, velocities, work.coloured, work.order);
+  if (tiles != nullptr) {
+    enter_tile_order(*tiles, contacts, velocities, work.coloured, work.order, runner);
+  }
   // the tiles of each phase shared among the ranks of an MPI job (tile_ranks.hpp)
   work.ranks.plan(tiles, work.coloured, work.order, contacts);
-  SolverStats stats = iterate_until_done(contacts, velocities, settings, reference_force,
-                                         threaded ? pool : nullptr, work, modes);
+  SolverStats stats =
+      iterate_until_done(contacts, velocities, settings, reference_force, runner, work, modes);
   // every rank ends with every record and action
   work.ranks.share_solution(contacts, work.coloured, velocities);
   if (choose) {
@@ -226,8 +228,8 @@ SolverStats solve_nlgs(Contacts& contacts, VelocityCache& velocities,
         took.count(), static_cast<double>(stats.passes) * static_cast<double>(contacts.size()));
   }
   stats.threaded = threaded;
-  leave_tile_order(contacts, velocities, work.coloured, work.order);
-  restore_storage_order(contacts, work.coloured);
+  leave_tile_order(contacts, velocities, work.coloured, work.order, runner);
+  restore_storage_order(contacts, work.coloured, runner);
   return stats;
 }
 
@@ -361,7 +363,8 @@ SolverStats iterate_until_done(Contacts& contacts, VelocityCache& velocities,
       work.kinematic.begin_step(velocities,
                                 tiled ? std::span<const std::uint32_t>(work.order.part_start)
                                       : std::span<const std::uint32_t>(),
-                                settings.kinematic_norm == KinematicNorm::Rms, &work.ranks);
+                                settings.kinematic_norm == KinematicNorm::Rms, &work.ranks,
+                                threads);
     }
     // the estimates of the kinematic rule need a full window of passes (ρ over two passes at the
     // start of a step is optimistic), so its test and the RMS speed wait for it; the windows

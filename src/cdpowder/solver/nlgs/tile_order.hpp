@@ -10,6 +10,7 @@
 
 #include "cdpowder/contact/local_problem.hpp"
 #include "cdpowder/contact/velocity_cache.hpp"
+#include "cdpowder/core/pieces.hpp"
 #include "cdpowder/solver/nlgs/coloured_pass.hpp"
 #include "cdpowder/solver/nlgs/tiles.hpp"
 
@@ -30,13 +31,14 @@ struct TileOrder {
 };
 
 /// Puts the cache's records in tile order and renames the spheres in the solve's contacts
-/// (contacts.pairs, contacts.walls, the batches' rows of `pass`) to their places.
+/// (contacts.pairs, contacts.walls, the batches' rows of `pass`) to their places; the moves
+/// and renamings in pieces on `runner` when there is one (core/pieces.hpp, run_chunks).
 void enter_tile_order(const StepTiles& tiles, Contacts& contacts, VelocityCache& velocities,
-                      ColouredPass& pass, TileOrder& order);
+                      ColouredPass& pass, TileOrder& order, PieceRunner* runner = nullptr);
 
 /// Undoes enter_tile_order (the records back in index order, the spheres' own names back);
 /// nothing when it is not active.
 void leave_tile_order(Contacts& contacts, VelocityCache& velocities, ColouredPass& pass,
-                      TileOrder& order);
+                      TileOrder& order, PieceRunner* runner = nullptr);
 
 }  // namespace cdpowder

@@ -56,7 +56,7 @@ std::uint32_t StepTiles::pair_part(const PairProblem& p) const {
 }
 
 void assign_tiles(const std::vector<Vec3>& positions, const PeriodicBox& box, double max_radius,
-                  double width, const Contacts& contacts, StepTiles& tiles) {
+                  double width, const Contacts& contacts, StepTiles& tiles, PieceRunner* runner) {
   tiles.sphere_part.clear();
   tiles.grid = tile_grid(box, max_radius, width);
   const TileGrid grid = tiles.grid;
@@ -82,13 +82,15 @@ void assign_tiles(const std::vector<Vec3>& positions, const PeriodicBox& box, do
   tiles.sphere_part.resize(n);
   tiles.sphere_x.resize(n);
   tiles.sphere_y.resize(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const std::uint32_t ix = tile_of(positions[i].x(), box.lx, grid.nx);
-    const std::uint32_t iy = tile_of(positions[i].y(), box.ly, grid.ny);
-    tiles.sphere_x[i] = ix;
-    tiles.sphere_y[i] = iy;
-    tiles.sphere_part[i] = tiles.part_of_tile[iy * grid.nx + ix];
-  }
+  run_chunks(runner, n, [&](std::size_t first, std::size_t last) {
+    for (std::size_t i = first; i < last; ++i) {
+      const std::uint32_t ix = tile_of(positions[i].x(), box.lx, grid.nx);
+      const std::uint32_t iy = tile_of(positions[i].y(), box.ly, grid.ny);
+      tiles.sphere_x[i] = ix;
+      tiles.sphere_y[i] = iy;
+      tiles.sphere_part[i] = tiles.part_of_tile[iy * grid.nx + ix];
+    }
+  });
 }
 
 std::vector<int> sphere_ranks(const std::vector<Vec3>& positions, const PeriodicBox& box,

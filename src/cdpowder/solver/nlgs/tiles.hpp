@@ -19,6 +19,7 @@
 #pragma once
 
 #include "cdpowder/contact/local_problem.hpp"
+#include "cdpowder/core/pieces.hpp"
 #include "cdpowder/core/vec3.hpp"
 #include "cdpowder/model/periodic_box.hpp"
 
@@ -110,8 +111,9 @@ struct StepTiles {
 
 /// Sets the step's tiling from the spheres' positions (wrapped into the cell) and the grid of
 /// tile_grid(box, max_radius, width): not tiled below kMinPairsToTile pairs or with a grid of
-/// one tile.
+/// one tile. The spheres in pieces on `runner` when given (run_chunks).
 void assign_tiles(const std::vector<Vec3>& positions, const PeriodicBox& box, double max_radius,
-                  double width, const Contacts& contacts, StepTiles& tiles);
+                  double width, const Contacts& contacts, StepTiles& tiles,
+                  PieceRunner* runner = nullptr);
 
 }  // namespace cdpowder
