@@ -37,7 +37,7 @@ struct OpeningSpeeds {
   double wall = -std::numeric_limits<double>::infinity();
 };
 
-/// A piece's result on a cache line of its own (the two pieces write theirs side by side).
+/// A piece's result on a cache line of its own (the pieces write theirs side by side).
 struct alignas(64) PieceSpeeds {
   OpeningSpeeds value;
 };
@@ -85,13 +85,17 @@ CohesiveOpening cohesive_opening(const World& world, const Contacts& contacts,
   if (pieces == nullptr) {
     speeds = opening_speeds(world, contacts, velocities, 0, contacts.size());
   } else {
-    std::array<PieceSpeeds, 2> halves{};
-    run_pieces(pieces, 2, [&](std::uint32_t piece) {
-      const IndexRange half = half_of(contacts.size(), piece);
-      halves[piece].value = opening_speeds(world, contacts, velocities, half.first, half.last);
+    // maxima: any cut gives the same bits
+    std::array<PieceSpeeds, kMaxPieces> of_piece{};
+    const std::uint32_t count = pieces_of(contacts.size());
+    run_pieces(pieces, count, [&](std::uint32_t piece) {
+      const IndexRange range = piece_of(contacts.size(), count, piece);
+      of_piece[piece].value = opening_speeds(world, contacts, velocities, range.first, range.last);
     });
-    speeds.pair = std::max(halves[0].value.pair, halves[1].value.pair);
-    speeds.wall = std::max(halves[0].value.wall, halves[1].value.wall);
+    for (std::uint32_t piece = 0; piece < count; ++piece) {
+      speeds.pair = std::max(speeds.pair, of_piece[piece].value.pair);
+      speeds.wall = std::max(speeds.wall, of_piece[piece].value.wall);
+    }
   }
   CohesiveOpening out;
   const auto track = [&](double opening_speed, double range) {

@@ -25,8 +25,8 @@ struct CohesiveOpening {
 /// v*, ω*, V_P* of `velocities` for free spheres and an enabled piston, the World's own for
 /// fixed spheres (integrate leaves those). Call after the solve and before integrate(); the
 /// result is what the same measure gives on the World after integrate(), to the last bit.
-/// With `pieces`, each half of the contacts is measured on a piece of its own (a maximum
-/// does not depend on the order, so the result is the same).
+/// With `pieces`, the contacts are measured in pieces_of(contacts) pieces side by side (a
+/// maximum does not depend on the order, so the result is the same).
 CohesiveOpening cohesive_opening(const World& world, const Contacts& contacts,
                                  const VelocityCache& velocities, const ContactLaws& laws,
                                  double dt, PieceRunner* pieces = nullptr);

@@ -67,6 +67,17 @@ void run_chunks(PieceRunner* runner, std::size_t count, const Task& task) {
   });
 }
 
+/// The most pieces of a stage whose pieces each keep a result of their own in an array (a
+/// maximum, a flag, a list of contacts found), so that no step allocates for them.
+inline constexpr std::uint32_t kMaxPieces = 64;
+
+/// How many pieces such a stage cuts [0, count) into: one a kChunkIndices, at least one, at
+/// most kMaxPieces. Fixed by the count, never by the threads.
+inline std::uint32_t pieces_of(std::size_t count) {
+  const std::size_t chunks = (count + kChunkIndices - 1) / kChunkIndices;
+  return static_cast<std::uint32_t>(std::clamp<std::size_t>(chunks, 1, kMaxPieces));
+}
+
 /// The half [first, last) of [0, count) that piece `piece` (0 or 1) of two takes; the first
 /// half is the shorter by one when count is odd.
 struct IndexRange {
@@ -77,6 +88,12 @@ struct IndexRange {
 inline IndexRange half_of(std::size_t count, std::uint32_t piece) {
   const std::size_t middle = count / 2;
   return piece == 0 ? IndexRange{0, middle} : IndexRange{middle, count};
+}
+
+/// Piece `piece` of `pieces` near-equal consecutive ranges of [0, count) (piece_of(count, 2, p)
+/// is half_of(count, p)).
+inline IndexRange piece_of(std::size_t count, std::uint32_t pieces, std::uint32_t piece) {
+  return {count * piece / pieces, count * (piece + std::size_t{1}) / pieces};
 }
 
 }  // namespace cdpowder

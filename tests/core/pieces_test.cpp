@@ -1,0 +1,69 @@
+// Tests for src/cdpowder/core/pieces.hpp: the cuts of a range into pieces cover every index
+// once, in order, on a runner or on the caller; pieces_of keeps to its bounds; piece_of of two
+// pieces is half_of.
+#include "cdpowder/core/pieces.hpp"
+
+#include "cdpowder/solver/nlgs/tile_threads.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace cdpowder {
+namespace {
+
+TEST(Pieces, RunChunksVisitsEveryIndexOnceOnAnyRunner) {
+  TileThreads two(2);
+  TileThreads three(3);
+  for (PieceRunner* runner : {static_cast<PieceRunner*>(nullptr), static_cast<PieceRunner*>(&two),
+                              static_cast<PieceRunner*>(&three)}) {
+    for (const std::size_t count : {std::size_t{0}, std::size_t{1}, kChunkIndices,
+                                    kChunkIndices + 1, 5 * kChunkIndices + 17}) {
+      std::vector<int> visits(count, 0);
+      run_chunks(runner, count, [&](std::size_t first, std::size_t last) {
+        ASSERT_LE(first, last);
+        ASSERT_LE(last, count);
+        // a piece is a chunk, or the whole range on the caller
+        if (runner != nullptr && count > kChunkIndices) {
+          EXPECT_EQ(first % kChunkIndices, 0U);
+          EXPECT_LE(last - first, kChunkIndices);
+        }
+        for (std::size_t i = first; i < last; ++i) ++visits[i];
+      });
+      for (std::size_t i = 0; i < count; ++i) ASSERT_EQ(visits[i], 1) << i << " of " << count;
+    }
+  }
+}
+
+TEST(Pieces, PiecesOfStaysWithinOneAndTheMost) {
+  EXPECT_EQ(pieces_of(0), 1U);
+  EXPECT_EQ(pieces_of(1), 1U);
+  EXPECT_EQ(pieces_of(kChunkIndices), 1U);
+  EXPECT_EQ(pieces_of(kChunkIndices + 1), 2U);
+  EXPECT_EQ(pieces_of(std::size_t{1000} * kChunkIndices), kMaxPieces);
+}
+
+TEST(Pieces, PieceOfCutsTheRangeInOrderAndTwoPiecesAreTheHalves) {
+  for (const std::size_t count :
+       {std::size_t{0}, std::size_t{1}, std::size_t{7}, std::size_t{1000}}) {
+    for (std::uint32_t pieces = 1; pieces <= 9; ++pieces) {
+      std::size_t next = 0;
+      for (std::uint32_t p = 0; p < pieces; ++p) {
+        const IndexRange range = piece_of(count, pieces, p);
+        EXPECT_EQ(range.first, next);
+        EXPECT_LE(range.first, range.last);
+        next = range.last;
+      }
+      EXPECT_EQ(next, count);
+    }
+    for (std::uint32_t p = 0; p < 2; ++p) {
+      EXPECT_EQ(piece_of(count, 2, p).first, half_of(count, p).first);
+      EXPECT_EQ(piece_of(count, 2, p).last, half_of(count, p).last);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace cdpowder
