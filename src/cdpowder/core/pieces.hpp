@@ -49,21 +49,23 @@ void run_pieces(PieceRunner* runner, std::uint32_t pieces, const Task& task) {
 /// The consecutive indices of one piece of run_chunks.
 inline constexpr std::size_t kChunkIndices = 4096;
 
-/// Runs task(first, last) over [0, count) cut into pieces of kChunkIndices consecutive indices
-/// (the last one shorter) on `runner`, or once over the whole range on the caller when `runner`
-/// is null or the range is one piece. For loops whose iterations write no common memory and
+/// Runs task(first, last) over [0, count) cut into pieces of `chunk` consecutive indices (the
+/// last one shorter) on `runner`, or once over the whole range on the caller when `runner` is
+/// null or the range is one piece. For loops whose iterations write no common memory and
 /// combine nothing (a gather, a scatter through a permutation, a renaming): how they are cut
-/// does not change what they compute.
+/// does not change what they compute. A chunk of large elements (a batch of 8 pairs) is
+/// given fewer indices.
 template <typename Task>
-void run_chunks(PieceRunner* runner, std::size_t count, const Task& task) {
-  if (runner == nullptr || count <= kChunkIndices) {
+void run_chunks(PieceRunner* runner, std::size_t count, const Task& task,
+                std::size_t chunk = kChunkIndices) {
+  if (runner == nullptr || count <= chunk) {
     task(std::size_t{0}, count);
     return;
   }
-  const auto pieces = static_cast<std::uint32_t>((count + kChunkIndices - 1) / kChunkIndices);
+  const auto pieces = static_cast<std::uint32_t>((count + chunk - 1) / chunk);
   run_pieces(runner, pieces, [&](std::uint32_t piece) {
-    const std::size_t first = std::size_t{piece} * kChunkIndices;
-    task(first, std::min(count, first + kChunkIndices));
+    const std::size_t first = std::size_t{piece} * chunk;
+    task(first, std::min(count, first + chunk));
   });
 }
 

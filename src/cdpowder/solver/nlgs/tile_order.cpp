@@ -15,15 +15,19 @@ void rename_rows(ColouredPass& pass, const std::vector<BodyIndex>& name, PieceRu
   const auto renamed = [&](std::uint32_t row) {
     return name[row / kRecordDoubles] * kRecordDoubles;
   };
-  run_chunks(runner, pass.batch_pairs.size(), [&](std::size_t first, std::size_t last) {
-    for (std::size_t k = first; k < last; ++k) {
-      BatchPair& pair = pass.batch_pairs[k];
-      for (std::size_t lane = 0; lane < kPairLanes; ++lane) {
-        pair.a_row[lane] = renamed(pair.a_row[lane]);
-        pair.b_row[lane] = renamed(pair.b_row[lane]);
-      }
-    }
-  });
+  // a piece of batches renames as many pairs as a piece of pairs
+  run_chunks(
+      runner, pass.batch_pairs.size(),
+      [&](std::size_t first, std::size_t last) {
+        for (std::size_t k = first; k < last; ++k) {
+          BatchPair& pair = pass.batch_pairs[k];
+          for (std::size_t lane = 0; lane < kPairLanes; ++lane) {
+            pair.a_row[lane] = renamed(pair.a_row[lane]);
+            pair.b_row[lane] = renamed(pair.b_row[lane]);
+          }
+        }
+      },
+      kChunkIndices / static_cast<std::size_t>(kPairLanes));
   for (WallBatchPair& pair : pass.wall_batch_pairs) {
     for (std::size_t lane = 0; lane < kPairLanes; ++lane) {
       pair.s_row[lane] = renamed(pair.s_row[lane]);
