@@ -103,4 +103,12 @@ struct Contacts {
   }
 };
 
+/// The record of pair k of the actions' order where `record_of` names it (a coloured solve keeps
+/// the records in storage order and the actions in colour order: ColouredPass::record_of); null:
+/// the two orders are one.
+inline const PairProblem& pair_record_at(const Contacts& contacts, const ContactIndex* record_of,
+                                         std::size_t k) {
+  return contacts.pairs[record_of != nullptr ? record_of[k] : k];
+}
+
 }  // namespace cdpowder

@@ -213,7 +213,7 @@ struct ColouredPass {
 
   /// The record of pair k of the actions' order (record_of).
   [[nodiscard]] const PairProblem& pair_record(const Contacts& contacts, ContactIndex k) const {
-    return contacts.pairs[storage_index.empty() ? k : storage_index[k]];
+    return pair_record_at(contacts, record_of(), k);
   }
 };
 

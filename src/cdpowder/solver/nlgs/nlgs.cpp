@@ -122,7 +122,7 @@ double sum_action_size_sq(const Contacts& contacts, const ContactIndex* record_o
                                   a.twisting_torque, inv_r_sq);
   };
   for (std::size_t k = 0; k < contacts.pairs.size(); ++k) {
-    const PairProblem& p = contacts.pairs[record_of != nullptr ? record_of[k] : k];
+    const PairProblem& p = pair_record_at(contacts, record_of, k);
     add(contacts.pair_actions[k], detail::torque_scale_sq(p.r_eff));
   }
   for (std::size_t k = 0; k < contacts.walls.size(); ++k) {

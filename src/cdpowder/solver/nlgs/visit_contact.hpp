@@ -35,7 +35,7 @@ inline VisitChange solve_contact(ContactIndex k, Contacts& contacts, VelocityCac
   const auto n_pairs = static_cast<ContactIndex>(contacts.pairs.size());
   std::vector<SphereVelocity>& spheres = velocities.spheres;
   if (k < n_pairs) {
-    const PairProblem& p = contacts.pairs[record_of != nullptr ? record_of[k] : k];
+    const PairProblem& p = pair_record_at(contacts, record_of, k);
     ContactAction& action = contacts.pair_actions[k];
     const VisitChange change = solve_pair(p, action, spheres[p.a], spheres[p.b]);
     normal_force = action.normal_force;
