@@ -1,12 +1,13 @@
 // Tests for src/cdpowder/core/pieces.hpp: the cuts of a range into pieces cover every index
-// once, in order, on a runner or on the caller; pieces_of keeps to its bounds; piece_of of two
-// pieces is half_of.
+// once, in order, on a runner or on the caller, in the chunk asked for; pieces_of keeps to its
+// bounds; half_of's first half is the shorter.
 #include "cdpowder/core/pieces.hpp"
 
 #include "cdpowder/solver/nlgs/tile_threads.hpp"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -37,6 +38,26 @@ TEST(Pieces, RunChunksVisitsEveryIndexOnceOnAnyRunner) {
   }
 }
 
+TEST(Pieces, RunChunksTakesTheChunkItIsGiven) {
+  TileThreads two(2);
+  constexpr std::size_t kChunk = 512;
+  const std::size_t count = 3 * kChunk + 5;
+  std::vector<int> visits(count, 0);
+  std::vector<std::size_t> firsts;  // written by each piece at its own index
+  firsts.assign(chunks_of(count, kChunk), count);
+  run_chunks(
+      &two, count,
+      [&](std::size_t first, std::size_t last) {
+        ASSERT_EQ(first % kChunk, 0U);
+        ASSERT_EQ(last, std::min(count, first + kChunk));
+        firsts[first / kChunk] = first;
+        for (std::size_t i = first; i < last; ++i) ++visits[i];
+      },
+      kChunk);
+  for (std::size_t p = 0; p < firsts.size(); ++p) EXPECT_EQ(firsts[p], p * kChunk);
+  for (std::size_t i = 0; i < count; ++i) ASSERT_EQ(visits[i], 1) << i;
+}
+
 TEST(Pieces, PiecesOfStaysWithinOneAndTheMost) {
   EXPECT_EQ(pieces_of(0), 1U);
   EXPECT_EQ(pieces_of(1), 1U);
@@ -58,10 +79,11 @@ TEST(Pieces, PieceOfCutsTheRangeInOrderAndTwoPiecesAreTheHalves) {
       }
       EXPECT_EQ(next, count);
     }
-    for (std::uint32_t p = 0; p < 2; ++p) {
-      EXPECT_EQ(piece_of(count, 2, p).first, half_of(count, p).first);
-      EXPECT_EQ(piece_of(count, 2, p).last, half_of(count, p).last);
-    }
+    // the halves: the first the shorter by one when count is odd
+    EXPECT_EQ(half_of(count, 0).first, 0U);
+    EXPECT_EQ(half_of(count, 0).last, count / 2);
+    EXPECT_EQ(half_of(count, 1).first, count / 2);
+    EXPECT_EQ(half_of(count, 1).last, count);
   }
 }
 

@@ -49,6 +49,11 @@ void run_pieces(PieceRunner* runner, std::uint32_t pieces, const Task& task) {
 /// The consecutive indices of one piece of run_chunks.
 inline constexpr std::size_t kChunkIndices = 4096;
 
+/// Chunks of `chunk` indices that [0, count) takes, the last one shorter: ⌈count / chunk⌉.
+inline std::size_t chunks_of(std::size_t count, std::size_t chunk) {
+  return (count + chunk - 1) / chunk;
+}
+
 /// Runs task(first, last) over [0, count) cut into pieces of `chunk` consecutive indices (the
 /// last one shorter) on `runner`, or once over the whole range on the caller when `runner` is
 /// null or the range is one piece. For loops whose iterations write no common memory and
@@ -62,7 +67,7 @@ void run_chunks(PieceRunner* runner, std::size_t count, const Task& task,
     task(std::size_t{0}, count);
     return;
   }
-  const auto pieces = static_cast<std::uint32_t>((count + chunk - 1) / chunk);
+  const auto pieces = static_cast<std::uint32_t>(chunks_of(count, chunk));
   run_pieces(runner, pieces, [&](std::uint32_t piece) {
     const std::size_t first = std::size_t{piece} * chunk;
     task(first, std::min(count, first + chunk));
@@ -76,26 +81,26 @@ inline constexpr std::uint32_t kMaxPieces = 64;
 /// How many pieces such a stage cuts [0, count) into: one a kChunkIndices, at least one, at
 /// most kMaxPieces. Fixed by the count, never by the threads.
 inline std::uint32_t pieces_of(std::size_t count) {
-  const std::size_t chunks = (count + kChunkIndices - 1) / kChunkIndices;
-  return static_cast<std::uint32_t>(std::clamp<std::size_t>(chunks, 1, kMaxPieces));
+  return static_cast<std::uint32_t>(
+      std::clamp<std::size_t>(chunks_of(count, kChunkIndices), 1, kMaxPieces));
 }
 
-/// The half [first, last) of [0, count) that piece `piece` (0 or 1) of two takes; the first
-/// half is the shorter by one when count is odd.
+/// The indices [first, last) of one piece.
 struct IndexRange {
   std::size_t first = 0;
   std::size_t last = 0;
 };
 
-inline IndexRange half_of(std::size_t count, std::uint32_t piece) {
-  const std::size_t middle = count / 2;
-  return piece == 0 ? IndexRange{0, middle} : IndexRange{middle, count};
-}
-
-/// Piece `piece` of `pieces` near-equal consecutive ranges of [0, count) (piece_of(count, 2, p)
-/// is half_of(count, p)).
+/// Piece `piece` of `pieces` near-equal consecutive ranges of [0, count): [⌊count p/P⌋,
+/// ⌊count (p + 1)/P⌋).
 inline IndexRange piece_of(std::size_t count, std::uint32_t pieces, std::uint32_t piece) {
   return {count * piece / pieces, count * (piece + std::size_t{1}) / pieces};
+}
+
+/// The half of [0, count) that piece `piece` (0 or 1) of two takes; the first half is the
+/// shorter by one when count is odd.
+inline IndexRange half_of(std::size_t count, std::uint32_t piece) {
+  return piece_of(count, 2, piece);
 }
 
 }  // namespace cdpowder
