@@ -1,6 +1,7 @@
 // Tests for src/cdpowder/core/pieces.hpp: the cuts of a range into pieces cover every index
-// once, in order, on a runner or on the caller, in the chunk asked for; pieces_of keeps to its
-// bounds; half_of's first half is the shorter.
+// once, in order, on a runner or on the caller, in the chunk asked for; run_pieces_in hands
+// them out in the order given; pieces_of keeps to its bounds; half_of's first half is the
+// shorter.
 #include "cdpowder/core/pieces.hpp"
 
 #include "cdpowder/solver/nlgs/tile_threads.hpp"
@@ -36,6 +37,31 @@ TEST(Pieces, RunChunksVisitsEveryIndexOnceOnAnyRunner) {
       for (std::size_t i = 0; i < count; ++i) ASSERT_EQ(visits[i], 1) << i << " of " << count;
     }
   }
+}
+
+/// Runs the pieces one after the other in the order it is handed them, and remembers it.
+class RecordingRunner final : public PieceRunner {
+ public:
+  void run_pieces(std::uint32_t pieces, Task task, const void* context) override {
+    for (std::uint32_t p = 0; p < pieces; ++p) task(context, p);
+  }
+};
+
+// run_pieces_in hands a runner the pieces in the order given (the rest after it, in their own
+// order) and runs them on the caller in piece order; every piece once either way.
+TEST(Pieces, RunPiecesInHandsThePiecesOutInTheOrderGiven) {
+  RecordingRunner recording;
+  TileThreads three(3);
+  const std::vector<std::uint32_t> order{3, 0, 2, 1};
+  std::vector<std::uint32_t> handed;
+  run_pieces_in(&recording, order, 6, [&](std::uint32_t p) { handed.push_back(p); });
+  EXPECT_EQ(handed, (std::vector<std::uint32_t>{3, 0, 2, 1, 4, 5}));
+  handed.clear();
+  run_pieces_in(nullptr, order, 6, [&](std::uint32_t p) { handed.push_back(p); });
+  EXPECT_EQ(handed, (std::vector<std::uint32_t>{0, 1, 2, 3, 4, 5}));
+  std::vector<int> visits(6, 0);  // each piece writes its own entry
+  run_pieces_in(&three, order, 6, [&](std::uint32_t p) { ++visits[p]; });
+  EXPECT_EQ(visits, std::vector<int>(6, 1));
 }
 
 TEST(Pieces, RunChunksTakesTheChunkItIsGiven) {

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <span>
 
 namespace cdpowder {
 
@@ -44,6 +45,23 @@ void run_pieces(PieceRunner* runner, std::uint32_t pieces, const Task& task) {
       pieces,
       [](const void* t, std::uint32_t piece) noexcept { (*static_cast<const Task*>(t))(piece); },
       &task);
+}
+
+/// run_pieces for task(0) … task(pieces − 1), the pieces handed to `runner`'s threads in
+/// `order` (a permutation of them; pieces past its end in their own order) and run on the
+/// caller in piece order, the order of memory. A runner gives each thread a contiguous range of
+/// what it is handed first (TileThreads), so `order` chooses which pieces go together: a tiled
+/// step hands its tiles out row by row (ColouredPass::strip_order), so that a thread takes the
+/// same rows in every stage and their data stays in its core's cache. What a piece computes
+/// does not depend on it.
+template <typename Task>
+void run_pieces_in(PieceRunner* runner, std::span<const std::uint32_t> order, std::uint32_t pieces,
+                   const Task& task) {
+  if (runner == nullptr) {
+    for (std::uint32_t p = 0; p < pieces; ++p) task(p);
+    return;
+  }
+  run_pieces(runner, pieces, [&](std::uint32_t i) { task(i < order.size() ? order[i] : i); });
 }
 
 /// The consecutive indices of one piece of run_chunks.

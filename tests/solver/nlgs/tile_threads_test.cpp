@@ -364,15 +364,22 @@ TEST(KinematicChange, PiecesOnThreadsGiveTheBitsOfOneThread) {
   TileThreads threads(3);
   KinematicChange alone;
   KinematicChange on_threads;
+  KinematicChange handed_out;  // the pieces handed to the threads in another order
+  const std::array<std::uint32_t, 4> strips{2, 0, 3, 1};
   alone.begin_step(cache, piece_start, true);
   on_threads.begin_step(cache, piece_start, true);
+  handed_out.begin_step(cache, piece_start, true, nullptr, &threads, strips);
   ASSERT_EQ(alone.pieces(), 4U);
   fill(1.1);
   const PassMotion a = alone.after_pass(cache, true);
   const PassMotion b = on_threads.after_pass(cache, true, &threads);
+  const PassMotion h = handed_out.after_pass(cache, true, &threads);
   EXPECT_EQ(a.largest_change, b.largest_change);
   EXPECT_EQ(a.rms_surface_speed, b.rms_surface_speed);
   EXPECT_EQ(a.rms_change, b.rms_change);
+  EXPECT_EQ(a.largest_change, h.largest_change);
+  EXPECT_EQ(a.rms_surface_speed, h.rms_surface_speed);
+  EXPECT_EQ(a.rms_change, h.rms_change);
   double largest_sq = 0.0;
   std::array<double, 4> piece_sum{};
   std::array<double, 4> piece_change_sum{};
@@ -398,11 +405,13 @@ TEST(KinematicChange, PiecesOnThreadsGiveTheBitsOfOneThread) {
   fill(2.9);
   alone.velocities_changed(cache);
   on_threads.velocities_changed(cache, &threads);
+  handed_out.velocities_changed(cache, &threads);
   fill(3.4);
   const PassMotion c = alone.after_pass(cache, false);
   const PassMotion d = on_threads.after_pass(cache, false, &threads);
   EXPECT_GT(c.largest_change, 0.0);
   EXPECT_EQ(c.largest_change, d.largest_change);
+  EXPECT_EQ(c.largest_change, handed_out.after_pass(cache, false, &threads).largest_change);
 }
 
 /// The SmallPacking after a few steps (so that the warm start has actions and the history

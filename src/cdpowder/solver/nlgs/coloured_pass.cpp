@@ -379,7 +379,8 @@ void refill_kept_colouring(Contacts& contacts, const VelocityCache& velocities, 
   std::vector<ContactAction>& actions = pass.action_scratch;
   actions.resize(contacts.pair_actions.size());
   const auto parts = static_cast<std::uint32_t>(colouring.parts());
-  run_pieces(pieces, parts, [&](std::uint32_t part) {
+  // the parts handed out in strip order (ColouredPass::strip_order)
+  run_pieces_in(pieces, pass.strip_order, parts, [&](std::uint32_t part) {
     const std::size_t first = colouring.first_member(part);
     const std::size_t last =
         part + 1 < parts ? colouring.first_member(part + 1) : contacts.pairs.size();
@@ -398,6 +399,14 @@ void prepare_coloured_pass(Contacts& contacts, const VelocityCache& velocities, 
       tiles == nullptr ? std::span<const std::uint32_t>{} : std::span(tiles->sphere_part);
   pass.phase_parts = tiles == nullptr ? std::array<std::uint32_t, kTilePhases + 1>{0, 1, 1, 1, 1}
                                       : tiles->phase_parts;
+  if (tiles == nullptr) {
+    pass.strip_order.assign({0});
+  } else {
+    pass.strip_order.assign(tiles->part_of_tile.begin(), tiles->part_of_tile.end());
+    for (std::uint32_t part = tiles->phase_parts[kTilePhases]; part < tiles->parts(); ++part) {
+      pass.strip_order.push_back(part);
+    }
+  }
   // the actions are in colour order during the solve; the records and the cohesion flags stay
   // in storage order (ColouredPass::pair_record)
   if (pass.built_from.match(contacts.pairs, contacts.walls, sphere_part, chunk)) {

@@ -16,7 +16,8 @@ namespace cdpowder {
 
 void KinematicChange::begin_step(const VelocityCache& velocities,
                                  std::span<const std::uint32_t> piece_start, bool rms_change,
-                                 TileRanks* ranks, PieceRunner* runner) {
+                                 TileRanks* ranks, PieceRunner* runner,
+                                 std::span<const std::uint32_t> piece_order) {
   rms_change_ = rms_change;
   ranks_ = ranks != nullptr && ranks->active() ? ranks : nullptr;
   const std::vector<SphereVelocity>& spheres = velocities.spheres;
@@ -34,7 +35,12 @@ void KinematicChange::begin_step(const VelocityCache& velocities,
     piece_blocks_[p + 1] = piece_blocks_[p] + blocks_of(piece_records_[p + 1] - piece_records_[p]);
   }
   radius_sq_.assign(piece_blocks_[pieces] * kBlock, 0.0);
-  run_pieces(runner, static_cast<std::uint32_t>(pieces), [&](std::uint32_t p) {
+  if (piece_order.size() == pieces) {
+    piece_order_.assign(piece_order.begin(), piece_order.end());
+  } else {
+    piece_order_.clear();
+  }
+  run_pieces_in(runner, piece_order_, static_cast<std::uint32_t>(pieces), [&](std::uint32_t p) {
     double* const r_sq = radius_sq_.data() + kBlock * piece_blocks_[p];
     for (std::size_t i = piece_records_[p]; i < piece_records_[p + 1]; ++i) {
       // I/m = (Δt/m)/(Δt/I) = 0.4 R²; a fixed sphere (Δt/I = 0) does not turn
@@ -49,7 +55,7 @@ void KinematicChange::begin_step(const VelocityCache& velocities,
 template <typename Task>
 void KinematicChange::for_my_pieces(PieceRunner* runner, const Task& task) {
   if (ranks_ == nullptr) {
-    run_pieces(runner, pieces(), task);
+    run_pieces_in(runner, piece_order_, pieces(), task);
     return;
   }
   const std::span<const std::uint32_t> mine = ranks_->own_parts();

@@ -47,10 +47,11 @@ class KinematicChange {
   /// this rank measures its own tiles' pieces, and the pieces' measures go to every rank. With
   /// `rms_change` every after_pass of the step also sums the squared changes
   /// (PassMotion::rms_change; solver.kinematic_norm = "rms"). The pieces on the threads of
-  /// `runner` when given.
+  /// `runner` when given, handed out in `piece_order` (ColouredPass::strip_order: each thread
+  /// takes the rows of tiles it solves), or in piece order where it is empty.
   void begin_step(const VelocityCache& velocities, std::span<const std::uint32_t> piece_start = {},
                   bool rms_change = false, TileRanks* ranks = nullptr,
-                  PieceRunner* runner = nullptr);
+                  PieceRunner* runner = nullptr, std::span<const std::uint32_t> piece_order = {});
 
   /// Remembers the velocities again after something other than a pass changed them (the
   /// mixing), so the next pass is measured from them; the pieces on the threads of `runner`
@@ -109,8 +110,9 @@ class KinematicChange {
   /// [piece_blocks_[p], piece_blocks_[p + 1]) of the snapshot (its records from 4·first on)
   std::vector<std::size_t> piece_records_{0, 0};
   std::vector<std::size_t> piece_blocks_{0, 0};
-  TileRanks* ranks_ = nullptr;         ///< begin_step's, when active
-  std::vector<PieceMotion> measured_;  ///< scratch of after_pass
+  std::vector<std::uint32_t> piece_order_;  ///< begin_step's piece_order (empty: piece order)
+  TileRanks* ranks_ = nullptr;              ///< begin_step's, when active
+  std::vector<PieceMotion> measured_;       ///< scratch of after_pass
   double piston_start_ = 0.0;
   bool rms_change_ = false;  ///< begin_step's rms_change
 };

@@ -360,11 +360,17 @@ SolverStats iterate_until_done(Contacts& contacts, VelocityCache& velocities,
     }
     if (kinematic_rule && pass == 1) {
       // a tiled step's pieces are its tiles, their records in tile order (tile_order.hpp)
-      work.kinematic.begin_step(velocities,
-                                tiled ? std::span<const std::uint32_t>(work.order.part_start)
-                                      : std::span<const std::uint32_t>(),
-                                settings.kinematic_norm == KinematicNorm::Rms, &work.ranks,
-                                threads);
+      // its pieces are the tiles (a sphere is in a tile, none in the hub), handed out in strip
+      // order: the first of ColouredPass::strip_order, the hub's part after them
+      std::span<const std::uint32_t> pieces;
+      std::span<const std::uint32_t> strips;
+      if (tiled) {
+        pieces = work.order.part_start;
+        strips = work.coloured.strip_order;
+        strips = strips.first(std::min(strips.size(), pieces.size() - 1));
+      }
+      work.kinematic.begin_step(velocities, pieces, settings.kinematic_norm == KinematicNorm::Rms,
+                                &work.ranks, threads, strips);
     }
     // the estimates of the kinematic rule need a full window of passes (ρ over two passes at the
     // start of a step is optimistic), so its test and the RMS speed wait for it; the windows

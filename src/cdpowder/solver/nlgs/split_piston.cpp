@@ -15,6 +15,7 @@ namespace cdpowder {
 void group_piston_contacts(const Contacts& contacts, const StepTiles* tiles, SplitPiston& split) {
   split.walls.clear();
   split.piece_start.assign(1, 0);
+  split.strip_order.clear();
   if (tiles == nullptr || !tiles->tiled()) return;
   // a counting sort by tile, storage order within a tile; the other walls last, left out
   const std::uint32_t tile_count = tiles->grid.tiles();
@@ -27,9 +28,17 @@ void group_piston_contacts(const Contacts& contacts, const StepTiles* tiles, Spl
       },
       split.tile_start, split.tile_next, split.wall_order);
   split.walls.assign(split.wall_order.begin(), split.wall_order.begin() + start[tile_count]);
-  // the tiles with piston contacts are the pieces
+  // the tiles with piston contacts are the pieces (in part order), handed out row by row
+  constexpr std::uint32_t kNone = ~std::uint32_t{0};
+  split.piece_of_part.assign(tile_count, kNone);
   for (std::uint32_t t = 0; t < tile_count; ++t) {
-    if (start[t + 1] > start[t]) split.piece_start.push_back(start[t + 1]);
+    if (start[t + 1] > start[t]) {
+      split.piece_of_part[t] = split.pieces();
+      split.piece_start.push_back(start[t + 1]);
+    }
+  }
+  for (const std::uint32_t part : tiles->part_of_tile) {
+    if (split.piece_of_part[part] != kNone) split.strip_order.push_back(split.piece_of_part[part]);
   }
 }
 
@@ -73,7 +82,7 @@ PassSums run_split_piston(Contacts& contacts, VelocityCache& velocities, const S
     ranks->after_piston(velocities);
     ranks->share_piston_pieces(split.results);
   } else {
-    run_pieces(pieces, split.pieces(), solve_piece);
+    run_pieces_in(pieces, split.strip_order, split.pieces(), solve_piece);
   }
   // the tiles' impulses on the piston, added in tile order: ΔV_P = Σ_t (V_t − V_P)/n
   double change = 0.0;

@@ -39,8 +39,12 @@ struct SplitPiston {
   };
 
   mutable std::vector<PieceResult> results;
+  /// the pieces in the order of their tiles, row by row: the order the threads are handed them
+  /// in, so a thread takes the rows of tiles it solves in the phases (ColouredPass::strip_order);
+  /// their sums are still added in piece order
+  std::vector<std::uint32_t> strip_order;
   /// scratch of group_piston_contacts (kept from step to step)
-  std::vector<std::uint32_t> tile_start, tile_next;
+  std::vector<std::uint32_t> tile_start, tile_next, piece_of_part;
   std::vector<ContactIndex> wall_order;
 
   [[nodiscard]] std::uint32_t pieces() const {

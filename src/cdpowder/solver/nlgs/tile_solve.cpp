@@ -44,7 +44,8 @@ void pass_over_ranges(const AlignedVector<double>& start, AlignedVector<double>&
     range_sums[r] = accelerator.pass(start.data(), swept.data(), first * stride, last * stride);
   };
   if (ranks == nullptr || !ranks->active()) {
-    run_pieces(threads, parts + 1, pass_range);
+    // the tiles handed out in strip order (ColouredPass::strip_order), then the rest
+    run_pieces_in(threads, pass.strip_order, parts + 1, pass_range);
     return;
   }
   const std::span<const std::uint32_t> mine = ranks->own_parts();
