@@ -476,7 +476,7 @@ TEST(ColouredPass, AStepWithTheLastStepsContactsReusesItsColouring) {
     expect_same_preparation(contacts, velocities, tiles, reused, pieces);
     EXPECT_FALSE(reused.colouring.overflow.empty());
     EXPECT_EQ(reused.tiled(), tiled);
-    ASSERT_TRUE(reused.built_from.match(contacts.pairs, contacts.walls, parts, 256));
+    ASSERT_TRUE(reused.built_from.match(contacts.pairs, contacts.walls, parts, 256, pieces));
     Rng rng = make_rng(3, RngStream::Deposition);
     // the same contacts with other values: the colouring is kept
     move_a_little(contacts, velocities, rng);
@@ -485,25 +485,49 @@ TEST(ColouredPass, AStepWithTheLastStepsContactsReusesItsColouring) {
     contacts.pairs.erase(contacts.pairs.begin() + 3);
     contacts.pair_actions.erase(contacts.pair_actions.begin() + 3);
     contacts.pair_cohesive.erase(contacts.pair_cohesive.begin() + 3);
-    EXPECT_FALSE(reused.built_from.match(contacts.pairs, contacts.walls, parts, 256));
+    EXPECT_FALSE(reused.built_from.match(contacts.pairs, contacts.walls, parts, 256, pieces));
     expect_same_preparation(contacts, velocities, tiles, reused, pieces);
     ASSERT_FALSE(contacts.walls.empty());
     WallProblem& wall = contacts.walls.back();
     wall.wall = wall.wall == WallKind::Piston ? WallKind::Bottom : WallKind::Piston;
-    EXPECT_FALSE(reused.built_from.match(contacts.pairs, contacts.walls, parts, 256));
+    EXPECT_FALSE(reused.built_from.match(contacts.pairs, contacts.walls, parts, 256, pieces));
     expect_same_preparation(contacts, velocities, tiles, reused, pieces);
     if (tiled) {
       move_to_next_tile(tiles, contacts.pairs[5].a);
-      EXPECT_FALSE(reused.built_from.match(contacts.pairs, contacts.walls, parts, 256));
+      EXPECT_FALSE(reused.built_from.match(contacts.pairs, contacts.walls, parts, 256, pieces));
       expect_same_preparation(contacts, velocities, tiles, reused, pieces);
     }
     move_a_little(contacts, velocities, rng);
     expect_same_preparation(contacts, velocities, tiles, reused, pieces);
     // another chunk, or a build by other means (the tests' colourings): not the last build
     EXPECT_FALSE(reused.built_from.match(contacts.pairs, contacts.walls, parts, 512));
-    EXPECT_TRUE(reused.built_from.match(contacts.pairs, contacts.walls, parts, 256));
+    EXPECT_TRUE(reused.built_from.match(contacts.pairs, contacts.walls, parts, 256, pieces));
     build_batches(contacts, velocities, reused);
-    EXPECT_FALSE(reused.built_from.match(contacts.pairs, contacts.walls, parts, 256));
+    EXPECT_FALSE(reused.built_from.match(contacts.pairs, contacts.walls, parts, 256, pieces));
+  }
+}
+
+// The pairs are compared in pieces of kChunkIndices on a runner: a change in any piece is
+// found, and the answer is the caller's.
+TEST(ColouredPass, KeptInputsAreComparedInPiecesOnTheThreads) {
+  std::vector<PairProblem> pairs(3 * kChunkIndices + 5);
+  for (std::size_t k = 0; k < pairs.size(); ++k) {
+    pairs[k].a = static_cast<BodyIndex>(k);
+    pairs[k].b = static_cast<BodyIndex>(k + 1);
+  }
+  const std::vector<WallProblem> walls;
+  const std::vector<std::uint32_t> parts{0, 1, 1, 0};
+  ColouringInputs inputs;
+  inputs.record(pairs, walls, parts, 256);
+  TileThreads threads(2);
+  for (PieceRunner* runner :
+       {static_cast<PieceRunner*>(nullptr), static_cast<PieceRunner*>(&threads)}) {
+    EXPECT_TRUE(inputs.match(pairs, walls, parts, 256, runner));
+    for (const std::size_t changed : {std::size_t{0}, kChunkIndices + 7, pairs.size() - 1}) {
+      std::vector<PairProblem> other = pairs;
+      other[changed].b += 1;
+      EXPECT_FALSE(inputs.match(other, walls, parts, 256, runner)) << changed;
+    }
   }
 }
 

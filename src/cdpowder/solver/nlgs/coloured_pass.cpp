@@ -8,6 +8,7 @@
 // uses fused multiply-add (-ffp-contract=off), so the results do not depend on the machine.
 #include "cdpowder/solver/nlgs/coloured_pass.hpp"
 
+#include "cdpowder/contact/action_cache.hpp"
 #include "cdpowder/contact/velocity_change.hpp"
 #include "cdpowder/core/assert.hpp"
 #include "cdpowder/core/lanes.hpp"
@@ -17,6 +18,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <numeric>
@@ -131,16 +133,6 @@ void fill_batches(std::uint32_t begin, std::uint32_t end, const Member& member, 
 
 namespace {
 
-static_assert(sizeof(BodyIndex) == 4, "a pair's two spheres in one 64-bit key");
-
-std::uint64_t pair_key_of(const PairProblem& p) {
-  return static_cast<std::uint64_t>(p.a) << 32 | p.b;
-}
-
-std::uint64_t wall_key_of(const WallProblem& w) {
-  return static_cast<std::uint64_t>(w.sphere) << 32 | static_cast<std::uint64_t>(w.wall);
-}
-
 /// The values of part p's batches and wall batches filled again lane by lane, each lane from
 /// the contact its row names (its colour-order index): what build_batches writes, when the
 /// colouring and the rows are those of its last call.
@@ -168,29 +160,37 @@ void refill_part(const Contacts& contacts, const VelocityCache& velocities, std:
 
 bool ColouringInputs::match(const std::vector<PairProblem>& pairs,
                             const std::vector<WallProblem>& walls,
-                            std::span<const std::uint32_t> sphere_part, std::size_t chunk) const {
+                            std::span<const std::uint32_t> sphere_part, std::size_t chunk,
+                            PieceRunner* runner) const {
   if (!recorded_ || chunk != chunk_ || pairs.size() != pairs_.size() ||
       walls.size() != walls_.size() ||
       !std::equal(sphere_part.begin(), sphere_part.end(), sphere_part_.begin(),
                   sphere_part_.end())) {
     return false;
   }
-  for (std::size_t k = 0; k < pairs_.size(); ++k) {
-    if (pair_key_of(pairs[k]) != pairs_[k]) return false;
-  }
   for (std::size_t w = 0; w < walls_.size(); ++w) {
-    if (wall_key_of(walls[w]) != walls_[w]) return false;
+    if (contact_key(walls[w]) != walls_[w]) return false;
   }
-  return true;
+  // the pairs' records are 128 bytes each: a stream worth sharing; the answer is an AND
+  std::atomic<bool> same{true};
+  run_chunks(runner, pairs_.size(), [&](std::size_t first, std::size_t last) {
+    for (std::size_t k = first; k < last; ++k) {
+      if (contact_key(pairs[k]) != pairs_[k]) {
+        same.store(false, std::memory_order_relaxed);
+        return;
+      }
+    }
+  });
+  return same.load(std::memory_order_relaxed);
 }
 
 void ColouringInputs::record(const std::vector<PairProblem>& pairs,
                              const std::vector<WallProblem>& walls,
                              std::span<const std::uint32_t> sphere_part, std::size_t chunk) {
   pairs_.resize(pairs.size());
-  for (std::size_t k = 0; k < pairs_.size(); ++k) pairs_[k] = pair_key_of(pairs[k]);
+  for (std::size_t k = 0; k < pairs_.size(); ++k) pairs_[k] = contact_key(pairs[k]);
   walls_.resize(walls.size());
-  for (std::size_t w = 0; w < walls_.size(); ++w) walls_[w] = wall_key_of(walls[w]);
+  for (std::size_t w = 0; w < walls_.size(); ++w) walls_[w] = contact_key(walls[w]);
   sphere_part_.assign(sphere_part.begin(), sphere_part.end());
   chunk_ = chunk;
   recorded_ = true;
@@ -409,7 +409,7 @@ void prepare_coloured_pass(Contacts& contacts, const VelocityCache& velocities, 
   }
   // the actions are in colour order during the solve; the records and the cohesion flags stay
   // in storage order (ColouredPass::pair_record)
-  if (pass.built_from.match(contacts.pairs, contacts.walls, sphere_part, chunk)) {
+  if (pass.built_from.match(contacts.pairs, contacts.walls, sphere_part, chunk, pieces)) {
     refill_kept_colouring(contacts, velocities, pass, pieces);
     pass.in_colour_order = true;
     return;

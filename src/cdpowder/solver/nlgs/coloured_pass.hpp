@@ -98,10 +98,11 @@ struct alignas(64) WallBatchPair {
 class ColouringInputs {
  public:
   /// Whether the pairs and walls (in storage order), the spheres' parts `sphere_part` and
-  /// `chunk` are those recorded.
+  /// `chunk` are those recorded; the pairs compared in pieces on `runner` when given.
   [[nodiscard]] bool match(const std::vector<PairProblem>& pairs,
                            const std::vector<WallProblem>& walls,
-                           std::span<const std::uint32_t> sphere_part, std::size_t chunk) const;
+                           std::span<const std::uint32_t> sphere_part, std::size_t chunk,
+                           PieceRunner* runner = nullptr) const;
   /// Records them, after a build from them.
   void record(const std::vector<PairProblem>& pairs, const std::vector<WallProblem>& walls,
               std::span<const std::uint32_t> sphere_part, std::size_t chunk);
@@ -110,8 +111,8 @@ class ColouringInputs {
   void forget() { recorded_ = false; }
 
  private:
-  std::vector<std::uint64_t> pairs_;  ///< a << 32 | b
-  std::vector<std::uint64_t> walls_;  ///< sphere << 32 | wall kind
+  std::vector<std::uint64_t> pairs_;  ///< contact_key (action_cache.hpp): a << 32 | b
+  std::vector<std::uint64_t> walls_;  ///< contact_key: wall kind << 32 | sphere
   std::vector<std::uint32_t> sphere_part_;
   std::size_t chunk_ = 0;
   bool recorded_ = false;
