@@ -359,9 +359,8 @@ SolverStats iterate_until_done(Contacts& contacts, VelocityCache& velocities,
       }
     }
     if (kinematic_rule && pass == 1) {
-      // a tiled step's pieces are its tiles, their records in tile order (tile_order.hpp)
-      // its pieces are the tiles (a sphere is in a tile, none in the hub), handed out in strip
-      // order: the first of ColouredPass::strip_order, the hub's part after them
+      // a tiled step's pieces are its tiles, their records in tile order (tile_order.hpp; no
+      // sphere is in the hub), handed out row by row: ColouredPass::strip_order without the hub
       std::span<const std::uint32_t> pieces;
       std::span<const std::uint32_t> strips;
       if (tiled) {
