@@ -39,7 +39,7 @@ TEST(Pieces, RunChunksVisitsEveryIndexOnceOnAnyRunner) {
   }
 }
 
-/// Runs the pieces one after the other in the order it is handed them, and remembers it.
+/// Runs the pieces one after the other, in the order it is handed them.
 class RecordingRunner final : public PieceRunner {
  public:
   void run_pieces(std::uint32_t pieces, Task task, const void* context) override {

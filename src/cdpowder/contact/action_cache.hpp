@@ -15,6 +15,8 @@
 
 namespace cdpowder {
 
+static_assert(sizeof(BodyIndex) == 4, "a contact's two bodies in one 64-bit key");
+
 /// Key of a sphere pair a < b, or of a wall contact (wall kind in the top bits).
 inline std::uint64_t pair_key(BodyIndex a, BodyIndex b) {
   return (static_cast<std::uint64_t>(a) << 32U) | b;

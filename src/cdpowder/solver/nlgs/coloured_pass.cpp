@@ -174,6 +174,7 @@ bool ColouringInputs::match(const std::vector<PairProblem>& pairs,
   // the pairs' records are 128 bytes each: a stream worth sharing; the answer is an AND
   std::atomic<bool> same{true};
   run_chunks(runner, pairs_.size(), [&](std::size_t first, std::size_t last) {
+    if (!same.load(std::memory_order_relaxed)) return;  // another piece found one already
     for (std::size_t k = first; k < last; ++k) {
       if (contact_key(pairs[k]) != pairs_[k]) {
         same.store(false, std::memory_order_relaxed);
@@ -379,7 +380,9 @@ void refill_kept_colouring(Contacts& contacts, const VelocityCache& velocities, 
   std::vector<ContactAction>& actions = pass.action_scratch;
   actions.resize(contacts.pair_actions.size());
   const auto parts = static_cast<std::uint32_t>(colouring.parts());
-  // the parts handed out in strip order (ColouredPass::strip_order)
+  // the parts handed out in strip order (ColouredPass::strip_order): the kept colouring's
+  // parts are the step's, since its inputs include every sphere's part
+  CDP_ASSERT(pass.strip_order.size() == parts, "a kept colouring of another tiling");
   run_pieces_in(pieces, pass.strip_order, parts, [&](std::uint32_t part) {
     const std::size_t first = colouring.first_member(part);
     const std::size_t last =
