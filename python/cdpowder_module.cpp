@@ -192,7 +192,8 @@ const Engine& idle(const Engine& engine) {
         "this World is being stepped by a run on another thread: read it from the run's "
         "callback, or after the run");
   }
-  return engine;
+  // the engine lives in a Python object, never in a temporary
+  return engine;  // NOLINT(bugprone-return-const-ref-from-parameter)
 }
 
 /// Holds an engine for one run. Python threads may share a World, and a callback is handed

@@ -145,7 +145,7 @@ int run_task(const SweepOptions& options, const SweepState& state, std::size_t t
   const std::optional<RunSummary> summary = read_sweep_run(plan, folder);
   const RunExit end = run_exit(status, summary, state.scene_texts[task]);
   const bool unwritten = end.unwritten;
-  if (!end.counts) {
+  if (!end.counts || !summary) {
     std::fprintf(stderr, "%s\n",
                  unfinished_run_line(name, unfinished_run_text(asked_to_stop, end.fault, unwritten),
                                      folder / "log.txt")

@@ -22,6 +22,7 @@
 #include <sys/wait.h>
 #include <thread>
 #include <unistd.h>
+#include <utility>
 
 namespace cdpowder::app {
 
@@ -96,7 +97,8 @@ class SweepPool {
   /// to the sweep or the time limit asked for it. A run asked to stop ends within a step; one
   /// still going a minute after the limit is killed, so the sweep keeps to its limit.
   void send_stop_requests(int received) {
-    const bool overdue = time_up_ && seconds_since_start() >= *options_.time_limit + 60.0;
+    const bool overdue =
+        time_up_ && options_.time_limit && seconds_since_start() >= *options_.time_limit + 60.0;
     const int level = std::min(2, std::max({received, time_up_ ? 1 : 0, overdue ? 2 : 0}));
     if (level <= stop_level_sent_) return;
     for (const auto& [pid, index] : guard_.runs) kill(pid, level >= 2 ? SIGKILL : SIGTERM);
@@ -107,7 +109,7 @@ class SweepPool {
   /// every later run the same way (a full disk): nothing more starts after one.
   void start_runs(int jobs) {
     while (write_error_.empty() && next_ < state_.pending.size() &&
-           static_cast<int>(guard_.runs.size()) < jobs) {
+           std::cmp_less(guard_.runs.size(), jobs)) {
       start_run_at(state_.pending[next_++]);
     }
   }
@@ -219,12 +221,14 @@ class SweepPool {
         done_now_ > 0 && !stopped
             ? std::optional(elapsed * static_cast<double>(left) / static_cast<double>(done_now_))
             : std::nullopt;
+    const std::optional<RunSummary>& summary = state_.summaries[i];
     const std::string line =
-        end.counts ? finished_run_progress(finished, total, run_name(i), *state_.summaries[i],
-                                           elapsed, eta, end.unwritten)
-                   : unfinished_run_progress(finished, total, run_name(i),
-                                             unfinished_run_text(stopped, end.fault, end.unwritten),
-                                             folder / "log.txt");
+        end.counts && summary
+            ? finished_run_progress(finished, total, run_name(i), *summary, elapsed, eta,
+                                    end.unwritten)
+            : unfinished_run_progress(finished, total, run_name(i),
+                                      unfinished_run_text(stopped, end.fault, end.unwritten),
+                                      folder / "log.txt");
     std::fprintf(stderr, "%s\n", line.c_str());
   }
 

@@ -72,7 +72,7 @@ CohesiveOpening scalar_opening(const World& world, const Contacts& contacts,
     wall = std::max(wall, (end_velocity(c.b).z() - moving) * c.normal.z());
   });
   CohesiveOpening out;
-  out.speed = std::max(std::max(out.speed, pair), wall);
+  out.speed = std::max({out.speed, pair, wall});
   out.per_range = std::max(out.per_range, pair * dt / laws.spheres.cohesion_range);
   out.per_range = std::max(out.per_range, wall * dt / laws.walls.cohesion_range);
   return out;

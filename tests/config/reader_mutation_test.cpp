@@ -48,7 +48,7 @@ constexpr std::array<std::string_view, 44> kPieces = {
     "0x10",
     "99999999999999999999999",
     "1e-320",
-    "\"\"\"",
+    R"(""")",
     "true",
     "\xEF\xBB\xBF",
     std::string_view("\0", 1),

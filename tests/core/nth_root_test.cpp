@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -70,7 +71,7 @@ TEST(NthRoot, GivesThePinnedBits) {
     double root;
   };
 
-  const Case cases[] = {
+  const auto cases = std::to_array<Case>({
       {0x1.fc6b62b01ac52p-58, 3, 0x1.fecdbf2fb89efp-20},
       {0x1.fc6b62b01ac52p-58, 8, 0x1.d51829e7079ecp-8},
       {0x1.3333333333333p-2, 2, 0x1.186f174f88472p-1},
@@ -79,7 +80,7 @@ TEST(NthRoot, GivesThePinnedBits) {
       {0x1.ff7ced916872bp-1, 8, 0x1.ffef9bdc1ec17p-1},
       {0x1.b333333333333p+0, 3, 0x1.31881d4da7529p+0},
       {0x0.0000000000001p-1022, 5, 0x1.2611186bae675p-215},
-  };
+  });
   for (const Case& c : cases) {
     EXPECT_EQ(std::bit_cast<std::uint64_t>(nth_root(c.x, c.n)),
               std::bit_cast<std::uint64_t>(c.root))

@@ -270,6 +270,7 @@ TEST(DetectContacts, FindsPairsAcrossEveryPeriodicBoundary) {
   Contacts contacts;
   detect_contacts(world, settings.detection(), grid, contacts);
   std::vector<std::uint64_t> keys;
+  keys.reserve(contacts.pairs.size());
   for (const PairProblem& p : contacts.pairs) keys.push_back(pair_key(p.a, p.b));
   ASSERT_EQ(keys, (std::vector<std::uint64_t>{pair_key(0, 1), pair_key(2, 3), pair_key(4, 5)}));
   for (const PairProblem& p : contacts.pairs) EXPECT_NEAR(p.gap, 0.0, kRoundOff);
@@ -365,6 +366,7 @@ TEST(DetectContacts, PairsHalfACellApartTakeTheirOwnImageInLanes) {
     detect_contacts(world, settings.detection(), grid, contacts);
     const auto expected = scalar_pairs(world, candidate_gap(world, settings.detection()));
     std::vector<std::uint64_t> keys;
+    keys.reserve(expected.size());
     for (const PairProblem& p : expected) keys.push_back(pair_key(p.a, p.b));
     ASSERT_EQ(keys, (std::vector<std::uint64_t>{pair_key(0, 1), pair_key(0, 2), pair_key(2, 3),
                                                 pair_key(2, 4)}));

@@ -70,7 +70,7 @@ TEST(SphereScan, LargestSurfaceSpeedHasTheScalarLoopsBitsOnEveryInstructionSet) 
       if (n >= 9) bodies.velocity[n - 1] *= 40.0;
       if (n >= 17) bodies.angular_velocity[4] = Vec3(kNaN, 0.0, 0.0);
       for (const std::size_t first : {std::size_t{0}, std::size_t{1}}) {
-        const std::size_t last = static_cast<std::size_t>(n);
+        const auto last = static_cast<std::size_t>(n);
         if (first > last) continue;
         SCOPED_TRACE(::testing::Message()
                      << n << " spheres from " << first << ", isa " << static_cast<int>(isa));

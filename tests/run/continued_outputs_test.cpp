@@ -14,6 +14,7 @@
 #include <sstream>
 #include <string>
 #include <unistd.h>
+#include <utility>
 #include <vector>
 
 namespace cdpowder {
@@ -140,10 +141,9 @@ TEST(ContinuedCadence, ATimeCadenceResumedAfterARecordIsDueWhereTheUnbrokenOneIs
   // times 0.2 0.4 0.6 0.9 1.6 1.65 1.7 1.8 2.2 2.5: due at 0.2, 0.6, 1.6, 2.2 and 2.5
   ASSERT_EQ(due.size(), 5U);
   // stopped after each step; resumed from the time of the last record before
-  for (std::int64_t stop_after = 1; stop_after < static_cast<std::int64_t>(steps.size());
-       ++stop_after) {
+  for (std::int64_t stop_after = 1; std::cmp_less(stop_after, steps.size()); ++stop_after) {
     double last = -1.0;
-    for (std::size_t k = 0; k < static_cast<std::size_t>(stop_after); ++k) {
+    for (std::size_t k = 0; std::cmp_less(k, stop_after); ++k) {
       if (std::find(due.begin(), due.end(), static_cast<std::int64_t>(k + 1)) != due.end()) {
         last = times[k];
       }

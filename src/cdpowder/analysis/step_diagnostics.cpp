@@ -49,14 +49,14 @@ PairOverlapInputs overlap_inputs(const World& world, const Contacts& contacts) {
 /// lanes compute it for a pair.
 double overlap_after_step(const World& world, const ContactView& c) {
   const Bodies& bodies = world.bodies;
-  if (c.is_pair()) {
+  if (!c.wall) {  // a pair (ContactView::is_pair)
     const Vec3 d_ab = world.box.minimum_image(bodies.position[c.b] - bodies.position[c.a]);
     return std::max(0.0, bodies.radius[c.a] + bodies.radius[c.b] - d_ab.norm());
   }
   // detect_contacts gives a wall contact its sphere's radius
   const double z = bodies.position[c.b].z();
   const double r = bodies.radius[c.b];
-  const double gap = *c.wall == WallKind::Bottom ? z - r : world.walls.piston.height - z - r;
+  const double gap = c.wall == WallKind::Bottom ? z - r : world.walls.piston.height - z - r;
   return std::max(0.0, -gap);
 }
 

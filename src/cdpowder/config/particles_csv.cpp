@@ -197,7 +197,7 @@ void read_particles(std::istream& stream, const std::string& name, double densit
     // a UTF-8 byte order mark (spreadsheets write one) is not part of the first column's
     // name (measured: "id" became an unknown column)
     constexpr std::string_view kByteOrderMark = "\xEF\xBB\xBF";
-    if (line_number == 1 && content.substr(0, kByteOrderMark.size()) == kByteOrderMark) {
+    if (line_number == 1 && content.starts_with(kByteOrderMark)) {
       content = trim(content.substr(kByteOrderMark.size()));
     }
     if (content.empty() || content.front() == '#') {

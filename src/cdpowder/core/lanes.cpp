@@ -29,7 +29,7 @@ bool cpu_has_avx512() {
 
 /// The widest set the loops may use: CDPOWDER_KERNEL_ISA=sse2 (or avx2) in the environment
 /// keeps the loops on SSE2 (or the coloured kernel on AVX2) on a machine with wider vectors.
-Isa widest_allowed = [] {
+Isa widest_allowed = []() noexcept {
   const char* isa = std::getenv("CDPOWDER_KERNEL_ISA");
   if (isa == nullptr) return Isa::Avx512;
   if (std::string_view(isa) == "sse2") return Isa::Sse2;

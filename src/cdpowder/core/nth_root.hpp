@@ -20,6 +20,8 @@ inline constexpr int kMaxRootDegree = 8;
 namespace detail {
 
 /// 2^(r/n) for 0 ≤ r < n ≤ 8, each correctly rounded (computed to 60 digits offline).
+/// 2^(1/2) is std::numbers::sqrt2 to the bit; the table spells every entry alike.
+// NOLINTBEGIN(modernize-use-std-numbers)
 inline constexpr std::array<std::array<double, kMaxRootDegree>, kMaxRootDegree + 1> kTwoToThe = {{
     {},
     {0x1.0000000000000p+0},
@@ -35,6 +37,7 @@ inline constexpr std::array<std::array<double, kMaxRootDegree>, kMaxRootDegree +
     {0x1.0000000000000p+0, 0x1.172b83c7d517bp+0, 0x1.306fe0a31b715p+0, 0x1.4bfdad5362a27p+0,
      0x1.6a09e667f3bcdp+0, 0x1.8ace5422aa0dbp+0, 0x1.ae89f995ad3adp+0, 0x1.d5818dcfba487p+0},
 }};
+// NOLINTEND(modernize-use-std-numbers)
 
 /// Newton steps from 1 for m^(1/n), m in [1, 2): the first lands above the root (in
 /// [1, 1.125) at n = 8, [1, 1.5) at n = 2) and the rest converge from there quadratically, to

@@ -30,6 +30,7 @@ constexpr std::string_view kFormerColumns =
 std::optional<std::pair<std::int64_t, double>> row_step_and_time(std::string_view line) {
   std::int64_t step = 0;
   const char* end = line.data() + line.size();
+  // NOLINTNEXTLINE(bugprone-suspicious-stringview-data-usage): from_chars stops at `end`
   auto [after_step, step_error] = std::from_chars(line.data(), end, step);
   if (step_error != std::errc() || after_step == end || *after_step != ',') return std::nullopt;
   double time = 0.0;

@@ -450,7 +450,7 @@ std::string damage_of(std::string_view bytes) {
 
 SavedRun decode_state(std::string_view bytes, const std::string& source) {
   ByteReader in(bytes, source);
-  if (bytes.substr(0, kStateFileMagic.size()) != kStateFileMagic) {
+  if (!bytes.starts_with(kStateFileMagic)) {
     in.fail("not a cdpowder state file (it does not start with CDPSTATE)");
   }
   in.tag(kStateFileMagic.substr(0, 4));
@@ -565,7 +565,7 @@ StateHeader read_state_header(const std::filesystem::path& path) {
   };
   take(kStateFileMagic.size() + 4);
   ByteReader start(bytes, path.string());
-  if (bytes.substr(0, kStateFileMagic.size()) != kStateFileMagic) {
+  if (!bytes.starts_with(kStateFileMagic)) {
     start.fail("not a cdpowder state file (it does not start with CDPSTATE)");
   }
   StateHeader header;

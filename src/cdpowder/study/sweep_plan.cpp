@@ -24,8 +24,12 @@ namespace cdpowder {
 namespace {
 
 constexpr std::int64_t kMaxSeedCount = 100000;
-const std::vector<std::string> kTopLevelKeys{
-    "scene", "command", "protocol", "seeds", "seed_keys", "set", "grid", "points", "points_csv"};
+
+const std::vector<std::string>& top_level_keys() {
+  static const std::vector<std::string> keys{
+      "scene", "command", "protocol", "seeds", "seed_keys", "set", "grid", "points", "points_csv"};
+  return keys;
+}
 
 using detail::TableReader;
 
@@ -103,11 +107,12 @@ std::string point_name(const std::vector<SweepSetting>& settings) {
 void check_top_level_keys(TableReader& in, const toml::table& root) {
   for (const auto& [name, node] : root) {
     const std::string key(name.str());
-    if (std::find(kTopLevelKeys.begin(), kTopLevelKeys.end(), key) == kTopLevelKeys.end()) {
+    const std::vector<std::string>& known = top_level_keys();
+    if (std::find(known.begin(), known.end(), key) == known.end()) {
       report(in, key, &node,
              "unknown key; allowed: scene, command, protocol, seeds, seed_keys, set, [grid], "
              "[[points]], points_csv" +
-                 did_you_mean(key, kTopLevelKeys));
+                 did_you_mean(key, known));
     }
   }
 }
@@ -341,22 +346,27 @@ std::vector<std::map<std::string, SweepSetting>> read_points(TableReader& in, Sw
   return points;
 }
 
-/// A cell of a points table as the TOML text `--set` expects: a number or a boolean as written
-/// (TOML reads them), anything else a string.
-std::string csv_cell_value(const std::string& cell) {
-  try {
-    const toml::table parsed = toml::parse("v = " + cell);
-    const toml::node* v = parsed.get("v");
-    if (v != nullptr && (v->is_number() || v->is_boolean())) return cell;
-  } catch (const toml::parse_error&) {
-    // not a TOML value: a string
-  }
+/// `text` as a TOML basic string: in double quotes, with '"' and '\\' escaped.
+std::string toml_string(const std::string& text) {
   std::string quoted = "\"";
-  for (const char c : cell) {
+  for (const char c : text) {
     if (c == '"' || c == '\\') quoted += '\\';
     quoted += c;
   }
   return quoted + "\"";
+}
+
+/// A cell of a points table as the TOML text `--set` expects: a number or a boolean as written
+/// (TOML reads them), anything else a string.
+std::string csv_cell_value(const std::string& cell) {
+  toml::table parsed;
+  try {
+    parsed = toml::parse("v = " + cell);
+  } catch (const toml::parse_error&) {
+    return toml_string(cell);  // not a TOML value: a string
+  }
+  const toml::node* v = parsed.get("v");
+  return v != nullptr && (v->is_number() || v->is_boolean()) ? cell : toml_string(cell);
 }
 
 /// `points_csv`: one point a row of a CSV file (relative to the sweep file) whose header names

@@ -3,9 +3,12 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <sstream>
+#include <stdexcept>
+#include <string_view>
 
 namespace cdpowder {
 
@@ -91,17 +94,22 @@ const std::vector<Column>& run_columns() {
   return columns;
 }
 
-/// The quantities aggregated per point (a subset of run_columns()).
-const std::vector<std::string>& aggregated() {
-  static const std::vector<std::string> names{"porosity",
-                                              "sigma_zz_over_p",
-                                              "sigma_zz_compressive_over_p",
-                                              "sigma_zz_tensile_over_p",
-                                              "compressive_contacts",
-                                              "tensile_contacts",
-                                              "coordination_number",
-                                              "wall_seconds"};
-  return names;
+/// The quantities aggregated per point: a subset of run_columns(), by name.
+const std::vector<Column>& aggregated() {
+  static const std::vector<Column> columns = [] {
+    std::vector<Column> chosen;
+    for (const std::string_view name :
+         {"porosity", "sigma_zz_over_p", "sigma_zz_compressive_over_p", "sigma_zz_tensile_over_p",
+          "compressive_contacts", "tensile_contacts", "coordination_number", "wall_seconds"}) {
+      const auto& all = run_columns();
+      const auto found =
+          std::find_if(all.begin(), all.end(), [&](const Column& c) { return name == c.name; });
+      if (found == all.end()) throw std::logic_error(fmt::format("no run column {}", name));
+      chosen.push_back(*found);
+    }
+    return chosen;
+  }();
+  return columns;
 }
 
 }  // namespace
@@ -118,10 +126,11 @@ std::string results_csv(const SweepPlan& plan,
   for (const Column& c : run_columns()) out += fmt::format(",{}", c.name);
   out += ",blocked,commit,folder\n";
   for (std::size_t i = 0; i < plan.runs.size() && i < summaries.size(); ++i) {
-    if (!summaries[i]) continue;
+    const std::optional<RunSummary>& summary = summaries[i];
+    if (!summary) continue;
     const SweepRun& run = plan.runs[i];
     const SweepPoint& point = plan.points[run.point];
-    const RunSummary& r = *summaries[i];
+    const RunSummary& r = *summary;
     out += point_cells(plan, point);
     out += fmt::format(",{}", run.seed);
     for (const Column& c : run_columns()) {
@@ -138,29 +147,26 @@ std::string points_csv(const SweepPlan& plan,
                        const std::vector<std::optional<RunSummary>>& summaries,
                        const std::string& header) {
   std::string out = header + point_header(plan) + ",runs,n";
-  for (const std::string& name : aggregated()) out += fmt::format(",{0}_mean,{0}_sem", name);
+  for (const Column& c : aggregated()) out += fmt::format(",{0}_mean,{0}_sem", c.name);
   out += '\n';
   for (std::size_t p = 0; p < plan.points.size(); ++p) {
     std::vector<const RunSummary*> blocked;
     std::size_t finished = 0;
     for (std::size_t i = 0; i < plan.runs.size() && i < summaries.size(); ++i) {
-      if (plan.runs[i].point != p || !summaries[i]) continue;
+      const std::optional<RunSummary>& summary = summaries[i];
+      if (plan.runs[i].point != p || !summary) continue;
       ++finished;
-      if (summaries[i]->run.blocked) blocked.push_back(&*summaries[i]);
+      if (summary->run.blocked) blocked.push_back(&*summary);
     }
     out += point_cells(plan, plan.points[p]);
     out += fmt::format(",{},{}", finished, blocked.size());
-    for (const std::string& name : aggregated()) {
-      const Column* column = nullptr;
-      for (const Column& c : run_columns()) {
-        if (name == c.name) column = &c;
-      }
+    for (const Column& column : aggregated()) {
       const auto n = static_cast<double>(blocked.size());
       double sum = 0.0;
-      for (const RunSummary* r : blocked) sum += column->get(*r);
+      for (const RunSummary* r : blocked) sum += column.get(*r);
       const double mean = blocked.empty() ? NAN : sum / n;
       double squares = 0.0;
-      for (const RunSummary* r : blocked) squares += std::pow(column->get(*r) - mean, 2);
+      for (const RunSummary* r : blocked) squares += std::pow(column.get(*r) - mean, 2);
       const double sem = blocked.size() < 2 ? NAN : std::sqrt(squares / (n - 1.0) / n);
       out += ',';
       out += number(mean);

@@ -11,8 +11,9 @@ std::optional<double> expected_run_seconds(const SweepPlan& plan,
   std::optional<double> same_point;
   std::optional<double> any;
   for (std::size_t i = 0; i < summaries.size() && i < plan.runs.size(); ++i) {
-    if (!summaries[i]) continue;
-    const double seconds = summaries[i]->run.wall_seconds;
+    const std::optional<RunSummary>& summary = summaries[i];
+    if (!summary) continue;
+    const double seconds = summary->run.wall_seconds;
     any = std::max(any.value_or(seconds), seconds);
     if (plan.runs[i].point == plan.runs[run].point) {
       same_point = std::max(same_point.value_or(seconds), seconds);

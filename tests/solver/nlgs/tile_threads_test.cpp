@@ -179,6 +179,7 @@ TEST(Tiles, TheGridIsEvenAndFixedByTheCell) {
 TEST(Tiles, EachSphereBelongsToTheRankWhoseStripHoldsItsRow) {
   const PeriodicBox box{25.0, 25.0};
   std::vector<Vec3> at;
+  at.reserve(9);
   for (int row = 0; row < 8; ++row) at.emplace_back(1.0, 3.125 * row + 1.0, 1.0);
   at.emplace_back(3.0, -1.0, 1.0);  // not wrapped yet: the last row
   EXPECT_EQ(sphere_ranks(at, box, 1.0, 3.0, 1), std::vector<int>(9, 0));

@@ -184,6 +184,8 @@ void TileRanks::after_piston(VelocityCache& velocities) {
   shared_ = false;  // the pieces' spheres moved on their own ranks
   std::vector<RankBytes> out;
   std::vector<RankBytes> in;
+  out.reserve(piston_sends_.size());
+  in.reserve(piston_receives_.size());
   for (PlaceMessage& m : piston_sends_) {
     for (std::size_t i = 0; i < m.places.size(); ++i) m.buffer[i] = velocities.spheres[m.places[i]];
     out.push_back({m.peer, bytes_of(m.buffer)});

@@ -144,6 +144,8 @@ class TileThreadsSlot {
 
   TileThreadsSlot(const TileThreadsSlot& /*other*/) {}
 
+  // keeps the target's team, so a self-assignment changes nothing either
+  // NOLINTNEXTLINE(bugprone-unhandled-self-assignment)
   TileThreadsSlot& operator=(const TileThreadsSlot& /*other*/) { return *this; }
 
   TileThreadsSlot(TileThreadsSlot&&) noexcept = default;
