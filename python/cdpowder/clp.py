@@ -98,7 +98,37 @@ def _violation(values, low, high):
 
 
 def minimise(cost, matrix, row_lower, row_upper, lower, upper, seconds):
-    """Returns (status, cost·x, x) of min cost·x (module docstring); x is None unless optimal."""
+    """Returns (status, cost·x, x) of min cost·x (module docstring); x is None unless optimal.
+
+    Columns fixed by their bounds (lower = upper) are taken out before Clp sees the program,
+    their part moved to the rows' bounds: a barrier without presolve keeps such a column as a
+    box of zero width. Rows left empty by that must hold 0 (else the program is infeasible)
+    and are taken out too."""
+    matrix = scipy.sparse.csc_matrix(matrix)
+    cost, lower, upper = (np.asarray(a, float) for a in (cost, lower, upper))
+    row_lower, row_upper = np.asarray(row_lower, float), np.asarray(row_upper, float)
+    fixed = lower == upper
+    if not fixed.any():
+        return _minimise_free(cost, matrix, row_lower, row_upper, lower, upper, seconds)
+    free = np.flatnonzero(~fixed)
+    constant = matrix[:, fixed] @ lower[fixed]
+    reduced = matrix[:, free].tocsr()
+    used = np.diff(reduced.indptr) > 0
+    empty_low, empty_high = row_lower[~used] - constant[~used], row_upper[~used] - constant[~used]
+    if _violation(np.zeros(int((~used).sum())), empty_low, empty_high) > FEASIBILITY:
+        return INFEASIBLE, None, None
+    status, objective, x_free = _minimise_free(
+        cost[free], reduced[used], row_lower[used] - constant[used],
+        row_upper[used] - constant[used], lower[free], upper[free], seconds)
+    if x_free is None:
+        return status, None, None
+    x = lower.copy()
+    x[free] = x_free
+    return status, objective + float(cost[fixed] @ lower[fixed]), x
+
+
+def _minimise_free(cost, matrix, row_lower, row_upper, lower, upper, seconds):
+    """minimise() for a program Clp is handed as it is."""
     lib = _load()
     if lib is None:
         raise OSError("COIN-OR Clp (libClp.so.1, Debian's coinor-libclp1) was not found")

@@ -123,6 +123,23 @@ def test_the_command_adds_an_interval_that_holds_the_run(quick_run):
 
 
 @pytest.mark.skipif(not clp.available(), reason="COIN-OR Clp (coinor-libclp1) is not installed")
+def test_clp_takes_fixed_columns_out_and_gives_them_back():
+    # min x0 + 2 x1 + 3 x2 over 1 ≤ x0 + x1 + x2 ≤ 4, x1 − x2 ≥ −5, x2 ≥ 0, with x2 fixed at 0.5
+    # and x0, x1 ≥ 0: the optimum x = (0.5, 0, 0.5), cost 2; the fixed column's part goes to the
+    # rows' bounds and the answer holds it
+    matrix = np.array([[1.0, 1.0, 1.0], [0.0, 1.0, -1.0]])
+    status, cost, x = clp.minimise([1.0, 2.0, 3.0], matrix, [1.0, -5.0], [4.0, np.inf],
+                                   [0.0, 0.0, 0.5], [np.inf, np.inf, 0.5], 10.0)
+    assert status == clp.OPTIMAL
+    assert x == pytest.approx([0.5, 0.0, 0.5], abs=1e-7) and cost == pytest.approx(2.0, abs=1e-7)
+    # a row that only fixed columns touch must hold by itself: x2 = 0.5 against x2 ≥ 1
+    status, _, x = clp.minimise([1.0, 2.0, 3.0], np.vstack([matrix, [0.0, 0.0, 1.0]]),
+                                [1.0, -5.0, 1.0], [4.0, np.inf, np.inf], [0.0, 0.0, 0.5],
+                                [np.inf, np.inf, 0.5], 10.0)
+    assert status == clp.INFEASIBLE and x is None
+
+
+@pytest.mark.skipif(not clp.available(), reason="COIN-OR Clp (coinor-libclp1) is not installed")
 def test_both_solvers_agree(quick_run):
     # Clp's barrier and HiGHS solve the same programs: σ's bounds agree to the solvers'
     # tolerance (1e-7 of the load in each equation, about 2e-6 of σ_zz on this packing), and each
