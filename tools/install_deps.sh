@@ -30,10 +30,14 @@ fi
 sudo_cmd=""
 [ "$(id -u)" -eq 0 ] || sudo_cmd="sudo"
 export DEBIAN_FRONTEND=noninteractive
-$sudo_cmd apt-get update -qq
 if [ ${#missing[@]} -gt 0 ]; then
+  $sudo_cmd apt-get update -qq
   $sudo_cmd apt-get install -y -qq --no-install-recommends "${missing[@]}"
   echo "install_deps: installed ${missing[*]}"
+elif ! $sudo_cmd apt-get update -qq; then
+  echo "install_deps: the required packages are present; apt-get update failed, so" \
+    "${missing_optional[*]} stays missing"
+  exit 0
 fi
 for p in "${missing_optional[@]}"; do
   if $sudo_cmd apt-get install -y -qq --no-install-recommends "$p"; then

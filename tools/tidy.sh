@@ -30,12 +30,12 @@ case "$depth" in
 esac
 # clang-tidy 22 (Debian's clang-tidy-22, tools/install_deps.sh) leaves the system headers'
 # declarations out of its checks' matching, which clang-tidy 14 walked for every file: a
-# third of the time. Where it is missing, clang-tidy 14 (Debian's clang-tidy) checks alike.
+# third of the time. Where it is missing, Debian's clang-tidy (14) checks alike.
 tidy=clang-tidy-22
 if ! command -v "$tidy" >/dev/null || ! command -v "run-$tidy" >/dev/null; then
-  echo "tidy: clang-tidy-22 is missing (apt-get install clang-tidy-22); using clang-tidy 14," \
-    "about three times slower" >&2
-  tidy=clang-tidy-14
+  echo "tidy: clang-tidy-22 is missing (apt-get install clang-tidy-22); using clang-tidy" \
+    "(Debian 12: version 14, about three times slower)" >&2
+  tidy=clang-tidy
 fi
 # clang reads the OpenMP pragmas (-fopenmp in the compile commands) and needs an omp.h.
 # clang 14 finds libomp-dev's (the ThreadSanitizer build's runtime); clang 22 gets the one of

@@ -114,17 +114,32 @@ def minimise(cost, matrix, row_lower, row_upper, lower, upper, seconds):
     constant = matrix[:, fixed] @ lower[fixed]
     reduced = matrix[:, free].tocsr()
     used = np.diff(reduced.indptr) > 0
-    empty_low, empty_high = row_lower[~used] - constant[~used], row_upper[~used] - constant[~used]
-    if _violation(np.zeros(int((~used).sum())), empty_low, empty_high) > FEASIBILITY:
-        return INFEASIBLE, None, None
-    status, objective, x_free = _minimise_free(
-        cost[free], reduced[used], row_lower[used] - constant[used],
-        row_upper[used] - constant[used], lower[free], upper[free], seconds)
+    if used.any() and len(free):
+        status, _, x_free = _minimise_free(
+            cost[free], reduced[used], row_lower[used] - constant[used],
+            row_upper[used] - constant[used], lower[free], upper[free], seconds)
+    else:  # no row left on a free column: each free column at its cheaper bound
+        status, x_free = _bounds_only(cost[free], lower[free], upper[free])
     if x_free is None:
         return status, None, None
     x = lower.copy()
     x[free] = x_free
-    return status, objective + float(cost[fixed] @ lower[fixed]), x
+    # checked against the program as given: the rows only fixed columns touch, and the
+    # tolerance relative to the rows' own bounds
+    if _violation(matrix @ x, row_lower, row_upper) > FEASIBILITY or \
+            _violation(x, lower, upper) > FEASIBILITY:
+        return INFEASIBLE, None, None
+    return OPTIMAL, float(cost @ x), x
+
+
+def _bounds_only(cost, lower, upper):
+    """(status, x) of min cost·x over lower ≤ x ≤ upper alone."""
+    x = np.where(cost > 0, lower, np.where(cost < 0, upper, np.where(np.isfinite(lower), lower,
+                                                                       np.where(np.isfinite(upper),
+                                                                                upper, 0.0))))
+    if not np.all(np.isfinite(x)):
+        return UNBOUNDED, None
+    return OPTIMAL, x
 
 
 def _minimise_free(cost, matrix, row_lower, row_upper, lower, upper, seconds):

@@ -137,6 +137,13 @@ def test_clp_takes_fixed_columns_out_and_gives_them_back():
                                 [1.0, -5.0, 1.0], [4.0, np.inf, np.inf], [0.0, 0.0, 0.5],
                                 [np.inf, np.inf, 0.5], 10.0)
     assert status == clp.INFEASIBLE and x is None
+    # every column fixed, and rows that only fixed columns touch: answered without Clp
+    status, cost, x = clp.minimise([1.0, 2.0, 3.0], matrix, [0.0, -5.0], [4.0, np.inf],
+                                   [0.5] * 3, [0.5] * 3, 10.0)
+    assert status == clp.OPTIMAL and cost == pytest.approx(3.0) and list(x) == [0.5] * 3
+    status, cost, x = clp.minimise([1.0, 2.0, 3.0], np.array([[0.0, 0.0, 1.0]]), [0.0], [1.0],
+                                   [0.0, 0.0, 0.5], [1.0, np.inf, 0.5], 10.0)
+    assert status == clp.OPTIMAL and cost == pytest.approx(1.5) and list(x) == [0.0, 0.0, 0.5]
 
 
 @pytest.mark.skipif(not clp.available(), reason="COIN-OR Clp (coinor-libclp1) is not installed")
