@@ -14,15 +14,14 @@ packages=(
 # clang-tidy 22 (bookworm-security) runs tools/tidy.sh in a third of clang-tidy 14's time;
 # where the archive does not offer it, tools/tidy.sh uses clang-tidy 14 and says so
 optional=(clang-tidy-22)
-missing=()
-for p in "${packages[@]}"; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
-done
-missing_optional=()
-for p in "${optional[@]}"; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" ||
-    missing_optional+=("$p")
-done
+# the names among "$@" that dpkg does not have installed, one a line
+not_installed() {
+  for p in "$@"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || echo "$p"
+  done
+}
+mapfile -t missing < <(not_installed "${packages[@]}")
+mapfile -t missing_optional < <(not_installed "${optional[@]}")
 if [ ${#missing[@]} -eq 0 ] && [ ${#missing_optional[@]} -eq 0 ]; then
   echo "install_deps: all ${#packages[@]} packages present"
   exit 0

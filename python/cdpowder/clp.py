@@ -108,8 +108,6 @@ def minimise(cost, matrix, row_lower, row_upper, lower, upper, seconds):
     cost, lower, upper = (np.asarray(a, float) for a in (cost, lower, upper))
     row_lower, row_upper = np.asarray(row_lower, float), np.asarray(row_upper, float)
     fixed = lower == upper
-    if not fixed.any():
-        return _minimise_free(cost, matrix, row_lower, row_upper, lower, upper, seconds)
     free = np.flatnonzero(~fixed)
     constant = matrix[:, fixed] @ lower[fixed]
     reduced = matrix[:, free].tocsr()
@@ -124,8 +122,8 @@ def minimise(cost, matrix, row_lower, row_upper, lower, upper, seconds):
         return status, None, None
     x = lower.copy()
     x[free] = x_free
-    # checked against the program as given: the rows only fixed columns touch, and the
-    # tolerance relative to the rows' own bounds
+    # without crossover Clp can call an infeasible program optimal: the answer is checked,
+    # against the program as given (the rows only fixed columns touch, each row's own bounds)
     if _violation(matrix @ x, row_lower, row_upper) > FEASIBILITY or \
             _violation(x, lower, upper) > FEASIBILITY:
         return INFEASIBLE, None, None
@@ -134,16 +132,15 @@ def minimise(cost, matrix, row_lower, row_upper, lower, upper, seconds):
 
 def _bounds_only(cost, lower, upper):
     """(status, x) of min cost·x over lower ≤ x ≤ upper alone."""
-    x = np.where(cost > 0, lower, np.where(cost < 0, upper, np.where(np.isfinite(lower), lower,
-                                                                       np.where(np.isfinite(upper),
-                                                                                upper, 0.0))))
+    # a column the cost does not weigh: the point of its bounds nearest 0
+    x = np.where(cost > 0, lower, np.where(cost < 0, upper, np.clip(0.0, lower, upper)))
     if not np.all(np.isfinite(x)):
         return UNBOUNDED, None
     return OPTIMAL, x
 
 
 def _minimise_free(cost, matrix, row_lower, row_upper, lower, upper, seconds):
-    """minimise() for a program Clp is handed as it is."""
+    """(status, cost·x, x) of Clp's barrier on a program handed as it is; minimise() checks x."""
     lib = _load()
     if lib is None:
         raise OSError("COIN-OR Clp (libClp.so.1, Debian's coinor-libclp1) was not found")
@@ -170,10 +167,6 @@ def _minimise_free(cost, matrix, row_lower, row_upper, lower, upper, seconds):
         if status != OPTIMAL:
             return status, None, None
         x = np.ctypeslib.as_array(lib.Clp_getColSolution(model), shape=(width,)).copy()
-        # without crossover Clp can call an infeasible program optimal: the answer is checked
-        if _violation(columns @ x, row_lower, row_upper) > FEASIBILITY or \
-                _violation(x, lower, upper) > FEASIBILITY:
-            return INFEASIBLE, None, None
         return status, float(lib.Clp_getObjValue(model)), x
     finally:
         lib.ClpSolve_delete(options)

@@ -123,7 +123,7 @@ def test_the_command_adds_an_interval_that_holds_the_run(quick_run):
 
 
 @pytest.mark.skipif(not clp.available(), reason="COIN-OR Clp (coinor-libclp1) is not installed")
-def test_clp_takes_fixed_columns_out_and_gives_them_back():
+def test_clp_answers_programs_with_fixed_columns():
     # min x0 + 2 x1 + 3 x2 over 1 ≤ x0 + x1 + x2 ≤ 4, x1 − x2 ≥ −5, x2 ≥ 0, with x2 fixed at 0.5
     # and x0, x1 ≥ 0: the optimum x = (0.5, 0, 0.5), cost 2; the fixed column's part goes to the
     # rows' bounds and the answer holds it
