@@ -9,6 +9,7 @@
 #include "cdpowder/contact/contact_view.hpp"
 #include "cdpowder/core/lanes.hpp"
 #include "cdpowder/core/rng.hpp"
+#include "cdpowder/solver/nlgs/tile_threads.hpp"
 #include "support/small_packing.hpp"
 
 #include <gtest/gtest.h>
@@ -22,13 +23,22 @@
 namespace cdpowder::testing {
 namespace {
 
-/// measure_contacts one contact at a time, in Contacts' order.
+/// measure_contacts one contact at a time, in Contacts' order: the closed pairs' overlaps summed
+/// piece by piece (indices_per_piece), the pieces' sums in piece order, then the walls'.
 StepDiagnostics scalar_measures(const World& world, const Contacts& contacts) {
   const Bodies& bodies = world.bodies;
   StepDiagnostics d;
   d.contacts = contacts.size();
+  const std::size_t per_piece = indices_per_piece(contacts.pairs.size());
   double overlap_sum = 0.0;
+  double piece_sum = 0.0;
+  std::size_t k = 0;
   for_each_contact(contacts, [&](const ContactView& c) {
+    if (k > 0 && (k % per_piece == 0 || k == contacts.pairs.size())) {
+      overlap_sum += piece_sum;  // a piece of pairs ends
+      piece_sum = 0.0;
+    }
+    ++k;
     double overlap = 0.0;
     if (c.is_pair()) {
       const Vec3 d_ab = world.box.minimum_image(bodies.position[c.b] - bodies.position[c.a]);
@@ -43,10 +53,11 @@ StepDiagnostics scalar_measures(const World& world, const Contacts& contacts) {
     if (c.cohesive) ++d.cohesive_contacts;
     if (c.closed()) {
       ++d.closed_contacts;
-      overlap_sum += overlap;
+      (c.is_pair() ? piece_sum : overlap_sum) += overlap;
     }
     if (c.wall == WallKind::Piston) d.piston_contact_force += c.action->normal_force;
   });
+  if (contacts.walls.empty()) overlap_sum += piece_sum;
   d.mean_overlap =
       d.closed_contacts > 0 ? overlap_sum / static_cast<double>(d.closed_contacts) : 0.0;
   return d;
@@ -189,6 +200,33 @@ TEST(ContactMeasuresInLanes, HaveTheBitsOfAPassOneContactAtATime) {
     }
   }
   lanes::allow_isa(lanes::Isa::Avx512);
+}
+
+// More pairs than one piece holds (core/pieces.hpp, indices_per_piece): the pieces, one after
+// the other or side by side on two threads, give the bits of the pass one contact at a time.
+TEST(ContactMeasuresInLanes, PiecesOnThreadsHaveTheBitsOfOnePass) {
+  const MeasuredPacking measured(5, 0.3);
+  const TinyScene& scene = measured.packing.scene;
+  Contacts contacts = scene.work.contacts;
+  const Contacts& one = scene.work.contacts;
+  while (contacts.pairs.size() < 3 * kChunkIndices + 5) {
+    contacts.pairs.insert(contacts.pairs.end(), one.pairs.begin(), one.pairs.end());
+    contacts.pair_actions.insert(contacts.pair_actions.end(), one.pair_actions.begin(),
+                                 one.pair_actions.end());
+    contacts.pair_cohesive.insert(contacts.pair_cohesive.end(), one.pair_cohesive.begin(),
+                                  one.pair_cohesive.end());
+  }
+  ASSERT_GT(chunks_of(contacts.pairs.size(), indices_per_piece(contacts.pairs.size())), 1U);
+  expect_bits_of_one_at_a_time(scene, contacts);
+  TileThreads threads(2);
+  StepDiagnostics on_threads;
+  measure_contacts(scene.world, contacts, on_threads, &threads);
+  const StepDiagnostics expected = scalar_measures(scene.world, contacts);
+  EXPECT_EQ(on_threads.closed_contacts, expected.closed_contacts);
+  EXPECT_EQ(on_threads.cohesive_contacts, expected.cohesive_contacts);
+  EXPECT_EQ(bits(on_threads.max_overlap), bits(expected.max_overlap));
+  EXPECT_EQ(bits(on_threads.mean_overlap), bits(expected.mean_overlap));
+  EXPECT_EQ(bits(on_threads.piston_contact_force), bits(expected.piston_contact_force));
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 #include "cdpowder/solver/integrate.hpp"
 
 #include "cdpowder/core/lanes.hpp"
+#include "cdpowder/solver/nlgs/tile_threads.hpp"
 
 #include <gtest/gtest.h>
 
@@ -96,24 +97,30 @@ void expect_measures_of_passes_of_their_own(Scene& s) {
   const Bodies& old_bodies = before.bodies;
   const Bodies& bodies = s.world.bodies;
 
-  // the spheres' speeds and energy on the World after the step, free spheres in index order
-  double kinetic_energy = 0.0;
-  double moving_mass = 0.0;
-  double mass_v2 = 0.0;
+  // the spheres' speeds and energy on the World after the step, free spheres in index order,
+  // summed piece by piece (indices_per_piece) and the pieces' sums in piece order
+  const std::size_t per_piece = indices_per_piece(bodies.size());
+  std::array<double, 3> sums{};   // kinetic energy, moving mass, Σ m v²
+  std::array<double, 3> piece{};  // of the piece under way
   double max_speed = 0.0;
   double net_force = 0.0;
   double surface_speed = 0.0;
+  const auto end_piece = [&] {
+    for (std::size_t k = 0; k < sums.size(); ++k) sums[k] += piece[k];
+    piece = {};
+  };
   for (std::size_t i = 0; i < bodies.size(); ++i) {
+    if (i > 0 && i % per_piece == 0) end_piece();
     surface_speed =
         std::max(surface_speed,
                  bodies.velocity[i].norm() + bodies.radius[i] * bodies.angular_velocity[i].norm());
     if (bodies.fixed[i] != 0) continue;
     const double v2 = bodies.velocity[i].squaredNorm();
     max_speed = std::max(max_speed, std::sqrt(v2));
-    moving_mass += bodies.mass(i);
-    mass_v2 += bodies.mass(i) * v2;
-    kinetic_energy += 0.5 * bodies.mass(i) * v2 +
-                      0.5 * bodies.inertia(i) * bodies.angular_velocity[i].squaredNorm();
+    piece[1] += bodies.mass(i);
+    piece[2] += bodies.mass(i) * v2;
+    piece[0] += 0.5 * bodies.mass(i) * v2 +
+                0.5 * bodies.inertia(i) * bodies.angular_velocity[i].squaredNorm();
     // m|Δv|/Δt + I|Δω|/(Δt r), with Δt/m and Δt/I as the velocity cache holds them
     const SphereVelocity& next = s.velocities.spheres[i];
     if (next.dt_inverse_mass <= 0.0) continue;
@@ -122,6 +129,8 @@ void expect_measures_of_passes_of_their_own(Scene& s) {
                           next.dt_inverse_inertia / bodies.radius[i];
     net_force = std::max(net_force, force + torque);
   }
+  end_piece();
+  const auto [kinetic_energy, moving_mass, mass_v2] = sums;
   EXPECT_TRUE(same_bits(m.kinetic_energy, kinetic_energy));
   EXPECT_TRUE(same_bits(m.max_speed, max_speed));
   EXPECT_TRUE(same_bits(m.rms_speed, moving_mass > 0.0 ? std::sqrt(mass_v2 / moving_mass) : 0.0));
@@ -164,6 +173,30 @@ TEST(Integrate, NetForceIsTheMassTimesTheVelocityChangeOverTheStep) {
   EXPECT_NEAR(m.kinetic_energy, 0.5 * mass * 0.25 + 0.5 * inertia * 0.04, 1e-14);
   EXPECT_NEAR(m.largest_surface_speed, 0.5 + 0.2, 1e-15);
   EXPECT_NEAR(m.rms_speed, 0.5, 1e-15);
+}
+
+// More spheres than one piece holds (core/pieces.hpp, indices_per_piece): the pieces, one after
+// the other or side by side on two threads, commit every sphere and give the measures of one
+// pass, to the last bit.
+TEST(Integrate, PiecesOnThreadsGiveTheBitsOfOnePass) {
+  const int n = static_cast<int>(2 * kChunkIndices + 13);
+  ASSERT_GT(chunks_of(n, indices_per_piece(n)), 2U);
+  Scene serial(n);
+  expect_measures_of_passes_of_their_own(serial);
+  Scene one(n);
+  Scene two(n);
+  TileThreads threads(2);
+  const SphereMeasures a = integrate(one.velocities, Scene::kDt, one.world);
+  const SphereMeasures b = integrate(two.velocities, Scene::kDt, two.world, &threads);
+  EXPECT_TRUE(same_bits(a.kinetic_energy, b.kinetic_energy));
+  EXPECT_TRUE(same_bits(a.rms_speed, b.rms_speed));
+  EXPECT_TRUE(same_bits(a.max_speed, b.max_speed));
+  EXPECT_TRUE(same_bits(a.max_net_force, b.max_net_force));
+  EXPECT_TRUE(same_bits(a.largest_surface_speed, b.largest_surface_speed));
+  EXPECT_EQ(a.finite, b.finite);
+  EXPECT_EQ(one.world.bodies.position, two.world.bodies.position);
+  EXPECT_EQ(one.world.bodies.velocity, two.world.bodies.velocity);
+  EXPECT_EQ(serial.world.bodies.position, two.world.bodies.position);
 }
 
 TEST(Integrate, ANonFiniteSphereIsFoundOnThePass) {

@@ -1,5 +1,5 @@
 // step_diagnostics.cpp — overlaps from the new positions (the pairs in lanes:
-// overlap_lanes.inc), the piston balance, and the spheres' measures joined in.
+// overlap_lanes.inc, in pieces), the piston balance, and the spheres' measures joined in.
 #include "cdpowder/analysis/step_diagnostics.hpp"
 
 #include "cdpowder/contact/contact_view.hpp"
@@ -26,12 +26,23 @@ struct PairOverlapInputs {
   PeriodicBox box;
 };
 
-/// measure_contacts' running maxima, sums and counts.
-struct ContactSums {
+/// measure_contacts' running maxima, sums and counts of a piece, on cache lines of its own
+/// (threads write them side by side).
+struct alignas(64) ContactSums {
   double max_overlap = 0.0;
-  double overlap_sum = 0.0;
+  double overlap_sum = 0.0;  ///< of the closed contacts
+  double piston_force = 0.0;
   std::size_t closed = 0;
   std::size_t cohesive = 0;
+
+  /// Adds the next piece's maxima, sums and counts (the sums in piece order).
+  void merge(const ContactSums& other) {
+    max_overlap = std::max(max_overlap, other.max_overlap);
+    overlap_sum += other.overlap_sum;
+    piston_force += other.piston_force;
+    closed += other.closed;
+    cohesive += other.cohesive;
+  }
 };
 
 /// What the pairs' lanes read of `world` and `contacts`.
@@ -65,14 +76,10 @@ double overlap_after_step(const World& world, const ContactView& c) {
 #define CDP_LANE_CODE "cdpowder/analysis/overlap_lanes.inc"
 #include "cdpowder/core/lanes_instantiate.inc"
 
-void measure_contacts(const World& world, const Contacts& contacts, StepDiagnostics& d) {
+void measure_contacts(const World& world, const Contacts& contacts, StepDiagnostics& d,
+                      PieceRunner* pieces) {
   d.contacts = contacts.size();
-  // pairs in blocks of lanes, then the rest of the pairs and the walls one by one: the overlap
-  // sum and the piston's force add up in Contacts' order
-  ContactSums sums{.max_overlap = d.max_overlap};
-  const PairOverlapInputs lanes_in = overlap_inputs(world, contacts);
-  const std::size_t rest = CDP_LANES_FOR_CPU(pair_overlap_lanes)(lanes_in, sums);
-  for_each_contact_in(contacts, rest, contacts.size(), [&](const ContactView& c) {
+  const auto measure = [&](const ContactView& c, ContactSums& sums) {
     const double overlap = overlap_after_step(world, c);
     sums.max_overlap = std::max(sums.max_overlap, overlap);
     if (c.cohesive) ++sums.cohesive;
@@ -81,11 +88,33 @@ void measure_contacts(const World& world, const Contacts& contacts, StepDiagnost
       sums.overlap_sum += overlap;
     }
     // n = −e_z at the piston: the force on the piston is −R, its z part +R_n
-    if (c.wall == WallKind::Piston) d.piston_contact_force += c.action->normal_force;
+    if (c.wall == WallKind::Piston) sums.piston_force += c.action->normal_force;
+  };
+  // the pairs in pieces, each in blocks of lanes and its last partial block one by one; then
+  // the walls on the caller
+  const PairOverlapInputs lanes_in = overlap_inputs(world, contacts);
+  const std::size_t per_piece = indices_per_piece(lanes_in.n);
+  const std::size_t count = std::max<std::size_t>(1, chunks_of(lanes_in.n, per_piece));
+  // kept from step to step, so that a step allocates nothing; the pieces
+  // reach the caller's through a reference (in a piece, the name would be its own thread's)
+  thread_local std::vector<ContactSums> kept_sums;
+  std::vector<ContactSums>& piece_sums = kept_sums;
+  piece_sums.assign(count, ContactSums{});
+  run_pieces(pieces, static_cast<std::uint32_t>(count), [&](std::uint32_t p) {
+    const std::size_t first = p * per_piece;
+    const std::size_t last = std::min(lanes_in.n, first + per_piece);
+    ContactSums& sums = piece_sums[p];
+    const std::size_t rest = CDP_LANES_FOR_CPU(pair_overlap_lanes)(lanes_in, first, last, sums);
+    for_each_contact_in(contacts, rest, last, [&](const ContactView& c) { measure(c, sums); });
   });
-  d.max_overlap = sums.max_overlap;
+  ContactSums& sums = piece_sums.front();
+  for (std::size_t p = 1; p < count; ++p) sums.merge(piece_sums[p]);
+  for_each_contact_in(contacts, lanes_in.n, contacts.size(),
+                      [&](const ContactView& c) { measure(c, sums); });
+  d.max_overlap = std::max(d.max_overlap, sums.max_overlap);
   d.cohesive_contacts += sums.cohesive;
   d.closed_contacts += sums.closed;
+  d.piston_contact_force += sums.piston_force;
   d.mean_overlap =
       d.closed_contacts > 0 ? sums.overlap_sum / static_cast<double>(d.closed_contacts) : 0.0;
 }

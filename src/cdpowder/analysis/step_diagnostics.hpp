@@ -6,6 +6,7 @@
 #include "cdpowder/analysis/sphere_measures.hpp"
 #include "cdpowder/contact/local_problem.hpp"
 #include "cdpowder/contact/velocity_cache.hpp"
+#include "cdpowder/core/pieces.hpp"
 #include "cdpowder/model/world.hpp"
 
 #include <cstddef>
@@ -54,8 +55,11 @@ struct StepDiagnostics {
 /// join_measures adds the spheres' measures, which integrate() took on its pass
 /// (SphereMeasures), and the piston's share. The two opening gauges come from
 /// cohesive_opening (measured before integrate(), where an adaptive Δt decides whether to
-/// keep the step).
-void measure_contacts(const World& world, const Contacts& contacts, StepDiagnostics& d);
+/// keep the step). The pairs in pieces fixed by their count (indices_per_piece), side by side
+/// on `pieces` when given, each piece's overlaps summed in pair order and the pieces' sums in
+/// piece order, then the walls: the same bits on any number of threads.
+void measure_contacts(const World& world, const Contacts& contacts, StepDiagnostics& d,
+                      PieceRunner* pieces = nullptr);
 StepDiagnostics join_measures(const World& world, const StepDiagnostics& of_contacts,
                               const SphereMeasures& of_spheres);
 

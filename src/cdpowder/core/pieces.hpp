@@ -103,6 +103,16 @@ inline std::uint32_t pieces_of(std::size_t count) {
       std::clamp<std::size_t>(chunks_of(count, kChunkIndices), 1, kMaxPieces));
 }
 
+/// The indices of each piece of a stage that cuts [0, count) into about pieces_of(count)
+/// pieces of whole chunks of kChunkIndices (the last piece shorter): every piece starts at a
+/// multiple of kChunkIndices, so at a whole block of lanes. Fixed by the count, never by the
+/// threads; a stage that sums its pieces' results adds them in piece order. [0, count) takes
+/// chunks_of(count, indices_per_piece(count)) pieces.
+inline std::size_t indices_per_piece(std::size_t count) {
+  return std::max<std::size_t>(1, chunks_of(chunks_of(count, pieces_of(count)), kChunkIndices)) *
+         kChunkIndices;
+}
+
 /// The indices [first, last) of one piece.
 struct IndexRange {
   std::size_t first = 0;

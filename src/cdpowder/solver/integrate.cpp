@@ -1,5 +1,7 @@
 // integrate.cpp — velocity commit and position update, and the spheres' measures on the same
-// pass, in lanes (integrate_lanes.inc, compiled for SSE2 and for AVX2 like the coloured kernel).
+// pass, in lanes (integrate_lanes.inc, compiled for SSE2 and for AVX2 like the coloured kernel),
+// in pieces of spheres fixed by their count on the step's threads. Each piece sums its spheres in
+// index order and the pieces' sums are added in piece order, so the threads change no bit.
 #include "cdpowder/solver/integrate.hpp"
 
 #include "cdpowder/core/lanes.hpp"
@@ -10,6 +12,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <vector>
 
 namespace cdpowder {
 
@@ -32,8 +35,9 @@ struct IntegrateInputs {
   double dt = 0.0;
 };
 
-/// The pass's sums and maxima, from which SphereMeasures is formed.
-struct SpherePassSums {
+/// A piece's sums and maxima, from which SphereMeasures is formed; on cache lines of its own
+/// (threads write them side by side).
+struct alignas(64) SpherePassSums {
   double kinetic_energy = 0.0;
   double moving_mass = 0.0;
   double mass_v2 = 0.0;
@@ -41,6 +45,17 @@ struct SpherePassSums {
   double net_force = 0.0;
   double surface_speed = 0.0;
   bool finite = true;
+
+  /// Adds the next piece's sums and maxima (max is exact; the sums are added in piece order).
+  void merge(const SpherePassSums& other) {
+    kinetic_energy += other.kinetic_energy;
+    moving_mass += other.moving_mass;
+    mass_v2 += other.mass_v2;
+    largest_v2 = std::max(largest_v2, other.largest_v2);
+    net_force = std::max(net_force, other.net_force);
+    surface_speed = std::max(surface_speed, other.surface_speed);
+    finite = finite && other.finite;
+  }
 };
 
 }  // namespace
@@ -48,7 +63,8 @@ struct SpherePassSums {
 #define CDP_LANE_CODE "cdpowder/solver/integrate_lanes.inc"
 #include "cdpowder/core/lanes_instantiate.inc"
 
-SphereMeasures integrate(const VelocityCache& velocities, double dt, World& world) {
+SphereMeasures integrate(const VelocityCache& velocities, double dt, World& world,
+                         PieceRunner* pieces) {
   Bodies& bodies = world.bodies;
   IntegrateInputs in;
   in.n = bodies.size();
@@ -62,8 +78,21 @@ SphereMeasures integrate(const VelocityCache& velocities, double dt, World& worl
   in.position = bodies.position.data();
   in.box = world.box;
   in.dt = dt;
-  SpherePassSums sums;
-  CDP_LANES_FOR_CPU(integrate_spheres)(in, sums);
+  // pieces of whole blocks of lanes, fixed by the count (indices_per_piece)
+  const std::size_t per_piece = indices_per_piece(in.n);
+  const std::size_t count = std::max<std::size_t>(1, chunks_of(in.n, per_piece));
+  // kept from step to step, so that a step allocates nothing; the pieces
+  // reach the caller's through a reference (in a piece, the name would be its own thread's)
+  thread_local std::vector<SpherePassSums> kept_sums;
+  std::vector<SpherePassSums>& piece_sums = kept_sums;
+  piece_sums.assign(count, SpherePassSums{});
+  run_pieces(pieces, static_cast<std::uint32_t>(count), [&](std::uint32_t p) {
+    const std::size_t first = p * per_piece;
+    CDP_LANES_FOR_CPU(integrate_spheres)
+    (in, first, std::min(in.n, first + per_piece), piece_sums[p]);
+  });
+  SpherePassSums& sums = piece_sums.front();
+  for (std::size_t p = 1; p < count; ++p) sums.merge(piece_sums[p]);
 
   Piston& piston = world.walls.piston;
   if (piston.enabled) {

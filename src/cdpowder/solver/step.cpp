@@ -132,10 +132,12 @@ void commit_step(World& world, StepWorkspace& work, const StepSettings& settings
   // integration reads the velocities, writes the World and measures the spheres on its pass
   // (SphereMeasures); the contacts' overlaps need its new positions. The contacts stay where
   // they are: the next begin_step takes them for its warm start (§7.4).
-  const SphereMeasures of_spheres = integrate(work.velocities, settings.solver.dt, world);
+  // in pieces on the threads of the step's solve; their sums are exact, so the same bits
+  TileThreads* const threads = step_threads(work, settings, work.threaded);
+  const SphereMeasures of_spheres = integrate(work.velocities, settings.solver.dt, world, threads);
   clock.lap(Stage::Integrate, report.times);
   StepDiagnostics of_contacts;
-  measure_contacts(world, work.contacts, of_contacts);
+  measure_contacts(world, work.contacts, of_contacts, threads);
   work.last_step_in_contacts = true;
   StepDiagnostics diagnostics = join_measures(world, of_contacts, of_spheres);
   diagnostics.max_cohesive_opening_speed = report.diagnostics.max_cohesive_opening_speed;
