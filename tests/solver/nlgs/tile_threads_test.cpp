@@ -3,6 +3,7 @@
 // solve, steps and a paper-size step.
 #include "cdpowder/solver/nlgs/tile_threads.hpp"
 
+#include "cdpowder/contact/velocity_change.hpp"
 #include "cdpowder/core/cpu_budget.hpp"
 #include "cdpowder/core/lanes.hpp"
 #include "cdpowder/run/state_hash.hpp"
@@ -22,6 +23,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <numbers>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -296,10 +298,13 @@ struct TiledSolve {
   SolverStats stats;
 };
 
-TiledSolve tiled_solve(int threads, lanes::Isa isa) {
+/// `piston_velocity`: the piston's free velocity V_P instead of the packing's (a piston that
+/// comes down on the spheres).
+TiledSolve tiled_solve(int threads, lanes::Isa isa, std::optional<double> piston_velocity = {}) {
   allow_kernel_isa(isa);
   SmallPacking packing(0.1);
   TiledSolve out{packing.scene.work.contacts, packing.scene.work.velocities, {}};
+  if (piston_velocity) out.velocities.piston_velocity = *piston_velocity;
   const StepTiles tiles = small_tiles(packing);
   SolverSettings settings = packing.scene.settings.solver;
   settings.threads = threads;
@@ -332,6 +337,61 @@ TEST(TileThreads, ASolveGivesTheBitsOfOneThread) {
       EXPECT_TRUE(same_bits(many.velocities.spheres, one.velocities.spheres));
       EXPECT_TRUE(same_bits(many.velocities.piston_velocity, one.velocities.piston_velocity));
     }
+  }
+}
+
+/// a − b field by field.
+ContactAction minus(const ContactAction& a, const ContactAction& b) {
+  ContactAction d;
+  d.normal_force = a.normal_force - b.normal_force;
+  d.tangential_force = a.tangential_force - b.tangential_force;
+  d.rolling_torque = a.rolling_torque - b.rolling_torque;
+  d.twisting_torque = a.twisting_torque - b.twisting_torque;
+  return d;
+}
+
+// A tiled step's mixings move the velocity cache by their actions' changes, tile by tile (each
+// tile's batched pairs, overflow pairs and walls, the piston's contacts of its spheres
+// included) and the piston once by the tiles' changes: after the solve v* is still the start
+// plus Δt M⁻¹ Σ (action − its start) over every contact, for the spheres and the piston
+// (physics.md §5.3), up to rounding. A piston coming down at 0.5 R/t0, so that its contacts'
+// forces change from pass to pass; on one thread and on two.
+TEST(TileThreads, ATiledSolveLeavesTheVelocitiesOfItsActions) {
+  const SmallPacking packing(0.1);
+  const Contacts& before = packing.scene.work.contacts;
+  constexpr double kPistonVelocity = -0.5;
+  for (const int threads : {1, 2}) {
+    SCOPED_TRACE(::testing::Message() << threads << " threads");
+    const TiledSolve solved = tiled_solve(threads, lanes::Isa::Avx512, kPistonVelocity);
+    VelocityCache expected = packing.scene.work.velocities;
+    expected.piston_velocity = kPistonVelocity;
+    for (std::size_t k = 0; k < before.pairs.size(); ++k) {
+      apply_pair_action(before.pairs[k],
+                        minus(solved.contacts.pair_actions[k], before.pair_actions[k]), expected);
+    }
+    std::size_t piston_contacts = 0;
+    for (std::size_t k = 0; k < before.walls.size(); ++k) {
+      apply_wall_action(before.walls[k],
+                        minus(solved.contacts.wall_actions[k], before.wall_actions[k]), expected);
+      piston_contacts += before.walls[k].wall == WallKind::Piston ? 1 : 0;
+    }
+    ASSERT_GT(piston_contacts, 0U);
+    double scale = std::abs(expected.piston_velocity);
+    for (const SphereVelocity& s : expected.spheres) {
+      scale = std::max({scale, s.linear.norm(), s.angular.norm()});
+    }
+    ASSERT_GT(scale, 0.0);
+    const double tolerance = 1e-10 * scale;
+    for (std::size_t i = 0; i < expected.spheres.size(); ++i) {
+      EXPECT_LE((solved.velocities.spheres[i].linear - expected.spheres[i].linear).norm(),
+                tolerance)
+          << "sphere " << i;
+      EXPECT_LE((solved.velocities.spheres[i].angular - expected.spheres[i].angular).norm(),
+                tolerance)
+          << "sphere " << i;
+    }
+    EXPECT_NEAR(solved.velocities.piston_velocity, expected.piston_velocity, tolerance);
+    EXPECT_GT(solved.velocities.piston_velocity, kPistonVelocity);  // the spheres push back
   }
 }
 

@@ -141,14 +141,7 @@ bool AndersonAccelerator::fit(std::span<const PassSums> ranges) {
   if (first_) return false;
   // the ranges' sums added range by range
   PassSums sums = ranges.front();
-  for (std::size_t r = 1; r < ranges.size(); ++r) {
-    for (int j = 0; j < n_others_; ++j) {
-      sums.cross[static_cast<std::size_t>(j)] += ranges[r].cross[static_cast<std::size_t>(j)];
-      sums.rhs[static_cast<std::size_t>(j)] += ranges[r].rhs[static_cast<std::size_t>(j)];
-    }
-    sums.new_new += ranges[r].new_new;
-    sums.new_rhs += ranges[r].new_rhs;
-  }
+  for (std::size_t r = 1; r < ranges.size(); ++r) sums.add(ranges[r]);
   SlotWeights& cross = sums.cross;  // ΔF_newᵀ ΔF_other[j]
   SlotWeights& rhs = sums.rhs;      // ΔF_other[j]ᵀ f, then ΔF_newᵀ f of the new slot
   const auto at = [](int s, int t) {

@@ -65,6 +65,16 @@ class AndersonAccelerator {
     std::array<double, kMaxDepth> rhs{};
     double new_new = 0.0;
     double new_rhs = 0.0;
+
+    /// Adds the sums of the range that follows: this range's and then that one's.
+    void add(const PassSums& next) {
+      for (std::size_t j = 0; j < cross.size(); ++j) {
+        cross[j] += next.cross[j];
+        rhs[j] += next.rhs[j];
+      }
+      new_new += next.new_new;
+      new_rhs += next.new_rhs;
+    }
   };
 
   /// The mixing in stages, so that disjoint ranges of the vectors can be passed over by

@@ -433,6 +433,12 @@ void prepare_coloured_pass(Contacts& contacts, const VelocityCache& velocities, 
   colour_parts(contacts.pairs, pass.part_order, pass.part_start, velocities.spheres.size(),
                kMaxColours, chunk, colouring, pass.masks);
   assign_wall_parts(contacts, tiles, pass.wall_part);
+  group_by_part(
+      contacts.walls.size(), parts,
+      [&](std::size_t w) -> std::size_t {
+        return tiles == nullptr ? 0 : tiles->sphere_part[contacts.walls[w].sphere];
+      },
+      pass.mixing_wall_start, pass.part_next, pass.mixing_walls);
   group_piston_contacts(contacts, tiles, pass.split_piston);
   // store the actions in the order the batches visit them, overflow last
   std::vector<ContactIndex>& from = pass.storage_index;
@@ -556,6 +562,17 @@ void apply_part_deltas(const ColouredPass& pass, std::size_t part,
 void apply_overflow_deltas(const ColouredPass& pass, const std::vector<ContactAction>& deltas,
                            const Contacts& contacts, VelocityCache& velocities) {
   for (const ContactIndex k : pass.colouring.overflow) {
+    apply_pair_action(pass.pair_record(contacts, k), deltas[k], velocities);
+  }
+}
+
+void apply_part_overflow_deltas(const ColouredPass& pass, std::size_t part,
+                                const std::vector<ContactAction>& deltas, const Contacts& contacts,
+                                VelocityCache& velocities) {
+  const PairColouring& colouring = pass.colouring;
+  for (std::uint32_t i = colouring.part_overflow[part]; i < colouring.part_overflow[part + 1];
+       ++i) {
+    const ContactIndex k = colouring.overflow[i];
     apply_pair_action(pass.pair_record(contacts, k), deltas[k], velocities);
   }
 }

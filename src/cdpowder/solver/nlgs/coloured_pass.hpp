@@ -167,6 +167,14 @@ struct ColouredPass {
   std::vector<std::uint32_t> pair_part;    ///< scratch: each pair's part
   std::vector<std::uint32_t> wall_start;   ///< scratch: part p's walls start in wall_order
   std::vector<ContactIndex> wall_order;    ///< scratch: the walls part by part
+  /// The walls by their sphere's part, the piston's included (which wall_part gives the hub),
+  /// each part's in storage order: part p's are mixing_walls[mixing_wall_start[p],
+  /// mixing_wall_start[p + 1]). A tiled step's mixing keeps each tile's walls together in
+  /// this order (tile_solve.hpp); they touch its spheres alone, and the piston.
+  std::vector<ContactIndex> mixing_walls;
+  std::vector<std::uint32_t> mixing_wall_start{0, 0};
+  /// scratch of a tiled step's mixing: each part's change of the piston's velocity
+  std::vector<double> part_piston_change;
   /// each part's sums of the last pass (run_coloured_pass), added in part order
   mutable std::vector<PartSums> part_sums;
   std::vector<ContactIndex> storage_index;  ///< pair i is stored pair storage_index[i] of the step
@@ -268,6 +276,11 @@ void apply_part_deltas(const ColouredPass& pass, std::size_t part,
                        const std::vector<ContactAction>& deltas, VelocityCache& velocities);
 void apply_overflow_deltas(const ColouredPass& pass, const std::vector<ContactAction>& deltas,
                            const Contacts& contacts, VelocityCache& velocities);
+/// apply_overflow_deltas of part p's overflow pairs alone (they touch the spheres of its
+/// batches' 2 × 2 block of tiles).
+void apply_part_overflow_deltas(const ColouredPass& pass, std::size_t part,
+                                const std::vector<ContactAction>& deltas, const Contacts& contacts,
+                                VelocityCache& velocities);
 
 /// Part p's groups of one pass, in pass.group_order, with sums of their own.
 PassSums run_coloured_part(Contacts& contacts, VelocityCache& velocities, const ColouredPass& pass,

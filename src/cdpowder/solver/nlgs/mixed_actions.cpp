@@ -31,7 +31,7 @@ MixedModes mixed_modes(const Contacts& contacts) {
 }
 
 void flatten_range(const Contacts& contacts, MixedModes modes, std::size_t first, std::size_t last,
-                   AlignedVector<double>& out) {
+                   AlignedVector<double>& out, const ContactIndex* wall_at) {
   with_modes(modes, [&](auto rolling, auto twisting) {
     constexpr bool kRolling = decltype(rolling)::value;
     constexpr bool kTwisting = decltype(twisting)::value;
@@ -49,13 +49,20 @@ void flatten_range(const Contacts& contacts, MixedModes modes, std::size_t first
     const ContactAction* const pair_actions = contacts.pair_actions.data();
     const ContactAction* const wall_actions = contacts.wall_actions.data();
     for (std::size_t k = first; k < std::min(last, pairs); ++k) put(pair_actions[k]);
+    if (wall_at != nullptr) {
+      for (std::size_t k = std::max(first, pairs); k < last; ++k) {
+        put(wall_actions[wall_at[k - pairs]]);
+      }
+      return;
+    }
     for (std::size_t k = std::max(first, pairs); k < last; ++k) put(wall_actions[k - pairs]);
   });
 }
 
-void flatten(const Contacts& contacts, MixedModes modes, AlignedVector<double>& out) {
+void flatten(const Contacts& contacts, MixedModes modes, AlignedVector<double>& out,
+             const ContactIndex* wall_at) {
   out.resize(modes.doubles_per_action() * contacts.size());
-  flatten_range(contacts, modes, 0, contacts.size(), out);
+  flatten_range(contacts, modes, 0, contacts.size(), out, wall_at);
 }
 
 }  // namespace cdpowder

@@ -237,15 +237,16 @@ namespace {
 
 /// The accelerator's buffers kept from step to step (re-allocating them every step cost a
 /// fifth of a paper-size run: page faults on fresh 200 kB vectors), its history cleared, and
-/// the step's starting actions as the first iterate.
+/// the step's starting actions as the first iterate; a tiled step's walls part by part, as its
+/// mixing keeps them (tile_solve.hpp).
 void begin_acceleration(const Contacts& contacts, const SolverSettings& settings,
-                        NlgsWorkspace& work, MixedModes modes) {
+                        NlgsWorkspace& work, MixedModes modes, bool tiled) {
   if (work.accelerator.depth() != settings.acceleration_depth) {
     work.accelerator.set_depth(settings.acceleration_depth);
   } else {
     work.accelerator.reset();
   }
-  flatten(contacts, modes, work.start);
+  flatten(contacts, modes, work.start, tiled ? work.coloured.mixing_walls.data() : nullptr);
 }
 
 /// The measured contraction of the force corrections and, for the kinematic rule, of the
@@ -335,7 +336,10 @@ SolverStats iterate_until_done(Contacts& contacts, VelocityCache& velocities,
   std::vector<ContactIndex>& order = contacts.visit_order;
   const bool coloured = settings.kernel == PassKernel::Coloured;
   const bool accelerate = settings.acceleration_depth > 0;
-  if (accelerate) begin_acceleration(contacts, settings, work, modes);
+  // a tiled step (tiles.hpp) runs its passes phase by phase, the kinematic rule's pass in pieces
+  // of spheres and the mixing in pieces (tile_solve.hpp)
+  const bool tiled = coloured && work.coloured.tiled();
+  if (accelerate) begin_acceleration(contacts, settings, work, modes, tiled);
   double best_residual = std::numeric_limits<double>::infinity();
 
   SolverStats stats;
@@ -346,9 +350,6 @@ SolverStats iterate_until_done(Contacts& contacts, VelocityCache& velocities,
   ContractionWindows windows;
   const bool kinematic_rule = settings.kinematic_tolerance > 0.0;
   KinematicChange* const kinematic = kinematic_rule ? &work.kinematic : nullptr;
-  // a tiled step (tiles.hpp) runs its passes phase by phase, the kinematic rule's pass in pieces
-  // of spheres and the mixing in pieces (tile_solve.hpp)
-  const bool tiled = coloured && work.coloured.tiled();
   for (int pass = 1; pass <= settings.max_passes; ++pass) {
     // a fresh order every pass, so corrections spread without a preferred direction (§7.1)
     if (settings.visit_order == VisitOrder::RandomEachPass) {
@@ -401,9 +402,6 @@ SolverStats iterate_until_done(Contacts& contacts, VelocityCache& velocities,
     // affine combination that need not obey the contact laws (R_n < −F_c, forces outside
     // the friction cone, forces on open contacts), so a step must end on a pass's output.
     if (accelerate && pass % settings.acceleration_interval == 0 && pass < settings.max_passes) {
-      // an MPI job's ranks mix their own tiles, and every rank the rest (overflow pairs and
-      // walls of every tile), whose actions each rank holds of its own tiles alone
-      work.ranks.share_sequential_actions(contacts, work.coloured);
       if (stats.residual > kRestartGrowth * best_residual) work.accelerator.reset();
       best_residual = std::min(best_residual, stats.residual);
       mix_actions(contacts, velocities, threads, work, modes, coloured, tiled, kinematic);

@@ -275,11 +275,9 @@ void TileRanks::share_records(VelocityCache& velocities) {
   shared_ = true;
 }
 
-std::size_t TileRanks::part_actions(const ColouredPass& pass, std::uint32_t part,
-                                    bool sequential_only) {
+std::size_t TileRanks::part_actions(const ColouredPass& pass, std::uint32_t part) {
   const std::size_t batched =
-      sequential_only ? 0
-                      : pass.colouring.first_member(part + 1) - pass.colouring.first_member(part);
+      pass.colouring.first_member(part + 1) - pass.colouring.first_member(part);
   const std::size_t sequential = pass.part_sequential[part + 1] - pass.part_sequential[part];
   return batched + sequential;
 }
@@ -317,23 +315,16 @@ void TileRanks::share_bytes(std::span<std::byte> items, std::size_t size,
 void TileRanks::share_actions(Contacts& contacts, const ColouredPass& pass) {
   if (!active_ || actions_shared_) return;
   actions_shared_ = true;
-  gather_actions(contacts, pass, false);
+  gather_actions(contacts, pass);
 }
 
-void TileRanks::share_sequential_actions(Contacts& contacts, const ColouredPass& pass) {
-  if (!active_ || actions_shared_) return;
-  gather_actions(contacts, pass, true);
-}
-
-void TileRanks::gather_actions(Contacts& contacts, const ColouredPass& pass, bool sequential_only) {
+void TileRanks::gather_actions(Contacts& contacts, const ColouredPass& pass) {
   const std::size_t pairs = contacts.pairs.size();
   // a part's actions: its batched pairs (colour order), then its sequential group
   const auto for_each_action = [&](std::uint32_t p, auto&& visit) {
-    if (!sequential_only) {
-      for (std::uint32_t k = pass.colouring.first_member(p); k < pass.colouring.first_member(p + 1);
-           ++k) {
-        visit(contacts.pair_actions[k]);
-      }
+    for (std::uint32_t k = pass.colouring.first_member(p); k < pass.colouring.first_member(p + 1);
+         ++k) {
+      visit(contacts.pair_actions[k]);
     }
     for (std::uint32_t j = pass.part_sequential[p]; j < pass.part_sequential[p + 1]; ++j) {
       const ContactIndex k = pass.sequential[j];
@@ -350,7 +341,7 @@ void TileRanks::gather_actions(Contacts& contacts, const ColouredPass& pass, boo
   const auto actions_of = [&](int r) {
     std::size_t n = 0;
     for (const std::uint32_t p : rank_parts_[static_cast<std::size_t>(r)]) {
-      n += part_actions(pass, p, sequential_only);
+      n += part_actions(pass, p);
     }
     for (const std::uint32_t p : rank_piston_pieces_[static_cast<std::size_t>(r)]) {
       n += split.piece_start[p + 1] - split.piece_start[p];

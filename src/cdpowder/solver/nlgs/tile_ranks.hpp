@@ -13,10 +13,10 @@
 //
 // Today the state is replicated, and the hub is solved by every rank on its spheres' records,
 // gathered before it (a few spheres); every record goes to every rank once a step, at the end
-// of the solve. The kinematic rule, the mixing and the split piston run on each rank's own
-// tiles (their sums shared with share_parts and share_piston_pieces); the mixing's range of the
-// rest (overflow pairs and walls of every tile) on every rank, after share_sequential_actions.
-// Ranks that own their rows' state alone are the next step (docs/architecture.md).
+// of the solve. The kinematic rule, the mixing (each tile with its overflow pairs and walls)
+// and the split piston run on each rank's own tiles (their sums shared with share_parts and
+// share_piston_pieces), the hub's mixing on every rank. Ranks that own their rows' state alone
+// are the next step (docs/architecture.md).
 #pragma once
 
 #include "cdpowder/contact/local_problem.hpp"
@@ -114,11 +114,6 @@ class TileRanks {
   /// every pass.
   void share_actions(Contacts& contacts, const ColouredPass& pass);
 
-  /// The actions of every rank's tiles' sequential groups (their overflow pairs and walls) and
-  /// piston contacts to every rank: before a mixing, whose range of the rest (tile_solve.hpp)
-  /// every rank mixes.
-  void share_sequential_actions(Contacts& contacts, const ColouredPass& pass);
-
  private:
   /// The places of the hub's pairs' spheres, by the rank whose rows hold them
   /// (rank_hub_places_).
@@ -154,11 +149,10 @@ class TileRanks {
   /// The records of the spheres of `rows`.
   [[nodiscard]] std::size_t row_records(std::span<const std::uint32_t> rows) const;
   /// The contact actions of part p: its batched pairs, then its sequential group (overflow
-  /// pairs and walls); with `sequential_only` its sequential group alone.
-  [[nodiscard]] static std::size_t part_actions(const ColouredPass& pass, std::uint32_t part,
-                                                bool sequential_only = false);
-  /// Every rank's tiles' actions (or their sequential groups' alone) to every rank.
-  void gather_actions(Contacts& contacts, const ColouredPass& pass, bool sequential_only);
+  /// pairs and walls).
+  [[nodiscard]] static std::size_t part_actions(const ColouredPass& pass, std::uint32_t part);
+  /// Every rank's tiles' actions to every rank.
+  void gather_actions(Contacts& contacts, const ColouredPass& pass);
 
   bool active_ = false;
   bool shared_ = true;

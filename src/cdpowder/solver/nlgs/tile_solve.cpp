@@ -1,10 +1,11 @@
-// tile_solve.cpp — a tiled step's pass and mixing in pieces (tile_solve.hpp).
+// tile_solve.cpp — a tiled step's mixing in pieces, one a part (tile_solve.hpp).
 #include "cdpowder/solver/nlgs/tile_solve.hpp"
 
 #include "cdpowder/contact/velocity_change.hpp"
 #include "cdpowder/solver/nlgs/mixed_actions.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -13,45 +14,57 @@ namespace cdpowder {
 
 namespace {
 
-/// The combined contact indices (pairs, then walls) of range r: part r's batched pairs for
-/// r < parts (the actions are stored in colour order during the solve), then the rest.
-std::pair<std::size_t, std::size_t> range_of(const ColouredPass& pass, const Contacts& contacts,
-                                             std::uint32_t r) {
-  const auto parts = static_cast<std::uint32_t>(pass.parts());
+/// Entries [first, last) of the flattened actions, in contacts (times the stride: doubles).
+struct Segment {
+  std::size_t first = 0;
+  std::size_t last = 0;
+};
+
+/// Part p's three segments of the flattened actions (the pairs in colour order during the
+/// solve, the walls in ColouredPass::mixing_walls): its batched pairs, its overflow pairs and
+/// its walls (its spheres' bottom-wall and piston contacts; the hub's parts have none).
+std::array<Segment, 3> segments_of(const ColouredPass& pass, const Contacts& contacts,
+                                   std::uint32_t part) {
   const PairColouring& colouring = pass.colouring;
-  return r < parts
-             ? std::pair<std::size_t, std::size_t>{colouring.first_member(r),
-                                                   colouring.first_member(r + 1)}
-             : std::pair<std::size_t, std::size_t>{colouring.first_member(parts), contacts.size()};
+  const std::size_t overflow = colouring.first_member(pass.parts());
+  const std::size_t pairs = contacts.pairs.size();
+  return {Segment{colouring.first_member(part), colouring.first_member(part + 1)},
+          Segment{overflow + colouring.part_overflow[part],
+                  overflow + colouring.part_overflow[part + 1]},
+          Segment{pairs + pass.mixing_wall_start[part], pairs + pass.mixing_wall_start[part + 1]}};
 }
 
-/// The accelerator's first stage over every range: `swept` ← the actions, `range_sums` ← each
-/// range's sums. An MPI job's ranks (`ranks` active) each take their own tiles' ranges, and
-/// the hub's and the rest on every rank (their actions are every rank's:
-/// TileRanks::share_sequential_actions); the tiles' sums then go to every rank.
-void pass_over_ranges(const AlignedVector<double>& start, AlignedVector<double>& swept,
-                      MixedModes modes, AndersonAccelerator& accelerator, const Contacts& contacts,
-                      const ColouredPass& pass, TileThreads* threads,
-                      std::vector<AndersonAccelerator::PassSums>& range_sums, TileRanks* ranks) {
+/// The accelerator's first stage over every part: `swept` ← the actions, `range_sums[p]` ← the
+/// sums of part p's segments, added segment by segment. An MPI job's ranks (`ranks` active)
+/// each take their own tiles' parts and every rank the hub's (whose actions every rank has);
+/// the tiles' sums then go to every rank.
+void pass_over_parts(const AlignedVector<double>& start, AlignedVector<double>& swept,
+                     MixedModes modes, AndersonAccelerator& accelerator, const Contacts& contacts,
+                     const ColouredPass& pass, TileThreads* threads,
+                     std::vector<AndersonAccelerator::PassSums>& range_sums, TileRanks* ranks) {
   const std::size_t stride = modes.doubles_per_action();
   const auto parts = static_cast<std::uint32_t>(pass.parts());
   swept.resize(stride * contacts.size());
   accelerator.begin(swept.size());
-  range_sums.resize(parts + 1);
-  const auto pass_range = [&](std::uint32_t r) {
-    const auto [first, last] = range_of(pass, contacts, r);
-    flatten_range(contacts, modes, first, last, swept);
-    range_sums[r] = accelerator.pass(start.data(), swept.data(), first * stride, last * stride);
+  range_sums.resize(parts);
+  const ContactIndex* const wall_at = pass.mixing_walls.data();
+  const auto pass_part = [&](std::uint32_t part) {
+    AndersonAccelerator::PassSums& sums = range_sums[part];
+    sums = {};
+    for (const Segment& s : segments_of(pass, contacts, part)) {
+      flatten_range(contacts, modes, s.first, s.last, swept, wall_at);
+      sums.add(accelerator.pass(start.data(), swept.data(), s.first * stride, s.last * stride));
+    }
   };
   if (ranks == nullptr || !ranks->active()) {
-    // the tiles handed out in strip order (ColouredPass::strip_order), then the rest
-    run_pieces_in(threads, pass.strip_order, parts + 1, pass_range);
+    // the tiles handed out in strip order (ColouredPass::strip_order), then the hub
+    run_pieces_in(threads, pass.strip_order, parts, pass_part);
     return;
   }
   const std::span<const std::uint32_t> mine = ranks->own_parts();
   run_pieces(threads, static_cast<std::uint32_t>(mine.size()),
-             [&](std::uint32_t i) { pass_range(mine[i]); });
-  for (std::uint32_t r = pass.phase_parts[kTilePhases]; r <= parts; ++r) pass_range(r);
+             [&](std::uint32_t i) { pass_part(mine[i]); });
+  for (std::uint32_t part = pass.phase_parts[kTilePhases]; part < parts; ++part) pass_part(part);
   ranks->share_parts(range_sums);
 }
 
@@ -62,8 +75,7 @@ bool mix_tiled_step(AlignedVector<double>& start, AlignedVector<double>& swept, 
                     ColouredPass& pass, TileThreads* threads, KinematicChange* kinematic,
                     std::vector<AndersonAccelerator::PassSums>& range_sums, TileRanks* ranks) {
   const auto parts = static_cast<std::uint32_t>(pass.parts());
-  const auto range = [&](std::uint32_t r) { return range_of(pass, contacts, r); };
-  pass_over_ranges(start, swept, modes, accelerator, contacts, pass, threads, range_sums, ranks);
+  pass_over_parts(start, swept, modes, accelerator, contacts, pass, threads, range_sums, ranks);
   const bool shared = ranks != nullptr && ranks->active();
   if (!accelerator.fit(std::span<const AndersonAccelerator::PassSums>(range_sums))) {
     return false;
@@ -73,39 +85,47 @@ bool mix_tiled_step(AlignedVector<double>& start, AlignedVector<double>& swept, 
   AlignedVector<double>& mixed = start;
   std::vector<ContactAction>& deltas = pass.action_scratch;  // free during the solve
   deltas.resize(contacts.pairs.size());
+  std::vector<double>& piston_change = pass.part_piston_change;
+  piston_change.assign(parts, 0.0);
   const std::size_t pairs = contacts.pairs.size();
   with_modes(modes, [&](auto rolling, auto twisting) {
     constexpr bool kRolling = decltype(rolling)::value;
     constexpr bool kTwisting = decltype(twisting)::value;
     constexpr std::size_t kStride = MixedModes{kRolling, kTwisting}.doubles_per_action();
-    // the mixed actions of contacts [first, last), their pair changes into `deltas` (through
-    // pointers held in locals: the vectors' own pointers would be reloaded after every store)
-    const auto take_pairs = [&](std::size_t first, std::size_t last) {
-      accelerator.mix(swept.data(), mixed.data(), first * kStride, last * kStride);
+    // part p's mixed actions: its pairs' changes into `deltas` and applied (the batched pairs
+    // batch by batch, then the overflow pairs), then its walls' applied to their spheres, the
+    // piston's share kept apart (the parts of a phase run side by side). Through pointers held
+    // in locals: the vectors' own pointers would be reloaded after every store.
+    const auto take_part = [&](std::uint32_t part) {
+      const std::array<Segment, 3> segments = segments_of(pass, contacts, part);
       const double* const mixed_values = mixed.data();
       ContactAction* const actions = contacts.pair_actions.data();
       ContactAction* const changes = deltas.data();
-      for (std::size_t k = first; k < std::min(last, pairs); ++k) {
-        changes[k] = take_mixed<kRolling, kTwisting>(mixed_values + k * kStride, actions[k]);
+      for (const Segment& s : {segments[0], segments[1]}) {
+        accelerator.mix(swept.data(), mixed.data(), s.first * kStride, s.last * kStride);
+        for (std::size_t k = s.first; k < s.last; ++k) {
+          changes[k] = take_mixed<kRolling, kTwisting>(mixed_values + k * kStride, actions[k]);
+        }
       }
-    };
-    // the rest first, on the caller: it touches spheres of any tile
-    const auto [rest, end] = range(parts);
-    take_pairs(rest, end);
-    apply_overflow_deltas(pass, deltas, contacts, velocities);
-    for (std::size_t k = std::max(rest, pairs); k < end; ++k) {
-      const std::size_t w = k - pairs;
-      apply_wall_action(
-          contacts.walls[w],
-          take_mixed<kRolling, kTwisting>(mixed.data() + k * kStride, contacts.wall_actions[w]),
-          velocities);
-    }
-    // the hub's pairs, on the caller, then each phase's tiles side by side
-    const auto take_part = [&](std::uint32_t part) {
-      const auto [first, last] = range(part);
-      take_pairs(first, last);
       apply_part_deltas(pass, part, deltas, velocities);
+      apply_part_overflow_deltas(pass, part, deltas, contacts, velocities);
+      const Segment& walls = segments[2];
+      accelerator.mix(swept.data(), mixed.data(), walls.first * kStride, walls.last * kStride);
+      double piston = 0.0;
+      for (std::size_t k = walls.first; k < walls.last; ++k) {
+        const ContactIndex w = pass.mixing_walls[k - pairs];
+        const WallProblem& wall = contacts.walls[w];
+        const ContactAction delta =
+            take_mixed<kRolling, kTwisting>(mixed_values + k * kStride, contacts.wall_actions[w]);
+        const Vec3 force = delta.normal_force * wall.normal + delta.tangential_force;
+        apply_wall_delta_to_sphere(wall, force,
+                                   delta.rolling_torque + delta.twisting_torque * wall.normal,
+                                   velocities.spheres[wall.sphere]);
+        apply_wall_delta_to_wall(wall, force, piston);
+      }
+      piston_change[part] = piston;
     };
+    // the hub's parts on the caller, then each phase's tiles side by side
     for (std::uint32_t part = pass.phase_parts[kTilePhases]; part < parts; ++part) {
       take_part(part);
     }
@@ -123,6 +143,9 @@ bool mix_tiled_step(AlignedVector<double>& start, AlignedVector<double>& swept, 
                  [&](std::uint32_t i) { take_part(first + i); });
     }
   });
+  // the piston moves by its parts' changes, added in part order on every rank
+  if (shared) ranks->share_parts(piston_change);
+  for (const double change : piston_change) velocities.piston_velocity += change;
   if (kinematic != nullptr) kinematic->velocities_changed(velocities, threads);
   return true;
 }

@@ -1,9 +1,8 @@
 // tile_solve.hpp — the mixing of a tiled step (tiles.hpp) in pieces on the threads; the passes
 // are run_coloured_pass's (coloured_pass.hpp). A phase's tiles touch no common sphere, so each
-// is one piece; whatever touches spheres of any tile (the hub's contacts, the overflow pairs,
-// the walls, the mixing's small fit) runs on the caller between the phases. The pieces are the
-// same on any number of threads, and every sum over pieces is added in piece order: the same
-// bits.
+// is one piece, with its batched pairs, its overflow pairs and its walls; the hub's parts run on
+// the caller. The pieces are the same on any number of threads, and every sum over pieces is
+// added in piece order: the same bits.
 #pragma once
 
 #include "cdpowder/contact/local_problem.hpp"
@@ -22,18 +21,19 @@ namespace cdpowder {
 struct MixedModes;  // mixed_actions.hpp (it brings the contact kernels, which only the solver's
                     // sources include)
 
-/// One mixing step of a tiled step: `swept` ← the actions after the pass (flattened), the
-/// accelerator's passes over each part's batched pairs and over the rest (overflow pairs,
-/// walls), its fit, and when that succeeds `start` ← the mixed actions (the iterate the pass
-/// started from is not read after the accelerator's passes, so the mixing reuses its
-/// memory: one vector of 4–8 doubles a contact less), adopted by the
-/// contacts with the velocity cache moved by the change: the rest and the hub first (on the
-/// caller), then the tiles phase by phase, and the kinematic rule's new snapshot piece by
-/// piece. `range_sums` is scratch (the accelerator's sums of each range, in range order).
-/// With `ranks` active (tile_ranks.hpp) this rank passes over and mixes its own tiles' ranges,
-/// and the hub's and the rest as every rank does (the rest's actions shared before:
-/// TileRanks::share_sequential_actions); the tiles' sums go to every rank, and the rows a
-/// phase's tiles moved go to the ranks that hold them: the bits of one process.
+/// One mixing step of a tiled step: `swept` ← the actions after the pass (flattened: the pairs
+/// in colour order, the walls part by part in ColouredPass::mixing_walls, as `start` holds them),
+/// the accelerator's passes over each part (its batched pairs, overflow pairs and walls, their
+/// sums added in that order), its fit with the parts' sums added in part order, and when that
+/// succeeds `start` ← the mixed actions (the iterate the pass started from is not read after
+/// the accelerator's passes, so the mixing reuses its memory: one vector of 4–8 doubles a
+/// contact less), adopted by the contacts with the velocity cache moved by the change: the
+/// hub's parts first (on the caller), then the tiles phase by phase, each part's pairs and
+/// walls; the piston by the parts' changes in part order at the end; and the kinematic rule's
+/// new snapshot piece by piece. `range_sums` is scratch (the accelerator's sums of each part).
+/// With `ranks` active (tile_ranks.hpp) this rank passes over and mixes its own tiles and the
+/// hub's parts as every rank does; the tiles' sums and piston changes go to every rank, and
+/// the rows a phase's tiles moved go to the ranks that hold them: the bits of one process.
 /// Returns whether the mixing was adopted (false: no history yet, or the fit failed; nothing
 /// changed).
 bool mix_tiled_step(AlignedVector<double>& start, AlignedVector<double>& swept, MixedModes modes,
