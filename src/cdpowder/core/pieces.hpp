@@ -58,7 +58,7 @@ template <typename Task>
 void run_pieces_in(PieceRunner* runner, std::span<const std::uint32_t> order, std::uint32_t pieces,
                    const Task& task) {
   if (runner == nullptr) {
-    for (std::uint32_t p = 0; p < pieces; ++p) task(p);
+    run_pieces(runner, pieces, task);  // piece order
     return;
   }
   run_pieces(runner, pieces, [&](std::uint32_t i) { task(i < order.size() ? order[i] : i); });
