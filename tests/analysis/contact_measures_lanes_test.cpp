@@ -203,7 +203,8 @@ TEST(ContactMeasuresInLanes, HaveTheBitsOfAPassOneContactAtATime) {
 }
 
 // More pairs than one piece holds (core/pieces.hpp, indices_per_piece): the pieces, one after
-// the other or side by side on two threads, give the bits of the pass one contact at a time.
+// the other or side by side on two threads, give the bits of the pass one contact at a time, on
+// SSE2 and AVX2.
 TEST(ContactMeasuresInLanes, PiecesOnThreadsHaveTheBitsOfOnePass) {
   const MeasuredPacking measured(5, 0.3);
   const TinyScene& scene = measured.packing.scene;
@@ -217,16 +218,21 @@ TEST(ContactMeasuresInLanes, PiecesOnThreadsHaveTheBitsOfOnePass) {
                                   one.pair_cohesive.end());
   }
   ASSERT_GT(chunks_of(contacts.pairs.size(), indices_per_piece(contacts.pairs.size())), 1U);
-  expect_bits_of_one_at_a_time(scene, contacts);
   TileThreads threads(2);
-  StepDiagnostics on_threads;
-  measure_contacts(scene.world, contacts, on_threads, &threads);
-  const StepDiagnostics expected = scalar_measures(scene.world, contacts);
-  EXPECT_EQ(on_threads.closed_contacts, expected.closed_contacts);
-  EXPECT_EQ(on_threads.cohesive_contacts, expected.cohesive_contacts);
-  EXPECT_EQ(bits(on_threads.max_overlap), bits(expected.max_overlap));
-  EXPECT_EQ(bits(on_threads.mean_overlap), bits(expected.mean_overlap));
-  EXPECT_EQ(bits(on_threads.piston_contact_force), bits(expected.piston_contact_force));
+  for (const lanes::Isa isa : {lanes::Isa::Sse2, lanes::Isa::Avx2}) {
+    if (!lanes::allow_isa(isa)) continue;  // no AVX2 here
+    SCOPED_TRACE(::testing::Message() << "avx2 " << (isa == lanes::Isa::Avx2));
+    expect_bits_of_one_at_a_time(scene, contacts);
+    StepDiagnostics on_threads;
+    measure_contacts(scene.world, contacts, on_threads, &threads);
+    const StepDiagnostics expected = scalar_measures(scene.world, contacts);
+    EXPECT_EQ(on_threads.closed_contacts, expected.closed_contacts);
+    EXPECT_EQ(on_threads.cohesive_contacts, expected.cohesive_contacts);
+    EXPECT_EQ(bits(on_threads.max_overlap), bits(expected.max_overlap));
+    EXPECT_EQ(bits(on_threads.mean_overlap), bits(expected.mean_overlap));
+    EXPECT_EQ(bits(on_threads.piston_contact_force), bits(expected.piston_contact_force));
+  }
+  lanes::allow_isa(lanes::Isa::Avx512);
 }
 
 }  // namespace

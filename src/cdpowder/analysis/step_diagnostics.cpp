@@ -93,22 +93,11 @@ void measure_contacts(const World& world, const Contacts& contacts, StepDiagnost
   // the pairs in pieces, each in blocks of lanes and its last partial block one by one; then
   // the walls on the caller
   const PairOverlapInputs lanes_in = overlap_inputs(world, contacts);
-  const std::size_t per_piece = indices_per_piece(lanes_in.n);
-  const std::size_t count = std::max<std::size_t>(1, chunks_of(lanes_in.n, per_piece));
-  // kept from step to step, so that a step allocates nothing; the pieces
-  // reach the caller's through a reference (in a piece, the name would be its own thread's)
-  thread_local std::vector<ContactSums> kept_sums;
-  std::vector<ContactSums>& piece_sums = kept_sums;
-  piece_sums.assign(count, ContactSums{});
-  run_pieces(pieces, static_cast<std::uint32_t>(count), [&](std::uint32_t p) {
-    const std::size_t first = p * per_piece;
-    const std::size_t last = std::min(lanes_in.n, first + per_piece);
-    ContactSums& sums = piece_sums[p];
-    const std::size_t rest = CDP_LANES_FOR_CPU(pair_overlap_lanes)(lanes_in, first, last, sums);
-    for_each_contact_in(contacts, rest, last, [&](const ContactView& c) { measure(c, sums); });
-  });
-  ContactSums& sums = piece_sums.front();
-  for (std::size_t p = 1; p < count; ++p) sums.merge(piece_sums[p]);
+  auto sums = run_summed_pieces<ContactSums>(
+      pieces, lanes_in.n, [&](std::size_t first, std::size_t last, ContactSums& out) {
+        const std::size_t rest = CDP_LANES_FOR_CPU(pair_overlap_lanes)(lanes_in, first, last, out);
+        for_each_contact_in(contacts, rest, last, [&](const ContactView& c) { measure(c, out); });
+      });
   for_each_contact_in(contacts, lanes_in.n, contacts.size(),
                       [&](const ContactView& c) { measure(c, sums); });
   d.max_overlap = std::max(d.max_overlap, sums.max_overlap);

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -111,6 +112,26 @@ inline std::uint32_t pieces_of(std::size_t count) {
 inline std::size_t indices_per_piece(std::size_t count) {
   return std::max<std::size_t>(1, chunks_of(chunks_of(count, pieces_of(count)), kChunkIndices)) *
          kChunkIndices;
+}
+
+/// Runs task(first, last, sums) over [0, count) cut into the pieces of indices_per_piece (at
+/// most kMaxPieces), each piece with a value-initialised Sums of its own, side by side on
+/// `runner` or in piece order on the caller, and returns the pieces' Sums joined in piece order
+/// (Sums::merge adds the next piece's): the same bits on any number of threads. The pieces'
+/// Sums are held on the caller's stack (kMaxPieces of them: a few kB for sums of a cache line),
+/// so a stage allocates nothing.
+template <typename Sums, typename Task>
+Sums run_summed_pieces(PieceRunner* runner, std::size_t count, const Task& task) {
+  const std::size_t per_piece = indices_per_piece(count);
+  const auto pieces =
+      static_cast<std::uint32_t>(std::max<std::size_t>(1, chunks_of(count, per_piece)));
+  std::array<Sums, kMaxPieces> sums{};
+  run_pieces(runner, pieces, [&](std::uint32_t p) {
+    const std::size_t first = p * per_piece;
+    task(first, std::min(count, first + per_piece), sums[p]);
+  });
+  for (std::uint32_t p = 1; p < pieces; ++p) sums.front().merge(sums[p]);
+  return sums.front();
 }
 
 /// The indices [first, last) of one piece.

@@ -12,7 +12,6 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
-#include <vector>
 
 namespace cdpowder {
 
@@ -79,20 +78,10 @@ SphereMeasures integrate(const VelocityCache& velocities, double dt, World& worl
   in.box = world.box;
   in.dt = dt;
   // pieces of whole blocks of lanes, fixed by the count (indices_per_piece)
-  const std::size_t per_piece = indices_per_piece(in.n);
-  const std::size_t count = std::max<std::size_t>(1, chunks_of(in.n, per_piece));
-  // kept from step to step, so that a step allocates nothing; the pieces
-  // reach the caller's through a reference (in a piece, the name would be its own thread's)
-  thread_local std::vector<SpherePassSums> kept_sums;
-  std::vector<SpherePassSums>& piece_sums = kept_sums;
-  piece_sums.assign(count, SpherePassSums{});
-  run_pieces(pieces, static_cast<std::uint32_t>(count), [&](std::uint32_t p) {
-    const std::size_t first = p * per_piece;
-    CDP_LANES_FOR_CPU(integrate_spheres)
-    (in, first, std::min(in.n, first + per_piece), piece_sums[p]);
-  });
-  SpherePassSums& sums = piece_sums.front();
-  for (std::size_t p = 1; p < count; ++p) sums.merge(piece_sums[p]);
+  const auto sums = run_summed_pieces<SpherePassSums>(
+      pieces, in.n, [&](std::size_t first, std::size_t last, SpherePassSums& out) {
+        CDP_LANES_FOR_CPU(integrate_spheres)(in, first, last, out);
+      });
 
   Piston& piston = world.walls.piston;
   if (piston.enabled) {

@@ -132,7 +132,8 @@ void commit_step(World& world, StepWorkspace& work, const StepSettings& settings
   // integration reads the velocities, writes the World and measures the spheres on its pass
   // (SphereMeasures); the contacts' overlaps need its new positions. The contacts stay where
   // they are: the next begin_step takes them for its warm start (§7.4).
-  // in pieces on the threads of the step's solve; their sums are exact, so the same bits
+  // in pieces fixed by the count on the threads of the step's solve, their sums added in piece
+  // order: the same bits on any number of threads
   TileThreads* const threads = step_threads(work, settings, work.threaded);
   const SphereMeasures of_spheres = integrate(work.velocities, settings.solver.dt, world, threads);
   clock.lap(Stage::Integrate, report.times);

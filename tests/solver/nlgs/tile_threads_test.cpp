@@ -299,8 +299,9 @@ struct TiledSolve {
 };
 
 /// `piston_velocity`: the piston's free velocity V_P instead of the packing's (a piston that
-/// comes down on the spheres).
-TiledSolve tiled_solve(int threads, lanes::Isa isa, std::optional<double> piston_velocity = {}) {
+/// comes down on the spheres); `mixing`: false for no Anderson mixing.
+TiledSolve tiled_solve(int threads, lanes::Isa isa, std::optional<double> piston_velocity = {},
+                       bool mixing = true) {
   allow_kernel_isa(isa);
   SmallPacking packing(0.1);
   TiledSolve out{packing.scene.work.contacts, packing.scene.work.velocities, {}};
@@ -311,6 +312,7 @@ TiledSolve tiled_solve(int threads, lanes::Isa isa, std::optional<double> piston
   settings.kinematic_tolerance = 1e-3;  // the kinematic rule's pass too
   settings.min_passes = 40;             // passes and mixings enough to use every piece
   settings.max_passes = 40;
+  if (!mixing) settings.acceleration_depth = 0;
   NlgsWorkspace work(5);
   work.thread_choice.always_threaded();
   out.stats = solve_nlgs(out.contacts, out.velocities, settings, 1.0, work, &tiles);
@@ -393,6 +395,11 @@ TEST(TileThreads, ATiledSolveLeavesTheVelocitiesOfItsActions) {
     EXPECT_NEAR(solved.velocities.piston_velocity, expected.piston_velocity, tolerance);
     EXPECT_GT(solved.velocities.piston_velocity, kPistonVelocity);  // the spheres push back
   }
+  // the mixings were adopted: without them the actions differ
+  const TiledSolve mixed = tiled_solve(1, lanes::Isa::Avx512, kPistonVelocity);
+  const TiledSolve unmixed = tiled_solve(1, lanes::Isa::Avx512, kPistonVelocity, false);
+  EXPECT_FALSE(same_bits(mixed.contacts.pair_actions, unmixed.contacts.pair_actions));
+  EXPECT_FALSE(same_bits(mixed.contacts.wall_actions, unmixed.contacts.wall_actions));
 }
 
 // A tiled step takes the spheres in pieces, its tiles' records: here three of 4 097, 3 and

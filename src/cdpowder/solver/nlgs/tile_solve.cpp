@@ -111,9 +111,10 @@ bool mix_tiled_step(AlignedVector<double>& start, AlignedVector<double>& swept, 
       apply_part_overflow_deltas(pass, part, deltas, contacts, velocities);
       const Segment& walls = segments[2];
       accelerator.mix(swept.data(), mixed.data(), walls.first * kStride, walls.last * kStride);
+      const ContactIndex* const wall_of = pass.mixing_walls.data();
       double piston = 0.0;
       for (std::size_t k = walls.first; k < walls.last; ++k) {
-        const ContactIndex w = pass.mixing_walls[k - pairs];
+        const ContactIndex w = wall_of[k - pairs];
         const WallProblem& wall = contacts.walls[w];
         const ContactAction delta =
             take_mixed<kRolling, kTwisting>(mixed_values + k * kStride, contacts.wall_actions[w]);
