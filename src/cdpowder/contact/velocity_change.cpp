@@ -11,9 +11,13 @@ void apply_pair_action(const PairProblem& p, const ContactAction& delta, Velocit
 }
 
 void apply_wall_action(const WallProblem& w, const ContactAction& delta, VelocityCache& v) {
+  apply_wall_action(w, delta, v.spheres[w.sphere], v.piston_velocity);
+}
+
+void apply_wall_action(const WallProblem& w, const ContactAction& delta, SphereVelocity& s,
+                       double& wall_velocity) {
   apply_wall_delta(w, delta.normal_force * w.normal + delta.tangential_force,
-                   delta.rolling_torque + delta.twisting_torque * w.normal, v.spheres[w.sphere],
-                   v.piston_velocity);
+                   delta.rolling_torque + delta.twisting_torque * w.normal, s, wall_velocity);
 }
 
 }  // namespace cdpowder

@@ -61,5 +61,9 @@ inline void apply_wall_delta(const WallProblem& w, const Vec3& dR, const Vec3& d
 /// ΔR = R_n n + R_t, ΔT = T_t + T_n n. Used for the warm start and by the mixing.
 void apply_pair_action(const PairProblem& p, const ContactAction& delta, VelocityCache& v);
 void apply_wall_action(const WallProblem& w, const ContactAction& delta, VelocityCache& v);
+/// apply_wall_action with the wall's velocity change added to `wall_velocity` (a tiled
+/// step's mixing keeps each tile's change of the piston apart: tile_solve.hpp).
+void apply_wall_action(const WallProblem& w, const ContactAction& delta, SphereVelocity& s,
+                       double& wall_velocity);
 
 }  // namespace cdpowder

@@ -561,8 +561,9 @@ void apply_part_deltas(const ColouredPass& pass, std::size_t part,
 
 void apply_overflow_deltas(const ColouredPass& pass, const std::vector<ContactAction>& deltas,
                            const Contacts& contacts, VelocityCache& velocities) {
-  for (const ContactIndex k : pass.colouring.overflow) {
-    apply_pair_action(pass.pair_record(contacts, k), deltas[k], velocities);
+  // the overflow pairs are stored part by part: part order is their order
+  for (std::size_t p = 0; p < pass.parts(); ++p) {
+    apply_part_overflow_deltas(pass, p, deltas, contacts, velocities);
   }
 }
 

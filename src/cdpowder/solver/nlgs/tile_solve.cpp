@@ -116,13 +116,10 @@ bool mix_tiled_step(AlignedVector<double>& start, AlignedVector<double>& swept, 
       for (std::size_t k = walls.first; k < walls.last; ++k) {
         const ContactIndex w = wall_of[k - pairs];
         const WallProblem& wall = contacts.walls[w];
-        const ContactAction delta =
-            take_mixed<kRolling, kTwisting>(mixed_values + k * kStride, contacts.wall_actions[w]);
-        const Vec3 force = delta.normal_force * wall.normal + delta.tangential_force;
-        apply_wall_delta_to_sphere(wall, force,
-                                   delta.rolling_torque + delta.twisting_torque * wall.normal,
-                                   velocities.spheres[wall.sphere]);
-        apply_wall_delta_to_wall(wall, force, piston);
+        apply_wall_action(
+            wall,
+            take_mixed<kRolling, kTwisting>(mixed_values + k * kStride, contacts.wall_actions[w]),
+            velocities.spheres[wall.sphere], piston);
       }
       piston_change[part] = piston;
     };
