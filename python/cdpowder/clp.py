@@ -13,12 +13,13 @@ Debian's `coinor-libclp1` provides libClp.so.1; `available()` says whether it wa
 
 minimises cost·x over lower ≤ x ≤ upper and row_lower ≤ matrix x ≤ row_upper (±inf for a side
 without bound). Status 0: optimal; 1: primal infeasible; 2: dual infeasible; 3: stopped at the
-time or the iteration limit; 4: stopped on difficulties (Clp_status's codes). Without crossover Clp may call an
-infeasible program optimal, so an answer that leaves a bound by more than FEASIBILITY (relative
-to 1 + |bound|) is reported infeasible.
+time limit; 4: stopped on difficulties or at MAX_ITERATIONS (Clp_status's codes, but for the
+cap). Without crossover Clp may call an infeasible program optimal, so an answer that leaves a
+bound by more than FEASIBILITY (relative to 1 + |bound|) is reported infeasible.
 """
 import ctypes
 import ctypes.util
+import time
 
 import numpy as np
 import scipy.sparse
@@ -31,6 +32,10 @@ FEASIBILITY = 1e-7  # the largest relative excess over a bound an answer may hav
 # Clp's default primal tolerance (1e-7, on its scaled program) leaves answers 3–4e-7 outside the
 # narrow balance ranges of a sign-fixed program at paper scale; 1e-8 keeps them within 5e-8.
 PRIMAL_TOLERANCE = 1e-8
+# When its barrier ends short of the optimum, Clp cleans up with the primal simplex, which on these
+# programs can run for minutes (a (0, 0) packing: more than 3 min on a bound program). Capped
+# here; a program stopped by the cap has no answer, and cdpowder.stress_bounds hands it to HiGHS.
+MAX_ITERATIONS = 1000
 
 _library = None
 
@@ -58,6 +63,8 @@ def _load():
         "Clp_setLogLevel": (None, [model, ctypes.c_int]),
         "Clp_setMaximumSeconds": (None, [model, ctypes.c_double]),
         "Clp_setPrimalTolerance": (None, [model, ctypes.c_double]),
+        "Clp_setMaximumIterations": (None, [model, ctypes.c_int]),
+        "Clp_hitMaximumIterations": (ctypes.c_int, [model]),
         "Clp_loadProblem": (None, [model, ctypes.c_int, ctypes.c_int, ints, ints, doubles,
                                    doubles, doubles, doubles, doubles, doubles]),
         "Clp_initialSolveWithOptions": (ctypes.c_int, [model, solve]),
@@ -97,8 +104,10 @@ def _violation(values, low, high):
     return float(max(0.0, below.max(initial=0.0), above.max(initial=0.0)))
 
 
-def minimise(cost, matrix, row_lower, row_upper, lower, upper, seconds):
+def minimise(cost, matrix, row_lower, row_upper, lower, upper, seconds, admissible=None):
     """Returns (status, cost·x, x) of min cost·x (module docstring); x is None unless optimal.
+    `admissible`: (row_lower, row_upper, lower, upper) the answer is checked against, if not
+    the program's own (a program solved with narrower rows or bounds than an answer must keep).
 
     Columns fixed by their bounds (lower = upper) are taken out before Clp sees the program,
     their part moved to the rows' bounds: a barrier without presolve keeps such a column as a
@@ -124,8 +133,9 @@ def minimise(cost, matrix, row_lower, row_upper, lower, upper, seconds):
     x[free] = x_free
     # without crossover Clp can call an infeasible program optimal: the answer is checked,
     # against the program as given (the rows only fixed columns touch, each row's own bounds)
-    if _violation(matrix @ x, row_lower, row_upper) > FEASIBILITY or \
-            _violation(x, lower, upper) > FEASIBILITY:
+    check = admissible or (row_lower, row_upper, lower, upper)
+    if _violation(matrix @ x, check[0], check[1]) > FEASIBILITY or \
+            _violation(x, check[2], check[3]) > FEASIBILITY:
         return INFEASIBLE, None, None
     return OPTIMAL, float(cost @ x), x
 
@@ -157,13 +167,18 @@ def _minimise_free(cost, matrix, row_lower, row_upper, lower, upper, seconds):
         lib.Clp_setLogLevel(model, 0)
         lib.Clp_setMaximumSeconds(model, float(seconds))
         lib.Clp_setPrimalTolerance(model, PRIMAL_TOLERANCE)
+        lib.Clp_setMaximumIterations(model, MAX_ITERATIONS)
         lib.Clp_loadProblem(model, width, rows, _pointer(start, ctypes.c_int),
                             _pointer(index, ctypes.c_int), _pointer(value, ctypes.c_double),
                             *(_pointer(a, ctypes.c_double) for a in arrays))
         lib.ClpSolve_setSolveType(options, _BARRIER_NO_CROSSOVER, -1)
         lib.ClpSolve_setPresolveType(options, _PRESOLVE_OFF, -1)
+        started = time.perf_counter()
         lib.Clp_initialSolveWithOptions(model, options)
         status = lib.Clp_status(model)
+        if status == STOPPED and (lib.Clp_hitMaximumIterations(model) or
+                                  time.perf_counter() - started < seconds):
+            status = DIFFICULT  # not the time limit: the clean-up's cap or the barrier's own
         if status != OPTIMAL:
             return status, None, None
         x = np.ctypeslib.as_array(lib.Clp_getColSolution(model), shape=(width,)).copy()

@@ -6,7 +6,7 @@ couples that balances each sphere and the piston and obeys the model's threshold
 answer as the run's own. This module computes the smallest and largest σ_ij (and its parts σ⁺
 and σ⁻ of compressive and tensile contacts, physics.md §11.2) over all of them:
 
-    python3 -m cdpowder.stress_bounds DIR... [--components zz,xx] [--facets 16]
+    python3 -m cdpowder.stress_bounds DIR... [--components zz,xx] [--facets 16] [--jobs 2]
 
 reads each DIR's scene.toml, particles.csv, contacts.csv and summary.json and adds the result
 to DIR/summary.json under "admissible_stress" (`cdpowder stress-bounds DIR` runs it; a sweep's
@@ -37,6 +37,7 @@ import argparse
 import contextlib
 import json
 import math
+import multiprocessing
 import os
 import pathlib
 import sys
@@ -160,6 +161,8 @@ class Program:
         self.solver = solver_named(solver)  # "clp" or "highs" (_minimise)
         self.stopped = 0  # programs stopped at the time limit
         self.fallbacks = 0  # programs Clp found no answer for, solved again by HiGHS
+        self.solved = 0  # programs solved (an answer or none)
+        self.progress = None  # called with what a program was for, after each
         run = p.run_actions()[self.free]
         self.run_x = run.T.reshape(-1)  # blocks of 6 × m, unknown by unknown
         self.force_cap = force_cap_factor * max(1.0, float(np.abs(p.run_normal).max(initial=0.0)),
@@ -270,16 +273,19 @@ class Program:
         return matrix, np.concatenate(rhs)
 
     def bounds(self):
-        """Variable bounds: −F_c ≤ R_n ≤ the force cap; a mode without threshold at 0; the rest
-        free (held by the thresholds)."""
+        """Variable bounds: −F_c ≤ R_n ≤ the force cap; a mode without threshold at 0; each other
+        mode within its circumscribed threshold at the force cap, ±cap (force cap + F_c) /
+        cos(π/K), which the thresholds imply (the program is the same): without them an
+        interior-point solver has free columns, and Clp's barrier failed on some packings."""
         p, m, free = self.packing, self.m, self.free
         lower = np.full(6 * m, -np.inf)
         upper = np.full(6 * m, np.inf)
         lower[:m] = -p.cohesion[free]
         upper[:m] = self.force_cap
+        reach = (self.force_cap + p.cohesion[free]) / math.cos(math.pi / self.facets)
         for q, cap in ((1, p.mu), (2, p.mu), (3, p.roll_cap), (4, p.roll_cap), (5, p.twist_cap)):
-            zero = q * m + np.flatnonzero(cap[free] == 0)
-            lower[zero] = upper[zero] = 0.0
+            lower[q * m:(q + 1) * m] = -cap[free] * reach
+            upper[q * m:(q + 1) * m] = cap[free] * reach
         return lower, upper
 
     def stress_row(self, i, j):
@@ -306,7 +312,7 @@ class Program:
 
     def constraints(self, scale):
         """(ranges, lower, upper) of _minimise: the balance and the thresholds with polygons of
-        radius × scale, and the unknowns' bounds."""
+        radius × scale, and the unknowns' bounds. The balance is the first range."""
         g, h = self.thresholds(scale)
         lower, upper = self.bounds()
         ranges = [(self.balance, self.rhs - self.slack, self.rhs + self.slack),
@@ -338,27 +344,43 @@ class _Optimum:
         self.status, self.fun, self.x = status, fun, x
 
 
-def _minimise(program, cost, ranges, lower, upper):
+def _minimise(program, cost, ranges, lower, upper, force_set=None, what="a program"):
     """min cost·x over lower ≤ x ≤ upper and low ≤ A x ≤ high for each (A, low, high), stopped
     after the program's time limit, by its solver. "clp": COIN-OR Clp's barrier (cdpowder.clp),
     about six times faster at paper scale; "highs": HiGHS's interior-point method with
     crossover, through SciPy's `linprog` (docs/physics.md §11.3); it also decides a program Clp
     finds infeasible, since Clp's barrier without crossover can only say that it found no
     admissible answer. Counts the program's stopped programs and fallbacks. Returns an
-    _Optimum."""
-    optimum = _solve(program, cost, ranges, lower, upper)
+    _Optimum. `what` names the program for the program's `progress`.
+
+    `force_set`: (lower, upper) of an admissible force set, for a program whose answer is one
+    (an attained value, not a bound). Clp is then given the balance, the first range, as
+    equalities at the loads: a subset of ranges a few 1e-7 wide, which its barrier solves two to
+    eight times faster and fails less often on. Its answer must keep the ranges and these
+    bounds, not the program's: a sign-fixed program's R_n ≥ 0 or ≤ 0 is a choice of the search,
+    and a contact that crosses it by the solver's tolerance (up to 1e-6 at paper scale) is still
+    admissible, in the part its sign gives it (Program.parts)."""
+    optimum = _solve(program, cost, ranges, lower, upper, force_set)
     program.stopped += optimum.status == 1
+    program.solved += 1
+    if program.progress is not None:
+        program.progress(what)
     return optimum
 
 
-def _solve(program, cost, ranges, lower, upper):
+def _solve(program, cost, ranges, lower, upper, force_set):
     """_minimise's program by the program's solver, from Clp to HiGHS when Clp has no answer."""
     time_limit = program.time_limit
     if program.solver == "clp":
         matrix = scipy.sparse.vstack([a for a, _, _ in ranges])
-        status, fun, x = clp.minimise(cost, matrix, np.concatenate([low for _, low, _ in ranges]),
-                                      np.concatenate([high for _, _, high in ranges]), lower,
-                                      upper, time_limit)
+        row_lower = np.concatenate([low for _, low, _ in ranges])
+        row_upper = np.concatenate([high for _, _, high in ranges])
+        given, admissible = (row_lower, row_upper), None
+        if force_set is not None:
+            given = tuple(np.concatenate([program.rhs, side[len(program.rhs):]]) for side in given)
+            admissible = (row_lower, row_upper, *force_set)
+        status, fun, x = clp.minimise(cost, matrix, *given, lower, upper, time_limit,
+                                      admissible=admissible)
         if status in (clp.OPTIMAL, clp.STOPPED):
             return _Optimum(0 if status == clp.OPTIMAL else 1, fun, x)
         program.fallbacks += 1  # Clp found no answer it could stand by: HiGHS decides
@@ -409,7 +431,11 @@ def _total_extreme(program, i, j, sense, scale):
     radius × scale: one linear program. Returns (the optimum, the force set), or (None, None)
     when infeasible."""
     row, constant = program.stress_row(i, j)
-    res = _minimise(program, sense * row, *program.constraints(scale))
+    ranges, lower, upper = program.constraints(scale)
+    # an inner polygon's answer is a force set; an outer one's only bounds
+    force_set = (lower, upper) if scale < 1.0 else None
+    res = _minimise(program, sense * row, ranges, lower, upper, force_set,
+                    "σ reached" if force_set else "bound of σ")
     if res.status != 0:
         return None, None
     return sense * float(res.fun) + constant, res.x
@@ -423,11 +449,13 @@ def _signed_extreme(program, i, j, sense, scale, signs):
     m = program.m
     row, _ = program.stress_row(i, j)
     ranges, lower, upper = program.constraints(scale)
+    force_set = (lower.copy(), upper.copy())
     tensile = np.zeros(m, bool)
     tensile[program.split[signs > 0.5]] = True
     upper[:m] = np.where(tensile, 0.0, upper[:m])
     lower[:m] = np.where(tensile, lower[:m], 0.0)
-    res = _minimise(program, sense * row * np.tile(~tensile, 6), ranges, lower, upper)
+    res = _minimise(program, sense * row * np.tile(~tensile, 6), ranges, lower, upper, force_set,
+                    "σ⁺ reached")
     if res.status != 0:
         return None, None
     return sense * float(res.fun), res.x
@@ -467,17 +495,62 @@ def _run_value(summary, i, j, part):
     return float(stress[key][i][j])
 
 
+# the Program a forked worker of admissible_stress solves for (set before its pool starts)
+_WORKER_PROGRAM = None
+
+
+def _task(task):
+    """One independent piece of admissible_stress: ("total", i, j, sense, scale) is one linear
+    program for σ_ij; ("search", i, j, sense, scale, starts, rounds) a whole search for σ⁺_ij.
+    Returns (σ's optimum or None, the force sets found, programs, stopped, fallbacks), the
+    counts of this task alone."""
+    program = _WORKER_PROGRAM
+    program.solved = program.stopped = program.fallbacks = 0
+    found, value = [], None
+    if task[0] == "total":
+        _, i, j, sense, scale = task
+        value, x = _total_extreme(program, i, j, sense, scale)
+        found = [] if x is None or scale >= 1.0 else [x]  # an outer polygon's x only bounds
+    else:
+        _, i, j, sense, scale, starts, rounds = task
+        _search(program, i, j, sense, scale, starts, found.append, rounds)
+    return value, found, program.solved, program.stopped, program.fallbacks
+
+
+def _tasks_in(tasks, program, jobs):
+    """_task over `tasks` (the answers in their order): on `jobs` processes forked from this
+    one, or here when jobs is 1. No task reads another's answer, and the parts of a result are
+    extremes (min, max) over the force sets found, so the result is the same for any jobs."""
+    global _WORKER_PROGRAM
+    _WORKER_PROGRAM = program
+    try:
+        if jobs <= 1 or len(tasks) == 1:
+            return [_task(task) for task in tasks]
+        with multiprocessing.get_context("fork").Pool(min(jobs, len(tasks))) as pool:
+            return pool.map(_task, tasks, chunksize=1)
+    finally:
+        _WORKER_PROGRAM = None
+
+
+def default_jobs():
+    """The processes admissible_stress uses unless told: its two searches side by side, where
+    the process may run on two cores."""
+    return max(1, min(2, len(os.sched_getaffinity(0))))
+
+
 def admissible_stress(folder, components=("zz",), facets=16, force_cap_factor=100.0,
-                      progress=None, rounds=8, time_limit=300.0, solver="auto"):
+                      progress=None, rounds=8, time_limit=300.0, solver="auto", jobs=None):
     """The admissible interval of σ_ij, σ⁺_ij and σ⁻_ij for each component (module docstring).
 
     For each quantity and side: the bound (a linear program with the circumscribed polygons and
     each contact's sign relaxed), and the extremes over the admissible force sets found (the
     inscribed polygons, signs fixed and searched from the run's and the bound's; and the run's
-    own forces). `progress(text)`, if given, is called after each linear program; a program
-    stopped at `time_limit` seconds gives nothing (a bound stays None, a search start ends).
-    `solver`: "clp", "highs" or "auto" (solver_named). Raises
-    StressBoundsError for a folder that is not a blocked run's."""
+    own forces). `progress(text)`, if given, is called after each linear program (in the
+    process that solved it); a program stopped at `time_limit` seconds gives nothing (a bound
+    stays None, a search start ends). `solver`: "clp", "highs" or "auto" (solver_named).
+    `jobs`: processes for σ's four programs and then the two searches (default_jobs() when
+    None); the result does not depend on it. Raises StressBoundsError for a folder that is not
+    a blocked run's."""
     if facets < 3:
         raise StressBoundsError(f"--facets: got {facets}, expected an integer ≥ 3")
     if not time_limit > 0:
@@ -486,6 +559,9 @@ def admissible_stress(folder, components=("zz",), facets=16, force_cap_factor=10
         raise StressBoundsError(f"--rounds: got {rounds}, expected an integer ≥ 1")
     if not force_cap_factor > 1:
         raise StressBoundsError(f"--force-cap: got {force_cap_factor}, expected a number > 1")
+    jobs = default_jobs() if jobs is None else jobs
+    if not (isinstance(jobs, int) and jobs >= 1):
+        raise StressBoundsError(f"--jobs: got {jobs}, expected an integer ≥ 1")
     solver = solver_named(solver)
     started = time.perf_counter()
     packing = Packing(folder)
@@ -509,6 +585,13 @@ def admissible_stress(folder, components=("zz",), facets=16, force_cap_factor=10
     }
     run_signs = (packing.run_normal[program.free][program.split] < 0).astype(float)
     parts = ("total", "plus", "minus")
+    totals = {"programs": 0, "stopped": 0, "fallbacks": 0}
+
+    def solved(name, what):
+        if progress is not None:
+            progress(f"σ_{name}: a linear program ({what}), "
+                     f"{time.perf_counter() - started:.0f} s")
+
     for name in components:
         i, j = _component(name)
         reached = {part: [math.inf, -math.inf] for part in parts}
@@ -517,36 +600,36 @@ def admissible_stress(folder, components=("zz",), facets=16, force_cap_factor=10
             for part, value in zip(parts, program.parts(x, i, j)):
                 reached[part] = [min(reached[part][0], value), max(reached[part][1], value)]
 
-        def solved(what, name=name):
-            solved.count += 1
-            if progress is not None:
-                progress(f"σ_{name}: {solved.count} linear programs ({what}), "
-                         f"{time.perf_counter() - started:.0f} s")
+        def gather(answers):
+            for _, found, programs, stopped, fallbacks in answers:
+                for x in found:
+                    record(x)
+                totals["programs"] += programs
+                totals["stopped"] += stopped
+                totals["fallbacks"] += fallbacks
+            return answers
 
-        solved.count = 0
         record(program.run_x)
-        bound = {}
+        program.progress = lambda what, name=name: solved(name, what)
+        # σ's bound (outer polygons) and reached value (inner) on each side
+        sides = [(sense, scale) for sense in (1, -1) for scale in (outer, inner)]
+        answers = gather(_tasks_in([("total", i, j, sense, scale) for sense, scale in sides],
+                                   program, jobs))
+        bound = {("total", 0): answers[0][0], ("total", 1): answers[2][0]}
         # each start is the sign pattern of a force set (the run's, σ's extremes), so every
         # program of a search is feasible: a round turns over only contacts at R_n = 0. (All
         # compressive, once a start too, is no force set's at paper scale, and there both
         # solvers spent minutes on it without an answer.)
-        starts = [run_signs]
-        for sense, side in ((1, 0), (-1, 1)):
-            bound["total", side], _ = _total_extreme(program, i, j, sense, outer)
-            solved("bound of σ")
-            _, x = _total_extreme(program, i, j, sense, inner)
-            if x is not None:
-                record(x)
-                starts.append((x[:program.m][program.split] < 0).astype(float))
-            solved("σ reached")
+        starts = [run_signs] + [(found[0][:program.m][program.split] < 0).astype(float)
+                                for (_, found, *_), (_, scale) in zip(answers, sides)
+                                if scale == inner and found]
         # σ⁺ = σ − σ⁻ for every force set, and σ⁻ lies within each contact's extremes in tension
         bound["minus", 0], bound["minus", 1] = program.minus_range(i, j, outer)
         known = bound["total", 0] is not None and bound["total", 1] is not None
         bound["plus", 0] = bound["total", 0] - bound["minus", 1] if known else None
         bound["plus", 1] = bound["total", 1] - bound["minus", 0] if known else None
-        for sense in (1, -1):
-            _search(program, i, j, sense, inner, starts,
-                    lambda x: (record(x), solved("σ⁺ reached")), rounds)
+        gather(_tasks_in([("search", i, j, sense, inner, starts, rounds) for sense in (1, -1)],
+                         program, jobs))
         for part, suffix in zip(parts, ("", "_plus", "_minus")):
             entry = {"run": _run_value(packing.summary, i, j, part)}
             for side, key in ((0, "min"), (1, "max")):
@@ -558,8 +641,10 @@ def admissible_stress(folder, components=("zz",), facets=16, force_cap_factor=10
                     min(value, attained) if side == 0 else max(value, attained))
                 entry[f"{key}_attained"] = attained
             result[f"sigma_{name}{suffix}"] = entry
-    result["stopped_programs"] = program.stopped
-    result["highs_fallbacks"] = program.fallbacks
+    result["linear_programs"] = totals["programs"]
+    result["stopped_programs"] = totals["stopped"]
+    result["highs_fallbacks"] = totals["fallbacks"]
+    result["jobs"] = jobs
     result["seconds"] = time.perf_counter() - started
     return result
 
@@ -631,6 +716,10 @@ def main(argv=None):
     parser.add_argument("--solver", default="auto", choices=("auto", "clp", "highs"),
                         help="the linear programs' solver: COIN-OR Clp's barrier or HiGHS "
                              "(SciPy); auto takes Clp where libClp is found (default auto)")
+    parser.add_argument("--jobs", type=int, default=None,
+                        help="processes: σ's four programs, then its two searches, side by side; "
+                             "the result is the same for any (default 2 where the process may "
+                             "run on two cores, else 1)")
     parser.add_argument("--no-write", action="store_true", help="print only; leave summary.json")
     args = parser.parse_args(argv)
     components = [c.strip() for c in args.components.split(",") if c.strip()]
@@ -639,7 +728,7 @@ def main(argv=None):
         try:
             result = admissible_stress(folder, components, args.facets, args.force_cap,
                                        rounds=args.rounds, time_limit=args.time_limit,
-                                       solver=args.solver,
+                                       solver=args.solver, jobs=args.jobs,
                                        progress=lambda text, f=folder: print(
                                            f"stress-bounds: {f}: {text}", file=sys.stderr,
                                            flush=True))
@@ -652,6 +741,7 @@ def main(argv=None):
         piston = summaries.read_summary(pathlib.Path(folder) / "summary.json").get("piston", {})
         stopped = result["stopped_programs"]
         print(f"{folder}: {result['contacts']['touching']} touching contacts, "
+              f"{result['linear_programs']} linear programs on {result['jobs']} processes, "
               f"{result['seconds']:.1f} s" + (f", {stopped} linear programs stopped at the time "
                                               "limit" if stopped else ""))
         print(line(result, piston.get("applied_pressure")))

@@ -164,6 +164,19 @@ def test_both_solvers_agree(quick_run):
     assert one["stopped_programs"] == 0 and highs["stopped_programs"] == 0
 
 
+def test_the_interval_does_not_depend_on_the_jobs(quick_run):
+    # σ's four programs and the two searches run side by side on forked processes; each search
+    # is sequential, and the result keeps extremes over the force sets found, so one process and
+    # two give the same numbers and the same count of programs
+    one = stress_bounds.admissible_stress(quick_run, jobs=1)
+    two = stress_bounds.admissible_stress(quick_run, jobs=2)
+    assert (one["jobs"], two["jobs"]) == (1, 2)
+    for key in ("sigma_zz", "sigma_zz_plus", "sigma_zz_minus", "linear_programs",
+                "highs_fallbacks", "stopped_programs"):
+        assert one[key] == two[key], key
+    assert one["linear_programs"] >= 6  # σ's four, then at least one a search
+
+
 def test_a_sweep_asks_for_the_interval_of_every_run(tmp_path):
     sweep = tmp_path / "sweep.toml"
     sweep.write_text(f'scene = "{QUICK}"\nseeds = [1]\n[grid]\n"contact.mu_roll" = [1.0]\n')
@@ -181,6 +194,8 @@ def test_mistakes_are_named(quick_run, tmp_path):
     assert done.returncode == 2 and "--components: got 'zq'" in done.stderr
     done = program("stress-bounds", quick_run, "--facets", "2", check=False)
     assert done.returncode == 2 and "--facets: got 2" in done.stderr
+    done = program("stress-bounds", quick_run, "--jobs", "0", check=False)
+    assert done.returncode == 2 and "--jobs: got 0" in done.stderr
     done = program("stress-bounds", quick_run, "--solver", "glpk", check=False)
     assert done.returncode == 2 and "--solver: invalid choice: 'glpk'" in done.stderr
     # a run that did not block: its forces balance nothing
