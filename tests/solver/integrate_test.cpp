@@ -66,24 +66,30 @@ struct Scene {
   VelocityCache velocities;
 };
 
+/// Each free sphere of `after` has its v* and moved by Δt v* from `before` (wrapped into the
+/// cell); each fixed sphere kept its velocity and place.
+void expect_committed(const World& before, const Scene& after) {
+  for (std::size_t i = 0; i < before.bodies.size(); ++i) {
+    if (before.bodies.fixed[i] != 0) {
+      EXPECT_EQ(after.world.bodies.velocity[i], before.bodies.velocity[i]) << i;
+      EXPECT_EQ(after.world.bodies.position[i], before.bodies.position[i]) << i;
+      continue;
+    }
+    EXPECT_EQ(after.world.bodies.velocity[i], after.velocities.spheres[i].linear) << i;
+    EXPECT_EQ(after.world.bodies.angular_velocity[i], after.velocities.spheres[i].angular) << i;
+    Vec3 moved = before.bodies.position[i] + Scene::kDt * after.velocities.spheres[i].linear;
+    before.box.wrap(moved);
+    EXPECT_EQ(after.world.bodies.position[i], moved) << i;
+    EXPECT_GE(after.world.bodies.position[i].y(), 0.0) << i;  // wrapped into the cell
+    EXPECT_LT(after.world.bodies.position[i].y(), 10.0) << i;
+  }
+}
+
 TEST(Integrate, CommitsTheVelocitiesAndMovesTheSpheres) {
   Scene s;
   const World before = s.world;
   (void)integrate(s.velocities, Scene::kDt, s.world);
-  for (std::size_t i = 0; i < before.bodies.size(); ++i) {
-    if (before.bodies.fixed[i] != 0) {
-      EXPECT_EQ(s.world.bodies.velocity[i], before.bodies.velocity[i]);
-      EXPECT_EQ(s.world.bodies.position[i], before.bodies.position[i]);
-      continue;
-    }
-    EXPECT_EQ(s.world.bodies.velocity[i], s.velocities.spheres[i].linear);
-    EXPECT_EQ(s.world.bodies.angular_velocity[i], s.velocities.spheres[i].angular);
-    Vec3 moved = before.bodies.position[i] + Scene::kDt * s.velocities.spheres[i].linear;
-    before.box.wrap(moved);
-    EXPECT_EQ(s.world.bodies.position[i], moved);
-    EXPECT_GE(s.world.bodies.position[i].y(), 0.0);  // wrapped into the cell
-    EXPECT_LT(s.world.bodies.position[i].y(), 10.0);
-  }
+  expect_committed(before, s);
   EXPECT_DOUBLE_EQ(s.world.walls.piston.height, 8.0 - 0.02 * Scene::kDt);
   EXPECT_EQ(s.world.walls.piston.velocity, -0.02);
   EXPECT_EQ(s.world.step, before.step + 1);
@@ -185,6 +191,7 @@ TEST(Integrate, PiecesOnThreadsGiveTheBitsOfOnePass) {
   expect_measures_of_passes_of_their_own(serial);
   Scene one(n);
   Scene two(n);
+  const World before = two.world;
   TileThreads threads(2);
   const SphereMeasures a = integrate(one.velocities, Scene::kDt, one.world);
   const SphereMeasures b = integrate(two.velocities, Scene::kDt, two.world, &threads);
@@ -197,6 +204,7 @@ TEST(Integrate, PiecesOnThreadsGiveTheBitsOfOnePass) {
   EXPECT_EQ(one.world.bodies.position, two.world.bodies.position);
   EXPECT_EQ(one.world.bodies.velocity, two.world.bodies.velocity);
   EXPECT_EQ(serial.world.bodies.position, two.world.bodies.position);
+  expect_committed(before, two);  // every piece moved its spheres, the last partial one too
 }
 
 TEST(Integrate, ANonFiniteSphereIsFoundOnThePass) {
