@@ -535,7 +535,9 @@ def _tasks_in(tasks, program, jobs):
 def default_jobs():
     """The processes admissible_stress uses unless told: its two searches side by side, where
     the process may run on two cores."""
-    return max(1, min(2, len(os.sched_getaffinity(0))))
+    allowed = os.sched_getaffinity(0) if hasattr(os, "sched_getaffinity") else range(
+        os.cpu_count() or 1)
+    return max(1, min(2, len(allowed)))
 
 
 def admissible_stress(folder, components=("zz",), facets=16, force_cap_factor=100.0,
