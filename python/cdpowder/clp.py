@@ -35,6 +35,8 @@ PRIMAL_TOLERANCE = 1e-8
 # When its barrier ends short of the optimum, Clp cleans up with the primal simplex, which on these
 # programs can run for minutes (a (0, 0) packing: more than 3 min on a bound program). Capped
 # here; a program stopped by the cap has no answer, and cdpowder.stress_bounds hands it to HiGHS.
+# At least 1 000: below that, Clp 1.17's initialSolve takes the value as the barrier's own cap
+# and lifts the simplex's to 10⁷.
 MAX_ITERATIONS = 1000
 
 _library = None
@@ -64,7 +66,7 @@ def _load():
         "Clp_setMaximumSeconds": (None, [model, ctypes.c_double]),
         "Clp_setPrimalTolerance": (None, [model, ctypes.c_double]),
         "Clp_setMaximumIterations": (None, [model, ctypes.c_int]),
-        "Clp_hitMaximumIterations": (ctypes.c_int, [model]),
+        "Clp_numberIterations": (ctypes.c_int, [model]),
         "Clp_loadProblem": (None, [model, ctypes.c_int, ctypes.c_int, ints, ints, doubles,
                                    doubles, doubles, doubles, doubles, doubles]),
         "Clp_initialSolveWithOptions": (ctypes.c_int, [model, solve]),
@@ -133,6 +135,7 @@ def minimise(cost, matrix, row_lower, row_upper, lower, upper, seconds, admissib
     x[free] = x_free
     # without crossover Clp can call an infeasible program optimal: the answer is checked,
     # against the program as given (the rows only fixed columns touch, each row's own bounds)
+    # or against `admissible`
     check = admissible or (row_lower, row_upper, lower, upper)
     if _violation(matrix @ x, check[0], check[1]) > FEASIBILITY or \
             _violation(x, check[2], check[3]) > FEASIBILITY:
@@ -173,11 +176,11 @@ def _minimise_free(cost, matrix, row_lower, row_upper, lower, upper, seconds):
                             *(_pointer(a, ctypes.c_double) for a in arrays))
         lib.ClpSolve_setSolveType(options, _BARRIER_NO_CROSSOVER, -1)
         lib.ClpSolve_setPresolveType(options, _PRESOLVE_OFF, -1)
-        started = time.perf_counter()
+        started = time.process_time()  # Clp's time limit is in CPU seconds
         lib.Clp_initialSolveWithOptions(model, options)
         status = lib.Clp_status(model)
-        if status == STOPPED and (lib.Clp_hitMaximumIterations(model) or
-                                  time.perf_counter() - started < seconds):
+        if status == STOPPED and (lib.Clp_numberIterations(model) >= MAX_ITERATIONS or
+                                  time.process_time() - started < seconds):
             status = DIFFICULT  # not the time limit: the clean-up's cap or the barrier's own
         if status != OPTIMAL:
             return status, None, None

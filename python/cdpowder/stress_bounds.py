@@ -34,10 +34,12 @@ linear programs are solved by COIN-OR Clp's barrier (cdpowder.clp) where Debian'
 coinor-libclp1 is installed, else by HiGHS (SciPy's `linprog`); `--solver` chooses.
 """
 import argparse
+import concurrent.futures
 import contextlib
 import json
 import math
 import multiprocessing
+import numbers
 import os
 import pathlib
 import sys
@@ -272,17 +274,18 @@ class Program:
             shape=(count, 6 * m))
         return matrix, np.concatenate(rhs)
 
-    def bounds(self):
+    def bounds(self, scale):
         """Variable bounds: −F_c ≤ R_n ≤ the force cap; a mode without threshold at 0; each other
-        mode within its circumscribed threshold at the force cap, ±cap (force cap + F_c) /
-        cos(π/K), which the thresholds imply (the program is the same): without them an
-        interior-point solver has free columns, and Clp's barrier failed on some packings."""
+        mode within the reach of its polygon (radius × scale) at the force cap, ±scale cap
+        (force cap + F_c) / cos(π/K) (a vertex's distance from the centre), which the thresholds
+        imply (the program is the same): without them an interior-point solver has free
+        columns, and Clp's barrier failed on some packings."""
         p, m, free = self.packing, self.m, self.free
         lower = np.full(6 * m, -np.inf)
         upper = np.full(6 * m, np.inf)
         lower[:m] = -p.cohesion[free]
         upper[:m] = self.force_cap
-        reach = (self.force_cap + p.cohesion[free]) / math.cos(math.pi / self.facets)
+        reach = scale * (self.force_cap + p.cohesion[free]) / math.cos(math.pi / self.facets)
         for q, cap in ((1, p.mu), (2, p.mu), (3, p.roll_cap), (4, p.roll_cap), (5, p.twist_cap)):
             lower[q * m:(q + 1) * m] = -cap[free] * reach
             upper[q * m:(q + 1) * m] = cap[free] * reach
@@ -314,7 +317,7 @@ class Program:
         """(ranges, lower, upper) of _minimise: the balance and the thresholds with polygons of
         radius × scale, and the unknowns' bounds. The balance is the first range."""
         g, h = self.thresholds(scale)
-        lower, upper = self.bounds()
+        lower, upper = self.bounds(scale)
         ranges = [(self.balance, self.rhs - self.slack, self.rhs + self.slack),
                   (g, np.full(len(h), -np.inf), h)]
         return ranges, lower, upper
@@ -355,8 +358,10 @@ def _minimise(program, cost, ranges, lower, upper, force_set=None, what="a progr
 
     `force_set`: (lower, upper) of an admissible force set, for a program whose answer is one
     (an attained value, not a bound). Clp is then given the balance, the first range, as
-    equalities at the loads: a subset of ranges a few 1e-7 wide, which its barrier solves two to
-    eight times faster and fails less often on. Its answer must keep the ranges and these
+    equalities at the loads: a subset of ranges a few 1e-7 wide, on which its barrier took the
+    paper example's interval at (1, 1) from 285 s to 39 s (with the finite bounds of
+    Program.bounds; docs/lab/2026-12-01-stress-bounds-in-a-minute.md). Its answer must keep the
+    ranges and these
     bounds, not the program's: a sign-fixed program's R_n ≥ 0 or ≤ 0 is a choice of the search,
     and a contact that crosses it by the solver's tolerance (up to 1e-6 at paper scale) is still
     admissible, in the part its sign gives it (Program.parts)."""
@@ -520,28 +525,33 @@ def _task(task):
 def _tasks_in(tasks, program, jobs):
     """_task over `tasks` (the answers in their order): on `jobs` processes forked from this
     one, or here when jobs is 1. No task reads another's answer, and the parts of a result are
-    extremes (min, max) over the force sets found, so the result is the same for any jobs."""
+    extremes (min, max) over the force sets found, so the result is the same for any jobs
+    unless a program reaches the time limit (which processes sharing cores reach sooner). A
+    worker that dies (a signal, memory) raises BrokenProcessPool here instead of a hang."""
     global _WORKER_PROGRAM
     _WORKER_PROGRAM = program
     try:
         if jobs <= 1 or len(tasks) == 1:
             return [_task(task) for task in tasks]
-        with multiprocessing.get_context("fork").Pool(min(jobs, len(tasks))) as pool:
-            return pool.map(_task, tasks, chunksize=1)
+        sys.stdout.flush()  # what this process has buffered is not the workers' to write again
+        sys.stderr.flush()
+        with concurrent.futures.ProcessPoolExecutor(
+                min(jobs, len(tasks)), mp_context=multiprocessing.get_context("fork")) as pool:
+            return list(pool.map(_task, tasks))
     finally:
         _WORKER_PROGRAM = None
 
 
 def default_jobs():
-    """The processes admissible_stress uses unless told: its two searches side by side, where
-    the process may run on two cores."""
+    """The processes `cdpowder stress-bounds` uses unless told: its two searches side by side,
+    where the process may run on two cores."""
     allowed = os.sched_getaffinity(0) if hasattr(os, "sched_getaffinity") else range(
         os.cpu_count() or 1)
     return max(1, min(2, len(allowed)))
 
 
 def admissible_stress(folder, components=("zz",), facets=16, force_cap_factor=100.0,
-                      progress=None, rounds=8, time_limit=300.0, solver="auto", jobs=None):
+                      progress=None, rounds=8, time_limit=300.0, solver="auto", jobs=1):
     """The admissible interval of σ_ij, σ⁺_ij and σ⁻_ij for each component (module docstring).
 
     For each quantity and side: the bound (a linear program with the circumscribed polygons and
@@ -550,9 +560,10 @@ def admissible_stress(folder, components=("zz",), facets=16, force_cap_factor=10
     own forces). `progress(text)`, if given, is called after each linear program (in the
     process that solved it); a program stopped at `time_limit` seconds gives nothing (a bound
     stays None, a search start ends). `solver`: "clp", "highs" or "auto" (solver_named).
-    `jobs`: processes for σ's four programs and then the two searches (default_jobs() when
-    None); the result does not depend on it. Raises StressBoundsError for a folder that is not
-    a blocked run's."""
+    `jobs`: processes forked for σ's four programs and then the two searches
+    (default_jobs() is what the command uses); the result does not depend on it unless a
+    program reaches the time limit. Raises StressBoundsError for a folder that is not a
+    blocked run's."""
     if facets < 3:
         raise StressBoundsError(f"--facets: got {facets}, expected an integer ≥ 3")
     if not time_limit > 0:
@@ -561,9 +572,9 @@ def admissible_stress(folder, components=("zz",), facets=16, force_cap_factor=10
         raise StressBoundsError(f"--rounds: got {rounds}, expected an integer ≥ 1")
     if not force_cap_factor > 1:
         raise StressBoundsError(f"--force-cap: got {force_cap_factor}, expected a number > 1")
-    jobs = default_jobs() if jobs is None else jobs
-    if not (isinstance(jobs, int) and jobs >= 1):
+    if isinstance(jobs, bool) or not isinstance(jobs, numbers.Integral) or jobs < 1:
         raise StressBoundsError(f"--jobs: got {jobs}, expected an integer ≥ 1")
+    jobs = int(jobs)
     solver = solver_named(solver)
     started = time.perf_counter()
     packing = Packing(folder)
@@ -618,8 +629,10 @@ def admissible_stress(folder, components=("zz",), facets=16, force_cap_factor=10
         answers = gather(_tasks_in([("total", i, j, sense, scale) for sense, scale in sides],
                                    program, jobs))
         bound = {("total", 0): answers[0][0], ("total", 1): answers[2][0]}
-        # each start is the sign pattern of a force set (the run's, σ's extremes), so every
-        # program of a search is feasible: a round turns over only contacts at R_n = 0. (All
+        # each start is the sign pattern of a force set (the run's, σ's extremes), and a round
+        # turns over only contacts at R_n = 0, so a search's programs are feasible over the
+        # balance's ranges (Clp, solving them at the loads, may not find them so; HiGHS then
+        # decides). (All
         # compressive, once a start too, is no force set's at paper scale, and there both
         # solvers spent minutes on it without an answer.)
         starts = [run_signs] + [(found[0][:program.m][program.split] < 0).astype(float)
@@ -720,8 +733,8 @@ def main(argv=None):
                              "(SciPy); auto takes Clp where libClp is found (default auto)")
     parser.add_argument("--jobs", type=int, default=None,
                         help="processes: σ's four programs, then its two searches, side by side; "
-                             "the result is the same for any (default 2 where the process may "
-                             "run on two cores, else 1)")
+                             "the result is the same for any unless a program reaches the time "
+                             "limit (default 2 where the process may run on two cores, else 1)")
     parser.add_argument("--no-write", action="store_true", help="print only; leave summary.json")
     args = parser.parse_args(argv)
     components = [c.strip() for c in args.components.split(",") if c.strip()]
@@ -730,7 +743,8 @@ def main(argv=None):
         try:
             result = admissible_stress(folder, components, args.facets, args.force_cap,
                                        rounds=args.rounds, time_limit=args.time_limit,
-                                       solver=args.solver, jobs=args.jobs,
+                                       solver=args.solver,
+                                       jobs=default_jobs() if args.jobs is None else args.jobs,
                                        progress=lambda text, f=folder: print(
                                            f"stress-bounds: {f}: {text}", file=sys.stderr,
                                            flush=True))

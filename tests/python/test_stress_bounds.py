@@ -10,6 +10,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+import scipy.sparse
 
 from cdpowder import clp, stress_bounds
 
@@ -144,6 +145,52 @@ def test_clp_answers_programs_with_fixed_columns():
     status, cost, x = clp.minimise([1.0, 2.0, 3.0], np.array([[0.0, 0.0, 1.0]]), [0.0], [1.0],
                                    [0.0, 0.0, 0.5], [1.0, np.inf, 0.5], 10.0)
     assert status == clp.OPTIMAL and cost == pytest.approx(1.5) and list(x) == [0.0, 0.0, 0.5]
+
+
+@pytest.mark.skipif(not clp.available(), reason="COIN-OR Clp (coinor-libclp1) is not installed")
+def test_clp_checks_an_answer_against_what_is_admissible():
+    # min x0 over x0 + x1 = 1, 0 ≤ x ≤ 1: x = (0, 1). Checked against wider rows and bounds it
+    # stands; against bounds that x1 = 1 leaves it is refused (a sign-fixed program's answer
+    # is judged by the admissible bounds, not the search's)
+    matrix = np.array([[1.0, 1.0]])
+    program = ([1.0, 0.0], matrix, [1.0], [1.0], [0.0, 0.0], [1.0, 1.0], 10.0)
+    status, cost, x = clp.minimise(*program, admissible=([0.99], [1.01], [-1.0, -1.0], [2.0, 2.0]))
+    assert status == clp.OPTIMAL and x == pytest.approx([0.0, 1.0], abs=1e-7)
+    status, _, x = clp.minimise(*program, admissible=([0.99], [1.01], [-1.0, -1.0], [2.0, 0.5]))
+    assert status == clp.INFEASIBLE and x is None
+
+
+@pytest.mark.skipif(not clp.available(), reason="COIN-OR Clp (coinor-libclp1) is not installed")
+def test_clp_stopped_at_the_time_limit_is_stopped():
+    # a time limit reached is STOPPED (a program that gives nothing), not DIFFICULT (which
+    # stress_bounds hands to HiGHS); with time enough the same program is solved
+    rng = np.random.default_rng(1)
+    n = 400
+    matrix = scipy.sparse.random(n, n, density=0.05, random_state=2) + scipy.sparse.eye(n)
+    program = (rng.uniform(-1.0, 1.0, n), matrix, -np.ones(n), np.ones(n), np.full(n, -5.0),
+               np.full(n, 5.0))
+    assert clp.minimise(*program, 1e-9)[0] == clp.STOPPED
+    assert clp.minimise(*program, 60.0)[0] == clp.OPTIMAL
+
+
+@pytest.mark.parametrize("facets", [5, 6, 16])
+def test_the_unknowns_bounds_hold_every_polygon_at_the_force_cap(quick_run, facets):
+    # Program.bounds(scale) must not cut the polygons (radius × scale) the thresholds allow at
+    # the largest normal force, for any number of sides: each vertex lies within the bounds
+    program = stress_bounds.Program(stress_bounds.Packing(quick_run), facets)
+    p, m, free = program.packing, program.m, program.free
+    half = math.pi / facets
+    for scale in (math.cos(half), 1.0 / math.cos(half)):
+        lower, upper = program.bounds(scale)
+        for first, cap in ((1, p.mu[free]), (3, p.roll_cap[free])):
+            radius = scale * cap * (program.force_cap + p.cohesion[free]) / math.cos(half)
+            for k in range(facets):  # vertex between facets k and k + 1
+                angle = 2 * math.pi * k / facets + half
+                for q, coordinate in ((first, math.cos(angle)), (first + 1, math.sin(angle))):
+                    value = radius * coordinate
+                    column = slice(q * m, (q + 1) * m)
+                    assert np.all(value <= upper[column] * (1 + 1e-12) + 1e-300), (scale, q, k)
+                    assert np.all(value >= lower[column] * (1 + 1e-12) - 1e-300), (scale, q, k)
 
 
 @pytest.mark.skipif(not clp.available(), reason="COIN-OR Clp (coinor-libclp1) is not installed")
