@@ -2,8 +2,8 @@
 """The `parallel` label: OpenMP's binding does not shrink the CPU budget. With OMP_PROC_BIND
 set, the OpenMP runtime binds the initial thread to its first place before main, so the
 thread's affinity mask is then that place alone; `solver.threads = "auto"` must still take
-every core the process may use (one a place). The run's first line names its thread count:
-the same with and without the binding."""
+every core the process may use (the processors of its places: libomp 14 may put two in one
+place). The run's first line names its thread count: the same with and without the binding."""
 import argparse
 import os
 import re

@@ -24,9 +24,16 @@ std::atomic<int> g_openmp_threads{0};      ///< kOpenMpThreadsVariable's first c
 int affinity_cores() {
   // With OMP_PROC_BIND set, the OpenMP runtime binds this (the initial) thread to its first
   // place when it starts, before main: the thread's mask is then that place alone. The places
-  // were made from the process's mask, and a bound team runs one thread a place.
+  // were made from the process's mask, so their processors are the ones it may use, counted
+  // as the mask counts them: OMP_PLACES=cores gives one place a core, and a runtime that takes
+  // two processors for one core's threads (libomp 14 on a 2-core virtual machine) makes one
+  // place of both.
   if (omp_get_proc_bind() != omp_proc_bind_false && omp_get_num_places() > 0) {
-    return omp_get_num_places();
+    int processors = 0;
+    for (int place = 0; place < omp_get_num_places(); ++place) {
+      processors += omp_get_place_num_procs(place);
+    }
+    return std::max(1, processors);
   }
   cpu_set_t set;
   CPU_ZERO(&set);
