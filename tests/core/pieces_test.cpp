@@ -1,9 +1,10 @@
 // Tests for src/cdpowder/core/pieces.hpp: the cuts of a range into pieces cover every index
 // once, in order, on a runner or on the caller, in the chunk asked for; run_pieces_in hands
 // them out in the order given; pieces_of keeps to its bounds; half_of's first half is the
-// shorter.
+// shorter. And the counting sort in pieces of solver/nlgs/group_by_part.hpp.
 #include "cdpowder/core/pieces.hpp"
 
+#include "cdpowder/solver/nlgs/group_by_part.hpp"
 #include "cdpowder/solver/nlgs/tile_threads.hpp"
 
 #include <gtest/gtest.h>
@@ -44,6 +45,14 @@ class RecordingRunner final : public PieceRunner {
  public:
   void run_pieces(std::uint32_t pieces, Task task, const void* context) override {
     for (std::uint32_t p = 0; p < pieces; ++p) task(context, p);
+  }
+};
+
+/// Runs the pieces one after the other, the last first.
+class BackwardRunner final : public PieceRunner {
+ public:
+  void run_pieces(std::uint32_t pieces, Task task, const void* context) override {
+    for (std::uint32_t p = pieces; p > 0; --p) task(context, p - 1);
   }
 };
 
@@ -111,6 +120,38 @@ TEST(Pieces, PieceOfCutsTheRangeInOrderAndTwoPiecesAreTheHalves) {
     EXPECT_EQ(half_of(count, 1).first, count / 2);
     EXPECT_EQ(half_of(count, 1).last, count);
   }
+}
+
+// The counting sort by part in pieces (three pieces of 4 096 indices and more, on a runner
+// that runs them backwards and on two threads) gives the order and starts of the sort in one
+// piece; a part without indices is an empty range.
+TEST(GroupByPart, InPiecesGivesTheOrderOfTheSortInOnePiece) {
+  const std::size_t n = 3 * kChunkIndices + 123;
+  const std::size_t parts = 37;
+  std::vector<std::uint32_t> part(n);
+  std::uint64_t state = 12345;
+  for (std::uint32_t& p : part) {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    p = static_cast<std::uint32_t>((state >> 33) % (parts - 1));  // the last part stays empty
+  }
+  const auto part_of = [&](std::size_t i) { return part[i]; };
+  std::vector<std::uint32_t> start;
+  std::vector<std::uint32_t> next;
+  std::vector<ContactIndex> order;
+  group_by_part(n, parts, part_of, start, next, order);
+  BackwardRunner backward;
+  TileThreads two(2);
+  for (PieceRunner* runner :
+       {static_cast<PieceRunner*>(&backward), static_cast<PieceRunner*>(&two)}) {
+    std::vector<std::uint32_t> pieced_start;
+    std::vector<std::uint32_t> pieced_next;
+    std::vector<ContactIndex> pieced_order;
+    group_by_part(runner, n, parts, part_of, pieced_start, pieced_next, pieced_order);
+    EXPECT_EQ(pieced_start, start);
+    EXPECT_EQ(pieced_order, order);
+  }
+  EXPECT_EQ(start[parts - 1], start[parts]);
+  EXPECT_EQ(start[parts], n);
 }
 
 }  // namespace

@@ -1,14 +1,17 @@
 // Tests for src/cdpowder/detect/candidate_list.cpp: a candidate list reused over many steps
 // of moving spheres gives every step exactly the contacts of a fresh search, and is rebuilt
-// only when a sphere has moved far.
+// only when a sphere has moved far; a rebuild in pieces gives the list of one piece.
 #include "cdpowder/detect/candidate_list.hpp"
 
 #include "cdpowder/core/rng.hpp"
 #include "cdpowder/detect/detect_contacts.hpp"
+#include "cdpowder/solver/nlgs/tile_threads.hpp"
 #include "cdpowder/solver/settings.hpp"
 
 #include <gtest/gtest.h>
 
+#include <array>
+#include <cstdint>
 #include <string>
 
 namespace cdpowder {
@@ -159,6 +162,51 @@ TEST(CandidateList, ListsExactlyThePairsABruteForceSearchFinds) {
       EXPECT_EQ(list.pairs()[k].b, expected[k].b) << "pair " << k;
     }
     EXPECT_GT(expected.size(), 0U);
+  }
+}
+
+/// Runs the pieces one after the other, the last first.
+class BackwardRunner final : public PieceRunner {
+ public:
+  void run_pieces(std::uint32_t pieces, Task task, const void* context) override {
+    for (std::uint32_t p = pieces; p > 0; --p) task(context, p - 1);
+  }
+};
+
+// 10 000 spheres (three pieces of 4 096 spheres): a rebuild in pieces, run backwards or on two
+// threads, lists the pairs of a rebuild in one piece, in the same order; again after the
+// spheres moved, with the pieces' lists of the first rebuild still held.
+TEST(CandidateList, ARebuildInPiecesListsThePairsOfOnePieceInTheirOrder) {
+  Rng rng = make_rng(23, RngStream::Deposition);
+  Bodies bodies;
+  const PeriodicBox box{40.0, 40.0};
+  for (int i = 0; i < 10000; ++i) {
+    const Vec3 centre(40.0 * uniform01(rng), 40.0 * uniform01(rng), 12.0 * uniform01(rng));
+    bodies.add_sphere(centre, 0.6 + 0.5 * uniform01(rng), 1.0, i % 7 == 0);
+  }
+  ASSERT_GT(chunks_of(bodies.size(), indices_per_piece(bodies.size())), 2U);
+  BackwardRunner backward;
+  TileThreads two(2);
+  std::array<CandidateList, 2> pieced;  // kept from the first build to the second
+  for (int build = 0; build < 2; ++build) {
+    CellGrid grid;
+    CandidateList whole;
+    whole.rebuild(bodies, box, grid, 0.05, 0.2);
+    for (PieceRunner* runner :
+         {static_cast<PieceRunner*>(&backward), static_cast<PieceRunner*>(&two)}) {
+      CandidateList& list = pieced[runner == &two ? 1 : 0];
+      list.rebuild(bodies, box, grid, 0.05, 0.2, runner);
+      ASSERT_EQ(list.pairs().size(), whole.pairs().size()) << "build " << build;
+      for (std::size_t k = 0; k < whole.pairs().size(); ++k) {
+        ASSERT_EQ(list.pairs()[k].a, whole.pairs()[k].a) << "pair " << k;
+        ASSERT_EQ(list.pairs()[k].b, whole.pairs()[k].b) << "pair " << k;
+      }
+    }
+    EXPECT_GT(whole.pairs().size(), 10000U);
+    for (std::size_t i = 0; i < bodies.size(); ++i) {
+      bodies.position[i] += Vec3(0.3 * uniform01(rng), 0.3 * uniform01(rng), 0.0);
+      box.wrap(bodies.position[i]);
+    }
   }
 }
 

@@ -43,11 +43,14 @@ void fill(const std::vector<CachedAction>& entries, std::vector<std::uint64_t>& 
   }
 }
 
-/// keys ← the keys of `records`, in their order.
+/// keys ← the keys of `records`, in their order, in chunks on `pieces` (each key written once).
 template <typename Record>
-void keys_of(const std::vector<Record>& records, std::vector<std::uint64_t>& keys) {
+void keys_of(const std::vector<Record>& records, std::vector<std::uint64_t>& keys,
+             PieceRunner* pieces) {
   keys.resize(records.size());
-  for (std::size_t k = 0; k < records.size(); ++k) keys[k] = contact_key(records[k]);
+  run_chunks(pieces, records.size(), [&](std::size_t first, std::size_t last) {
+    for (std::size_t k = first; k < last; ++k) keys[k] = contact_key(records[k]);
+  });
 }
 
 }  // namespace
@@ -68,7 +71,7 @@ std::vector<CachedAction> carried_walls(const KeyedContacts& contacts) {
   return carried(contacts.wall_keys, contacts.wall_actions, contacts.wall_cohesive);
 }
 
-void ActionCache::take(Contacts& contacts) {
+void ActionCache::take(Contacts& contacts, PieceRunner* pieces) {
   check_ascending(contacts.pairs, "pairs not strictly ascending by key (a, b)");
   check_ascending(contacts.walls, "walls not strictly ascending by key (wall, sphere)");
   CDP_ASSERT(contacts.pair_actions.size() == contacts.pairs.size() &&
@@ -76,10 +79,10 @@ void ActionCache::take(Contacts& contacts) {
                  contacts.wall_actions.size() == contacts.walls.size() &&
                  contacts.wall_cohesive.size() == contacts.walls.size(),
              "a contact without its action or cohesion flag");
-  keys_of(contacts.pairs, last_.pair_keys);
+  keys_of(contacts.pairs, last_.pair_keys, pieces);
   last_.pair_actions.swap(contacts.pair_actions);
   last_.pair_cohesive.swap(contacts.pair_cohesive);
-  keys_of(contacts.walls, last_.wall_keys);
+  keys_of(contacts.walls, last_.wall_keys, pieces);
   last_.wall_actions.swap(contacts.wall_actions);
   last_.wall_cohesive.swap(contacts.wall_cohesive);
 }

@@ -9,6 +9,7 @@
 
 #include "cdpowder/contact/local_problem.hpp"
 #include "cdpowder/core/assert.hpp"
+#include "cdpowder/core/pieces.hpp"
 
 #include <cstdint>
 #include <vector>
@@ -106,7 +107,8 @@ class ActionCache {
   /// is left with the cache's former actions and flags, whose contents are unspecified: the
   /// next detection clears them. (Copying the actions instead cost ≈ 7 µs of a front step,
   /// waiting on memory; docs/lab/2026-11-28-warm-start-swap-and-whole-run-overhead.md.)
-  void take(Contacts& contacts);
+  /// With `pieces`, the keys are copied in chunks on the runner's threads.
+  void take(Contacts& contacts, PieceRunner* pieces = nullptr);
 
   /// take() on a copy of `contacts`, for tools and tests that go on reading theirs (it
   /// allocates; a step takes its contacts in begin_step instead, solver/step.hpp).

@@ -1,6 +1,7 @@
 // candidate_list.cpp — the Verlet list's validity test and its build from the cell grid.
 #include "cdpowder/detect/candidate_list.hpp"
 
+#include "cdpowder/core/pieces.hpp"
 #include "cdpowder/detect/sphere_scan.hpp"
 
 #include <algorithm>
@@ -20,25 +21,23 @@ bool CandidateList::covers_spheres(const Bodies& bodies, const PeriodicBox& box,
   return all_within(bodies.position.data(), anchor_.data(), box, slack_sq, first, last);
 }
 
-void CandidateList::rebuild(const Bodies& bodies, const PeriodicBox& box, CellGrid& grid,
-                            double gap, double margin) {
-  built_gap_ = gap + margin;
-  box_ = box;
-  anchor_ = bodies.position;
-  ++builds_;
-  pairs_.clear();
-  grid.rebuild(bodies.position, box, 2.0 * bodies.max_radius() + built_gap_);
+namespace {
+
+/// Appends to `out` the listed pairs (a, b) of the spheres a in [first, last), in a's order
+/// and each a's partners sorted: the list's entries of those spheres, in the list's order.
+void list_pairs_of(const Bodies& bodies, const PeriodicBox& box, const CellGrid& grid,
+                   double built_gap, BodyIndex first, BodyIndex last,
+                   std::vector<BodyIndex>& partners, std::vector<CandidateList::Pair>& out) {
   const std::vector<BodyIndex>& near = grid.sorted();
   const std::vector<Vec3>& near_position = grid.sorted_positions();
   std::array<CellGrid::Run, CellGrid::kMaxRuns> runs{};
   // Visiting a in index order and sorting each sphere's few partners b gives the list sorted
   // by (a, b), the order of the warm-start cache, without sorting the whole list.
-  const auto sphere_count = static_cast<BodyIndex>(bodies.size());
-  for (BodyIndex a = 0; a < sphere_count; ++a) {
+  for (BodyIndex a = first; a < last; ++a) {
     const int run_count = grid.near_runs(a, runs);
     std::size_t near_count = 0;
     for (int r = 0; r < run_count; ++r) near_count += runs[r].last - runs[r].first;
-    if (partners_.size() < near_count) partners_.resize(near_count);
+    if (partners.size() < near_count) partners.resize(near_count);
     const Vec3& position_a = bodies.position[a];
     const double radius_a = bodies.radius[a];
     const std::size_t free_a = bodies.fixed[a] == 0 ? 1 : 0;
@@ -48,7 +47,7 @@ void CandidateList::rebuild(const Bodies& bodies, const PeriodicBox& box, CellGr
     for (int r = 0; r < run_count; ++r) {
       for (std::uint32_t t = runs[r].first; t < runs[r].last; ++t) {
         const BodyIndex b = near[t];
-        const double reach = radius_a + bodies.radius[b] + built_gap_;
+        const double reach = radius_a + bodies.radius[b] + built_gap;
         const double distance_squared =
             box.minimum_image(near_position[t] - position_a).squaredNorm();
         // listed: b > a, not both fixed, and within reach (0 or 1 each, and-ed as integers);
@@ -57,13 +56,56 @@ void CandidateList::rebuild(const Bodies& bodies, const PeriodicBox& box, CellGr
         const std::size_t later = b > a ? 1 : 0;
         const std::size_t movable = free_a | (bodies.fixed[b] == 0 ? 1 : 0);
         const std::size_t within = distance_squared >= reach * reach ? 0 : 1;
-        partners_[kept] = b;
+        partners[kept] = b;
         kept += later & movable & within;
       }
     }
-    std::sort(partners_.begin(), partners_.begin() + static_cast<std::ptrdiff_t>(kept));
-    for (std::size_t j = 0; j < kept; ++j) pairs_.push_back({a, partners_[j]});
+    std::sort(partners.begin(), partners.begin() + static_cast<std::ptrdiff_t>(kept));
+    for (std::size_t j = 0; j < kept; ++j) out.push_back({a, partners[j]});
   }
+}
+
+}  // namespace
+
+void CandidateList::rebuild(const Bodies& bodies, const PeriodicBox& box, CellGrid& grid,
+                            double gap, double margin, PieceRunner* pieces) {
+  built_gap_ = gap + margin;
+  box_ = box;
+  anchor_ = bodies.position;
+  ++builds_;
+  pairs_.clear();
+  grid.rebuild(bodies.position, box, 2.0 * bodies.max_radius() + built_gap_);
+  const std::size_t sphere_count = bodies.size();
+  const std::size_t per_piece = indices_per_piece(sphere_count);
+  const std::size_t piece_count = chunks_of(sphere_count, per_piece);
+  if (pieces == nullptr || piece_count <= 1) {
+    list_pairs_of(bodies, box, grid, built_gap_, 0, static_cast<BodyIndex>(sphere_count), partners_,
+                  pairs_);
+    return;
+  }
+  // each piece of spheres lists its pairs on its own, and the pieces' lists are copied into
+  // place side by side: the pairs and their order of one piece, whatever the cut. The pieces'
+  // lists keep their room from build to build (a second copy of the list, a few pairs a
+  // sphere), so that a build allocates only when the list outgrows every earlier one.
+  const auto count = static_cast<std::uint32_t>(piece_count);
+  if (piece_pairs_.size() < count) piece_pairs_.resize(count);
+  if (piece_partners_.size() < count) piece_partners_.resize(count);
+  run_pieces(pieces, count, [&](std::uint32_t piece) {
+    const std::size_t first = piece * per_piece;
+    const std::size_t last = std::min(sphere_count, first + per_piece);
+    piece_pairs_[piece].clear();
+    list_pairs_of(bodies, box, grid, built_gap_, static_cast<BodyIndex>(first),
+                  static_cast<BodyIndex>(last), piece_partners_[piece], piece_pairs_[piece]);
+  });
+  std::array<std::size_t, kMaxPieces + 1> start{};
+  for (std::uint32_t piece = 0; piece < count; ++piece) {
+    start[piece + 1] = start[piece] + piece_pairs_[piece].size();
+  }
+  pairs_.resize(start[count]);
+  run_pieces(pieces, count, [&](std::uint32_t piece) {
+    std::copy(piece_pairs_[piece].begin(), piece_pairs_[piece].end(),
+              pairs_.begin() + static_cast<std::ptrdiff_t>(start[piece]));
+  });
 }
 
 }  // namespace cdpowder

@@ -9,6 +9,7 @@
 #pragma once
 
 #include "cdpowder/core/index.hpp"
+#include "cdpowder/core/pieces.hpp"
 #include "cdpowder/core/vec3.hpp"
 #include "cdpowder/detect/cell_grid.hpp"
 #include "cdpowder/model/bodies.hpp"
@@ -36,9 +37,11 @@ class CandidateList {
                                     std::size_t first, std::size_t last) const;
 
   /// Lists every pair a < b (not both fixed) whose surface gap is below gap + margin, sorted
-  /// by (a, b), and remembers the positions (wrapped into the box) it was built at.
+  /// by (a, b), and remembers the positions (wrapped into the box) it was built at. With
+  /// `pieces`, the spheres are cut into the pieces of indices_per_piece (core/pieces.hpp),
+  /// each listing its own pairs on the runner's threads: the same list, in the same order.
   void rebuild(const Bodies& bodies, const PeriodicBox& box, CellGrid& grid, double gap,
-               double margin);
+               double margin, PieceRunner* pieces = nullptr);
 
   struct Pair {
     BodyIndex a;
@@ -62,6 +65,9 @@ class CandidateList {
   double built_gap_ = -1.0;  ///< gap + margin of the build; < 0: never built [R]
   std::int64_t builds_ = 0;
   std::vector<BodyIndex> partners_;  ///< scratch of rebuild: one sphere's listed partners
+  /// scratch of a rebuild in pieces: each piece's pairs and partners
+  std::vector<std::vector<Pair>> piece_pairs_;
+  std::vector<std::vector<BodyIndex>> piece_partners_;
 };
 
 }  // namespace cdpowder

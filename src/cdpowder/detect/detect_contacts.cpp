@@ -155,7 +155,7 @@ void detect_in_pieces(World& world, const DetectionSettings& settings, CellGrid&
     contacts.clear();
     scratch.pairs.clear();
     scratch.walls.clear();
-    list.rebuild(bodies, box, grid, cutoff, settings.verlet_margin);
+    list.rebuild(bodies, box, grid, cutoff, settings.verlet_margin, pieces);
     search(false);
   }
   reserve_for_more(contacts.pairs, scratch.pairs.size());

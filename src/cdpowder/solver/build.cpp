@@ -265,18 +265,33 @@ BodyIndex owner_split(const Contacts& contacts, std::size_t sphere_count) {
   return contacts.pairs[contacts.pairs.size() / 2].a;
 }
 
+/// A piece's count of bonds (run_summed_pieces): integers, so any cut gives the same sum.
+struct BondCount {
+  std::int64_t bonds = 0;
+
+  void merge(const BondCount& other) { bonds += other.bonds; }
+};
+
 /// The bonds formed and broken from the counts of bonds now, in the last step (the cache) and
 /// in both (`kept_*`, counted by the build's lookups); without lookups (no warm start, the
-/// graph rule) by a merge of the two lists' keys.
+/// graph rule) by a merge of the two lists' keys. The flags are counted in pieces on `pieces`.
 BondChanges bonds_of_step(const StepSettings& settings, const ActionCache& cache,
                           const Contacts& contacts, std::int64_t kept_pairs,
-                          std::int64_t kept_walls) {
+                          std::int64_t kept_walls, PieceRunner* pieces) {
   if (!(settings.laws.spheres.cohesion_force > 0.0 || settings.laws.walls.cohesion_force > 0.0)) {
     return {};
   }
   if (!reads_cache(settings)) return bond_changes(cache.last(), contacts);
-  const auto bonds = [](const std::vector<std::uint8_t>& flags) {
-    return std::accumulate(flags.begin(), flags.end(), std::int64_t{0});
+  const auto bonds = [pieces](const std::vector<std::uint8_t>& flags) {
+    return run_summed_pieces<BondCount>(
+               pieces, flags.size(),
+               [&](std::size_t first, std::size_t last, BondCount& c) {
+                 const auto begin = flags.begin();
+                 c.bonds =
+                     std::accumulate(begin + static_cast<std::ptrdiff_t>(first),
+                                     begin + static_cast<std::ptrdiff_t>(last), std::int64_t{0});
+               })
+        .bonds;
   };
   const KeyedContacts& last = cache.last();
   BondChanges c;
@@ -344,7 +359,8 @@ BondChanges build_local_problems(const World& world, const StepSettings& setting
                                return s.linear.allFinite() && s.angular.allFinite();
                              }),
              "non-finite predicted velocity");
-  return bonds_of_step(settings, cache, contacts, kept_pairs[0] + kept_pairs[1], kept_walls);
+  return bonds_of_step(settings, cache, contacts, kept_pairs[0] + kept_pairs[1], kept_walls,
+                       pieces);
 }
 
 }  // namespace cdpowder

@@ -57,9 +57,9 @@ void release_step_scratch(StepWorkspace& work) {
   solver.range_sums = {};
 }
 
-void take_last_step(StepWorkspace& work) {
+void take_last_step(StepWorkspace& work, PieceRunner* pieces) {
   if (!work.last_step_in_contacts) return;
-  work.action_cache.take(work.contacts);
+  work.action_cache.take(work.contacts, pieces);
   work.last_step_in_contacts = false;
 }
 
@@ -82,10 +82,10 @@ StepReport begin_step(World& world, StepWorkspace& work, const StepSettings& set
   // the last step's contacts become the warm-start cache (§7.4) before detection refills
   // work.contacts: a swap of six arrays (nanoseconds), timed with the detection that needs
   // them out of the way. A step solved again with a shorter Δt finds them taken already.
-  take_last_step(work);
   // on the threads where the last step's solve was (a step too small to cut, or one the
   // ThreadChoice keeps on one thread, keeps these stages there too)
   TileThreads* const threads = step_threads(work, settings, work.threaded);
+  take_last_step(work, threads);
 
   detect_contacts(world, settings.detection(), work.grid, work.contacts, &work.candidates, threads,
                   &work.detection);

@@ -63,8 +63,8 @@ CarriedActions last_step_actions(const StepWorkspace& work);
 /// of arrays, ActionCache::take) if work.contacts still holds them. A tool or test that runs
 /// detect_contacts and build_local_problems by hand on a workspace that has run steps calls
 /// it first: detection would otherwise overwrite the last step's actions, and the build
-/// warm-start from the step before them.
-void take_last_step(StepWorkspace& work);
+/// warm-start from the step before them. With `pieces`, the keys are copied on its threads.
+void take_last_step(StepWorkspace& work, PieceRunner* pieces = nullptr);
 
 /// Advances `world` by one step of Δt = settings.solver.dt: begin_step, then finish_step.
 StepReport step(World& world, StepWorkspace& work, const StepSettings& settings);

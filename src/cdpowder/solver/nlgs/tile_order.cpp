@@ -54,10 +54,10 @@ void rename_spheres(Contacts& contacts, ColouredPass& pass, const std::vector<Bo
 void enter_tile_order(const StepTiles& tiles, Contacts& contacts, VelocityCache& velocities,
                       ColouredPass& pass, TileOrder& order, PieceRunner* runner) {
   const std::size_t n = velocities.spheres.size();
-  // by tile (parts 0 … T − 1), index order within a tile
+  // by tile (parts 0 … T − 1), index order within a tile; a counting sort in pieces
   group_by_part(
-      n, tiles.grid.tiles(), [&](std::size_t i) { return tiles.sphere_part[i]; }, order.part_start,
-      order.next, order.sphere_at);
+      runner, n, tiles.grid.tiles(), [&](std::size_t i) { return tiles.sphere_part[i]; },
+      order.part_start, order.next, order.sphere_at);
   order.place_of.resize(n);
   order.scratch.resize(n);
   // each place written once: a permutation's inverse and a gather, in pieces
