@@ -58,6 +58,10 @@ def outputs(folder):
             "energy": (energy["dissipated"], energy["bonds_formed"], energy["bonds_broken"])}
 
 
+def threaded_steps(folder):
+    return json.loads((folder / "summary.json").read_text())["run"]["threaded_steps"]
+
+
 def expect_same(reference, folder, what):
     got = outputs(folder)
     for key, value in reference.items():
@@ -86,12 +90,19 @@ def main():
         reference = outputs(one)
         if reference["summary"][1] < 50:
             sys.exit(f"too short a run to compare: {reference['summary'][1]} steps")
+        if threaded_steps(one) != 0:
+            sys.exit(f"1 thread: {threaded_steps(one)} steps counted as threaded")
         for threads in counts:
             folder = scratch / f"threads_{threads}"
             finish(compact(args.cdpowder, args.scene, folder, threads, args.duration),
                    f"{threads} threads")
             expect_same(reference, folder, f"{threads} threads")
-            print(f"threads {threads}: the bits of one thread")
+            # the first block of steps runs on the threads whatever the times
+            if not 0 < threaded_steps(folder) <= reference["summary"][1]:
+                sys.exit(f"{threads} threads: {threaded_steps(folder)} threaded steps of "
+                         f"{reference['summary'][1]}")
+            print(f"threads {threads}: the bits of one thread "
+                  f"({threaded_steps(folder)} steps on the threads)")
         # stopped on 4 threads a while after it began (SIGINT: it writes a checkpoint and
         # exits 1), resumed on 2 and on 1; a run that ended first is tried with a shorter wait
         stopped = scratch / "stopped"

@@ -64,6 +64,7 @@ RunSummary example_summary() {
   s.run.repeated_passes = 2577;
   s.run.total_passes = 1223803;
   s.run.passes_per_step = 43.45;
+  s.run.threaded_steps = 27440;
   s.run.wall_seconds = 42.06;
   s.run.stage_seconds = {1.25, 0.97, 37.9, 0.37, 1.24};
   s.scene_toml = "[system]\nlx = 25.0\n";
@@ -93,6 +94,7 @@ TEST(RunSummary, WrittenAndReadBackFieldForField) {
   EXPECT_EQ(r.accuracy.final_solve->passes, 1632);
   EXPECT_EQ(r.run.blocked_by, "probe");
   EXPECT_EQ(r.run.total_passes, s.run.total_passes);
+  EXPECT_EQ(r.run.threaded_steps, s.run.threaded_steps);
   EXPECT_EQ(r.run.stage_seconds, s.run.stage_seconds);
   EXPECT_FALSE(r.fault.has_value());
   EXPECT_EQ(r.scene_toml, s.scene_toml);

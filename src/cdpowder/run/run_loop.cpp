@@ -129,6 +129,7 @@ std::optional<StepReport> step_unless_stopped(World& world, StepWorkspace& work,
   }
   result.repeated_steps += repeated_steps;
   result.repeated_passes += repeated_passes;
+  result.threaded_steps += report.solver.threaded ? 1 : 0;
   commit_step(world, work, settings, report);
   return report;
 }

@@ -38,6 +38,9 @@ struct RunResult {
   /// by more than max_opening_per_step × d_coh, and their passes (not in steps/total_passes)
   std::int64_t repeated_steps = 0;
   std::int64_t repeated_passes = 0;
+  /// steps of this process whose solve ran on more than one thread (ThreadChoice): a measure
+  /// of the machine, like wall_seconds, so not saved in a state file
+  std::int64_t threaded_steps = 0;
   double max_overlap_seen = 0.0;  ///< largest overlap after any step [R]
   /// largest max_cohesive_opening_speed × Δt / d_coh of any step: above ≈ 0.1 the cohesion
   /// range is crossed in a few steps and Δt should be smaller (physics.md §6.4)

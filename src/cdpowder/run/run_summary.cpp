@@ -125,6 +125,7 @@ RunSummary::Run run_counts(const Scene& scene, const RunResult& result) {
   r.passes_per_step = result.steps > 0 ? static_cast<double>(result.total_passes) /
                                              static_cast<double>(result.steps)
                                        : 0.0;
+  r.threaded_steps = result.threaded_steps;
   r.wall_seconds = result.wall_seconds;
   r.stage_seconds = result.stage_seconds;
   return r;
@@ -236,6 +237,7 @@ json run_json(const RunSummary::Run& r) {
           {"repeated_passes", r.repeated_passes},
           {"total_passes", r.total_passes},
           {"passes_per_step", r.passes_per_step},
+          {"threaded_steps", r.threaded_steps},
           {"wall_seconds", r.wall_seconds},
           {"stage_seconds", stages}};
 }
@@ -398,6 +400,7 @@ RunSummary::Run read_run(const Fields& r, int schema) {
   run.total_passes =
       r.count<std::int64_t>(pass_field(schema, "total_passes", "total_sweeps"), true);
   run.passes_per_step = r.number(pass_field(schema, "passes_per_step", "sweeps_per_step"));
+  run.threaded_steps = r.count<std::int64_t>("threaded_steps");  // summaries before it: 0
   run.wall_seconds = r.number("wall_seconds", true);
   const Fields stages = r.section("stage_seconds");
   for (std::size_t s = 0; s < kStageNames.size(); ++s) {

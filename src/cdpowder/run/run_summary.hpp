@@ -157,6 +157,7 @@ struct RunSummary {
     std::int64_t repeated_passes = 0;
     std::int64_t total_passes = 0;
     double passes_per_step = 0.0;
+    std::int64_t threaded_steps = 0;  ///< this process's steps solved on the threads
     double wall_seconds = 0.0;
     StageTimes stage_seconds{};  ///< summed over the steps, in Stage order
   } run;

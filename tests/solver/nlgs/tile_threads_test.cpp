@@ -103,25 +103,30 @@ TEST(ThreadChoice, RunsTheFasterWayAndTriesTheOtherNowAndThen) {
   for (std::size_t k = 1; k < tries.size(); ++k) {
     EXPECT_EQ(tries[k] - tries[k - 1], ThreadChoice::kTryEvery);
   }
+  EXPECT_EQ(tries.front(), ThreadChoice::kTryEvery - 1);  // the second block was a try
   EXPECT_EQ(choice.try_every(), ThreadChoice::kTryEvery);
 }
 
-// A way that loses clearly is tried at doubling intervals, up to kMaxTryEvery; once it wins,
-// it is taken and the interval is kTryEvery again.
+// A way that loses clearly is tried at doubling intervals, up to kMaxTryEvery; once it wins
+// two tries in a row, it is taken and the interval is kTryEvery again.
 TEST(ThreadChoice, TriesAClearLoserLessAndLessOften) {
   ThreadChoice choice;
-  EXPECT_TRUE(run_block(choice, 5.0, 2.0));  // the threads 2.5× slower (a slow path)
-  EXPECT_FALSE(run_block(choice, 5.0, 2.0));
+  EXPECT_TRUE(run_block(choice, 5.0, 2.0));   // the threads 2.5× slower (a slow path)
+  EXPECT_FALSE(run_block(choice, 5.0, 2.0));  // a try that wins
+  EXPECT_TRUE(run_block(choice, 5.0, 2.0));   // one block of the kept way
+  EXPECT_FALSE(run_block(choice, 5.0, 2.0));  // the second try wins: alone is kept
   const auto tries = blocks_run(choice, true, 8 * ThreadChoice::kMaxTryEvery, 5.0, 2.0);
   ASSERT_GE(tries.size(), 5U);
+  EXPECT_EQ(tries.front(), ThreadChoice::kTryEvery - 1);
   std::vector<std::uint64_t> gaps;
   for (std::size_t k = 1; k < tries.size(); ++k) gaps.push_back(tries[k] - tries[k - 1]);
   EXPECT_EQ(gaps[0], 2 * ThreadChoice::kTryEvery);
   EXPECT_EQ(gaps[1], 4 * ThreadChoice::kTryEvery);
   for (std::size_t k = 2; k < gaps.size(); ++k) EXPECT_EQ(gaps[k], ThreadChoice::kMaxTryEvery);
   EXPECT_EQ(choice.try_every(), ThreadChoice::kMaxTryEvery);
-  // the path turns fast (the threads 1.5× faster): the next try finds them faster, the
-  // threads stay, and the interval is kTryEvery again
+  // the path turns fast (the threads 1.5× faster): the next try wins, one block alone, the
+  // try after it wins too and the threads are kept; alone is tried kTryEvery blocks later,
+  // loses clearly, and is tried twice as late after that
   const auto threaded = blocks_run(choice, true, 4 * ThreadChoice::kMaxTryEvery, 2.0, 3.0);
   ASSERT_FALSE(threaded.empty());
   const std::uint64_t found = threaded.front();
@@ -130,19 +135,41 @@ TEST(ThreadChoice, TriesAClearLoserLessAndLessOften) {
   for (std::uint64_t b = found; b < 4 * ThreadChoice::kMaxTryEvery; ++b) {
     if (!std::binary_search(threaded.begin(), threaded.end(), b)) alone_after.push_back(b);
   }
-  ASSERT_GE(alone_after.size(), 2U);
-  EXPECT_EQ(alone_after[0], found + ThreadChoice::kTryEvery);
-  EXPECT_EQ(alone_after[1], found + 3 * ThreadChoice::kTryEvery);  // alone lost clearly: 64 on
+  ASSERT_GE(alone_after.size(), 3U);
+  EXPECT_EQ(alone_after[0], found + 1);
+  EXPECT_EQ(alone_after[1], found + 2 + ThreadChoice::kTryEvery);
+  EXPECT_EQ(alone_after[2], found + 2 + 3 * ThreadChoice::kTryEvery);  // lost clearly: 64 on
 }
 
-// The threads turn slow (a busy second core): the choice follows within a block.
+// The threads turn slow (a busy second core): the block that finds them slower than the last
+// block alone brings a try at once, and two tries that win in a row take the choice alone,
+// within four blocks.
 TEST(ThreadChoice, FollowsTheThreadsTurningSlow) {
   ThreadChoice choice;
   run_block(choice, 2.0, 3.0);
   run_block(choice, 2.0, 3.0);
   for (int b = 0; b < 20; ++b) EXPECT_TRUE(run_block(choice, 2.0, 3.0));
-  EXPECT_TRUE(run_block(choice, 5.0, 3.0));  // the block that finds them slow
-  EXPECT_FALSE(run_block(choice, 5.0, 3.0));
+  EXPECT_TRUE(run_block(choice, 5.0, 3.0));   // the block that finds them slow
+  EXPECT_FALSE(run_block(choice, 5.0, 3.0));  // a try at once, which wins
+  EXPECT_TRUE(run_block(choice, 5.0, 3.0));
+  EXPECT_FALSE(run_block(choice, 5.0, 3.0));  // the second try wins: alone is kept
+  for (int b = 0; b < 20; ++b) EXPECT_FALSE(run_block(choice, 5.0, 3.0));
+}
+
+// One slow block of the threads (a hiccup of the machine) brings one try alone; the try after
+// it loses, and the threads stay: a run is not sent to one thread by one block.
+TEST(ThreadChoice, OneSlowBlockBringsATryNotASwitch) {
+  ThreadChoice choice;
+  run_block(choice, 2.0, 3.0);
+  run_block(choice, 2.0, 3.0);
+  for (int b = 0; b < 20; ++b) EXPECT_TRUE(run_block(choice, 2.0, 3.0));
+  EXPECT_TRUE(run_block(choice, 10.0, 3.0));  // the hiccup
+  EXPECT_FALSE(run_block(choice, 2.0, 3.0));  // a try, which wins against the hiccup
+  EXPECT_TRUE(run_block(choice, 2.0, 3.0));
+  EXPECT_FALSE(run_block(choice, 2.0, 3.0));  // the deciding try loses
+  const auto alone = blocks_run(choice, false, 2 * ThreadChoice::kTryEvery, 2.0, 3.0);
+  ASSERT_FALSE(alone.empty());
+  EXPECT_GE(alone.front(), ThreadChoice::kTryEvery - 1);
 }
 
 // A choice told to stay on the threads stays there, however slow their blocks.

@@ -37,6 +37,53 @@ void TileThreads::run_pieces(std::uint32_t pieces, Task task, const void* contex
   solve_claimed(omp_get_thread_num());
 }
 
+void ThreadChoice::record(double seconds, double updates) {
+  if (always_) return;
+  if (updates > 0.0 && seconds >= 0.0) {
+    seconds_ += seconds;
+    updates_ += updates;
+  }
+  if (++steps_ % kBlockSteps != 0) return;
+  const std::size_t way = threaded_ ? 1 : 0;
+  if (updates_ > 0.0) per_update_[way] = seconds_ / updates_;
+  seconds_ = updates_ = 0.0;
+  if (trying_) {
+    judge_try(way);
+    since_try_ = 1;  // the try was a block: a try every try_every_ blocks
+    return;
+  }
+  // the threads win a tie: the way of the first block
+  const bool other_faster =
+      way == 1 ? per_update_[0] < per_update_[1] : per_update_[1] <= per_update_[0];
+  const bool unmeasured = per_update_[1 - way] == 0.0;
+  if (unmeasured || confirming_ || other_faster || ++since_try_ >= try_every_) {
+    since_try_ = 0;
+    trying_ = true;
+    threaded_ = !threaded_;
+  }
+}
+
+void ThreadChoice::judge_try(std::size_t tried) {
+  trying_ = false;
+  const std::size_t kept = 1 - tried;
+  const bool won = tried == 1 ? per_update_[1] <= per_update_[0] : per_update_[0] < per_update_[1];
+  if (!won) {
+    confirming_ = false;
+    const bool clear_loss = per_update_[tried] > kClearLoss * per_update_[kept];
+    try_every_ = clear_loss ? std::min(2 * try_every_, kMaxTryEvery) : kTryEvery;
+    threaded_ = kept == 1;
+    return;
+  }
+  try_every_ = kTryEvery;
+  if (confirming_) {  // the second try in a row that won: the tried way is kept from now on
+    confirming_ = false;
+    threaded_ = tried == 1;
+    return;
+  }
+  confirming_ = true;  // one block of the kept way, then the deciding try
+  threaded_ = kept == 1;
+}
+
 TileThreads* TileThreadsSlot::get(int threads) {
   if (threads <= 1) {
     threads_.reset();

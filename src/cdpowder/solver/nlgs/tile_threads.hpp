@@ -60,13 +60,19 @@ class TileThreads final : public PieceRunner {
 /// either way (the tiles do not depend on it), so the choice is made on time alone: on a
 /// shared machine two threads are not always faster. Runs of the paper example measured in one
 /// session (docs/lab/2026-11-26-two-slabs.md) took 1.2–1.4× less time on two threads in some
-/// minutes and 1.3× more in others, when the second core was not free for this process. The
-/// steps go in blocks of kBlockSteps, each block one way; a block runs the way whose last
-/// block took less time per contact update, and now and then a block tries the other way:
-/// after kTryEvery blocks, and after twice as many (up to kMaxTryEvery) each time the way tried
-/// lost by more than kClearLoss (on a machine whose cores talk slowly two threads lose 2.5× per
-/// step, docs/lab/2026-11-28-a-faster-machine.md: trying them every 32nd block cost a run up
-/// to 6–7 %). A try that wins, or loses by less, brings the interval back to kTryEvery.
+/// minutes and 1.3× more in others, when the second core was not free for this process.
+///
+/// The steps go in blocks of kBlockSteps, each block one way: the kept way, and now and then a
+/// block that tries the other (the first try is the second block). A try comes after kTryEvery
+/// blocks, after twice as many (up to kMaxTryEvery) each time the way tried lost by more than
+/// kClearLoss (on a machine whose cores talk slowly two threads lose 2.5× per step,
+/// docs/lab/2026-11-28-a-faster-machine.md: trying them every 32nd block cost a run up to
+/// 6–7 %), and at once when a block of the kept way took longer per contact update than the
+/// other way's last block. A try is judged against the kept way's block just before it, and
+/// the kept way changes only when two tries in a row win, with one block of the kept way
+/// between them: one slow block (a hiccup of the machine, a step of many passes) kept a run of
+/// 16 240 spheres on one thread for 32 blocks (docs/lab/2026-12-01-serial-stages-in-pieces.md).
+/// A try that wins, or loses by less than kClearLoss, brings the interval back to kTryEvery.
 /// Blocks, not single steps: one step's time is too noisy to choose by (steps differ in their
 /// passes, and a step is ≈ 0.5–1.5 ms, the scale of the machine's hiccups).
 class ThreadChoice {
@@ -93,44 +99,21 @@ class ThreadChoice {
 
   /// The time this step took [s] for its contact updates (passes × contacts); at the end of a
   /// block, chooses the way of the next.
-  void record(double seconds, double updates) {
-    if (always_) return;
-    if (updates > 0.0 && seconds >= 0.0) {
-      seconds_ += seconds;
-      updates_ += updates;
-    }
-    if (++steps_ % kBlockSteps != 0) return;
-    const std::size_t way = threaded_ ? 1 : 0;
-    if (updates_ > 0.0) per_update_[way] = seconds_ / updates_;
-    seconds_ = updates_ = 0.0;
-    if (per_update_[0] == 0.0) {  // the caller alone not measured yet
-      threaded_ = false;
-      return;
-    }
-    if (trying_) {
-      const bool clear_loss = per_update_[way] > kClearLoss * per_update_[1 - way];
-      try_every_ = clear_loss ? std::min(2 * try_every_, kMaxTryEvery) : kTryEvery;
-      trying_ = false;
-    }
-    const bool faster = per_update_[1] <= per_update_[0];
-    if (++since_try_ >= try_every_) {
-      since_try_ = 0;
-      trying_ = true;
-      threaded_ = !faster;
-      return;
-    }
-    threaded_ = faster;
-  }
+  void record(double seconds, double updates);
 
  private:
+  /// After a block that tried the other way: keep the way, or take the tried one.
+  void judge_try(std::size_t tried);
+
   bool threaded_ = true;                ///< the way of the current block
   bool always_ = false;                 ///< always_threaded()
-  bool trying_ = false;                 ///< the current block tries the slower way
+  bool trying_ = false;                 ///< the current block tries the other way
+  bool confirming_ = false;             ///< the last try won: the next, after one block, decides
   std::array<double, 2> per_update_{};  ///< [alone, threads] s per update of its last block
   double seconds_ = 0.0;                ///< of the current block
   double updates_ = 0.0;
   std::uint64_t steps_ = 0;
-  std::uint64_t since_try_ = 0;  ///< blocks since the last try
+  std::uint64_t since_try_ = 0;  ///< blocks of the kept way since the last try
   std::uint64_t try_every_ = kTryEvery;
 };
 
