@@ -129,13 +129,15 @@ inline constexpr std::string_view kThreadsMeaning =
     "contacts on one thread, the five in an order drawn per step. The tiles do not depend on the "
     "thread count, so the results are the same bits "
     "for any count. Since the bits do not depend on it, steps go in blocks of 16 on the threads "
-    "or on the calling thread alone, whichever took less time per contact update in its last "
-    "block (a block tries the other way after 32 blocks, and after twice as many, up to 128, "
-    "each time that way lost by more than 25 %): when the other cores are busy, a run falls "
-    "back to about one thread's speed. After a step solved on the threads, the next step's "
-    "detection and building of the local problems run in two halves on them too. The threads "
-    "are OpenMP's: OMP_WAIT_POLICY, OMP_PROC_BIND and OMP_PLACES set how they wait and where "
-    "they run";
+    "or on the calling thread alone, by time per contact update: a block tries the other way "
+    "after 32 blocks (after twice as many, up to 128, each time that way lost by more than "
+    "25 %), or at once when a block took longer than the other way's last, and two tries in a "
+    "row that win change the way: when the other cores are busy, a run falls back to about one "
+    "thread's speed (summary.json counts the steps on the threads, `run.threaded_steps`; "
+    "CDPOWDER_ALWAYS_THREADED=1 keeps every step on them, for tests and measurements). After a "
+    "step solved on the threads, the next step's detection and building of the local problems "
+    "run on them too. The threads are OpenMP's: OMP_WAIT_POLICY, OMP_PROC_BIND and OMP_PLACES "
+    "set how they wait and where they run";
 inline constexpr std::string_view kTileWidthMeaning =
     "the width the x–y tiles of a step aim at (docs/architecture.md, \"Scale\"); 0 for "
     "12 × the largest radius. A period L gets the largest even number of tiles n with L/n ≥ "

@@ -2,7 +2,9 @@
 // others' ranges, in one OpenMP parallel region a run.
 #include "cdpowder/solver/nlgs/tile_threads.hpp"
 
+#include <cstdlib>
 #include <omp.h>
+#include <string_view>
 
 namespace cdpowder {
 
@@ -35,6 +37,14 @@ void TileThreads::run_pieces(std::uint32_t pieces, Task task, const void* contex
   // piece before the return
 #pragma omp parallel num_threads(threads_) default(none)
   solve_claimed(omp_get_thread_num());
+}
+
+bool ThreadChoice::always_threaded_from_environment() {
+  static const bool always = [] {
+    const char* value = std::getenv("CDPOWDER_ALWAYS_THREADED");
+    return value != nullptr && std::string_view(value) == "1";
+  }();
+  return always;
 }
 
 void ThreadChoice::record(double seconds, double updates) {

@@ -88,7 +88,12 @@ class ThreadChoice {
 
   /// Every cut step on the threads from now on, whatever their times: for measurements of the
   /// threads alone (`fixture_steps --always-threaded`), which the choice would otherwise mix
-  /// with blocks on one thread.
+  /// with blocks on one thread. A choice made where CDPOWDER_ALWAYS_THREADED=1 is set starts
+  /// so (the same-bits tests, whose threads lose to one thread on two cores).
+  ThreadChoice() {
+    if (always_threaded_from_environment()) always_threaded();
+  }
+
   void always_threaded() {
     always_ = true;
     threaded_ = true;
@@ -102,6 +107,9 @@ class ThreadChoice {
   void record(double seconds, double updates);
 
  private:
+  /// Whether CDPOWDER_ALWAYS_THREADED is "1" (read once).
+  static bool always_threaded_from_environment();
+
   /// After a block that tried the other way: keep the way, or take the tried one.
   void judge_try(std::size_t tried);
 
