@@ -8,6 +8,8 @@
 #include <Eigen/Dense>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <vector>
 
 namespace cdpowder {
@@ -131,6 +133,67 @@ TEST(Anderson, DepthIsClampedAndAChangedSizeStartsOver) {
   EXPECT_EQ(accelerator.history(), 1);
   EXPECT_FALSE(accelerator.extrapolate({1.0, 2.0, 3.0}, {0.5, 1.0, 1.5}, next));
   EXPECT_EQ(accelerator.history(), 0);
+}
+
+/// One mixing by the stages of a tiled step (begin, pass over `pass_cuts`' ranges, fit with
+/// their sums added in range order, mix over `mix_cuts`' ranges): the accelerator's mixed
+/// iterate in `next`, or g when the fit has nothing yet. Cuts are the ranges' ends.
+bool mix_in_ranges(AndersonAccelerator& accelerator, const AlignedVector<double>& x,
+                   const AlignedVector<double>& g, const std::vector<std::size_t>& pass_cuts,
+                   const std::vector<std::size_t>& mix_cuts, AlignedVector<double>& next) {
+  accelerator.begin(g.size());
+  std::vector<AndersonAccelerator::PassSums> sums;
+  std::size_t first = 0;
+  for (const std::size_t last : pass_cuts) {
+    sums.push_back(accelerator.pass(x.data(), g.data(), first, last));
+    first = last;
+  }
+  next.assign(g.begin(), g.end());
+  if (!accelerator.fit(sums)) return false;
+  first = 0;
+  for (const std::size_t last : mix_cuts) {
+    accelerator.mix(g.data(), next.data(), first, last);
+    first = last;
+  }
+  return true;
+}
+
+// The stages of a tiled step's mixing (tile_solve.hpp) against extrapolate(), fed the same
+// iterates of an affine map: over one range the same bits; over three ranges whose sums are
+// added in order, and mixed over other ranges, the same iterate to rounding (the ranges' sums
+// round apart), every iteration, with the ring wrapped several times.
+TEST(Anderson, TheStagesOverRangesMixAsExtrapolateDoes) {
+  const AffineMap map = slow_map(300, 0.98);
+  const auto n = static_cast<std::size_t>(map.b.size());
+  AndersonAccelerator whole(5);
+  AndersonAccelerator one_range(5);
+  AndersonAccelerator ranges(5);
+  AlignedVector<double> x(n, 0.0);
+  AlignedVector<double> g(n);
+  AlignedVector<double> by_whole;
+  AlignedVector<double> by_one;
+  AlignedVector<double> by_ranges;
+  int mixed = 0;
+  for (int it = 0; it < 30; ++it) {
+    const Eigen::Map<const Eigen::VectorXd> xv(x.data(), map.b.size());
+    Eigen::Map<Eigen::VectorXd>(g.data(), map.b.size()) = map.a * xv + map.b;
+    const bool w = whole.extrapolate(x, g, by_whole);
+    const bool o = mix_in_ranges(one_range, x, g, {n}, {n}, by_one);
+    const bool r = mix_in_ranges(ranges, x, g, {76, 200, n}, {4, 150, n}, by_ranges);
+    ASSERT_EQ(w, o) << "iteration " << it;
+    ASSERT_EQ(w, r) << "iteration " << it;
+    mixed += w ? 1 : 0;
+    EXPECT_EQ(by_one, by_whole) << "iteration " << it;
+    double largest = 0.0;
+    double norm = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+      largest = std::max(largest, std::abs(by_ranges[i] - by_whole[i]));
+      norm = std::max(norm, std::abs(by_whole[i]));
+    }
+    EXPECT_LE(largest, 1e-12 * norm) << "iteration " << it;
+    x = by_whole;
+  }
+  EXPECT_GE(mixed, 25);
 }
 
 }  // namespace
