@@ -17,7 +17,9 @@
 #   --csv FILE               where the rows go
 # The piston's mass is scaled with the cell's area (docs/lab/2026-11-29-what-grows-the-passes.md):
 # a wider cell then has the paper's physics per area. Threads are pinned through OpenMP's
-# standard environment (OMP_PROC_BIND=close, OMP_PLACES=cores) unless it is set already.
+# standard environment (OMP_PROC_BIND=close, OMP_PLACES=cores) unless it is set already, and
+# every step that has tiles to share runs on them (CDPOWDER_ALWAYS_THREADED=1, unless set):
+# the bench measures the threads, not the run's choice between them and one thread.
 # Compare timings as ratios within one session: the machine may be shared.
 set -euo pipefail
 cd "$(git rev-parse --show-toplevel)"
@@ -52,6 +54,7 @@ if [ -z "$threads" ]; then
   for t in 1 2 4 8 16 32 64; do [ "$t" -le "$cores" ] && threads="$threads $t"; done
 fi
 export OMP_PROC_BIND="${OMP_PROC_BIND:-close}" OMP_PLACES="${OMP_PLACES:-cores}"
+export CDPOWDER_ALWAYS_THREADED="${CDPOWDER_ALWAYS_THREADED:-1}"
 
 header="date,commit,machine,study,point,spheres,cell,threads,steps,passes_per_step,run_seconds,steps_per_second,peak_kb"
 mkdir -p "$(dirname "$csv")"
