@@ -27,11 +27,20 @@ double gap_for_speed(double sphere_speed, const World& world, const DetectionSet
   return std::max(settings.cohesion_range, 2.0 * v_max * settings.dt) + settings.skin;
 }
 
+/// Room made for a known count of pairs, written in order: what find_pairs appends to when a
+/// piece writes its pairs in place (detect_in_pieces).
+struct PairCursor {
+  PairProblem* at;
+
+  void push_back(const PairProblem& p) { *at++ = p; }
+};
+
 /// find_pairs one pair at a time: the definition of its arithmetic (find_pairs_lanes.inc takes
 /// the same operations in lanes), and the list's last pairs that fill no block of lanes.
+template <typename Out>
 void find_pairs_one_by_one(const Bodies& bodies, const PeriodicBox& box, double cutoff,
                            const std::vector<CandidateList::Pair>& list, std::size_t first,
-                           std::size_t last, std::vector<PairProblem>& out) {
+                           std::size_t last, Out& out) {
   for (std::size_t k = first; k < last; ++k) {
     const BodyIndex a = list[k].a;
     const BodyIndex b = list[k].b;
@@ -56,6 +65,32 @@ void find_pairs_one_by_one(const Bodies& bodies, const PeriodicBox& box, double 
   }
 }
 
+/// How many pairs of list[first, last) find_pairs keeps: the same test, in lanes and then one
+/// by one.
+std::size_t count_pairs(const Bodies& bodies, const PeriodicBox& box, double cutoff,
+                        const std::vector<CandidateList::Pair>& list, std::size_t first,
+                        std::size_t last) {
+  std::size_t found = 0;
+  const std::size_t rest =
+      CDP_LANES_FOR_CPU(count_pair_lanes)(bodies, box, cutoff, list.data(), first, last, found);
+  for (std::size_t k = rest; k < last; ++k) {
+    const Vec3 d = box.minimum_image(bodies.position[list[k].b] - bodies.position[list[k].a]);
+    const double reach = bodies.radius[list[k].a] + bodies.radius[list[k].b] + cutoff;
+    found += d.squaredNorm() >= reach * reach ? 0 : 1;
+  }
+  return found;
+}
+
+/// find_pairs on list[first, last) into room made for exactly the pairs it keeps (count_pairs).
+void write_pairs(const Bodies& bodies, const PeriodicBox& box, double cutoff,
+                 const std::vector<CandidateList::Pair>& list, std::size_t first, std::size_t last,
+                 PairProblem* at) {
+  PairCursor out{at};
+  const std::size_t rest = CDP_LANES_FOR_CPU(find_pair_lanes<PairCursor>)(
+      bodies, box, cutoff, list.data(), first, last, out);
+  find_pairs_one_by_one(bodies, box, cutoff, list, rest, last, out);
+}
+
 /// Candidates searched between two reservations of `out` (a multiple of every lane count):
 /// the room made for them is the most a block can add, so `out` never doubles.
 constexpr std::size_t kPairSearchBlock = 1024;
@@ -68,8 +103,8 @@ void find_pairs(const Bodies& bodies, const PeriodicBox& box, double cutoff,
   for (std::size_t begin = first; begin < last; begin += kPairSearchBlock) {
     const std::size_t end = std::min(last, begin + kPairSearchBlock);
     reserve_for_more(out, end - begin);
-    const std::size_t rest =
-        CDP_LANES_FOR_CPU(find_pair_lanes)(bodies, box, cutoff, list.data(), begin, end, out);
+    const std::size_t rest = CDP_LANES_FOR_CPU(find_pair_lanes<std::vector<PairProblem>>)(
+        bodies, box, cutoff, list.data(), begin, end, out);
     find_pairs_one_by_one(bodies, box, cutoff, list, rest, end, out);
   }
 }
@@ -112,11 +147,14 @@ struct alignas(64) OnItsLine {
 };
 
 /// detect_contacts in two pieces: each half of the spheres wrapped and its largest speed
-/// found, then each half of the candidate list searched (piece 0 into `contacts`, piece 1
-/// into `scratch`, joined after), with the bottom wall's contacts in piece 0 and the
-/// piston's in piece 1. The search assumes that the list covers the step, which the same
-/// pass checks on each piece's half of the spheres; where it does not, the list is rebuilt
-/// and the search run again.
+/// found; then each half of the candidate list counted (the pairs it keeps), with the bottom
+/// wall's contacts in piece 0 and the piston's in piece 1; then each half's pairs written in
+/// place, the second's after the first's. The search assumes that the list covers the step,
+/// which the counting pass checks on each piece's half of the spheres; where it does not, the
+/// list is rebuilt and the count run again. Counting first costs a second test of each
+/// candidate, on the threads; a join that copied the second half's pairs after the first's
+/// ran on this thread alone and read them from the other core
+/// (docs/lab/2026-12-01-serial-stages-in-pieces.md), and held them twice.
 void detect_in_pieces(World& world, const DetectionSettings& settings, CellGrid& grid,
                       Contacts& contacts, CandidateList& list, PieceRunner* pieces,
                       DetectionScratch& scratch) {
@@ -130,12 +168,18 @@ void detect_in_pieces(World& world, const DetectionSettings& settings, CellGrid&
   });
   // max is exact: the halves' maxima give candidate_gap's value
   const double cutoff = gap_for_speed(std::max(speed[0].value, speed[1].value), world, settings);
-  contacts.clear();
-  scratch.pairs.clear();
-  scratch.walls.clear();
+  // the pairs' records are overwritten below, not cleared: a resize to this step's count then
+  // constructs only the records beyond the last step's (the walls are cleared by the count)
+  contacts.pair_actions.clear();
+  contacts.pair_cohesive.clear();
+  contacts.wall_actions.clear();
+  contacts.wall_cohesive.clear();
 
-  const auto search = [&](bool check_cover) {
+  std::array<OnItsLine<std::size_t>, 2> found{};
+  const auto count = [&](bool check_cover) {
     std::array<OnItsLine<bool>, 2> covered{};
+    contacts.walls.clear();
+    scratch.walls.clear();
     run_pieces(pieces, 2, [&](std::uint32_t piece) {
       if (check_cover) {
         const IndexRange spheres = half_of(bodies.size(), piece);
@@ -144,22 +188,27 @@ void detect_in_pieces(World& world, const DetectionSettings& settings, CellGrid&
         if (!covered[piece].value) return;
       }
       const IndexRange listed = half_of(list.pairs().size(), piece);
-      find_pairs(bodies, box, cutoff, list.pairs(), listed.first, listed.last,
-                 piece == 0 ? contacts.pairs : scratch.pairs);
+      found[piece].value =
+          count_pairs(bodies, box, cutoff, list.pairs(), listed.first, listed.last);
       find_walls(world, piece == 0 ? WallKind::Bottom : WallKind::Piston, cutoff,
                  piece == 0 ? contacts.walls : scratch.walls);
     });
     return !check_cover || (covered[0].value && covered[1].value);
   };
-  if (!list.may_cover(bodies, box, cutoff) || !search(true)) {
-    contacts.clear();
-    scratch.pairs.clear();
-    scratch.walls.clear();
+  if (!list.may_cover(bodies, box, cutoff) || !count(true)) {
     list.rebuild(bodies, box, grid, cutoff, settings.verlet_margin, pieces);
-    search(false);
+    count(false);
   }
-  reserve_for_more(contacts.pairs, scratch.pairs.size());
-  contacts.pairs.insert(contacts.pairs.end(), scratch.pairs.begin(), scratch.pairs.end());
+  const std::size_t pair_count = found[0].value + found[1].value;
+  if (pair_count > contacts.pairs.size()) {
+    reserve_for_more(contacts.pairs, pair_count - contacts.pairs.size());
+  }
+  contacts.pairs.resize(pair_count);
+  run_pieces(pieces, 2, [&](std::uint32_t piece) {
+    const IndexRange listed = half_of(list.pairs().size(), piece);
+    write_pairs(bodies, box, cutoff, list.pairs(), listed.first, listed.last,
+                contacts.pairs.data() + (piece == 0 ? 0 : found[0].value));
+  });
   contacts.walls.insert(contacts.walls.end(), scratch.walls.begin(), scratch.walls.end());
 }
 

@@ -18,10 +18,10 @@ namespace cdpowder {
 /// max(d_coh, 2 v_max Δt) + skin (physics.md §4.3), v_max the largest surface speed.
 double candidate_gap(const World& world, const DetectionSettings& settings);
 
-/// What a detection in two pieces keeps from step to step: the second piece's contacts
-/// before they join the first's (so that no step allocates).
+/// What a detection in two pieces keeps from step to step: the second piece's wall contacts
+/// (the piston's) before they join the first's (so that no step allocates). The pairs are
+/// written in place.
 struct DetectionScratch {
-  std::vector<PairProblem> pairs;
   std::vector<WallProblem> walls;
 };
 
@@ -31,9 +31,9 @@ struct DetectionScratch {
 /// rebuilt through `grid` when it no longer covers the step (candidate_list.hpp); without
 /// one, from a list built for this call. The contacts are the same either way.
 /// With `pieces` and `scratch` (and a list to reuse), the passes over the spheres and over the
-/// candidate list run in two halves side by side on the runner's threads, each half writing
-/// its own contacts, joined in order: the same contacts, bit for bit. A rebuild of the list
-/// runs on the caller.
+/// candidate list run in two halves side by side on the runner's threads: each half counts
+/// its pairs, then writes them in place, after the first half's: the same contacts, bit for
+/// bit. A rebuild of the list runs in pieces on the runner's threads too.
 void detect_contacts(World& world, const DetectionSettings& settings, CellGrid& grid,
                      Contacts& contacts, CandidateList* reuse = nullptr,
                      PieceRunner* pieces = nullptr, DetectionScratch* scratch = nullptr);

@@ -518,9 +518,10 @@ SmallPacking stepped_packing() {
   return packing;
 }
 
-// Detection in two pieces (the spheres' and the candidate list's halves side by side, the
-// second half's contacts joined after the first's) gives the contacts of one piece, bit for
-// bit, over steps that reuse the list and steps that rebuild it.
+// Detection in two pieces (the spheres' and the candidate list's halves side by side, each
+// half's pairs counted and then written in place after the first half's) gives the contacts
+// of one piece, bit for bit, over steps that reuse the list and steps that rebuild it, with
+// the contacts' count going up and down.
 TEST(StagesInPieces, DetectionGivesTheContactsOfOnePiece) {
   SmallPacking packing = stepped_packing();
   World one = packing.scene.world;
@@ -534,9 +535,15 @@ TEST(StagesInPieces, DetectionGivesTheContactsOfOnePiece) {
   Contacts contacts_two;
   DetectionScratch scratch;
   TileThreads threads(2);
+  std::size_t last_count = 0;
+  bool grew = false;
+  bool shrank = false;
   for (int step = 0; step < 40; ++step) {
     detect_contacts(one, settings, grid_one, contacts_one, &list_one);
     detect_contacts(two, settings, grid_two, contacts_two, &list_two, &threads, &scratch);
+    grew = grew || (step > 0 && contacts_two.pairs.size() > last_count);
+    shrank = shrank || contacts_two.pairs.size() < last_count;
+    last_count = contacts_two.pairs.size();
     ASSERT_TRUE(same_bits(contacts_two.pairs, contacts_one.pairs)) << step;
     ASSERT_TRUE(same_bits(contacts_two.walls, contacts_one.walls)) << step;
     ASSERT_TRUE(same_bits(two.bodies.position, one.bodies.position)) << step;  // the wrap
@@ -554,6 +561,8 @@ TEST(StagesInPieces, DetectionGivesTheContactsOfOnePiece) {
   EXPECT_GT(list_two.builds(), 5);  // the search after a failed cover check ran too
   EXPECT_EQ(list_two.builds(), list_one.builds());
   EXPECT_FALSE(contacts_one.walls.empty());
+  EXPECT_TRUE(grew);  // records written past the last step's, and fewer than its
+  EXPECT_TRUE(shrank);
 }
 
 // Building the local problems in two pieces (predicted velocities and records a half each,
