@@ -11,6 +11,7 @@
 #include "cdpowder/contact/action_cache.hpp"
 #include "cdpowder/core/lanes.hpp"
 #include "cdpowder/core/rng.hpp"
+#include "cdpowder/solver/nlgs/tile_threads.hpp"
 #include "cdpowder/solver/settings.hpp"
 
 #include <gtest/gtest.h>
@@ -385,6 +386,62 @@ TEST(DetectContacts, PairsHalfACellApartTakeTheirOwnImageInLanes) {
 double wrapped_by_formula(double x, double length) {
   x -= length * std::floor(x / length);
   return x >= length || x < 0.0 ? 0.0 : x;
+}
+
+/// Runs the pieces one after the other, the last first.
+class BackwardRunner final : public PieceRunner {
+ public:
+  void run_pieces(std::uint32_t pieces, Task task, const void* context) override {
+    for (std::uint32_t p = pieces; p > 0; --p) task(context, p - 1);
+  }
+};
+
+// 10 000 spheres (a candidate list of more than three chunks, so more than three pieces):
+// detection in pieces, on two threads and backwards, gives the contacts of one piece, bit for
+// bit, over steps of free flight that reuse the list and rebuild it, also where only the last
+// pieces of the spheres moved past the list's cover.
+TEST(DetectContacts, InPiecesOfALongListGivesTheContactsOfOnePiece) {
+  Packing p;
+  p.lx = p.ly = 40.0;
+  p.height = 12.0;
+  p.spheres = 10000;
+  p.max_speed = 0.5;
+  World whole = make_world(p);
+  World by_threads = whole;
+  World backwards = whole;
+  StepSettings settings;
+  settings.solver.verlet_margin = 0.1;
+  const DetectionSettings detection = settings.detection();
+  TileThreads two(2);
+  BackwardRunner backward;
+  std::array<CellGrid, 3> grids;
+  std::array<CandidateList, 3> lists;
+  std::array<Contacts, 3> contacts;
+  std::array<DetectionScratch, 2> scratch;
+  for (int step = 0; step < 12; ++step) {
+    detect_contacts(whole, detection, grids[0], contacts[0], &lists[0]);
+    detect_contacts(by_threads, detection, grids[1], contacts[1], &lists[1], &two, &scratch[0]);
+    detect_contacts(backwards, detection, grids[2], contacts[2], &lists[2], &backward, &scratch[1]);
+    ASSERT_GT(lists[0].pairs().size(), 3 * kChunkIndices);
+    for (std::size_t k = 1; k < 3; ++k) {
+      ASSERT_EQ(contacts[k].pairs.size(), contacts[0].pairs.size()) << "step " << step;
+      for (std::size_t c = 0; c < contacts[0].pairs.size(); ++c) {
+        ASSERT_TRUE(same_bits(contacts[k].pairs[c], contacts[0].pairs[c])) << "pair " << c;
+      }
+      ASSERT_EQ(contacts[k].walls.size(), contacts[0].walls.size()) << "step " << step;
+    }
+    // free flight of every sphere, or on odd steps of the last fifth alone, farther: then
+    // only the last pieces' cover check fails
+    for (World* world : {&whole, &by_threads, &backwards}) {
+      const std::size_t n = world->bodies.size();
+      for (std::size_t i = step % 2 == 1 ? n - n / 5 : 0; i < n; ++i) {
+        world->bodies.position[i] += (step % 2 == 1 ? 0.3 : 0.05) * world->bodies.velocity[i];
+      }
+    }
+  }
+  EXPECT_GT(lists[1].builds(), 1);
+  EXPECT_EQ(lists[1].builds(), lists[0].builds());
+  EXPECT_FALSE(contacts[0].walls.empty());
 }
 
 TEST(PeriodicBox, WrapGivesTheFormulasBitsWithAndWithoutItsShortcut) {

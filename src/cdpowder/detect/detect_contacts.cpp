@@ -146,28 +146,44 @@ struct alignas(64) OnItsLine {
   T value{};
 };
 
-/// detect_contacts in two pieces: each half of the spheres wrapped and its largest speed
-/// found; then each half of the candidate list counted (the pairs it keeps), with the bottom
-/// wall's contacts in piece 0 and the piston's in piece 1; then each half's pairs written in
-/// place, the second's after the first's. The search assumes that the list covers the step,
-/// which the counting pass checks on each piece's half of the spheres; where it does not, the
-/// list is rebuilt and the count run again. Counting first costs a second test of each
-/// candidate, on the threads; a join that copied the second half's pairs after the first's
-/// ran on this thread alone and read them from the other core
-/// (docs/lab/2026-12-01-serial-stages-in-pieces.md), and held them twice.
+/// The pieces of detect_in_pieces: one a chunk of the candidate list or of the spheres,
+/// whichever has more (indices_per_piece), at least two (the bottom wall's contacts go with
+/// piece 0 and the piston's with piece 1) and at most kMaxPieces. Fixed by the counts, never
+/// by the threads; the contacts do not depend on it.
+std::uint32_t detection_pieces(std::size_t spheres, std::size_t candidates) {
+  const std::size_t most = std::max(spheres, candidates);
+  return std::max<std::uint32_t>(
+      2, static_cast<std::uint32_t>(chunks_of(most, indices_per_piece(most))));
+}
+
+/// detect_contacts in pieces: each piece of the spheres wrapped and its largest speed found;
+/// then each piece of the candidate list counted (the pairs it keeps), with the bottom wall's
+/// contacts in piece 0 and the piston's in piece 1; then each piece's pairs written in place,
+/// after those of the pieces before it. The search assumes that the list covers the step,
+/// which the counting pass checks on each piece of the spheres; where it does not, the list is
+/// rebuilt and the count run again. Counting first costs a second test of each candidate, on
+/// the threads; a join that copied the second half's pairs after the first's ran on this thread
+/// alone and read them from the other core (docs/lab/2026-12-01-serial-stages-in-pieces.md),
+/// and held them twice.
 void detect_in_pieces(World& world, const DetectionSettings& settings, CellGrid& grid,
                       Contacts& contacts, CandidateList& list, PieceRunner* pieces,
                       DetectionScratch& scratch) {
   Bodies& bodies = world.bodies;
   const PeriodicBox& box = world.box;
-  std::array<OnItsLine<double>, 2> speed{};
-  run_pieces(pieces, 2, [&](std::uint32_t piece) {
-    const IndexRange half = half_of(bodies.size(), piece);
-    for (std::size_t i = half.first; i < half.last; ++i) box.wrap(bodies.position[i]);
-    speed[piece].value = largest_surface_speed(bodies, half.first, half.last);
+  const std::size_t sphere_count = bodies.size();
+  const std::uint32_t wrap_pieces = detection_pieces(sphere_count, 0);
+  std::array<OnItsLine<double>, kMaxPieces> speed{};
+  run_pieces(pieces, wrap_pieces, [&](std::uint32_t piece) {
+    const IndexRange part = piece_of(sphere_count, wrap_pieces, piece);
+    for (std::size_t i = part.first; i < part.last; ++i) box.wrap(bodies.position[i]);
+    speed[piece].value = largest_surface_speed(bodies, part.first, part.last);
   });
-  // max is exact: the halves' maxima give candidate_gap's value
-  const double cutoff = gap_for_speed(std::max(speed[0].value, speed[1].value), world, settings);
+  // max is exact: the pieces' maxima give candidate_gap's value
+  double fastest = 0.0;
+  for (std::uint32_t piece = 0; piece < wrap_pieces; ++piece) {
+    fastest = std::max(fastest, speed[piece].value);
+  }
+  const double cutoff = gap_for_speed(fastest, world, settings);
   // the pairs' records are overwritten below, not cleared: a resize to this step's count then
   // constructs only the records beyond the last step's (the walls are cleared by the count)
   contacts.pair_actions.clear();
@@ -175,39 +191,49 @@ void detect_in_pieces(World& world, const DetectionSettings& settings, CellGrid&
   contacts.wall_actions.clear();
   contacts.wall_cohesive.clear();
 
-  std::array<OnItsLine<std::size_t>, 2> found{};
+  std::array<OnItsLine<std::size_t>, kMaxPieces> found{};
+  std::uint32_t count_pieces = 0;
   const auto count = [&](bool check_cover) {
-    std::array<OnItsLine<bool>, 2> covered{};
+    const std::size_t candidates = list.pairs().size();
+    count_pieces = detection_pieces(sphere_count, candidates);
+    std::array<OnItsLine<bool>, kMaxPieces> covered{};
     contacts.walls.clear();
     scratch.walls.clear();
-    run_pieces(pieces, 2, [&](std::uint32_t piece) {
+    run_pieces(pieces, count_pieces, [&](std::uint32_t piece) {
       if (check_cover) {
-        const IndexRange spheres = half_of(bodies.size(), piece);
+        const IndexRange spheres = piece_of(sphere_count, count_pieces, piece);
         covered[piece].value =
             list.covers_spheres(bodies, box, cutoff, spheres.first, spheres.last);
         if (!covered[piece].value) return;
       }
-      const IndexRange listed = half_of(list.pairs().size(), piece);
+      const IndexRange listed = piece_of(candidates, count_pieces, piece);
       found[piece].value =
           count_pairs(bodies, box, cutoff, list.pairs(), listed.first, listed.last);
-      find_walls(world, piece == 0 ? WallKind::Bottom : WallKind::Piston, cutoff,
-                 piece == 0 ? contacts.walls : scratch.walls);
+      if (piece < 2) {
+        find_walls(world, piece == 0 ? WallKind::Bottom : WallKind::Piston, cutoff,
+                   piece == 0 ? contacts.walls : scratch.walls);
+      }
     });
-    return !check_cover || (covered[0].value && covered[1].value);
+    return !check_cover || std::all_of(covered.begin(), covered.begin() + count_pieces,
+                                       [](const OnItsLine<bool>& c) { return c.value; });
   };
   if (!list.may_cover(bodies, box, cutoff) || !count(true)) {
     list.rebuild(bodies, box, grid, cutoff, settings.verlet_margin, pieces);
     count(false);
   }
-  const std::size_t pair_count = found[0].value + found[1].value;
+  std::array<std::size_t, kMaxPieces + 1> start{};
+  for (std::uint32_t piece = 0; piece < count_pieces; ++piece) {
+    start[piece + 1] = start[piece] + found[piece].value;
+  }
+  const std::size_t pair_count = start[count_pieces];
   if (pair_count > contacts.pairs.size()) {
     reserve_for_more(contacts.pairs, pair_count - contacts.pairs.size());
   }
   contacts.pairs.resize(pair_count);
-  run_pieces(pieces, 2, [&](std::uint32_t piece) {
-    const IndexRange listed = half_of(list.pairs().size(), piece);
+  run_pieces(pieces, count_pieces, [&](std::uint32_t piece) {
+    const IndexRange listed = piece_of(list.pairs().size(), count_pieces, piece);
     write_pairs(bodies, box, cutoff, list.pairs(), listed.first, listed.last,
-                contacts.pairs.data() + (piece == 0 ? 0 : found[0].value));
+                contacts.pairs.data() + start[piece]);
   });
   contacts.walls.insert(contacts.walls.end(), scratch.walls.begin(), scratch.walls.end());
 }

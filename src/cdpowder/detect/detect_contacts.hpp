@@ -31,9 +31,9 @@ struct DetectionScratch {
 /// rebuilt through `grid` when it no longer covers the step (candidate_list.hpp); without
 /// one, from a list built for this call. The contacts are the same either way.
 /// With `pieces` and `scratch` (and a list to reuse), the passes over the spheres and over the
-/// candidate list run in two halves side by side on the runner's threads: each half counts
-/// its pairs, then writes them in place, after the first half's: the same contacts, bit for
-/// bit. A rebuild of the list runs in pieces on the runner's threads too.
+/// candidate list run in pieces side by side on the runner's threads: each piece of the list
+/// counts its pairs, then writes them in place, after the pieces before it: the same contacts,
+/// bit for bit. A rebuild of the list runs in pieces on the runner's threads too.
 void detect_contacts(World& world, const DetectionSettings& settings, CellGrid& grid,
                      Contacts& contacts, CandidateList* reuse = nullptr,
                      PieceRunner* pieces = nullptr, DetectionScratch* scratch = nullptr);
