@@ -6,6 +6,7 @@
 
 #include "cdpowder/solver/nlgs/group_by_part.hpp"
 #include "cdpowder/solver/nlgs/tile_threads.hpp"
+#include "support/backward_runner.hpp"
 
 #include <gtest/gtest.h>
 
@@ -45,14 +46,6 @@ class RecordingRunner final : public PieceRunner {
  public:
   void run_pieces(std::uint32_t pieces, Task task, const void* context) override {
     for (std::uint32_t p = 0; p < pieces; ++p) task(context, p);
-  }
-};
-
-/// Runs the pieces one after the other, the last first.
-class BackwardRunner final : public PieceRunner {
- public:
-  void run_pieces(std::uint32_t pieces, Task task, const void* context) override {
-    for (std::uint32_t p = pieces; p > 0; --p) task(context, p - 1);
   }
 };
 

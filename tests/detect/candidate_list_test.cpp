@@ -7,6 +7,7 @@
 #include "cdpowder/detect/detect_contacts.hpp"
 #include "cdpowder/solver/nlgs/tile_threads.hpp"
 #include "cdpowder/solver/settings.hpp"
+#include "support/backward_runner.hpp"
 
 #include <gtest/gtest.h>
 
@@ -164,14 +165,6 @@ TEST(CandidateList, ListsExactlyThePairsABruteForceSearchFinds) {
     EXPECT_GT(expected.size(), 0U);
   }
 }
-
-/// Runs the pieces one after the other, the last first.
-class BackwardRunner final : public PieceRunner {
- public:
-  void run_pieces(std::uint32_t pieces, Task task, const void* context) override {
-    for (std::uint32_t p = pieces; p > 0; --p) task(context, p - 1);
-  }
-};
 
 // 10 000 spheres (three pieces of 4 096 spheres): a rebuild in pieces, run backwards or on two
 // threads, lists the pairs of a rebuild in one piece, in the same order; again after the

@@ -13,6 +13,7 @@
 #include "cdpowder/core/rng.hpp"
 #include "cdpowder/solver/nlgs/tile_threads.hpp"
 #include "cdpowder/solver/settings.hpp"
+#include "support/backward_runner.hpp"
 
 #include <gtest/gtest.h>
 
@@ -387,14 +388,6 @@ double wrapped_by_formula(double x, double length) {
   x -= length * std::floor(x / length);
   return x >= length || x < 0.0 ? 0.0 : x;
 }
-
-/// Runs the pieces one after the other, the last first.
-class BackwardRunner final : public PieceRunner {
- public:
-  void run_pieces(std::uint32_t pieces, Task task, const void* context) override {
-    for (std::uint32_t p = pieces; p > 0; --p) task(context, p - 1);
-  }
-};
 
 // 10 000 spheres (a candidate list of more than three chunks, so more than three pieces):
 // detection in pieces, on two threads and backwards, gives the contacts of one piece, bit for

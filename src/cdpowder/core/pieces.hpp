@@ -114,6 +114,19 @@ inline std::size_t indices_per_piece(std::size_t count) {
          kChunkIndices;
 }
 
+/// The indices [first, last) of one piece.
+struct IndexRange {
+  std::size_t first = 0;
+  std::size_t last = 0;
+};
+
+/// Piece `piece` of [0, count) cut into pieces of `per_piece` consecutive indices, the last
+/// one shorter: the pieces of indices_per_piece(count) that the stages below cut.
+inline IndexRange chunk_range(std::size_t count, std::size_t per_piece, std::size_t piece) {
+  const std::size_t first = piece * per_piece;
+  return {first, std::min(count, first + per_piece)};
+}
+
 /// Runs task(first, last, sums) over [0, count) cut into the pieces of indices_per_piece (at
 /// most kMaxPieces), each piece with a value-initialised Sums of its own, side by side on
 /// `runner` or in piece order on the caller, and returns the pieces' Sums joined in piece order
@@ -127,18 +140,12 @@ Sums run_summed_pieces(PieceRunner* runner, std::size_t count, const Task& task)
       static_cast<std::uint32_t>(std::max<std::size_t>(1, chunks_of(count, per_piece)));
   std::array<Sums, kMaxPieces> sums{};
   run_pieces(runner, pieces, [&](std::uint32_t p) {
-    const std::size_t first = p * per_piece;
-    task(first, std::min(count, first + per_piece), sums[p]);
+    const IndexRange range = chunk_range(count, per_piece, p);
+    task(range.first, range.last, sums[p]);
   });
   for (std::uint32_t p = 1; p < pieces; ++p) sums.front().merge(sums[p]);
   return sums.front();
 }
-
-/// The indices [first, last) of one piece.
-struct IndexRange {
-  std::size_t first = 0;
-  std::size_t last = 0;
-};
 
 /// Piece `piece` of `pieces` near-equal consecutive ranges of [0, count): [⌊count p/P⌋,
 /// ⌊count (p + 1)/P⌋).

@@ -91,11 +91,11 @@ void CandidateList::rebuild(const Bodies& bodies, const PeriodicBox& box, CellGr
   if (piece_pairs_.size() < count) piece_pairs_.resize(count);
   if (piece_partners_.size() < count) piece_partners_.resize(count);
   run_pieces(pieces, count, [&](std::uint32_t piece) {
-    const std::size_t first = piece * per_piece;
-    const std::size_t last = std::min(sphere_count, first + per_piece);
+    const IndexRange spheres = chunk_range(sphere_count, per_piece, piece);
     piece_pairs_[piece].clear();
-    list_pairs_of(bodies, box, grid, built_gap_, static_cast<BodyIndex>(first),
-                  static_cast<BodyIndex>(last), piece_partners_[piece], piece_pairs_[piece]);
+    list_pairs_of(bodies, box, grid, built_gap_, static_cast<BodyIndex>(spheres.first),
+                  static_cast<BodyIndex>(spheres.last), piece_partners_[piece],
+                  piece_pairs_[piece]);
   });
   std::array<std::size_t, kMaxPieces + 1> start{};
   for (std::uint32_t piece = 0; piece < count; ++piece) {

@@ -35,6 +35,13 @@ struct PairCursor {
   void push_back(const PairProblem& p) { *at++ = p; }
 };
 
+/// What find_pairs_one_by_one appends to when only the count of its pairs is wanted.
+struct PairCounter {
+  std::size_t found = 0;
+
+  void push_back(const PairProblem& /*p*/) { ++found; }
+};
+
 /// find_pairs one pair at a time: the definition of its arithmetic (find_pairs_lanes.inc takes
 /// the same operations in lanes), and the list's last pairs that fill no block of lanes.
 template <typename Out>
@@ -65,20 +72,16 @@ void find_pairs_one_by_one(const Bodies& bodies, const PeriodicBox& box, double 
   }
 }
 
-/// How many pairs of list[first, last) find_pairs keeps: the same test, in lanes and then one
-/// by one.
+/// How many pairs of list[first, last) find_pairs keeps: the same test, in lanes, and the
+/// rest counted by find_pairs_one_by_one itself.
 std::size_t count_pairs(const Bodies& bodies, const PeriodicBox& box, double cutoff,
                         const std::vector<CandidateList::Pair>& list, std::size_t first,
                         std::size_t last) {
-  std::size_t found = 0;
-  const std::size_t rest =
-      CDP_LANES_FOR_CPU(count_pair_lanes)(bodies, box, cutoff, list.data(), first, last, found);
-  for (std::size_t k = rest; k < last; ++k) {
-    const Vec3 d = box.minimum_image(bodies.position[list[k].b] - bodies.position[list[k].a]);
-    const double reach = bodies.radius[list[k].a] + bodies.radius[list[k].b] + cutoff;
-    found += d.squaredNorm() >= reach * reach ? 0 : 1;
-  }
-  return found;
+  PairCounter counter;
+  const std::size_t rest = CDP_LANES_FOR_CPU(count_pair_lanes)(bodies, box, cutoff, list.data(),
+                                                               first, last, counter.found);
+  find_pairs_one_by_one(bodies, box, cutoff, list, rest, last, counter);
+  return counter.found;
 }
 
 /// find_pairs on list[first, last) into room made for exactly the pairs it keeps (count_pairs).

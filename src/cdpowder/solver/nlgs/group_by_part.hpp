@@ -41,15 +41,11 @@ void group_by_part(PieceRunner* runner, std::size_t n, std::size_t parts, const 
     group_by_part(n, parts, part_of, start, next, order);
     return;
   }
-  const auto piece_indices = [&](std::uint32_t q) {
-    const std::size_t first = q * per_piece;
-    return IndexRange{first, std::min(n, first + per_piece)};
-  };
   // next[q · parts + p]: piece q's count of part p, then the place of its first index of p
   next.assign(pieces * parts, 0);
   run_pieces(runner, static_cast<std::uint32_t>(pieces), [&](std::uint32_t q) {
     std::uint32_t* const count = next.data() + q * parts;
-    const IndexRange range = piece_indices(q);
+    const IndexRange range = chunk_range(n, per_piece, q);
     for (std::size_t i = range.first; i < range.last; ++i) ++count[part_of(i)];
   });
   start.assign(parts + 1, 0);
@@ -66,7 +62,7 @@ void group_by_part(PieceRunner* runner, std::size_t n, std::size_t parts, const 
   order.resize(n);
   run_pieces(runner, static_cast<std::uint32_t>(pieces), [&](std::uint32_t q) {
     std::uint32_t* const cursor = next.data() + q * parts;
-    const IndexRange range = piece_indices(q);
+    const IndexRange range = chunk_range(n, per_piece, q);
     for (std::size_t i = range.first; i < range.last; ++i) {
       order[cursor[part_of(i)]++] = static_cast<ContactIndex>(i);
     }

@@ -62,12 +62,8 @@ void ThreadChoice::record(double seconds, double updates) {
     since_try_ = 1;  // the try was a block: a try every try_every_ blocks
     return;
   }
-  // the threads win a tie: the way of the first block
-  const bool other_faster =
-      way == 1 ? per_update_[0] < per_update_[1] : per_update_[1] <= per_update_[0];
   const bool unmeasured = per_update_[1 - way] == 0.0;
-  if (unmeasured || confirming_ || other_faster || ++since_try_ >= try_every_) {
-    since_try_ = 0;
+  if (unmeasured || confirming_ || faster(1 - way) || ++since_try_ >= try_every_) {
     trying_ = true;
     threaded_ = !threaded_;
   }
@@ -76,8 +72,7 @@ void ThreadChoice::record(double seconds, double updates) {
 void ThreadChoice::judge_try(std::size_t tried) {
   trying_ = false;
   const std::size_t kept = 1 - tried;
-  const bool won = tried == 1 ? per_update_[1] <= per_update_[0] : per_update_[0] < per_update_[1];
-  if (!won) {
+  if (!faster(tried)) {
     confirming_ = false;
     const bool clear_loss = per_update_[tried] > kClearLoss * per_update_[kept];
     try_every_ = clear_loss ? std::min(2 * try_every_, kMaxTryEvery) : kTryEvery;
