@@ -2,10 +2,11 @@
 
 The admissible stress interval (cdpowder.stress_bounds, physics.md §11.3) solves linear
 programs of 10⁴–10⁵ rows whose balance rows are ranges a few 1e-7 wide. HiGHS 1.2 (SciPy 1.10's
-`linprog`) takes 30–40 s for one at paper scale (1 015 spheres, (0, 0)); Clp's barrier, without
+`linprog`) takes 20–80 s for one at paper scale (1 015 spheres, (0, 0)); Clp's barrier, without
 presolve (which fixes those narrow ranges as equalities and then stalls) and without crossover
 (the optimum's value and an admissible force set are what the bounds need, not a vertex),
-takes about 5 s (docs/lab/2026-11-30-stress-bounds-on-clp.md).
+takes 1–3 s (docs/lab/2026-11-30-stress-bounds-on-clp.md,
+docs/lab/2026-12-01-polygons-by-their-vertices.md).
 
 Debian's `coinor-libclp1` provides libClp.so.1; `available()` says whether it was found.
 
@@ -38,6 +39,12 @@ PRIMAL_TOLERANCE = 1e-8
 # At least 1 000: below that, Clp 1.17's initialSolve takes the value as the barrier's own cap
 # and lifts the simplex's to 10⁷.
 MAX_ITERATIONS = 1000
+# The barrier's settings tried in turn (ClpSolve's special option 4, -1 for Clp's own), until
+# one gives an answer that passes the check: Clp's barrier ends short of an admissible answer on
+# one program in five at paper scale, and each setting on other ones; a second setting costs
+# about one more barrier, HiGHS (the last resort) ten (docs/lab/2026-12-01-polygons-by-their-vertices.md).
+# 96: the regularisation δ = 1e-5 ("aggressive gamma" 3); 128: γ = δ = 1e-3 (4).
+BARRIERS = (96, -1, 128)
 
 _library = None
 
@@ -62,6 +69,7 @@ def _load():
         "ClpSolve_delete": (None, [solve]),
         "ClpSolve_setSolveType": (None, [solve, ctypes.c_int, ctypes.c_int]),
         "ClpSolve_setPresolveType": (None, [solve, ctypes.c_int, ctypes.c_int]),
+        "ClpSolve_setSpecialOption": (None, [solve, ctypes.c_int, ctypes.c_int, ctypes.c_int]),
         "Clp_setLogLevel": (None, [model, ctypes.c_int]),
         "Clp_setMaximumSeconds": (None, [model, ctypes.c_double]),
         "Clp_setPrimalTolerance": (None, [model, ctypes.c_double]),
@@ -111,6 +119,9 @@ def minimise(cost, matrix, row_lower, row_upper, lower, upper, seconds, admissib
     `admissible`: (row_lower, row_upper, lower, upper) the answer is checked against, if not
     the program's own (a program solved with narrower rows or bounds than an answer must keep).
 
+    The barrier runs with each of BARRIERS' settings in turn until one's answer passes the check;
+    the last one's status is returned when none does. Clp's time limit, `seconds`, covers them all.
+
     Columns fixed by their bounds (lower = upper) are taken out before Clp sees the program,
     their part moved to the rows' bounds: a barrier without presolve keeps such a column as a
     box of zero width. Rows left empty by that must hold 0 (else the program is infeasible)
@@ -123,20 +134,35 @@ def minimise(cost, matrix, row_lower, row_upper, lower, upper, seconds, admissib
     constant = matrix[:, fixed] @ lower[fixed]
     reduced = matrix[:, free].tocsr()
     used = np.diff(reduced.indptr) > 0
-    if used.any() and len(free):
+    # without crossover Clp can call an infeasible program optimal: each answer is checked,
+    # against the program as given (the rows only fixed columns touch, each row's own bounds)
+    # or against `admissible`
+    check = admissible or (row_lower, row_upper, lower, upper)
+    if not (used.any() and len(free)):  # no row left on a free column: each at its cheaper bound
+        status, x_free = _bounds_only(cost[free], lower[free], upper[free])
+        return _checked(status, x_free, cost, matrix, lower, free, check)
+    started = time.process_time()  # Clp's time limit is in CPU seconds
+    for barrier in BARRIERS:
+        left = seconds - (time.process_time() - started)
+        if left <= 0:
+            return STOPPED, None, None
         status, _, x_free = _minimise_free(
             cost[free], reduced[used], row_lower[used] - constant[used],
-            row_upper[used] - constant[used], lower[free], upper[free], seconds)
-    else:  # no row left on a free column: each free column at its cheaper bound
-        status, x_free = _bounds_only(cost[free], lower[free], upper[free])
+            row_upper[used] - constant[used], lower[free], upper[free], left, barrier)
+        if status in (STOPPED, INFEASIBLE, UNBOUNDED):
+            return status, None, None
+        answer = _checked(status, x_free, cost, matrix, lower, free, check)
+        if answer[0] == OPTIMAL:
+            return answer
+    return answer
+
+
+def _checked(status, x_free, cost, matrix, lower, free, check):
+    """(status, cost·x, x) of an answer on the free columns, INFEASIBLE where it leaves `check`."""
     if x_free is None:
         return status, None, None
     x = lower.copy()
     x[free] = x_free
-    # without crossover Clp can call an infeasible program optimal: the answer is checked,
-    # against the program as given (the rows only fixed columns touch, each row's own bounds)
-    # or against `admissible`
-    check = admissible or (row_lower, row_upper, lower, upper)
     if _violation(matrix @ x, check[0], check[1]) > FEASIBILITY or \
             _violation(x, check[2], check[3]) > FEASIBILITY:
         return INFEASIBLE, None, None
@@ -152,7 +178,7 @@ def _bounds_only(cost, lower, upper):
     return OPTIMAL, x
 
 
-def _minimise_free(cost, matrix, row_lower, row_upper, lower, upper, seconds):
+def _minimise_free(cost, matrix, row_lower, row_upper, lower, upper, seconds, barrier):
     """(status, cost·x, x) of Clp's barrier on a program handed as it is; minimise() checks x."""
     lib = _load()
     if lib is None:
@@ -176,6 +202,8 @@ def _minimise_free(cost, matrix, row_lower, row_upper, lower, upper, seconds):
                             *(_pointer(a, ctypes.c_double) for a in arrays))
         lib.ClpSolve_setSolveType(options, _BARRIER_NO_CROSSOVER, -1)
         lib.ClpSolve_setPresolveType(options, _PRESOLVE_OFF, -1)
+        if barrier >= 0:
+            lib.ClpSolve_setSpecialOption(options, 4, barrier, -1)
         started = time.process_time()  # Clp's time limit is in CPU seconds
         lib.Clp_initialSolveWithOptions(model, options)
         status = lib.Clp_status(model)

@@ -10,6 +10,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+import scipy.optimize
 import scipy.sparse
 
 from cdpowder import clp, stress_bounds
@@ -191,6 +192,39 @@ def test_the_unknowns_bounds_hold_every_polygon_at_the_force_cap(quick_run, face
                     column = slice(q * m, (q + 1) * m)
                     assert np.all(value <= upper[column] * (1 + 1e-12) + 1e-300), (scale, q, k)
                     assert np.all(value >= lower[column] * (1 + 1e-12) - 1e-300), (scale, q, k)
+
+
+@pytest.mark.parametrize("facets", [5, 16])
+def test_a_polygon_by_its_vertices_has_the_sides_of_the_threshold(quick_run, facets):
+    # Program.thresholds writes each disc by K weighted vertices: the mode is reached along the
+    # normal of each side θ = 2πk/K as far as scale × cap (R_n + F_c), and no further, and a
+    # vertex lies at that over cos(π/K): the polygon of the sides cos θ x1 + sin θ x2 ≤ scale
+    # cap (R_n + F_c). Checked on one contact's sliding mode, R_n at the run's value, by linprog.
+    program = stress_bounds.Program(stress_bounds.Packing(quick_run), facets)
+    p, m = program.packing, program.m
+    c = int(np.flatnonzero(p.mu[program.free] > 0)[0])
+    fc, normal = p.cohesion[program.free][c], program.run_x[c]
+    radius = p.mu[program.free][c] * (normal + fc)
+    for scale in (math.cos(math.pi / facets), 1.0):
+        g, low, high = program.thresholds(scale)
+        lower, upper = program.bounds(scale)
+        lower[:m] = upper[:m] = program.run_x[:m]  # the normal forces held
+        equal, below = low == high, np.isfinite(high) & (low != high)
+        for angle, reach in ((2 * math.pi * k / facets, scale) for k in range(facets)):
+            cost = np.zeros(program.width)
+            cost[m + c], cost[2 * m + c] = -math.cos(angle), -math.sin(angle)
+            res = scipy.optimize.linprog(cost, A_ub=g[below], b_ub=high[below], A_eq=g[equal],
+                                         b_eq=high[equal], bounds=np.column_stack([lower, upper]),
+                                         method="highs")
+            assert res.status == 0
+            assert -res.fun == pytest.approx(reach * radius, rel=1e-9)
+        corner = math.pi / facets  # between the sides 0 and 1: a vertex
+        cost = np.zeros(program.width)
+        cost[m + c], cost[2 * m + c] = -math.cos(corner), -math.sin(corner)
+        res = scipy.optimize.linprog(cost, A_ub=g[below], b_ub=high[below], A_eq=g[equal],
+                                     b_eq=high[equal], bounds=np.column_stack([lower, upper]),
+                                     method="highs")
+        assert -res.fun == pytest.approx(scale * radius / math.cos(corner), rel=1e-9)
 
 
 @pytest.mark.skipif(not clp.available(), reason="COIN-OR Clp (coinor-libclp1) is not installed")
