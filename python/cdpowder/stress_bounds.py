@@ -165,6 +165,10 @@ class Program:
         self.fallbacks = 0  # programs Clp found no answer for, solved again by HiGHS
         self.solved = 0  # programs solved (an answer or none)
         self.progress = None  # called with what a program was for, after each
+        # the disc modes that have a threshold, (first unknown, caps, the contacts' indices):
+        # sliding (R_t) and rolling (T_t); a mode without one is held at 0 (bounds())
+        self.disc_modes = [(first, cap[self.free], np.flatnonzero(cap[self.free] > 0))
+                           for first, cap in ((1, p.mu), (3, p.roll_cap))]
         run = p.run_actions()[self.free]
         self.run_x = run.T.reshape(-1)  # blocks of 6 × m, unknown by unknown
         self.force_cap = force_cap_factor * max(1.0, float(np.abs(p.run_normal).max(initial=0.0)),
@@ -244,19 +248,10 @@ class Program:
         self.tolerance = {kind: float(self.slack[rows].max(initial=0.0)) for kind, rows in (
             ("force", force_rows), ("torque", torque_rows), ("piston", np.arange(size) >= piston_row))}
 
-    def _disc_modes(self):
-        """The disc modes that have a threshold: (first unknown, caps, the contacts' indices) for
-        sliding (R_t) and rolling (T_t); a mode without a threshold is held at 0 (bounds())."""
-        p, free = self.packing, self.free
-        modes = []
-        for first, cap in ((1, p.mu[free]), (3, p.roll_cap[free])):
-            modes.append((first, cap, np.flatnonzero(cap > 0)))
-        return modes
-
     @property
     def width(self):
         """The program's columns: the 6 m unknowns, then K weights a disc mode with a threshold."""
-        return 6 * self.m + self.facets * sum(len(idx) for _, _, idx in self._disc_modes())
+        return 6 * self.m + self.facets * sum(len(idx) for _, _, idx in self.disc_modes)
 
     def thresholds(self, scale):
         """Rows G x ≤ h (with equalities) over the program's columns: each disc a regular polygon
@@ -276,7 +271,7 @@ class Program:
         column = 6 * m  # the next weight's column
         rho = scale / math.cos(math.pi / k)
         angles = (2 * np.arange(k) + 1) * math.pi / k
-        for first, cap, idx in self._disc_modes():
+        for first, cap, idx in self.disc_modes:
             q = len(idx)
             if q == 0:
                 continue
@@ -329,7 +324,7 @@ class Program:
             lower[q * m:(q + 1) * m] = -cap[free] * reach
             upper[q * m:(q + 1) * m] = cap[free] * reach
         column = 6 * m
-        for _, cap, idx in self._disc_modes():
+        for _, cap, idx in self.disc_modes:
             weights = len(idx) * self.facets
             upper[column:column + weights] = np.tile(cap[idx] * (self.force_cap + p.cohesion[free][idx]),
                                                      self.facets)

@@ -283,9 +283,10 @@ TEST(DetectContacts, FindsPairsAcrossEveryPeriodicBoundary) {
   }
 }
 
-/// Whether two pair records hold the same bits in every field (a record has no padding).
-bool same_bits(const PairProblem& x, const PairProblem& y) {
-  return std::memcmp(&x, &y, sizeof(PairProblem)) == 0;
+/// Whether two pair or wall records hold the same bits in every field (neither has padding).
+template <typename Problem>
+bool same_bits(const Problem& x, const Problem& y) {
+  return std::memcmp(&x, &y, sizeof(Problem)) == 0;
 }
 
 /// The geometry detect_contacts gives a pair, one scalar expression at a time (find_pairs in
@@ -422,6 +423,9 @@ TEST(DetectContacts, InPiecesOfALongListGivesTheContactsOfOnePiece) {
         ASSERT_TRUE(same_bits(contacts[k].pairs[c], contacts[0].pairs[c])) << "pair " << c;
       }
       ASSERT_EQ(contacts[k].walls.size(), contacts[0].walls.size()) << "step " << step;
+      for (std::size_t w = 0; w < contacts[0].walls.size(); ++w) {
+        ASSERT_TRUE(same_bits(contacts[k].walls[w], contacts[0].walls[w])) << "wall " << w;
+      }
     }
     // free flight of every sphere, or on odd steps of the last fifth alone, farther: then
     // only the last pieces' cover check fails

@@ -203,28 +203,48 @@ def test_a_polygon_by_its_vertices_has_the_sides_of_the_threshold(quick_run, fac
     program = stress_bounds.Program(stress_bounds.Packing(quick_run), facets)
     p, m = program.packing, program.m
     c = int(np.flatnonzero(p.mu[program.free] > 0)[0])
-    fc, normal = p.cohesion[program.free][c], program.run_x[c]
-    radius = p.mu[program.free][c] * (normal + fc)
-    for scale in (math.cos(math.pi / facets), 1.0):
+    radius = p.mu[program.free][c] * (program.run_x[c] + p.cohesion[program.free][c])
+    half = math.pi / facets
+    for scale in (math.cos(half), 1.0):
         g, low, high = program.thresholds(scale)
         lower, upper = program.bounds(scale)
         lower[:m] = upper[:m] = program.run_x[:m]  # the normal forces held
         equal, below = low == high, np.isfinite(high) & (low != high)
-        for angle, reach in ((2 * math.pi * k / facets, scale) for k in range(facets)):
+
+        def farthest(angle):  # the largest reach of the sliding mode along the angle
             cost = np.zeros(program.width)
             cost[m + c], cost[2 * m + c] = -math.cos(angle), -math.sin(angle)
             res = scipy.optimize.linprog(cost, A_ub=g[below], b_ub=high[below], A_eq=g[equal],
                                          b_eq=high[equal], bounds=np.column_stack([lower, upper]),
                                          method="highs")
             assert res.status == 0
-            assert -res.fun == pytest.approx(reach * radius, rel=1e-9)
-        corner = math.pi / facets  # between the sides 0 and 1: a vertex
-        cost = np.zeros(program.width)
-        cost[m + c], cost[2 * m + c] = -math.cos(corner), -math.sin(corner)
-        res = scipy.optimize.linprog(cost, A_ub=g[below], b_ub=high[below], A_eq=g[equal],
-                                     b_eq=high[equal], bounds=np.column_stack([lower, upper]),
-                                     method="highs")
-        assert -res.fun == pytest.approx(scale * radius / math.cos(corner), rel=1e-9)
+            return -res.fun
+
+        for k in range(facets):
+            assert farthest(2 * half * k) == pytest.approx(scale * radius, rel=1e-9)
+        assert farthest(half) == pytest.approx(scale * radius / math.cos(half), rel=1e-9)
+
+
+@pytest.mark.skipif(not clp.available(), reason="COIN-OR Clp (coinor-libclp1) is not installed")
+def test_clp_tries_the_next_barrier_setting_when_an_answer_is_refused(monkeypatch):
+    # min x0 over x0 + x1 = 1, 0 ≤ x ≤ 1: x = (0, 1). A first setting whose answer leaves the
+    # row is refused and the next one is asked; where every setting's is refused, the program
+    # has no answer (stress_bounds then asks HiGHS)
+    asked = []
+    solve = clp._minimise_free
+
+    def first_one_wrong(*args):
+        asked.append(args[-1])
+        status, cost, x = solve(*args)
+        return (status, cost, x + 0.5) if len(asked) == 1 else (status, cost, x)
+
+    monkeypatch.setattr(clp, "_minimise_free", first_one_wrong)
+    program = ([1.0, 0.0], np.array([[1.0, 1.0]]), [1.0], [1.0], [0.0, 0.0], [1.0, 2.0], 10.0)
+    status, _, x = clp.minimise(*program)
+    assert asked == list(clp.BARRIERS[:2])
+    assert status == clp.OPTIMAL and x == pytest.approx([0.0, 1.0], abs=1e-7)
+    monkeypatch.setattr(clp, "_minimise_free", lambda *args: (clp.OPTIMAL, 0.0, np.array([0.5, 0.0])))
+    assert clp.minimise(*program)[0] == clp.INFEASIBLE
 
 
 @pytest.mark.skipif(not clp.available(), reason="COIN-OR Clp (coinor-libclp1) is not installed")
