@@ -374,7 +374,7 @@ namespace {
 /// the overflow pairs, are a range of it), then its batches' values from the records. The
 /// members are colour-order indices already (set by the build from these inputs).
 void refill_kept_colouring(Contacts& contacts, const VelocityCache& velocities, ColouredPass& pass,
-                           PieceRunner* pieces) {
+                           PieceRunner* pieces, std::span<const std::uint8_t> solved) {
   const PairColouring& colouring = pass.colouring;
   const std::vector<ContactIndex>& from = pass.storage_index;
   std::vector<ContactAction>& actions = pass.action_scratch;
@@ -388,7 +388,7 @@ void refill_kept_colouring(Contacts& contacts, const VelocityCache& velocities, 
     const std::size_t last =
         part + 1 < parts ? colouring.first_member(part + 1) : contacts.pairs.size();
     gather_range(contacts.pair_actions, from, first, last, actions);
-    refill_part(contacts, velocities, part, pass);
+    if (solved.empty() || solved[part] != 0) refill_part(contacts, velocities, part, pass);
   });
   contacts.pair_actions.swap(actions);
 }
@@ -396,7 +396,8 @@ void refill_kept_colouring(Contacts& contacts, const VelocityCache& velocities, 
 }  // namespace
 
 void prepare_coloured_pass(Contacts& contacts, const VelocityCache& velocities, ColouredPass& pass,
-                           std::size_t chunk, const StepTiles* tiles, PieceRunner* pieces) {
+                           std::size_t chunk, const StepTiles* tiles, PieceRunner* pieces,
+                           std::span<const std::uint8_t> solved) {
   if (tiles != nullptr && !tiles->tiled()) tiles = nullptr;
   const std::span<const std::uint32_t> sphere_part =
       tiles == nullptr ? std::span<const std::uint32_t>{} : std::span(tiles->sphere_part);
@@ -413,7 +414,7 @@ void prepare_coloured_pass(Contacts& contacts, const VelocityCache& velocities, 
   // the actions are in colour order during the solve; the records and the cohesion flags stay
   // in storage order (ColouredPass::pair_record)
   if (pass.built_from.match(contacts.pairs, contacts.walls, sphere_part, chunk, pieces)) {
-    refill_kept_colouring(contacts, velocities, pass, pieces);
+    refill_kept_colouring(contacts, velocities, pass, pieces, solved);
     pass.in_colour_order = true;
     return;
   }

@@ -240,10 +240,13 @@ struct ColouredPass {
 /// during the solve, pair k of the colour order is ColouredPass::pair_record(contacts, k). When the
 /// pairs, walls and tiles are the last build's (ColouringInputs), the colouring and the batches'
 /// rows are kept and only the batches' values are filled again, part by part, on the threads of
-/// `pieces` if given.
+/// `pieces` if given: those of the parts p with `solved[p]` set alone, when `solved` is not
+/// empty (an MPI rank's own tiles and the hub, parts_of_rank in tiles.hpp; the others' batches
+/// are not read on this rank).
 void prepare_coloured_pass(Contacts& contacts, const VelocityCache& velocities, ColouredPass& pass,
                            std::size_t chunk = kColourChunk, const StepTiles* tiles = nullptr,
-                           PieceRunner* pieces = nullptr);
+                           PieceRunner* pieces = nullptr,
+                           std::span<const std::uint8_t> solved = {});
 
 /// Puts the pairs' actions back in storage order (sorted by sphere pair), as the rest of the
 /// step expects them; in pieces on `pieces` when there is one (run_chunks).

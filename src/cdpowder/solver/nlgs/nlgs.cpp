@@ -4,9 +4,11 @@
 #include "cdpowder/contact/local_solve.hpp"
 #include "cdpowder/contact/velocity_change.hpp"
 #include "cdpowder/core/nth_root.hpp"
+#include "cdpowder/core/ranks.hpp"
 #include "cdpowder/solver/nlgs/mixed_actions.hpp"
 #include "cdpowder/solver/nlgs/tile_order.hpp"
 #include "cdpowder/solver/nlgs/tile_solve.hpp"
+#include "cdpowder/solver/nlgs/tiles.hpp"
 #include "cdpowder/solver/nlgs/visit_contact.hpp"
 
 #include <algorithm>
@@ -17,6 +19,7 @@
 #include <numeric>
 #include <span>
 #include <type_traits>
+#include <vector>
 
 namespace cdpowder {
 
@@ -208,7 +211,11 @@ SolverStats solve_nlgs(Contacts& contacts, VelocityCache& velocities,
   const bool choose = pool != nullptr && tiles != nullptr && tiles->tiles_to_share();
   const bool threaded = choose && work.thread_choice.threaded();
   TileThreads* const runner = threaded ? pool : nullptr;
-  prepare_coloured_pass(contacts, velocities, work.coloured, kColourChunk, tiles, runner);
+  // an MPI rank fills the batches of the tiles it solves alone (tile_ranks.hpp)
+  const std::vector<std::uint8_t> solved = tiles != nullptr && rank_count() > 1
+                                               ? parts_of_rank(*tiles, this_rank(), rank_count())
+                                               : std::vector<std::uint8_t>{};
+  prepare_coloured_pass(contacts, velocities, work.coloured, kColourChunk, tiles, runner, solved);
   work.coloured.torques = modes.rolling || modes.twisting;
   order_groups(work.coloured, settings.visit_order, work.rng);
   const auto start = std::chrono::steady_clock::now();

@@ -5,6 +5,7 @@
 #include "cdpowder/solver/nlgs/tile_order.hpp"
 
 #include <algorithm>
+#include <iterator>
 #include <type_traits>
 #include <utility>
 
@@ -80,39 +81,146 @@ void TileRanks::plan(const StepTiles* tiles, const ColouredPass& pass, const Til
 
   for (std::size_t f = 0; f < kTilePhases; ++f) {
     mine_[f].clear();
+    for (std::uint32_t p = pass.phase_parts[f]; p < pass.phase_parts[f + 1]; ++p) {
+      if (row_owner_[part_row[p]] == rank_) mine_[f].push_back(p);
+    }
+  }
+  plan_phase_messages(pass, contacts, part_row);
+}
+
+void TileRanks::plan_phase_messages(const ColouredPass& pass, const Contacts& contacts,
+                                    const std::vector<std::uint32_t>& part_row) {
+  for (std::size_t f = 0; f < kTilePhases; ++f) {
     sends_[f].clear();
     receives_[f].clear();
-    // (writer, row) for every row a tile of this phase writes: its own and the next
-    std::vector<std::pair<int, std::uint32_t>> written;
-    for (std::uint32_t p = pass.phase_parts[f]; p < pass.phase_parts[f + 1]; ++p) {
-      const int writer = row_owner_[part_row[p]];
-      if (writer == rank_) mine_[f].push_back(p);
-      written.emplace_back(writer, part_row[p]);
-      written.emplace_back(writer, (part_row[p] + 1) % ny);
+  }
+  const std::vector<std::uint32_t>& rows = rank_rows_[static_cast<std::size_t>(rank_)];
+  if (rows.empty()) return;  // a rank without rows (ny < P) solves no tile
+  const std::uint32_t ny = grid_.ny;
+  const std::uint32_t first = rows.front();
+  const std::uint32_t last = rows.back();
+  const std::uint32_t below = (first + ny - 1) % ny;  // its tiles write my first row
+  const std::uint32_t ghost = (last + 1) % ny;        // my last row's tiles write it
+  const int lower = row_owner_[below];
+  const int upper = row_owner_[ghost];
+  marks_.assign(part_start_.back(), 0);
+  const auto both = [](const std::vector<std::uint32_t>& a, const std::vector<std::uint32_t>& b) {
+    std::vector<std::uint32_t> out;
+    std::set_intersection(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(out));
+    return out;
+  };
+  // A rank reads a sphere of its ghost row only through its own tiles' contacts. Of my first
+  // row: what my tiles write (the lower rank reads those its tiles touch) and what the lower
+  // rank's write. Of my ghost row: what my tiles write (all of which its owner keeps) and what
+  // its owner's write (I read those mine touch).
+  PhaseWrites mine_first;
+  PhaseWrites lower_first;
+  PhaseWrites mine_ghost;
+  PhaseWrites upper_ghost;
+  if (lower != rank_) {
+    mine_first = phase_writes(pass, contacts, part_row, first, first);
+    lower_first = phase_writes(pass, contacts, part_row, below, first);
+  }
+  if (upper != rank_) {
+    mine_ghost = phase_writes(pass, contacts, part_row, last, ghost);
+    upper_ghost = phase_writes(pass, contacts, part_row, ghost, ghost);
+  }
+  for (std::size_t f = 0; f < kTilePhases; ++f) {
+    if (lower != rank_) {
+      add_places(sends_[f], lower, both(mine_first[f], lower_first[kTilePhases]));
+      add_places(receives_[f], lower, lower_first[f]);
     }
-    std::sort(written.begin(), written.end());
-    written.erase(std::unique(written.begin(), written.end()), written.end());
-    // a row goes from its writer to the ranks that hold it: its owner, and the owner of the
-    // row below it (its ghost row)
-    std::vector<std::pair<std::pair<int, int>, std::uint32_t>> messages;  // ((from, to), row)
-    for (const auto& [writer, row] : written) {
-      for (const int holder : {row_owner_[row], row_owner_[(row + ny - 1) % ny]}) {
-        if (holder != writer) messages.push_back({{writer, holder}, row});
-      }
-    }
-    std::sort(messages.begin(), messages.end());
-    messages.erase(std::unique(messages.begin(), messages.end()), messages.end());
-    for (const auto& [route, row] : messages) {
-      const auto [from, to] = route;
-      if (from != rank_ && to != rank_) continue;
-      std::vector<RowMessage>& list = from == rank_ ? sends_[f] : receives_[f];
-      const int peer = from == rank_ ? to : from;
-      if (list.empty() || list.back().peer != peer) list.push_back(RowMessage{peer, {}, {}});
-      list.back().rows.push_back(row);
+    if (upper != rank_) {
+      add_places(sends_[f], upper, mine_ghost[f]);
+      add_places(receives_[f], upper, both(upper_ghost[f], mine_ghost[kTilePhases]));
     }
     for (auto* list : {&sends_[f], &receives_[f]}) {
-      for (RowMessage& m : *list) m.buffer.resize(row_records(m.rows));
+      // the two halves to one peer (two ranks on a periodic cell) as one message, in the same
+      // order on both sides
+      for (PlaceMessage& m : *list) {
+        std::sort(m.places.begin(), m.places.end());
+        m.places.erase(std::unique(m.places.begin(), m.places.end()), m.places.end());
+        m.buffer.resize(m.places.size());
+      }
+      std::erase_if(*list, [](const PlaceMessage& m) { return m.places.empty(); });
     }
+  }
+}
+
+TileRanks::PhaseWrites TileRanks::phase_writes(const ColouredPass& pass, const Contacts& contacts,
+                                               const std::vector<std::uint32_t>& part_row,
+                                               std::uint32_t tile_row, std::uint32_t row) {
+  // each sphere the row's tiles write marked with its phases (marks_, all clear on entry and
+  // on return), then the row's spheres read in place order
+  std::size_t phase = 0;
+  touched_.clear();
+  for (std::uint32_t p = 0; p < pass.phase_parts[kTilePhases]; ++p) {
+    while (p >= pass.phase_parts[phase + 1]) ++phase;
+    if (part_row[p] != tile_row) continue;
+    const std::size_t before = touched_.size();
+    append_part_spheres(pass, contacts, p, touched_);
+    for (std::size_t i = before; i < touched_.size(); ++i) {
+      marks_[touched_[i]] |= static_cast<std::uint8_t>(1U << phase);
+    }
+  }
+  // the row's tiles in place order: each one range of places (tile_order.hpp)
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> ranges;
+  for (std::uint32_t i = 0; i < grid_.nx; ++i) {
+    const std::uint32_t part = row_parts_[row * grid_.nx + i];
+    ranges.emplace_back(part_start_[part], part_start_[part + 1]);
+  }
+  std::sort(ranges.begin(), ranges.end());
+  PhaseWrites places;
+  for (const auto& [from, to] : ranges) {
+    for (std::uint32_t place = from; place < to; ++place) {
+      const std::uint8_t mark = marks_[place];
+      if (mark == 0) continue;
+      for (std::size_t f = 0; f < kTilePhases; ++f) {
+        if ((mark >> f & 1U) != 0) places[f].push_back(place);
+      }
+      places[kTilePhases].push_back(place);
+    }
+  }
+  for (const std::uint32_t place : touched_) marks_[place] = 0;
+  return places;
+}
+
+void TileRanks::add_places(std::vector<PlaceMessage>& list, int peer,
+                           const std::vector<std::uint32_t>& places) {
+  auto message =
+      std::find_if(list.begin(), list.end(), [&](const PlaceMessage& m) { return m.peer == peer; });
+  if (message == list.end()) message = list.insert(list.end(), PlaceMessage{peer, {}, {}});
+  message->places.insert(message->places.end(), places.begin(), places.end());
+}
+
+void TileRanks::append_part_spheres(const ColouredPass& pass, const Contacts& contacts,
+                                    std::uint32_t part, std::vector<std::uint32_t>& places) {
+  const std::size_t pairs = contacts.pairs.size();
+  const auto add_pair = [&](ContactIndex k) {
+    const PairProblem& p = pass.pair_record(contacts, k);
+    places.push_back(p.a);
+    places.push_back(p.b);
+  };
+  const PairColouring& colouring = pass.colouring;
+  for (std::uint32_t k = colouring.first_member(part); k < colouring.first_member(part + 1); ++k) {
+    add_pair(k);
+  }
+  // the overflow pairs and walls of a pass, and those of a mixing (tile_solve.cpp)
+  for (std::uint32_t j = pass.part_sequential[part]; j < pass.part_sequential[part + 1]; ++j) {
+    const ContactIndex k = pass.sequential[j];
+    if (k < pairs) {
+      add_pair(k);
+    } else {
+      places.push_back(contacts.walls[k - pairs].sphere);
+    }
+  }
+  const std::size_t overflow = colouring.first_member(pass.parts());
+  for (std::size_t k = overflow + colouring.part_overflow[part];
+       k < overflow + colouring.part_overflow[part + 1]; ++k) {
+    add_pair(static_cast<ContactIndex>(k));
+  }
+  for (std::uint32_t i = pass.mixing_wall_start[part]; i < pass.mixing_wall_start[part + 1]; ++i) {
+    places.push_back(contacts.walls[pass.mixing_walls[i]].sphere);
   }
 }
 
@@ -182,19 +290,7 @@ void TileRanks::plan_piston(const ColouredPass& pass, const Contacts& contacts,
 void TileRanks::after_piston(VelocityCache& velocities) {
   if (!active_) return;
   shared_ = false;  // the pieces' spheres moved on their own ranks
-  std::vector<RankBytes> out;
-  std::vector<RankBytes> in;
-  out.reserve(piston_sends_.size());
-  in.reserve(piston_receives_.size());
-  for (PlaceMessage& m : piston_sends_) {
-    for (std::size_t i = 0; i < m.places.size(); ++i) m.buffer[i] = velocities.spheres[m.places[i]];
-    out.push_back({m.peer, bytes_of(m.buffer)});
-  }
-  for (PlaceMessage& m : piston_receives_) in.push_back({m.peer, bytes_of(m.buffer)});
-  exchange_with_ranks(out, in, static_cast<int>(kTilePhases));
-  for (const PlaceMessage& m : piston_receives_) {
-    for (std::size_t i = 0; i < m.places.size(); ++i) velocities.spheres[m.places[i]] = m.buffer[i];
-  }
+  exchange_places(piston_sends_, piston_receives_, static_cast<int>(kTilePhases), velocities);
 }
 
 std::uint32_t TileRanks::part_of_place(std::uint32_t place) const {
@@ -244,19 +340,25 @@ void TileRanks::unpack_rows(std::span<const std::uint32_t> rows, const SphereVel
 void TileRanks::after_phase(std::size_t phase, VelocityCache& velocities) {
   if (!active_) return;
   shared_ = false;
-  std::vector<RowMessage>& sends = sends_[phase];
-  std::vector<RowMessage>& receives = receives_[phase];
+  exchange_places(sends_[phase], receives_[phase], static_cast<int>(phase), velocities);
+}
+
+void TileRanks::exchange_places(std::vector<PlaceMessage>& sends,
+                                std::vector<PlaceMessage>& receives, int tag,
+                                VelocityCache& velocities) {
   std::vector<RankBytes> out;
   std::vector<RankBytes> in;
   out.reserve(sends.size());
   in.reserve(receives.size());
-  for (RowMessage& m : sends) {
-    pack_rows(m.rows, velocities, m.buffer.data());
+  for (PlaceMessage& m : sends) {
+    for (std::size_t i = 0; i < m.places.size(); ++i) m.buffer[i] = velocities.spheres[m.places[i]];
     out.push_back({m.peer, bytes_of(m.buffer)});
   }
-  for (RowMessage& m : receives) in.push_back({m.peer, bytes_of(m.buffer)});
-  exchange_with_ranks(out, in, static_cast<int>(phase));
-  for (const RowMessage& m : receives) unpack_rows(m.rows, m.buffer.data(), velocities);
+  for (PlaceMessage& m : receives) in.push_back({m.peer, bytes_of(m.buffer)});
+  exchange_with_ranks(out, in, tag);
+  for (const PlaceMessage& m : receives) {
+    for (std::size_t i = 0; i < m.places.size(); ++i) velocities.spheres[m.places[i]] = m.buffer[i];
+  }
 }
 
 void TileRanks::share_records(VelocityCache& velocities) {

@@ -3,9 +3,10 @@
 //
 // Every rank holds the whole state and does the whole step, except the tiles of the colour
 // phases: rank r solves the tiles of a strip of whole tile rows [j0, j1), the same tiles in
-// every phase. A tile's contacts write the spheres of its own row and of the next, so after a
-// phase the rows a rank wrote go to the ranks that hold them (the row's owner and the owner of
-// the row below, for which it is the ghost row): one message per pair of neighbours. Before
+// every phase. A tile's contacts write the spheres of its own row and of the next (the ghost
+// row of the rank below), so after a phase the records that one neighbour wrote and the other
+// reads go between them: of the boundary rows, the spheres that the contacts across the
+// boundary touch (a few in a row), one message per pair of neighbours. Before
 // the hub (its contacts touch any tile) its spheres' records go to every rank; at the end of a
 // pass the tiles' sums; at the end of the solve every rank's records and actions, so everything
 // after the solve runs on the same bits everywhere. The order of the
@@ -89,8 +90,8 @@ class TileRanks {
     share_bytes(std::as_writable_bytes(std::span<T>(per_piece)), sizeof(T), rank_piston_pieces_);
   }
 
-  /// After phase `phase` (which this rank solved its parts of): the rows it wrote go to the
-  /// ranks that hold them, and the rows others wrote come in.
+  /// After phase `phase` (which this rank solved its parts of): the records it wrote that a
+  /// neighbour reads go to it, and those a neighbour wrote that this rank reads come in.
   void after_phase(std::size_t phase, VelocityCache& velocities);
 
   /// Every rank's own rows to every rank.
@@ -99,7 +100,8 @@ class TileRanks {
   /// Before the hub: the records of the hub's spheres (its contacts') from the ranks whose rows
   /// hold them to every rank, which then solves the hub on them; each rank then solves its
   /// own tiles' piston contacts (run_split_piston).
-  /// Between passes a rank's records are current for its own rows and its ghost row alone.
+  /// Between passes a rank's records are current for its own rows and for the spheres of its
+  /// ghost row that its tiles' contacts touch, alone.
   void share_hub_records(VelocityCache& velocities);
 
   /// The end of a pass: the sums of every rank's tiles to every rank. The tiles' actions and
@@ -128,20 +130,36 @@ class TileRanks {
   /// The part of the sphere at `place` (part_start_).
   [[nodiscard]] std::uint32_t part_of_place(std::uint32_t place) const;
 
-  /// A message after a phase: rows of records to or from one rank.
-  struct RowMessage {
-    int peer = 0;
-    std::vector<std::uint32_t> rows;
-    std::vector<SphereVelocity> buffer;
-  };
-
-  /// A message after the split piston: records of single spheres to or from one rank.
+  /// A message after a phase or the split piston: the records of single spheres (their
+  /// places, ascending) to or from one rank.
   struct PlaceMessage {
     int peer = 0;
     std::vector<std::uint32_t> places;
     std::vector<SphereVelocity> buffer;
   };
 
+  /// Each phase's messages (sends_, receives_): the records of this rank's first row that its
+  /// tiles write and the rank below reads, and those of its ghost row that either side writes
+  /// and the other reads.
+  void plan_phase_messages(const ColouredPass& pass, const Contacts& contacts,
+                           const std::vector<std::uint32_t>& part_row);
+  /// Places by phase: entry f for phase f, the last entry for any phase; each ascending.
+  using PhaseWrites = std::array<std::vector<std::uint32_t>, kTilePhases + 1>;
+  /// The spheres of tile row `row` that the tiles of tile row `tile_row` write, by phase. A
+  /// tile's contacts write its own row and the next (docs/architecture.md).
+  PhaseWrites phase_writes(const ColouredPass& pass, const Contacts& contacts,
+                           const std::vector<std::uint32_t>& part_row, std::uint32_t tile_row,
+                           std::uint32_t row);
+  /// Adds `places` to the message of `list` to `peer` (a new one if there is none).
+  static void add_places(std::vector<PlaceMessage>& list, int peer,
+                         const std::vector<std::uint32_t>& places);
+  /// Appends the places of the spheres that part `part`'s contacts write in a pass or a
+  /// mixing: its batched pairs', its sequential group's, its overflow pairs' and its walls'.
+  static void append_part_spheres(const ColouredPass& pass, const Contacts& contacts,
+                                  std::uint32_t part, std::vector<std::uint32_t>& places);
+  /// Sends the records of `sends` and takes those of `receives` into `velocities`.
+  static void exchange_places(std::vector<PlaceMessage>& sends, std::vector<PlaceMessage>& receives,
+                              int tag, VelocityCache& velocities);
   void pack_rows(std::span<const std::uint32_t> rows, const VelocityCache& velocities,
                  SphereVelocity* out) const;
   void unpack_rows(std::span<const std::uint32_t> rows, const SphereVelocity* in,
@@ -169,8 +187,8 @@ class TileRanks {
   std::vector<std::vector<std::uint32_t>> rank_piston_pieces_;
   std::vector<PlaceMessage> piston_sends_, piston_receives_;
   std::array<std::vector<std::uint32_t>, kTilePhases> mine_;
-  std::array<std::vector<RowMessage>, kTilePhases> sends_;
-  std::array<std::vector<RowMessage>, kTilePhases> receives_;
+  std::array<std::vector<PlaceMessage>, kTilePhases> sends_;
+  std::array<std::vector<PlaceMessage>, kTilePhases> receives_;
   // scratch of the gathers: bytes of each rank's share, and the typed buffers
   std::vector<int> counts_;
   std::vector<SphereVelocity> my_records_, all_records_;
@@ -178,6 +196,10 @@ class TileRanks {
   /// each rank's hub spheres: the places in its rows of the hub's spheres, ascending
   std::vector<std::vector<std::uint32_t>> rank_hub_places_;
   std::vector<std::byte> my_bytes_, all_bytes_;
+  /// scratch of phase_writes: a bit a phase for each place (clear between calls), and the
+  /// places marked
+  std::vector<std::uint8_t> marks_;
+  std::vector<std::uint32_t> touched_;
 };
 
 }  // namespace cdpowder

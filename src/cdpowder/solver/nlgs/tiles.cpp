@@ -93,6 +93,17 @@ void assign_tiles(const std::vector<Vec3>& positions, const PeriodicBox& box, do
   });
 }
 
+std::vector<std::uint8_t> parts_of_rank(const StepTiles& tiles, int rank, int ranks) {
+  std::vector<std::uint8_t> solved(tiles.parts(), 0);
+  const TileGrid& grid = tiles.grid;
+  for (std::uint32_t j = strip_start(rank, grid.ny, ranks);
+       j < strip_start(rank + 1, grid.ny, ranks); ++j) {
+    for (std::uint32_t i = 0; i < grid.nx; ++i) solved[tiles.part_of_tile[j * grid.nx + i]] = 1;
+  }
+  for (std::uint32_t p = tiles.phase_parts[kTilePhases]; p < tiles.parts(); ++p) solved[p] = 1;
+  return solved;
+}
+
 std::vector<int> sphere_ranks(const std::vector<Vec3>& positions, const PeriodicBox& box,
                               double max_radius, double width, int ranks) {
   const TileGrid grid = tile_grid(box, max_radius, width);

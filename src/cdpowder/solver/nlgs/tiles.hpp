@@ -109,6 +109,10 @@ struct StepTiles {
   }
 };
 
+/// One flag a part of `tiles`: set for the parts rank `rank` of `ranks` solves, the tiles of its
+/// strip of rows and the hub's (every rank solves the hub).
+std::vector<std::uint8_t> parts_of_rank(const StepTiles& tiles, int rank, int ranks);
+
 /// Sets the step's tiling from the spheres' positions (wrapped into the cell) and the grid of
 /// tile_grid(box, max_radius, width): not tiled below kMinPairsToTile pairs or with a grid of
 /// one tile. The spheres in pieces on `runner` when given (run_chunks).
