@@ -9,6 +9,11 @@ namespace cdpowder {
 
 namespace {
 
+/// The first entry of `keys` (ascending) not below `key`.
+std::size_t cursor_at(const std::vector<std::uint64_t>& keys, std::uint64_t key) {
+  return static_cast<std::size_t>(std::lower_bound(keys.begin(), keys.end(), key) - keys.begin());
+}
+
 template <typename Record>
 std::vector<CachedAction> carried(const std::vector<Record>& records,
                                   const std::vector<ContactAction>& actions,
@@ -93,8 +98,11 @@ void ActionCache::store(const Contacts& contacts) {
 }
 
 std::size_t ActionCache::pair_cursor_at(std::uint64_t key) const {
-  const std::vector<std::uint64_t>& keys = last_.pair_keys;
-  return static_cast<std::size_t>(std::lower_bound(keys.begin(), keys.end(), key) - keys.begin());
+  return cursor_at(last_.pair_keys, key);
+}
+
+std::size_t ActionCache::wall_cursor_at(std::uint64_t key) const {
+  return cursor_at(last_.wall_keys, key);
 }
 
 void ActionCache::restore(const std::vector<CachedAction>& pairs,

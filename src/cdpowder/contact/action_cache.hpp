@@ -128,6 +128,7 @@ class ActionCache {
 
   /// The cursor of a piece whose first lookup is `key`: the first entry not below it.
   [[nodiscard]] std::size_t pair_cursor_at(std::uint64_t key) const;
+  [[nodiscard]] std::size_t wall_cursor_at(std::uint64_t key) const;
 
   /// The last step's contacts as the cache holds them: keys, actions and cohesion flags.
   [[nodiscard]] const KeyedContacts& last() const { return last_; }

@@ -182,17 +182,19 @@ void build_pairs(const World& world, const StepSettings& settings, const ActionC
   }
 }
 
-/// build_pairs for every wall contact.
+/// build_pairs for wall contacts [first, last).
 template <bool kApply>
 void build_walls(const World& world, const StepSettings& settings, const ActionCache& cache,
-                 Contacts& contacts, VelocityCache& velocities, std::int64_t& kept_bonds) {
+                 std::size_t first, std::size_t last, Contacts& contacts, VelocityCache& velocities,
+                 std::int64_t& kept_bonds) {
   const double dt = settings.solver.dt;
   const ContactLaws& laws = settings.laws;
   const bool lookup = reads_cache(settings);
-  std::size_t cursor = 0;
+  std::size_t cursor =
+      lookup && first < last ? cache.wall_cursor_at(contact_key(contacts.walls[first])) : 0;
   const double piston_response =
       world.walls.piston.enabled ? dt * world.walls.piston.inverse_mass() : 0.0;
-  for (std::size_t k = 0; k < contacts.walls.size(); ++k) {
+  for (std::size_t k = first; k < last; ++k) {
     WallProblem& w = contacts.walls[k];
     const StepResponse s = response_of<kApply>(world, velocities, w.sphere, dt);
     w.wall_response = w.wall == WallKind::Piston ? piston_response : 0.0;
@@ -225,44 +227,149 @@ void build_walls(const World& world, const StepSettings& settings, const ActionC
   }
 }
 
-/// The velocity changes of the warm-start actions (§5.3) on spheres [first_owned,
-/// last_owned) and, with `piston`, on the piston: every contact's change in contact order
-/// (pairs, then walls), so each body gets its changes in the order of a pass over all
-/// contacts, whichever of its contacts' other bodies another piece owns. A contact without a
-/// warm start has a zero action, whose change adds +0 (local_solve_test, ZeroAction).
-void apply_warm_start(const Contacts& contacts, BodyIndex first_owned, BodyIndex last_owned,
-                      bool piston, VelocityCache& velocities) {
-  const auto owned = [&](BodyIndex i) { return first_owned <= i && i < last_owned; };
-  for (std::size_t k = 0; k < contacts.pairs.size(); ++k) {
-    const PairProblem& p = contacts.pairs[k];
-    if (p.a >= last_owned) break;  // sorted by a, and b > a: no later pair is owned
-    const bool owns_a = owned(p.a);
-    const bool owns_b = owned(p.b);
-    if (!owns_a && !owns_b) continue;
-    const ContactAction& action = contacts.pair_actions[k];
-    const Vec3 dR = action.normal_force * p.normal + action.tangential_force;
-    const Vec3 dT = action.rolling_torque + action.twisting_torque * p.normal;
-    const Vec3 n_cross_dR = p.normal.cross(dR);
-    if (owns_a) apply_pair_delta_to_a(p, dR, dT, n_cross_dR, velocities.spheres[p.a]);
-    if (owns_b) apply_pair_delta_to_b(p, dR, dT, n_cross_dR, velocities.spheres[p.b]);
+/// The build's cut into pieces by sphere owner: piece p owns spheres [first_sphere[p],
+/// first_sphere[p + 1]) and the pairs whose sphere a it owns, [first_pair[p], first_pair[p + 1])
+/// (pairs are sorted by a, and b > a): about as many pairs each.
+struct OwnerCut {
+  std::uint32_t pieces = 0;
+  std::array<BodyIndex, kMaxPieces + 1> first_sphere{};
+  std::array<std::size_t, kMaxPieces + 1> first_pair{};
+
+  /// The piece that owns sphere i: how many of first_sphere[1 … pieces − 1] are ≤ i.
+  [[nodiscard]] std::uint32_t owner(BodyIndex i) const {
+    const auto* const begin = first_sphere.begin() + 1;
+    return static_cast<std::uint32_t>(std::upper_bound(begin, first_sphere.begin() + pieces, i) -
+                                      begin);
   }
-  for (std::size_t k = 0; k < contacts.walls.size(); ++k) {
-    const WallProblem& w = contacts.walls[k];
-    const bool owns_sphere = owned(w.sphere);
-    if (!owns_sphere && !(piston && w.wall_moves != 0.0)) continue;
-    const ContactAction& action = contacts.wall_actions[k];
-    const Vec3 dR = action.normal_force * w.normal + action.tangential_force;
-    const Vec3 dT = action.rolling_torque + action.twisting_torque * w.normal;
-    if (owns_sphere) apply_wall_delta_to_sphere(w, dR, dT, velocities.spheres[w.sphere]);
-    if (piston) apply_wall_delta_to_wall(w, dR, velocities.piston_velocity);
+};
+
+/// Cuts at the first sphere a of `pieces` near-equal ranges of the pairs (at the end where a
+/// range is empty), so that the pieces' pairs are near-equal too.
+OwnerCut owner_cut(const Contacts& contacts, std::size_t sphere_count, std::uint32_t pieces) {
+  OwnerCut cut;
+  cut.pieces = pieces;
+  const std::vector<PairProblem>& pairs = contacts.pairs;
+  const auto all = static_cast<BodyIndex>(sphere_count);
+  for (std::uint32_t k = 1; k < pieces; ++k) {
+    const std::size_t first = piece_of(pairs.size(), pieces, k).first;
+    cut.first_sphere[k] = first < pairs.size() ? pairs[first].a : all;
+  }
+  cut.first_sphere[pieces] = all;
+  for (std::uint32_t k = 1; k < pieces; ++k) {
+    const BodyIndex s = cut.first_sphere[k];
+    cut.first_pair[k] = static_cast<std::size_t>(
+        std::partition_point(pairs.begin(), pairs.end(),
+                             [s](const PairProblem& p) { return p.a < s; }) -
+        pairs.begin());
+  }
+  cut.first_pair[pieces] = pairs.size();
+  return cut;
+}
+
+/// Piece p's pairs whose sphere b a later piece owns, grouped by that piece and in pair order
+/// within a group: scratch.crossing[p], group d at [scratch.group_starts[p][d],
+/// scratch.group_starts[p][d + 1]). A counting sort on the piece's own thread.
+void group_crossing_pairs(const Contacts& contacts, const OwnerCut& cut, std::uint32_t p,
+                          BuildScratch& scratch) {
+  const std::vector<PairProblem>& pairs = contacts.pairs;
+  const BodyIndex end = cut.first_sphere[p + 1];
+  std::array<std::uint32_t, kMaxPieces + 1>& starts = scratch.group_starts[p];
+  std::array<std::uint32_t, kMaxPieces + 1> next{};
+  for (std::size_t k = cut.first_pair[p]; k < cut.first_pair[p + 1]; ++k) {
+    if (pairs[k].b >= end) ++next[cut.owner(pairs[k].b)];
+  }
+  starts[0] = 0;
+  for (std::uint32_t d = 0; d < cut.pieces; ++d) {
+    starts[d + 1] = starts[d] + next[d];
+    next[d] = starts[d];
+  }
+  std::vector<std::uint32_t>& crossing = scratch.crossing[p];
+  crossing.resize(starts[cut.pieces]);
+  for (std::size_t k = cut.first_pair[p]; k < cut.first_pair[p + 1]; ++k) {
+    if (pairs[k].b >= end) crossing[next[cut.owner(pairs[k].b)]++] = static_cast<std::uint32_t>(k);
   }
 }
 
-/// The sphere at which the warm start's changes are shared between two pieces: the first
-/// sphere of the middle pair, so that each piece applies about half of the pairs.
-BodyIndex owner_split(const Contacts& contacts, std::size_t sphere_count) {
-  if (contacts.pairs.empty()) return static_cast<BodyIndex>(sphere_count / 2);
-  return contacts.pairs[contacts.pairs.size() / 2].a;
+/// What a warm-start action changes (§5.3): the force ΔR, the torque ΔT and n × ΔR.
+struct PairDelta {
+  Vec3 force;
+  Vec3 torque;
+  Vec3 n_cross_force;
+};
+
+PairDelta pair_delta(const PairProblem& p, const ContactAction& action) {
+  PairDelta d{action.normal_force * p.normal + action.tangential_force,
+              action.rolling_torque + action.twisting_torque * p.normal, Vec3::Zero()};
+  d.n_cross_force = p.normal.cross(d.force);
+  return d;
+}
+
+/// The walls of one kind whose sphere is in [first, last): a range, since walls are sorted by
+/// (kind, sphere).
+IndexRange walls_of(const std::vector<WallProblem>& walls, WallKind kind, BodyIndex first,
+                    BodyIndex last) {
+  const auto position = [&](BodyIndex i) {
+    const std::uint64_t key = wall_key(kind, i);
+    return static_cast<std::size_t>(
+        std::partition_point(walls.begin(), walls.end(),
+                             [key](const WallProblem& w) { return contact_key(w) < key; }) -
+        walls.begin());
+  };
+  return {position(first), position(last)};
+}
+
+/// The velocity changes of the warm-start actions (§5.3) on the spheres that piece d owns:
+/// every contact's change in contact order (pairs, then walls), so each sphere gets its changes
+/// in the order of a pass over all contacts. Its pairs come from earlier pieces' crossing
+/// groups (all before its own pairs, in pair order) and from its own pairs. A contact without a
+/// warm start has a zero action, whose change adds +0 (local_solve_test, ZeroAction).
+void apply_warm_start(const Contacts& contacts, const OwnerCut& cut, const BuildScratch& scratch,
+                      std::uint32_t d, VelocityCache& velocities) {
+  SphereVelocity* const spheres = velocities.spheres.data();
+  for (std::uint32_t c = 0; c < d; ++c) {
+    const std::vector<std::uint32_t>& crossing = scratch.crossing[c];
+    for (std::uint32_t g = scratch.group_starts[c][d]; g < scratch.group_starts[c][d + 1]; ++g) {
+      const PairProblem& p = contacts.pairs[crossing[g]];
+      const PairDelta delta = pair_delta(p, contacts.pair_actions[crossing[g]]);
+      apply_pair_delta_to_b(p, delta.force, delta.torque, delta.n_cross_force, spheres[p.b]);
+    }
+  }
+  const BodyIndex end = cut.first_sphere[d + 1];
+  for (std::size_t k = cut.first_pair[d]; k < cut.first_pair[d + 1]; ++k) {
+    const PairProblem& p = contacts.pairs[k];
+    const PairDelta delta = pair_delta(p, contacts.pair_actions[k]);
+    apply_pair_delta_to_a(p, delta.force, delta.torque, delta.n_cross_force, spheres[p.a]);
+    if (p.b < end)
+      apply_pair_delta_to_b(p, delta.force, delta.torque, delta.n_cross_force, spheres[p.b]);
+  }
+  for (const WallKind kind : {WallKind::Bottom, WallKind::Piston}) {
+    const IndexRange walls = walls_of(contacts.walls, kind, cut.first_sphere[d], end);
+    for (std::size_t k = walls.first; k < walls.last; ++k) {
+      const WallProblem& w = contacts.walls[k];
+      const ContactAction& action = contacts.wall_actions[k];
+      const Vec3 dR = action.normal_force * w.normal + action.tangential_force;
+      const Vec3 dT = action.rolling_torque + action.twisting_torque * w.normal;
+      apply_wall_delta_to_sphere(w, dR, dT, spheres[w.sphere]);
+    }
+  }
+}
+
+/// The piston's velocity change of the warm-start actions, in wall order.
+void apply_warm_start_to_piston(const Contacts& contacts, VelocityCache& velocities) {
+  for (std::size_t k = 0; k < contacts.walls.size(); ++k) {
+    const WallProblem& w = contacts.walls[k];
+    if (w.wall_moves == 0.0) continue;
+    const ContactAction& action = contacts.wall_actions[k];
+    const Vec3 dR = action.normal_force * w.normal + action.tangential_force;
+    apply_wall_delta_to_wall(w, dR, velocities.piston_velocity);
+  }
+}
+
+/// How many pieces the build takes: scratch.pieces where set, or one per kChunkIndices pairs
+/// (at least two, at most kMaxPieces).
+std::uint32_t build_pieces(const BuildScratch& scratch, std::size_t pair_count) {
+  if (scratch.pieces != 0) return std::min(scratch.pieces, kMaxPieces);
+  return std::max<std::uint32_t>(2, pieces_of(pair_count));
 }
 
 /// A piece's count of bonds (run_summed_pieces): integers, so any cut gives the same sum.
@@ -306,7 +413,8 @@ BondChanges bonds_of_step(const StepSettings& settings, const ActionCache& cache
 
 BondChanges build_local_problems(const World& world, const StepSettings& settings,
                                  const ActionCache& cache, Contacts& contacts,
-                                 VelocityCache& velocities, PieceRunner* pieces) {
+                                 VelocityCache& velocities, PieceRunner* pieces,
+                                 BuildScratch* scratch) {
   const double dt = settings.solver.dt;
   const std::size_t sphere_count = world.bodies.size();
   velocities.spheres.resize(sphere_count);
@@ -318,37 +426,38 @@ BondChanges build_local_problems(const World& world, const StepSettings& setting
 
   const std::size_t pair_count = contacts.pairs.size();
   // bonds of the last step that are bonds still, each piece its own count
-  std::array<std::int64_t, 2> kept_pairs{};
-  std::int64_t kept_walls = 0;
+  std::array<std::int64_t, kMaxPieces> kept_pairs{};
+  std::array<std::int64_t, kMaxPieces> kept_walls{};
   if (pieces == nullptr) {
     // one pass: each contact's record, and its warm start applied at once
     predict_spheres(world, dt, 0, sphere_count, velocities);
     build_pairs<true>(world, settings, cache, 0, pair_count, contacts, velocities, kept_pairs[0]);
-    build_walls<true>(world, settings, cache, contacts, velocities, kept_walls);
+    build_walls<true>(world, settings, cache, 0, contacts.walls.size(), contacts, velocities,
+                      kept_walls[0]);
   } else {
-    // two passes of two pieces: (1) the predicted velocities, a half of the spheres each, and
-    // the contacts' records and warm-start actions, a half of the pairs each (the walls with
-    // the second); (2) the warm start's velocity changes, each piece those of its own spheres
-    const std::size_t middle_pair = std::min(pair_count, (pair_count + contacts.walls.size()) / 2);
-    run_pieces(pieces, 2, [&](std::uint32_t piece) {
-      const IndexRange spheres = half_of(sphere_count, piece);
+    // two passes of K pieces cut by sphere owner (owner_cut): (1) each piece's share of the
+    // predicted velocities and of the walls' records, the records and warm-start actions of
+    // its own pairs, and its pairs whose b a later piece owns, grouped by that piece; (2) the
+    // warm start's velocity changes, each piece those of its own spheres, and one more piece
+    // the piston's
+    BuildScratch local;
+    BuildScratch& cut_scratch = scratch != nullptr ? *scratch : local;
+    const OwnerCut cut = owner_cut(contacts, sphere_count, build_pieces(cut_scratch, pair_count));
+    run_pieces(pieces, cut.pieces, [&](std::uint32_t piece) {
+      const IndexRange spheres = piece_of(sphere_count, cut.pieces, piece);
       predict_spheres(world, dt, spheres.first, spheres.last, velocities);
-      if (piece == 0) {
-        build_pairs<false>(world, settings, cache, 0, middle_pair, contacts, velocities,
-                           kept_pairs[0]);
-      } else {
-        build_pairs<false>(world, settings, cache, middle_pair, pair_count, contacts, velocities,
-                           kept_pairs[1]);
-        build_walls<false>(world, settings, cache, contacts, velocities, kept_walls);
-      }
+      build_pairs<false>(world, settings, cache, cut.first_pair[piece], cut.first_pair[piece + 1],
+                         contacts, velocities, kept_pairs[piece]);
+      const IndexRange walls = piece_of(contacts.walls.size(), cut.pieces, piece);
+      build_walls<false>(world, settings, cache, walls.first, walls.last, contacts, velocities,
+                         kept_walls[piece]);
+      group_crossing_pairs(contacts, cut, piece, cut_scratch);
     });
-    const auto all = static_cast<BodyIndex>(sphere_count);
-    const BodyIndex split = owner_split(contacts, sphere_count);
-    run_pieces(pieces, 2, [&](std::uint32_t piece) {
-      if (piece == 0) {
-        apply_warm_start(contacts, 0, split, false, velocities);
+    run_pieces(pieces, cut.pieces + 1, [&](std::uint32_t piece) {
+      if (piece < cut.pieces) {
+        apply_warm_start(contacts, cut, cut_scratch, piece, velocities);
       } else {
-        apply_warm_start(contacts, split, all, true, velocities);
+        apply_warm_start_to_piston(contacts, velocities);
       }
     });
   }
@@ -359,7 +468,9 @@ BondChanges build_local_problems(const World& world, const StepSettings& setting
                                return s.linear.allFinite() && s.angular.allFinite();
                              }),
              "non-finite predicted velocity");
-  return bonds_of_step(settings, cache, contacts, kept_pairs[0] + kept_pairs[1], kept_walls,
+  return bonds_of_step(settings, cache, contacts,
+                       std::accumulate(kept_pairs.begin(), kept_pairs.end(), std::int64_t{0}),
+                       std::accumulate(kept_walls.begin(), kept_walls.end(), std::int64_t{0}),
                        pieces);
 }
 

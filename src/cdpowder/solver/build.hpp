@@ -11,18 +11,39 @@
 #include "cdpowder/model/world.hpp"
 #include "cdpowder/solver/settings.hpp"
 
+#include <array>
+#include <cstdint>
+#include <vector>
+
 namespace cdpowder {
+
+/// What the build in pieces keeps from step to step, so that a step allocates only when its
+/// contacts outgrow every earlier step's.
+struct BuildScratch {
+  /// Each piece's pairs whose sphere b a later piece owns, grouped by that piece, in pair
+  /// order within a group: group d of piece p is crossing[p][group_starts[p][d] …
+  /// group_starts[p][d + 1]).
+  std::array<std::vector<std::uint32_t>, kMaxPieces> crossing;
+  std::array<std::array<std::uint32_t, kMaxPieces + 1>, kMaxPieces> group_starts{};
+  /// The build's pieces: 0 fixes them by the pair count (one per kChunkIndices pairs, at
+  /// least two); a test sets a count to cut a small packing into many.
+  std::uint32_t pieces = 0;
+};
 
 /// Completes the records that detect_contacts started and fills the velocity cache.
 /// Reads last step's actions from `cache` (merge join; contacts must be sorted by key): on a
 /// workspace that has run steps, after take_last_step (solver/step.hpp), as begin_step does.
-/// With `pieces`, in two halves side by side on the runner's threads: the predicted
-/// velocities and the contacts' records a half each, then the warm start's velocity changes,
-/// each half those of its own spheres in contact order. The same bits as on one thread.
+/// With `pieces`, in K pieces side by side on the runner's threads (K fixed by the pair count,
+/// never by the threads), cut by sphere owner: each piece's share of the predicted velocities
+/// and the walls' records, the records of the pairs whose sphere a it owns; then the warm
+/// start's velocity changes, each piece those of its own spheres in contact order, one more
+/// piece the piston's. The same bits as on one thread. `scratch` keeps the cut's lists from
+/// step to step (a local one without it).
 /// Returns the cohesive bonds the step formed and broke against the cache (the energy budget,
 /// analysis/energy_budget.hpp), counted where the lookup finds each contact's last step.
 BondChanges build_local_problems(const World& world, const StepSettings& settings,
                                  const ActionCache& cache, Contacts& contacts,
-                                 VelocityCache& velocities, PieceRunner* pieces = nullptr);
+                                 VelocityCache& velocities, PieceRunner* pieces = nullptr,
+                                 BuildScratch* scratch = nullptr);
 
 }  // namespace cdpowder

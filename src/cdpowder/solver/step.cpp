@@ -92,7 +92,7 @@ StepReport begin_step(World& world, StepWorkspace& work, const StepSettings& set
   clock.lap(Stage::DetectContacts, report.times);
 
   report.diagnostics.bonds = build_local_problems(world, settings, work.action_cache, work.contacts,
-                                                  work.velocities, threads);
+                                                  work.velocities, threads, &work.build);
   clock.lap(Stage::BuildLocalProblems, report.times);
   return report;
 }

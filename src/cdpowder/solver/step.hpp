@@ -10,6 +10,7 @@
 #include "cdpowder/detect/cell_grid.hpp"
 #include "cdpowder/detect/detect_contacts.hpp"
 #include "cdpowder/model/world.hpp"
+#include "cdpowder/solver/build.hpp"
 #include "cdpowder/solver/nlgs/nlgs.hpp"
 #include "cdpowder/solver/settings.hpp"
 
@@ -42,6 +43,7 @@ struct StepWorkspace {
   DetectionScratch detection;
   Contacts contacts;
   VelocityCache velocities;
+  BuildScratch build;  ///< the build's lists in pieces (solver/build.hpp)
   ActionCache action_cache;
   /// `contacts` holds the last committed step, whose actions the next begin_step takes into
   /// action_cache (by swap, ActionCache::take); until then they are the state's actions

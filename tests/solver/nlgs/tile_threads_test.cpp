@@ -565,10 +565,22 @@ TEST(StagesInPieces, DetectionGivesTheContactsOfOnePiece) {
   EXPECT_TRUE(shrank);
 }
 
-// Building the local problems in two pieces (predicted velocities and records a half each,
-// then the warm start's velocity changes by sphere owner) gives the bits of one piece.
+// Building the local problems in K pieces cut by sphere owner (predicted velocities and records
+// a share each, then the warm start's velocity changes, each piece those of its own spheres,
+// some from earlier pieces' pairs) gives the bits of one piece, on two threads or three, for K
+// from two to kMaxPieces.
 TEST(StagesInPieces, BuildGivesTheProblemsOfOnePiece) {
-  for (const bool warm_start : {true, false}) {
+  struct Cut {
+    bool warm_start;
+    std::uint32_t pieces;
+    int threads;
+  };
+
+  for (const Cut cut : {Cut{true, 0, 2}, Cut{false, 0, 2}, Cut{true, 3, 3}, Cut{true, 7, 2},
+                        Cut{false, 7, 3}, Cut{true, kMaxPieces, 3}}) {
+    const bool warm_start = cut.warm_start;
+    SCOPED_TRACE(::testing::Message() << "warm start " << warm_start << ", pieces " << cut.pieces
+                                      << ", threads " << cut.threads);
     SmallPacking packing = stepped_packing();
     TinyScene& scene = packing.scene;
     scene.settings.solver.warm_start = warm_start;
@@ -582,11 +594,19 @@ TEST(StagesInPieces, BuildGivesTheProblemsOfOnePiece) {
     ActionCache cache_two = scene.work.action_cache;
     VelocityCache velocities_one;
     VelocityCache velocities_two;
-    TileThreads threads(2);
+    TileThreads threads(cut.threads);
+    BuildScratch scratch;
+    scratch.pieces = cut.pieces;
     const BondChanges bonds_one =
         build_local_problems(scene.world, scene.settings, cache_one, contacts_one, velocities_one);
-    const BondChanges bonds_two = build_local_problems(scene.world, scene.settings, cache_two,
-                                                       contacts_two, velocities_two, &threads);
+    const BondChanges bonds_two = build_local_problems(
+        scene.world, scene.settings, cache_two, contacts_two, velocities_two, &threads, &scratch);
+    // most pieces but the last (whose pairs' spheres b no later piece owns) have pairs whose
+    // b a later piece owns: changes that cross between pieces
+    const std::uint32_t crossing_pieces = (cut.pieces == 0 ? 2 : cut.pieces) - 1;
+    EXPECT_GT(std::count_if(scratch.crossing.begin(), scratch.crossing.begin() + crossing_pieces,
+                            [](const std::vector<std::uint32_t>& c) { return !c.empty(); }),
+              crossing_pieces / 2);
     EXPECT_TRUE(same_bits(contacts_two.pairs, contacts_one.pairs));
     EXPECT_TRUE(same_bits(contacts_two.pair_actions, contacts_one.pair_actions));
     EXPECT_TRUE(same_bits(contacts_two.pair_cohesive, contacts_one.pair_cohesive));
