@@ -44,7 +44,14 @@ MAX_ITERATIONS = 1000
 # one program in five at paper scale, and each setting on other ones; a second setting costs
 # about one more barrier, HiGHS (the last resort) ten (docs/lab/2026-12-01-polygons-by-their-vertices.md).
 # 96: the regularisation δ = 1e-5 ("aggressive gamma" 3); 128: γ = δ = 1e-3 (4).
-BARRIERS = (96, -1, 128)
+# The order: on the paper's (0, 0) packings 128 answers the bound programs where 96 does not, in
+# 1–2 s, while Clp's own settings then end in the clean-up (docs/lab/2026-12-02-clp-answers-repaired.md).
+BARRIERS = (96, 128, -1)
+# A setting whose clean-up runs long is stopped for the next one: after the first admissible
+# answers, each try is capped at TRY_FACTOR times the median time of the tries that gave one,
+# and at TRY_FLOOR seconds at least (stress_bounds.Program keeps the times; `tries`).
+TRY_FACTOR = 4.0
+TRY_FLOOR = 5.0
 
 _library = None
 
@@ -114,10 +121,18 @@ def _violation(values, low, high):
     return float(max(0.0, below.max(initial=0.0), above.max(initial=0.0)))
 
 
-def minimise(cost, matrix, row_lower, row_upper, lower, upper, seconds, admissible=None):
+def minimise(cost, matrix, row_lower, row_upper, lower, upper, seconds, admissible=None,
+             repair=None, tries=None):
     """Returns (status, cost·x, x) of min cost·x (module docstring); x is None unless optimal.
     `admissible`: (row_lower, row_upper, lower, upper) the answer is checked against, if not
     the program's own (a program solved with narrower rows or bounds than an answer must keep).
+    `repair`: a function of an answer x that returns it moved onto rows the caller knows how to
+    meet exactly (rows that tie one column to others, say); the check then judges the repaired
+    answer, and cost·x is its value.
+    `tries`: a list of the CPU seconds of earlier tries that gave an admissible answer (the
+    caller's, over its programs); each try of this call that gives one is appended, and once it
+    holds any, each try is capped at try_cap(tries) seconds: a try stopped there goes on to the
+    next setting, as one that ends short does.
 
     The barrier runs with each of BARRIERS' settings in turn until one's answer passes the check;
     the last one's status is returned when none does. Clp's time limit, `seconds`, covers them all.
@@ -140,29 +155,48 @@ def minimise(cost, matrix, row_lower, row_upper, lower, upper, seconds, admissib
     check = admissible or (row_lower, row_upper, lower, upper)
     if not (used.any() and len(free)):  # no row left on a free column: each at its cheaper bound
         status, x_free = _bounds_only(cost[free], lower[free], upper[free])
-        return _checked(status, x_free, cost, matrix, lower, free, check)
+        return _checked(status, x_free, cost, matrix, lower, free, check, repair)
     started = time.process_time()  # Clp's time limit is in CPU seconds
+    answer = (DIFFICULT, None, None)
     for barrier in BARRIERS:
         left = seconds - (time.process_time() - started)
         if left <= 0:
             return STOPPED, None, None
+        cap = try_cap(tries)
+        capped = cap is not None and cap < left
+        try_started = time.process_time()
         status, _, x_free = _minimise_free(
             cost[free], reduced[used], row_lower[used] - constant[used],
-            row_upper[used] - constant[used], lower[free], upper[free], left, barrier)
+            row_upper[used] - constant[used], lower[free], upper[free],
+            cap if capped else left, barrier)
+        if status == STOPPED and capped:
+            continue  # the try's cap, not the program's limit: the next setting
         if status in (STOPPED, INFEASIBLE, UNBOUNDED):
             return status, None, None
-        answer = _checked(status, x_free, cost, matrix, lower, free, check)
+        answer = _checked(status, x_free, cost, matrix, lower, free, check, repair)
         if answer[0] == OPTIMAL:
+            if tries is not None:
+                tries.append(time.process_time() - try_started)
             return answer
     return answer
 
 
-def _checked(status, x_free, cost, matrix, lower, free, check):
-    """(status, cost·x, x) of an answer on the free columns, INFEASIBLE where it leaves `check`."""
+def try_cap(tries):
+    """The CPU seconds a try may take after `tries` (minimise), or None without any."""
+    if not tries:
+        return None
+    return max(TRY_FLOOR, TRY_FACTOR * float(np.median(tries)))
+
+
+def _checked(status, x_free, cost, matrix, lower, free, check, repair=None):
+    """(status, cost·x, x) of an answer on the free columns, repaired where a `repair` is given,
+    INFEASIBLE where it leaves `check`."""
     if x_free is None:
         return status, None, None
     x = lower.copy()
     x[free] = x_free
+    if repair is not None:
+        x = repair(x)
     if _violation(matrix @ x, check[0], check[1]) > FEASIBILITY or \
             _violation(x, check[2], check[3]) > FEASIBILITY:
         return INFEASIBLE, None, None

@@ -163,6 +163,7 @@ class Program:
         self.solver = solver_named(solver)  # "clp" or "highs" (_minimise)
         self.stopped = 0  # programs stopped at the time limit
         self.fallbacks = 0  # programs Clp found no answer for, solved again by HiGHS
+        self.clp_tries = []  # CPU seconds of Clp's tries that gave an answer (clp.minimise)
         self.solved = 0  # programs solved (an answer or none)
         self.progress = None  # called with what a program was for, after each
         # the disc modes that have a threshold, (first unknown, caps, the contacts' indices):
@@ -331,6 +332,41 @@ class Program:
             column += weights
         return lower, upper
 
+    def onto_polygons(self, x, scale):
+        """x moved into the thresholds with polygons of radius × scale, as thresholds() writes
+        them: each polygon's weights clipped at 0 and scaled down where their sum passes
+        cap (R_n + F_c), each disc mode then set to its weights' point, Σ_k λ_k ρ u_k, and
+        torsion clipped into its interval; R_n stays. Clp's barrier meets the rows that tie a
+        mode to its weights only to its tolerance: a few 1e-7 on the paper's (0, 0) packings,
+        more than the check allows (docs/lab/2026-12-02-clp-answers-repaired.md). Moved onto
+        them, the answer is a force set of the polygons to rounding, whose balance the check
+        then judges as before."""
+        x = np.array(x, float)
+        p, m, k = self.packing, self.m, self.facets
+        fc = p.cohesion[self.free]
+        normal = x[:m]
+        rho = scale / math.cos(math.pi / k)
+        angles = (2 * np.arange(k) + 1) * math.pi / k
+        column = 6 * m
+        for first, cap, idx in self.disc_modes:
+            q = len(idx)
+            if q == 0:
+                continue
+            weights = np.maximum(x[column:column + k * q].reshape(k, q), 0.0)
+            limit = np.maximum(cap[idx] * (normal[idx] + fc[idx]), 0.0)
+            total = weights.sum(axis=0)
+            over = total > limit
+            weights[:, over] *= limit[over] / total[over]
+            x[column:column + k * q] = weights.reshape(-1)
+            x[first * m + idx] = rho * (np.cos(angles) @ weights)
+            x[(first + 1) * m + idx] = rho * (np.sin(angles) @ weights)
+            column += k * q
+        twist = p.twist_cap[self.free]
+        idx = np.flatnonzero(twist > 0)
+        limit = scale * twist[idx] * np.maximum(normal[idx] + fc[idx], 0.0)
+        x[5 * m + idx] = np.clip(x[5 * m + idx], -limit, limit)
+        return x
+
     def stress_row(self, i, j):
         """σ_ij as a row over the unknowns and the constant of the held contacts (§11.2)."""
         p, free, m = self.packing, self.free, self.m
@@ -388,7 +424,7 @@ class _Optimum:
         self.status, self.fun, self.x = status, fun, x
 
 
-def _minimise(program, cost, ranges, lower, upper, force_set=None, what="a program"):
+def _minimise(program, cost, ranges, lower, upper, scale, force_set=None, what="a program"):
     """min cost·x over lower ≤ x ≤ upper and low ≤ A x ≤ high for each (A, low, high), stopped
     after the program's time limit, by its solver. "clp": COIN-OR Clp's barrier (cdpowder.clp),
     about six times faster at paper scale; "highs": HiGHS's interior-point method with
@@ -405,9 +441,11 @@ def _minimise(program, cost, ranges, lower, upper, force_set=None, what="a progr
     ranges and these
     bounds, not the program's: a sign-fixed program's R_n ≥ 0 or ≤ 0 is a choice of the search,
     and a contact that crosses it by the solver's tolerance (up to 1e-6 at paper scale) is still
-    admissible, in the part its sign gives it (Program.parts)."""
+    admissible, in the part its sign gives it (Program.parts). `scale`: the polygons' radius
+    (Program.constraints); Clp's answers are moved onto them (Program.onto_polygons) before
+    they are checked."""
     cost = np.concatenate([cost, np.zeros(program.width - len(cost))])
-    optimum = _solve(program, cost, ranges, lower, upper, force_set)
+    optimum = _solve(program, cost, ranges, lower, upper, scale, force_set)
     if optimum.x is not None:
         optimum.x = optimum.x[:6 * program.m]  # the unknowns; the polygons' weights stay here
     program.stopped += optimum.status == 1
@@ -417,7 +455,7 @@ def _minimise(program, cost, ranges, lower, upper, force_set=None, what="a progr
     return optimum
 
 
-def _solve(program, cost, ranges, lower, upper, force_set):
+def _solve(program, cost, ranges, lower, upper, scale, force_set):
     """_minimise's program by the program's solver, from Clp to HiGHS when Clp has no answer."""
     time_limit = program.time_limit
     if program.solver == "clp":
@@ -429,7 +467,9 @@ def _solve(program, cost, ranges, lower, upper, force_set):
             given = tuple(np.concatenate([program.rhs, side[len(program.rhs):]]) for side in given)
             admissible = (row_lower, row_upper, *force_set)
         status, fun, x = clp.minimise(cost, matrix, *given, lower, upper, time_limit,
-                                      admissible=admissible)
+                                      admissible=admissible,
+                                      repair=lambda x: program.onto_polygons(x, scale),
+                                      tries=program.clp_tries)
         if status in (clp.OPTIMAL, clp.STOPPED):
             return _Optimum(0 if status == clp.OPTIMAL else 1, fun, x)
         program.fallbacks += 1  # Clp found no answer it could stand by: HiGHS decides
@@ -483,7 +523,7 @@ def _total_extreme(program, i, j, sense, scale):
     ranges, lower, upper = program.constraints(scale)
     # an inner polygon's answer is a force set; an outer one's only bounds
     force_set = (lower, upper) if scale < 1.0 else None
-    res = _minimise(program, sense * row, ranges, lower, upper, force_set,
+    res = _minimise(program, sense * row, ranges, lower, upper, scale, force_set,
                     "σ reached" if force_set else "bound of σ")
     if res.status != 0:
         return None, None
@@ -503,8 +543,8 @@ def _signed_extreme(program, i, j, sense, scale, signs):
     tensile[program.split[signs > 0.5]] = True
     upper[:m] = np.where(tensile, 0.0, upper[:m])
     lower[:m] = np.where(tensile, lower[:m], 0.0)
-    res = _minimise(program, sense * row * np.tile(~tensile, 6), ranges, lower, upper, force_set,
-                    "σ⁺ reached")
+    res = _minimise(program, sense * row * np.tile(~tensile, 6), ranges, lower, upper, scale,
+                    force_set, "σ⁺ reached")
     if res.status != 0:
         return None, None
     return sense * float(res.fun), res.x

@@ -248,6 +248,78 @@ def test_clp_tries_the_next_barrier_setting_when_an_answer_is_refused(monkeypatc
 
 
 @pytest.mark.skipif(not clp.available(), reason="COIN-OR Clp (coinor-libclp1) is not installed")
+def test_clp_checks_the_repaired_answer(monkeypatch):
+    # min x0 over x0 + x1 = 1, 0 ≤ x ≤ 1: an answer that leaves the row is refused, unless a
+    # repair moves it back onto the row; the value returned is the repaired answer's
+    program = ([1.0, 0.0], np.array([[1.0, 1.0]]), [1.0], [1.0], [0.0, 0.0], [1.0, 1.0], 10.0)
+    off = np.array([0.25, 0.75 + 1e-5])
+    monkeypatch.setattr(clp, "_minimise_free", lambda *args: (clp.OPTIMAL, 0.25, off))
+    assert clp.minimise(*program)[0] == clp.INFEASIBLE
+    status, value, x = clp.minimise(*program, repair=lambda x: np.array([x[0], 1.0 - x[0]]))
+    assert status == clp.OPTIMAL and x == pytest.approx([0.25, 0.75], abs=1e-15)
+    assert value == 0.25
+
+
+@pytest.mark.skipif(not clp.available(), reason="COIN-OR Clp (coinor-libclp1) is not installed")
+def test_a_try_past_its_cap_goes_on_to_the_next_setting(monkeypatch):
+    # after tries that gave answers, a try is capped at TRY_FACTOR times their median (TRY_FLOOR
+    # at least); a try stopped at its cap (a clean-up that runs long) goes on to the next
+    # setting, not to the end of the program, and the try that answers is added to the times
+    assert clp.try_cap([]) is None and clp.try_cap(None) is None
+    assert clp.try_cap([0.1, 0.2, 9.0]) == clp.TRY_FLOOR
+    assert clp.try_cap([2.0, 3.0, 100.0]) == pytest.approx(clp.TRY_FACTOR * 3.0)
+    asked = []
+    solve = clp._minimise_free
+
+    def first_one_capped(*args):
+        asked.append(args[-2:])
+        return (clp.STOPPED, None, None) if len(asked) == 1 else solve(*args)
+
+    monkeypatch.setattr(clp, "_minimise_free", first_one_capped)
+    program = ([1.0, 0.0], np.array([[1.0, 1.0]]), [1.0], [1.0], [0.0, 0.0], [1.0, 2.0], 100.0)
+    tries = [0.01]
+    status, _, x = clp.minimise(*program, tries=tries)
+    assert [barrier for _, barrier in asked] == list(clp.BARRIERS[:2])
+    assert [seconds for seconds, _ in asked] == [clp.TRY_FLOOR, clp.TRY_FLOOR]
+    assert status == clp.OPTIMAL and x == pytest.approx([0.0, 1.0], abs=1e-7)
+    assert len(tries) == 2
+    # without earlier tries there is no cap: a stop is the program's time limit
+    asked.clear()
+    assert clp.minimise(*program, tries=[])[0] == clp.STOPPED
+    assert asked[0][0] == pytest.approx(100.0, abs=1.0)
+
+
+@pytest.mark.parametrize("scale", [math.cos(math.pi / 16), 1.0])
+def test_an_answer_off_its_polygons_is_moved_onto_them(quick_run, scale):
+    # An interior-point answer meets the rows that tie a mode to its polygon's weights only to
+    # the solver's tolerance. Program.onto_polygons writes each mode as its weights' point,
+    # scales weights whose sum passes cap (R_n + F_c) down to it, and clips torsion: every
+    # threshold row then holds to rounding, R_n stays, and a mode within its polygon keeps
+    # its weights
+    program = stress_bounds.Program(stress_bounds.Packing(quick_run), 16)
+    m, k = program.m, program.facets
+    g, low, high = program.thresholds(scale)
+    res = stress_bounds._solve(program, np.zeros(program.width), *program.constraints(scale),
+                               scale, None)
+    assert res.status == 0
+    rng = np.random.default_rng(3)
+    x = res.x  # the unknowns and the polygons' weights, moved onto the polygons
+    inside = program.onto_polygons(x, scale)
+    assert inside == pytest.approx(x, abs=1e-12)
+    off = x.copy()
+    off[m:3 * m] += rng.uniform(-3e-7, 3e-7, 2 * m)  # the ties left, by the barrier's size
+    column = 6 * m + k * len(program.disc_modes[0][2])
+    off[6 * m:column] *= 1 + 1e-6  # some polygons' weights past their threshold
+    off[5 * m:6 * m] += 1e-6  # torsion past its interval where it has one
+    ties = low == high
+    assert clp._violation(g @ off, low, high) > clp.FEASIBILITY
+    fixed = program.onto_polygons(off, scale)
+    assert np.abs((g @ fixed)[ties]).max() <= 1e-12
+    assert clp._violation(g @ fixed, low, high) <= 1e-12
+    assert np.array_equal(fixed[:m], off[:m])
+
+
+@pytest.mark.skipif(not clp.available(), reason="COIN-OR Clp (coinor-libclp1) is not installed")
 def test_both_solvers_agree(quick_run):
     # Clp's barrier and HiGHS solve the same programs: σ's bounds agree to the solvers'
     # tolerance (1e-7 of the load in each equation, about 2e-6 of σ_zz on this packing), and each
