@@ -254,6 +254,12 @@ class Program:
         """The program's columns: the 6 m unknowns, then K weights a disc mode with a threshold."""
         return 6 * self.m + self.facets * sum(len(idx) for _, _, idx in self.disc_modes)
 
+    def vertices(self, scale):
+        """A polygon's vertices ρ u_k per unit of its threshold: ρ = scale / cos(π/K) and the
+        angles (2k + 1)π/K of u_k in the tangent basis (thresholds(), onto_polygons())."""
+        k = self.facets
+        return scale / math.cos(math.pi / k), (2 * np.arange(k) + 1) * math.pi / k
+
     def thresholds(self, scale):
         """Rows G x ≤ h (with equalities) over the program's columns: each disc a regular polygon
         of K sides (its inradius the threshold × scale), and torsion's interval.
@@ -270,8 +276,7 @@ class Program:
         rows, cols, vals, low, high = [], [], [], [], []
         count = 0
         column = 6 * m  # the next weight's column
-        rho = scale / math.cos(math.pi / k)
-        angles = (2 * np.arange(k) + 1) * math.pi / k
+        rho, angles = self.vertices(scale)
         for first, cap, idx in self.disc_modes:
             q = len(idx)
             if q == 0:
@@ -345,8 +350,7 @@ class Program:
         p, m, k = self.packing, self.m, self.facets
         fc = p.cohesion[self.free]
         normal = x[:m]
-        rho = scale / math.cos(math.pi / k)
-        angles = (2 * np.arange(k) + 1) * math.pi / k
+        rho, angles = self.vertices(scale)
         column = 6 * m
         for first, cap, idx in self.disc_modes:
             q = len(idx)

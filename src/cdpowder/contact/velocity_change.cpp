@@ -5,8 +5,7 @@
 namespace cdpowder {
 
 void apply_pair_action(const PairProblem& p, const ContactAction& delta, VelocityCache& v) {
-  apply_pair_delta(p, delta.normal_force * p.normal + delta.tangential_force,
-                   delta.rolling_torque + delta.twisting_torque * p.normal, v.spheres[p.a],
+  apply_pair_delta(p, action_force(delta, p.normal), action_torque(delta, p.normal), v.spheres[p.a],
                    v.spheres[p.b]);
 }
 
@@ -16,8 +15,8 @@ void apply_wall_action(const WallProblem& w, const ContactAction& delta, Velocit
 
 void apply_wall_action(const WallProblem& w, const ContactAction& delta, SphereVelocity& s,
                        double& wall_velocity) {
-  apply_wall_delta(w, delta.normal_force * w.normal + delta.tangential_force,
-                   delta.rolling_torque + delta.twisting_torque * w.normal, s, wall_velocity);
+  apply_wall_delta(w, action_force(delta, w.normal), action_torque(delta, w.normal), s,
+                   wall_velocity);
 }
 
 }  // namespace cdpowder

@@ -10,6 +10,16 @@
 
 namespace cdpowder {
 
+/// The force ΔR = R_n n + R_t and the couple ΔT = T_t + T_n n of an action (or of a change
+/// of one) on a contact of normal n: what the functions below move the bodies by.
+inline Vec3 action_force(const ContactAction& action, const Vec3& normal) {
+  return action.normal_force * normal + action.tangential_force;
+}
+
+inline Vec3 action_torque(const ContactAction& action, const Vec3& normal) {
+  return action.rolling_torque + action.twisting_torque * normal;
+}
+
 /// Velocity change of sphere a alone, and of sphere b alone, from a change (ΔR, ΔT) of the
 /// action on b (§5.5): Δv_b = Δt ΔR/m_b, Δω_b = Δt (l_b × ΔR + ΔT)/I_b, and the opposite on a
 /// (levers of PairProblem: to the common contact point), given n × ΔR

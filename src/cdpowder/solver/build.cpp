@@ -171,8 +171,7 @@ void build_pairs(const World& world, const StepSettings& settings, const ActionC
     if (settings.solver.warm_start && last_step) {
       warm_start(*last_step.action, p.normal, p.cohesion, action);
       if constexpr (kApply) {
-        apply_pair_delta(p, action.normal_force * p.normal + action.tangential_force,
-                         action.rolling_torque + action.twisting_torque * p.normal,
+        apply_pair_delta(p, action_force(action, p.normal), action_torque(action, p.normal),
                          velocities.spheres[p.a], velocities.spheres[p.b]);
       }
     } else {
@@ -298,8 +297,7 @@ struct PairDelta {
 };
 
 PairDelta pair_delta(const PairProblem& p, const ContactAction& action) {
-  PairDelta d{action.normal_force * p.normal + action.tangential_force,
-              action.rolling_torque + action.twisting_torque * p.normal, Vec3::Zero()};
+  PairDelta d{action_force(action, p.normal), action_torque(action, p.normal), Vec3::Zero()};
   d.n_cross_force = p.normal.cross(d.force);
   return d;
 }
@@ -347,9 +345,8 @@ void apply_warm_start(const Contacts& contacts, const OwnerCut& cut, const Build
     for (std::size_t k = walls.first; k < walls.last; ++k) {
       const WallProblem& w = contacts.walls[k];
       const ContactAction& action = contacts.wall_actions[k];
-      const Vec3 dR = action.normal_force * w.normal + action.tangential_force;
-      const Vec3 dT = action.rolling_torque + action.twisting_torque * w.normal;
-      apply_wall_delta_to_sphere(w, dR, dT, spheres[w.sphere]);
+      apply_wall_delta_to_sphere(w, action_force(action, w.normal), action_torque(action, w.normal),
+                                 spheres[w.sphere]);
     }
   }
 }
@@ -360,8 +357,7 @@ void apply_warm_start_to_piston(const Contacts& contacts, VelocityCache& velocit
     const WallProblem& w = contacts.walls[k];
     if (w.wall_moves == 0.0) continue;
     const ContactAction& action = contacts.wall_actions[k];
-    const Vec3 dR = action.normal_force * w.normal + action.tangential_force;
-    apply_wall_delta_to_wall(w, dR, velocities.piston_velocity);
+    apply_wall_delta_to_wall(w, action_force(action, w.normal), velocities.piston_velocity);
   }
 }
 
