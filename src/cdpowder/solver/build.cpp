@@ -267,26 +267,35 @@ OwnerCut owner_cut(const Contacts& contacts, std::size_t sphere_count, std::uint
 
 /// Piece p's pairs whose sphere b a later piece owns, grouped by that piece and in pair order
 /// within a group: scratch.crossing[p], group d at [scratch.group_starts[p][d],
-/// scratch.group_starts[p][d + 1]). A counting sort on the piece's own thread.
+/// scratch.group_starts[p][d + 1]). A counting sort on the piece's own thread: one scan of the
+/// piece's pairs finds the crossing ones and their owners (one binary search each), the
+/// placing reads only those.
 void group_crossing_pairs(const Contacts& contacts, const OwnerCut& cut, std::uint32_t p,
                           BuildScratch& scratch) {
+  static_assert(kMaxPieces <= 256, "a piece's number is kept in one byte");
   const std::vector<PairProblem>& pairs = contacts.pairs;
   const BodyIndex end = cut.first_sphere[p + 1];
-  std::array<std::uint32_t, kMaxPieces + 1>& starts = scratch.group_starts[p];
+  std::vector<std::uint32_t>& found = scratch.found[p];
+  std::vector<std::uint8_t>& found_owner = scratch.found_owner[p];
+  found.clear();
+  found_owner.clear();
   std::array<std::uint32_t, kMaxPieces + 1> next{};
   for (std::size_t k = cut.first_pair[p]; k < cut.first_pair[p + 1]; ++k) {
-    if (pairs[k].b >= end) ++next[cut.owner(pairs[k].b)];
+    if (pairs[k].b < end) continue;
+    const std::uint32_t owner = cut.owner(pairs[k].b);
+    ++next[owner];
+    found.push_back(static_cast<std::uint32_t>(k));
+    found_owner.push_back(static_cast<std::uint8_t>(owner));
   }
+  std::array<std::uint32_t, kMaxPieces + 1>& starts = scratch.group_starts[p];
   starts[0] = 0;
   for (std::uint32_t d = 0; d < cut.pieces; ++d) {
     starts[d + 1] = starts[d] + next[d];
     next[d] = starts[d];
   }
   std::vector<std::uint32_t>& crossing = scratch.crossing[p];
-  crossing.resize(starts[cut.pieces]);
-  for (std::size_t k = cut.first_pair[p]; k < cut.first_pair[p + 1]; ++k) {
-    if (pairs[k].b >= end) crossing[next[cut.owner(pairs[k].b)]++] = static_cast<std::uint32_t>(k);
-  }
+  crossing.resize(found.size());
+  for (std::size_t f = 0; f < found.size(); ++f) crossing[next[found_owner[f]]++] = found[f];
 }
 
 /// What a warm-start action changes (§5.3): the force ΔR, the torque ΔT and n × ΔR.

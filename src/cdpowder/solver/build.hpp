@@ -25,6 +25,10 @@ struct BuildScratch {
   /// group_starts[p][d + 1]).
   std::array<std::vector<std::uint32_t>, kMaxPieces> crossing;
   std::array<std::array<std::uint32_t, kMaxPieces + 1>, kMaxPieces> group_starts{};
+  /// The same pairs in pair order, as the grouping finds them, and the piece that owns each
+  /// one's b: the owner is looked up once a pair, and the placing reads only these.
+  std::array<std::vector<std::uint32_t>, kMaxPieces> found;
+  std::array<std::vector<std::uint8_t>, kMaxPieces> found_owner;
   /// The build's pieces: 0 fixes them by the pair count (one per kChunkIndices pairs, at
   /// least two); a test sets a count to cut a small packing into many.
   std::uint32_t pieces = 0;
