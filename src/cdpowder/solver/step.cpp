@@ -50,7 +50,6 @@ void release_step_scratch(StepWorkspace& work) {
   NlgsWorkspace& solver = work.solver;
   solver.accelerator = AndersonAccelerator(solver.accelerator.depth());
   solver.start = {};
-  solver.swept = {};
   solver.kinematic = KinematicChange{};
   solver.coloured = ColouredPass{};
   solver.order = TileOrder{};

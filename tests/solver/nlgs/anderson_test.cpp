@@ -142,17 +142,18 @@ bool mix_in_ranges(AndersonAccelerator& accelerator, const AlignedVector<double>
                    const AlignedVector<double>& g, const std::vector<std::size_t>& pass_cuts,
                    const std::vector<std::size_t>& mix_cuts, AlignedVector<double>& next) {
   accelerator.begin(g.size());
+  std::copy(g.begin(), g.end(), accelerator.output());
   std::vector<AndersonAccelerator::PassSums> sums;
   std::size_t first = 0;
   for (const std::size_t last : pass_cuts) {
-    sums.push_back(accelerator.pass(x.data(), g.data(), first, last));
+    sums.push_back(accelerator.pass(x.data(), first, last));
     first = last;
   }
   next.assign(g.begin(), g.end());
   if (!accelerator.fit(sums)) return false;
   first = 0;
   for (const std::size_t last : mix_cuts) {
-    accelerator.mix(g.data(), next.data(), first, last);
+    accelerator.mix(next.data(), first, last);
     first = last;
   }
   return true;

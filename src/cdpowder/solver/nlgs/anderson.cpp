@@ -37,11 +37,12 @@ using FSlotPointers = std::array<const float*, AndersonAccelerator::kMaxDepth>;
 using GSlotPointers = std::array<const double*, AndersonAccelerator::kMaxDepth>;
 using SlotWeights = std::array<double, AndersonAccelerator::kMaxDepth>;
 
-/// The vectors pass 1 streams through: the iterates x and g, the last f and g (updated), the
-/// new slot's differences (written, ΔF rounded to single precision); n values each.
+/// The vectors pass 1 streams through: the iterate x, the last f and g (updated), the new
+/// slot's differences (written, ΔF rounded to single precision; ΔG over the pass's output g,
+/// which it holds until then); n values each. x may be last_g: every entry is read before
+/// any is written.
 struct PassOneVectors {
   const double* x;
-  const double* g;
   double* last_f;
   double* last_g;
   float* new_f;
@@ -74,14 +75,18 @@ void AndersonAccelerator::reset() {
 bool AndersonAccelerator::extrapolate(const AlignedVector<double>& x,
                                       const AlignedVector<double>& g, AlignedVector<double>& next) {
   const std::size_t n = x.size();
-  next.resize(n);
   begin(n);
-  const PassSums sums = pass(x.data(), g.data(), 0, n);
-  if (!fit(std::span<const PassSums>(&sums, 1))) {
-    std::copy(g.begin(), g.end(), next.begin());
-    return false;
-  }
-  mix(g.data(), next.data(), 0, n);
+  std::copy(g.begin(), g.end(), output());
+  next.resize(n);
+  if (extrapolate(x.data(), next.data())) return true;
+  std::copy(last_g_.begin(), last_g_.end(), next.begin());
+  return false;
+}
+
+bool AndersonAccelerator::extrapolate(const double* x, double* next) {
+  const PassSums sums = pass(x, 0, size_);
+  if (!fit(std::span<const PassSums>(&sums, 1))) return false;
+  mix(next, 0, size_);
   return true;
 }
 
@@ -111,17 +116,26 @@ void AndersonAccelerator::begin(std::size_t n) {
   }
 }
 
-AndersonAccelerator::PassSums AndersonAccelerator::pass(const double* x, const double* g,
-                                                        std::size_t first, std::size_t last) {
+double* AndersonAccelerator::output() {
+  // before a history every slot is free: slot 0
+  return delta_g_.data() + static_cast<std::size_t>(first_ ? 0 : slot_) * stride_;
+}
+
+AndersonAccelerator::PassSums AndersonAccelerator::pass(const double* x, std::size_t first,
+                                                        std::size_t last) {
   PassSums sums;
+  const double* const g = output();
   if (first_) {
+    // x may be last_g_: each entry is read before it is written
     for (std::size_t i = first; i < last; ++i) {
-      last_f_[i] = g[i] - x[i];
-      last_g_[i] = g[i];
+      const double gi = g[i];
+      last_f_[i] = gi - x[i];
+      last_g_[i] = gi;
     }
     return sums;
   }
-  // pass 1: f = g − x, the new differences, ΔF_newᵀΔF_s and ΔF_sᵀ f for every slot
+  // pass 1: f = g − x, the new differences, ΔF_newᵀΔF_s and ΔF_sᵀ f for every slot; g is read
+  // from the new slot's ΔG, which it turns into g − last g
   FSlotPointers other_f{};
   for (int j = 0; j < n_others_; ++j) {
     other_f[static_cast<std::size_t>(j)] =
@@ -130,9 +144,8 @@ AndersonAccelerator::PassSums AndersonAccelerator::pass(const double* x, const d
   }
   float* new_f = delta_f_.data() + static_cast<std::size_t>(slot_) * f_stride_;
   double* new_g = delta_g_.data() + static_cast<std::size_t>(slot_) * stride_;
-  const PassOneVectors vectors{
-      x + first,     g + first,   last_f_.data() + first, last_g_.data() + first, new_f + first,
-      new_g + first, last - first};
+  const PassOneVectors vectors{x + first,     last_f_.data() + first, last_g_.data() + first,
+                               new_f + first, new_g + first,          last - first};
   CDP_LANES_FOR_CPU(pass_one)(vectors, other_f, n_others_, sums);
   return sums;
 }
@@ -182,16 +195,16 @@ bool AndersonAccelerator::fit(std::span<const PassSums> ranges) {
   return true;
 }
 
-void AndersonAccelerator::mix(const double* g, double* next, std::size_t first,
-                              std::size_t last) const {
-  // pass 2: next = g − Σ γ_s ΔG_s
+void AndersonAccelerator::mix(double* next, std::size_t first, std::size_t last) const {
+  // pass 2: next = g − Σ γ_s ΔG_s, g the last output
   GSlotPointers slot_g{};
   for (int a = 0; a < fitted_; ++a) {
     slot_g[static_cast<std::size_t>(a)] =
         delta_g_.data() + static_cast<std::size_t>(others_[static_cast<std::size_t>(a)]) * stride_ +
         first;
   }
-  CDP_LANES_FOR_CPU(mix)(g + first, slot_g, weights_, fitted_, next + first, last - first);
+  CDP_LANES_FOR_CPU(mix)
+  (last_g_.data() + first, slot_g, weights_, fitted_, next + first, last - first);
 }
 
 }  // namespace cdpowder

@@ -14,7 +14,10 @@
 // L1/L2 caches and the mixing is bound by memory traffic. The history is a ring of
 // contiguous slots (no shifting, no allocation after the first step of a size), and one
 // pass computes the new differences together with all their inner products; a second pass
-// forms the mixed iterate: ≈ 2m + 10 values moved per entry instead of ≈ 7m + 12.
+// forms the mixed iterate: ≈ 2m + 10 values moved per entry instead of ≈ 7m + 12. The pass's
+// output g is written straight into the ring slot its difference will take (output()), and the
+// last g doubles as the next iterate where no mixing is adopted, so the caller keeps one vector
+// of iterates (x, then the mixed iterate), not two.
 // The m stored differences ΔF are single precision (ΔG, the iterates, f and g stay double):
 // with m = 5 and 8 values a contact that saves 160 of the history's 768 bytes. ΔF only
 // decides the weights γ; the fit uses the rounded differences throughout (its Gram matrix and
@@ -53,10 +56,15 @@ class AndersonAccelerator {
   /// Given the iterate x the pass started from and g = G(x) the pass produced, returns
   /// in `next` the accelerated iterate g − ΔG γ, γ = argmin |f − ΔF γ|, f = g − x.
   /// Returns false (and next = g) while there is no history yet or the fit failed.
-  /// `next` may be x (x is read before `next` is written), never g. It is the three stages
-  /// below over one range [0, n).
+  /// `next` may be x (x is read before `next` is written), never g. It copies g into output()
+  /// and runs the stages below over one range [0, n).
   bool extrapolate(const AlignedVector<double>& x, const AlignedVector<double>& g,
                    AlignedVector<double>& next);
+
+  /// The stages below over one range [0, n), once begin(n) was called and the pass's output
+  /// is in output(): `next` ← the mixed iterate (true), or untouched (false: no history yet, or
+  /// the fit failed; the next iterate is then last_output()). `next` may be x.
+  bool extrapolate(const double* x, double* next);
 
   /// What pass 1 finds over a range: ΔF_newᵀ ΔF_other[j], ΔF_other[j]ᵀ f, ΔF_newᵀ ΔF_new,
   /// ΔF_newᵀ f.
@@ -78,15 +86,29 @@ class AndersonAccelerator {
   };
 
   /// The mixing in stages, so that disjoint ranges of the vectors can be passed over by
-  /// different threads (tiles.hpp): begin(n) once; pass(x, g, first, last) over ranges that
-  /// cover [0, n) once each; fit(sums of the ranges, in a fixed order) — false while there is
-  /// no history yet or the fit failed; then, if it returned true, mix(g, next, first, last)
-  /// over ranges that cover [0, n). `next` must hold n doubles.
+  /// different threads (tiles.hpp): begin(n) once; the pass's output g written to output();
+  /// pass(x, first, last) over ranges that cover [0, n) once each; fit(sums of the ranges, in a
+  /// fixed order) — false while there is no history yet or the fit failed; then, if it returned
+  /// true, mix(next, first, last) over ranges that cover [0, n). `next` must hold n doubles.
   void begin(std::size_t n);
-  [[nodiscard]] PassSums pass(const double* x, const double* g, std::size_t first,
-                              std::size_t last);
+
+  /// Where the pass's output g goes, n doubles, from begin() until pass() has read them: the
+  /// ring slot of the new ΔG, which pass() turns into g − last g entry by entry (each entry read
+  /// before it is written), or a free slot before there is a history. So no vector holds g
+  /// beside the history (4–8 doubles a contact).
+  [[nodiscard]] double* output();
+
+  /// Pass 1 over [first, last): f = g − x with g from output(), the new differences and the
+  /// sums of the fit. x may be last_output() (an iterate no mixing replaced).
+  [[nodiscard]] PassSums pass(const double* x, std::size_t first, std::size_t last);
   bool fit(std::span<const PassSums> ranges);
-  void mix(const double* g, double* next, std::size_t first, std::size_t last) const;
+
+  /// next = g − ΔG γ over [first, last), g = last_output(). `next` may be the x of the pass.
+  void mix(double* next, std::size_t first, std::size_t last) const;
+
+  /// The output g of the last pass, after pass() over a range: the next iterate wherever no
+  /// mixing was adopted.
+  [[nodiscard]] const double* last_output() const { return last_g_.data(); }
 
   /// Differences currently in the fit (≤ depth).
   int history() const { return count_; }

@@ -31,13 +31,13 @@ MixedModes mixed_modes(const Contacts& contacts) {
 }
 
 void flatten_range(const Contacts& contacts, MixedModes modes, std::size_t first, std::size_t last,
-                   AlignedVector<double>& out, const ContactIndex* wall_at) {
+                   double* out, const ContactIndex* wall_at) {
   with_modes(modes, [&](auto rolling, auto twisting) {
     constexpr bool kRolling = decltype(rolling)::value;
     constexpr bool kTwisting = decltype(twisting)::value;
     constexpr std::size_t kStride = MixedModes{kRolling, kTwisting}.doubles_per_action();
     const std::size_t pairs = contacts.pairs.size();
-    double* o = out.data() + first * kStride;
+    double* o = out + first * kStride;
     const auto put = [&](const ContactAction& action) {
       const ActionFields a = fields_of(action);
       for (std::size_t f = 0; f < a.size(); ++f) {
@@ -59,10 +59,14 @@ void flatten_range(const Contacts& contacts, MixedModes modes, std::size_t first
   });
 }
 
+void flatten(const Contacts& contacts, MixedModes modes, double* out, const ContactIndex* wall_at) {
+  flatten_range(contacts, modes, 0, contacts.size(), out, wall_at);
+}
+
 void flatten(const Contacts& contacts, MixedModes modes, AlignedVector<double>& out,
              const ContactIndex* wall_at) {
   out.resize(modes.doubles_per_action() * contacts.size());
-  flatten_range(contacts, modes, 0, contacts.size(), out, wall_at);
+  flatten(contacts, modes, out.data(), wall_at);
 }
 
 }  // namespace cdpowder

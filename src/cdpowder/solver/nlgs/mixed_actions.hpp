@@ -70,11 +70,15 @@ void with_modes(MixedModes modes, F&& f) {
 }
 
 /// The actions of contacts [first, last) of the combined range (pairs, then walls), the
-/// fields `modes` carries, into out[first × stride, last × stride); `out` holds all contacts.
-/// With `wall_at`, the walls' entries are in that order: entry pairs + j holds wall
+/// fields `modes` carries, into out[first × stride, last × stride); `out` has room for all
+/// contacts. With `wall_at`, the walls' entries are in that order: entry pairs + j holds wall
 /// wall_at[j] (a tiled step's mixing keeps each tile's walls together: tile_solve.hpp).
 void flatten_range(const Contacts& contacts, MixedModes modes, std::size_t first, std::size_t last,
-                   AlignedVector<double>& out, const ContactIndex* wall_at = nullptr);
+                   double* out, const ContactIndex* wall_at = nullptr);
+
+/// All actions, flattened into `out`, which has room for stride × contacts doubles.
+void flatten(const Contacts& contacts, MixedModes modes, double* out,
+             const ContactIndex* wall_at = nullptr);
 
 /// All actions, flattened: out is resized to stride × contacts.
 void flatten(const Contacts& contacts, MixedModes modes, AlignedVector<double>& out,

@@ -254,6 +254,7 @@ void begin_acceleration(const Contacts& contacts, const SolverSettings& settings
     work.accelerator.reset();
   }
   flatten(contacts, modes, work.start, tiled ? work.coloured.mixing_walls.data() : nullptr);
+  work.start_is_last_output = false;
 }
 
 /// The measured contraction of the force corrections and, for the kinematic rule, of the
@@ -317,24 +318,28 @@ bool passes_done(int pass, bool kinematic_rule, const SolverSettings& settings,
 }
 
 /// One Anderson mixing of the actions after a pass; the next mixing starts from the mixed
-/// actions, or from the pass's when the fit failed.
+/// actions, or from the pass's (the accelerator's last output) when none was adopted.
 void mix_actions(Contacts& contacts, VelocityCache& velocities, TileThreads* threads,
                  NlgsWorkspace& work, MixedModes modes, bool coloured, bool tiled,
                  KinematicChange* kinematic) {
-  // the mixed actions are written over work.start, which the mixing reads first
+  // the iterate the pass started from; the mixed actions are written over work.start, which
+  // the mixing reads first when x is there
+  const double* const x =
+      work.start_is_last_output ? work.accelerator.last_output() : work.start.data();
   bool mixed = false;
   if (tiled) {
-    mixed = mix_tiled_step(work.start, work.swept, modes, work.accelerator, contacts, velocities,
+    mixed = mix_tiled_step(x, work.start, modes, work.accelerator, contacts, velocities,
                            work.coloured, threads, kinematic, work.range_sums, &work.ranks);
   } else {
-    flatten(contacts, modes, work.swept);
-    mixed = work.accelerator.extrapolate(work.start, work.swept, work.start);
+    work.accelerator.begin(work.start.size());
+    flatten(contacts, modes, work.accelerator.output());
+    mixed = work.accelerator.extrapolate(x, work.start.data());
     if (mixed) {
       adopt(work.start, modes, contacts, velocities, coloured ? &work.coloured : nullptr);
       if (kinematic != nullptr) work.kinematic.velocities_changed(velocities);
     }
   }
-  if (!mixed) work.start.swap(work.swept);
+  work.start_is_last_output = !mixed;
 }
 
 SolverStats iterate_until_done(Contacts& contacts, VelocityCache& velocities,

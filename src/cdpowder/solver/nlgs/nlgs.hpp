@@ -50,7 +50,9 @@ struct NlgsWorkspace {
   /// actions the pass started from, flattened (4–8 per contact); a mixing writes its
   /// accelerated actions over them
   AlignedVector<double> start;
-  AlignedVector<double> swept;       ///< actions after the pass
+  /// the pass started from the accelerator's last output instead (the last mixing was not
+  /// adopted): the actions after a pass live in the accelerator alone (anderson.hpp)
+  bool start_is_last_output = false;
   std::vector<ContactIndex> blocks;  ///< block permutation of the per-step order
   KinematicChange kinematic;         ///< the kinematic rule's velocity snapshot
   ColouredPass coloured;             ///< colours and batches of solver.kernel = "coloured"

@@ -2,6 +2,7 @@
 #include "cdpowder/solver/nlgs/tile_solve.hpp"
 
 #include "cdpowder/contact/velocity_change.hpp"
+#include "cdpowder/core/assert.hpp"
 #include "cdpowder/solver/nlgs/mixed_actions.hpp"
 
 #include <algorithm>
@@ -34,26 +35,27 @@ std::array<Segment, 3> segments_of(const ColouredPass& pass, const Contacts& con
           Segment{pairs + pass.mixing_wall_start[part], pairs + pass.mixing_wall_start[part + 1]}};
 }
 
-/// The accelerator's first stage over every part: `swept` ← the actions, `range_sums[p]` ← the
-/// sums of part p's segments, added segment by segment. An MPI job's ranks (`ranks` active)
-/// each take their own tiles' parts and every rank the hub's (whose actions every rank has);
-/// the tiles' sums then go to every rank.
-void pass_over_parts(const AlignedVector<double>& start, AlignedVector<double>& swept,
-                     MixedModes modes, AndersonAccelerator& accelerator, const Contacts& contacts,
+/// The accelerator's first stage over every part: the actions, as the pass left them, into the
+/// accelerator's output() and `range_sums[p]` ← the sums of part p's segments against the
+/// iterate `x`, added segment by segment. An MPI job's ranks (`ranks` active) each take their
+/// own tiles' parts and every rank the hub's (whose actions every rank has); the tiles' sums
+/// then go to every rank.
+void pass_over_parts(const double* x, std::size_t n, MixedModes modes,
+                     AndersonAccelerator& accelerator, const Contacts& contacts,
                      const ColouredPass& pass, TileThreads* threads,
                      std::vector<AndersonAccelerator::PassSums>& range_sums, TileRanks* ranks) {
   const std::size_t stride = modes.doubles_per_action();
   const auto parts = static_cast<std::uint32_t>(pass.parts());
-  swept.resize(stride * contacts.size());
-  accelerator.begin(swept.size());
+  accelerator.begin(n);
+  double* const output = accelerator.output();
   range_sums.resize(parts);
   const ContactIndex* const wall_at = pass.mixing_walls.data();
   const auto pass_part = [&](std::uint32_t part) {
     AndersonAccelerator::PassSums& sums = range_sums[part];
     sums = {};
     for (const Segment& s : segments_of(pass, contacts, part)) {
-      flatten_range(contacts, modes, s.first, s.last, swept, wall_at);
-      sums.add(accelerator.pass(start.data(), swept.data(), s.first * stride, s.last * stride));
+      flatten_range(contacts, modes, s.first, s.last, output, wall_at);
+      sums.add(accelerator.pass(x, s.first * stride, s.last * stride));
     }
   };
   if (ranks == nullptr || !ranks->active()) {
@@ -70,19 +72,20 @@ void pass_over_parts(const AlignedVector<double>& start, AlignedVector<double>& 
 
 }  // namespace
 
-bool mix_tiled_step(AlignedVector<double>& start, AlignedVector<double>& swept, MixedModes modes,
+bool mix_tiled_step(const double* x, AlignedVector<double>& mixed, MixedModes modes,
                     AndersonAccelerator& accelerator, Contacts& contacts, VelocityCache& velocities,
                     ColouredPass& pass, TileThreads* threads, KinematicChange* kinematic,
                     std::vector<AndersonAccelerator::PassSums>& range_sums, TileRanks* ranks) {
   const auto parts = static_cast<std::uint32_t>(pass.parts());
-  pass_over_parts(start, swept, modes, accelerator, contacts, pass, threads, range_sums, ranks);
+  const std::size_t n = modes.doubles_per_action() * contacts.size();
+  pass_over_parts(x, n, modes, accelerator, contacts, pass, threads, range_sums, ranks);
   const bool shared = ranks != nullptr && ranks->active();
   if (!accelerator.fit(std::span<const AndersonAccelerator::PassSums>(range_sums))) {
     return false;
   }
 
-  // the mixed actions take the place of the start (read by the passes above alone)
-  AlignedVector<double>& mixed = start;
+  // the mixed actions may take the place of x (read by the passes above alone)
+  CDP_ASSERT(mixed.size() == n, "the mixed iterate holds every contact's carried fields");
   std::vector<ContactAction>& deltas = pass.action_scratch;  // free during the solve
   deltas.resize(contacts.pairs.size());
   std::vector<double>& piston_change = pass.part_piston_change;
@@ -102,7 +105,7 @@ bool mix_tiled_step(AlignedVector<double>& start, AlignedVector<double>& swept, 
       ContactAction* const actions = contacts.pair_actions.data();
       ContactAction* const changes = deltas.data();
       for (const Segment& s : {segments[0], segments[1]}) {
-        accelerator.mix(swept.data(), mixed.data(), s.first * kStride, s.last * kStride);
+        accelerator.mix(mixed.data(), s.first * kStride, s.last * kStride);
         for (std::size_t k = s.first; k < s.last; ++k) {
           changes[k] = take_mixed<kRolling, kTwisting>(mixed_values + k * kStride, actions[k]);
         }
@@ -110,7 +113,7 @@ bool mix_tiled_step(AlignedVector<double>& start, AlignedVector<double>& swept, 
       apply_part_deltas(pass, part, deltas, velocities);
       apply_part_overflow_deltas(pass, part, deltas, contacts, velocities);
       const Segment& walls = segments[2];
-      accelerator.mix(swept.data(), mixed.data(), walls.first * kStride, walls.last * kStride);
+      accelerator.mix(mixed.data(), walls.first * kStride, walls.last * kStride);
       const ContactIndex* const wall_of = pass.mixing_walls.data();
       double piston = 0.0;
       for (std::size_t k = walls.first; k < walls.last; ++k) {

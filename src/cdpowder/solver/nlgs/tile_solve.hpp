@@ -21,22 +21,22 @@ namespace cdpowder {
 struct MixedModes;  // mixed_actions.hpp (it brings the contact kernels, which only the solver's
                     // sources include)
 
-/// One mixing step of a tiled step: `swept` ← the actions after the pass (flattened: the pairs
-/// in colour order, the walls part by part in ColouredPass::mixing_walls, as `start` holds them),
-/// the accelerator's passes over each part (its batched pairs, overflow pairs and walls, their
-/// sums added in that order), its fit with the parts' sums added in part order, and when that
-/// succeeds `start` ← the mixed actions (the iterate the pass started from is not read after
-/// the accelerator's passes, so the mixing reuses its memory: one vector of 4–8 doubles a
-/// contact less), adopted by the contacts with the velocity cache moved by the change: the
-/// hub's parts first (on the caller), then the tiles phase by phase, each part's pairs and
-/// walls; the piston by the parts' changes in part order at the end; and the kinematic rule's
-/// new snapshot piece by piece. `range_sums` is scratch (the accelerator's sums of each part).
-/// With `ranks` active (tile_ranks.hpp) this rank passes over and mixes its own tiles and the
-/// hub's parts as every rank does; the tiles' sums and piston changes go to every rank, and
+/// One mixing step of a tiled step: the actions after the pass (flattened: the pairs in colour
+/// order, the walls part by part in ColouredPass::mixing_walls, as `x` holds them) into the
+/// accelerator's output(), its passes over each part against the iterate `x` the pass started
+/// from (its batched pairs, overflow pairs and walls, their sums added in that order), its fit
+/// with the parts' sums added in part order, and when that succeeds `mixed` ← the mixed actions
+/// (`mixed` holds stride × contacts doubles and may be the vector `x` is in: x is not read after
+/// the accelerator's passes), adopted by the contacts with the velocity cache moved by the
+/// change: the hub's parts first (on the caller), then the tiles phase by phase, each part's
+/// pairs and walls; the piston by the parts' changes in part order at the end; and the kinematic
+/// rule's new snapshot piece by piece. `range_sums` is scratch (the accelerator's sums of each
+/// part). With `ranks` active (tile_ranks.hpp) this rank passes over and mixes its own tiles and
+/// the hub's parts as every rank does; the tiles' sums and piston changes go to every rank, and
 /// the rows a phase's tiles moved go to the ranks that hold them: the bits of one process.
 /// Returns whether the mixing was adopted (false: no history yet, or the fit failed; nothing
-/// changed).
-bool mix_tiled_step(AlignedVector<double>& start, AlignedVector<double>& swept, MixedModes modes,
+/// changed, and the next iterate is the accelerator's last_output()).
+bool mix_tiled_step(const double* x, AlignedVector<double>& mixed, MixedModes modes,
                     AndersonAccelerator& accelerator, Contacts& contacts, VelocityCache& velocities,
                     ColouredPass& pass, TileThreads* threads, KinematicChange* kinematic,
                     std::vector<AndersonAccelerator::PassSums>& range_sums,
