@@ -47,6 +47,11 @@ CarriedActions last_step_actions(const StepWorkspace& work) {
 void release_step_scratch(StepWorkspace& work) {
   work.candidates = CandidateList{};
   work.detection = DetectionScratch{};
+  // the velocity cache: every build fills it anew from the World (64 bytes a sphere)
+  work.velocities.spheres = {};
+  // the cache holds the step before the committed one until the next begin_step takes the
+  // committed contacts (ActionCache::take): nothing reads it until then (73 bytes a contact)
+  if (work.last_step_in_contacts) work.action_cache = ActionCache{};
   NlgsWorkspace& solver = work.solver;
   solver.accelerator = AndersonAccelerator(solver.accelerator.depth());
   solver.start = {};

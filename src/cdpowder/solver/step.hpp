@@ -102,10 +102,12 @@ void commit_step(World& world, StepWorkspace& work, const StepSettings& settings
                  StepReport& report);
 
 /// Frees the scratch a step rebuilds (the candidate list, the solver's mixing history and
-/// colour batches, the detection's pieces): a run's last outputs need the committed contacts
-/// alone, and without the scratch their buffers fit in the memory it held (a 16 240-sphere
-/// packing: about 20 % off the peak). Keeps the contacts, the action cache and the random
-/// streams; a workspace stepped on after it gives the same bits, only rebuilding first.
+/// colour batches, the detection's pieces, the velocity cache) and, while `contacts` holds the
+/// committed step, the action cache's older step, which the next begin_step replaces unread: a
+/// run's last outputs need the committed contacts alone, and without the scratch their buffers
+/// fit in the memory it held (a 16 240-sphere packing: about 20 % off the peak). Keeps the
+/// contacts, the actions a state file saves (last_step_actions) and the random streams; a
+/// workspace stepped on after it gives the same bits, only rebuilding first.
 void release_step_scratch(StepWorkspace& work);
 
 }  // namespace cdpowder
