@@ -197,5 +197,48 @@ TEST(Anderson, TheStagesOverRangesMixAsExtrapolateDoes) {
   EXPECT_GE(mixed, 25);
 }
 
+/// The solver's loop (nlgs.cpp, mix_actions): the next pass starts from `start` after a mixing
+/// that was adopted and from the accelerator's last output otherwise; every `restart`-th
+/// iteration forgets the history, as the restart rule does. `copy_x` hands the accelerator a
+/// copy of x instead of x where it lies. Returns the iterates the passes started from.
+std::vector<AlignedVector<double>> solver_iterates(const AffineMap& map, bool copy_x, int restart) {
+  const auto n = static_cast<std::size_t>(map.b.size());
+  AndersonAccelerator accelerator(3);
+  AlignedVector<double> start(n, 0.0);
+  AlignedVector<double> copy(n);
+  bool from_output = false;
+  std::vector<AlignedVector<double>> iterates;
+  for (int it = 1; it <= 40; ++it) {
+    if (it % restart == 0) accelerator.reset();
+    const double* x = from_output ? accelerator.last_output() : start.data();
+    iterates.emplace_back(x, x + n);
+    if (copy_x) {
+      std::copy(x, x + n, copy.begin());
+      x = copy.data();
+    }
+    accelerator.begin(n);
+    const Eigen::Map<const Eigen::VectorXd> xv(x, map.b.size());
+    Eigen::Map<Eigen::VectorXd>(accelerator.output(), map.b.size()) = map.a * xv + map.b;
+    from_output = !accelerator.extrapolate(x, start.data());
+  }
+  return iterates;
+}
+
+// A pass that starts from the accelerator's last output reads it where it lies, while the same
+// pass writes the new last output over it entry by entry (anderson_lanes.inc): the same bits
+// as from a copy, through restarts (a first pass after a reset, and the pass after it) and the
+// ring's wrap-around.
+TEST(Anderson, APassFromTheLastOutputInPlaceGivesTheBitsOfACopy) {
+  const AffineMap map = slow_map(301, 0.98);  // n mod 4 = 1: the scalar tail too
+  for (const int restart : {5, 7, 1000}) {
+    const std::vector<AlignedVector<double>> in_place = solver_iterates(map, false, restart);
+    const std::vector<AlignedVector<double>> copied = solver_iterates(map, true, restart);
+    ASSERT_EQ(in_place.size(), copied.size());
+    for (std::size_t it = 0; it < in_place.size(); ++it) {
+      EXPECT_EQ(in_place[it], copied[it]) << "restart " << restart << ", iteration " << it;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace cdpowder

@@ -56,7 +56,7 @@ class AndersonAccelerator {
   /// Given the iterate x the pass started from and g = G(x) the pass produced, returns
   /// in `next` the accelerated iterate g − ΔG γ, γ = argmin |f − ΔF γ|, f = g − x.
   /// Returns false (and next = g) while there is no history yet or the fit failed.
-  /// `next` may be x (x is read before `next` is written), never g. It copies g into output()
+  /// `next` may be x or g (both are read before `next` is written). It copies g into output()
   /// and runs the stages below over one range [0, n).
   bool extrapolate(const AlignedVector<double>& x, const AlignedVector<double>& g,
                    AlignedVector<double>& next);
