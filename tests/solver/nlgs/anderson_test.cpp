@@ -200,8 +200,11 @@ TEST(Anderson, TheStagesOverRangesMixAsExtrapolateDoes) {
 /// The solver's loop (nlgs.cpp, mix_actions): the next pass starts from `start` after a mixing
 /// that was adopted and from the accelerator's last output otherwise; every `restart`-th
 /// iteration forgets the history, as the restart rule does. `copy_x` hands the accelerator a
-/// copy of x instead of x where it lies. Returns the iterates the passes started from.
-std::vector<AlignedVector<double>> solver_iterates(const AffineMap& map, bool copy_x, int restart) {
+/// copy of x instead of x where it lies. Returns the iterates the passes started from; counts in
+/// `in_place_passes` the passes with a history that started from the last output (pass 1's
+/// kernel, which reads x from the array it writes the new last output to).
+std::vector<AlignedVector<double>> solver_iterates(const AffineMap& map, bool copy_x, int restart,
+                                                   int& in_place_passes) {
   const auto n = static_cast<std::size_t>(map.b.size());
   AndersonAccelerator accelerator(3);
   AlignedVector<double> start(n, 0.0);
@@ -217,6 +220,7 @@ std::vector<AlignedVector<double>> solver_iterates(const AffineMap& map, bool co
       x = copy.data();
     }
     accelerator.begin(n);
+    if (from_output && accelerator.history() > 0) ++in_place_passes;
     const Eigen::Map<const Eigen::VectorXd> xv(x, map.b.size());
     Eigen::Map<Eigen::VectorXd>(accelerator.output(), map.b.size()) = map.a * xv + map.b;
     from_output = !accelerator.extrapolate(x, start.data());
@@ -231,8 +235,13 @@ std::vector<AlignedVector<double>> solver_iterates(const AffineMap& map, bool co
 TEST(Anderson, APassFromTheLastOutputInPlaceGivesTheBitsOfACopy) {
   const AffineMap map = slow_map(301, 0.98);  // n mod 4 = 1: the scalar tail too
   for (const int restart : {5, 7, 1000}) {
-    const std::vector<AlignedVector<double>> in_place = solver_iterates(map, false, restart);
-    const std::vector<AlignedVector<double>> copied = solver_iterates(map, true, restart);
+    int in_place_passes = 0;
+    int copied_passes = 0;
+    const std::vector<AlignedVector<double>> in_place =
+        solver_iterates(map, false, restart, in_place_passes);
+    const std::vector<AlignedVector<double>> copied =
+        solver_iterates(map, true, restart, copied_passes);
+    EXPECT_GE(in_place_passes, 1) << "restart " << restart;  // the aliased path ran
     ASSERT_EQ(in_place.size(), copied.size());
     for (std::size_t it = 0; it < in_place.size(); ++it) {
       EXPECT_EQ(in_place[it], copied[it]) << "restart " << restart << ", iteration " << it;

@@ -59,14 +59,10 @@ void flatten_range(const Contacts& contacts, MixedModes modes, std::size_t first
   });
 }
 
-void flatten(const Contacts& contacts, MixedModes modes, double* out, const ContactIndex* wall_at) {
-  flatten_range(contacts, modes, 0, contacts.size(), out, wall_at);
-}
-
 void flatten(const Contacts& contacts, MixedModes modes, AlignedVector<double>& out,
              const ContactIndex* wall_at) {
   out.resize(modes.doubles_per_action() * contacts.size());
-  flatten(contacts, modes, out.data(), wall_at);
+  flatten_range(contacts, modes, 0, contacts.size(), out.data(), wall_at);
 }
 
 }  // namespace cdpowder

@@ -76,10 +76,6 @@ void with_modes(MixedModes modes, F&& f) {
 void flatten_range(const Contacts& contacts, MixedModes modes, std::size_t first, std::size_t last,
                    double* out, const ContactIndex* wall_at = nullptr);
 
-/// All actions, flattened into `out`, which has room for stride × contacts doubles.
-void flatten(const Contacts& contacts, MixedModes modes, double* out,
-             const ContactIndex* wall_at = nullptr);
-
 /// All actions, flattened: out is resized to stride × contacts.
 void flatten(const Contacts& contacts, MixedModes modes, AlignedVector<double>& out,
              const ContactIndex* wall_at = nullptr);

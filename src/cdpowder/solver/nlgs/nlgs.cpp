@@ -332,7 +332,7 @@ void mix_actions(Contacts& contacts, VelocityCache& velocities, TileThreads* thr
                            work.coloured, threads, kinematic, work.range_sums, &work.ranks);
   } else {
     work.accelerator.begin(work.start.size());
-    flatten(contacts, modes, work.accelerator.output());
+    flatten_range(contacts, modes, 0, contacts.size(), work.accelerator.output());
     mixed = work.accelerator.extrapolate(x, work.start.data());
     if (mixed) {
       adopt(work.start, modes, contacts, velocities, coloured ? &work.coloured : nullptr);
