@@ -17,9 +17,21 @@ without bound). Status 0: optimal; 1: primal infeasible; 2: dual infeasible; 3: 
 time limit; 4: stopped on difficulties or at MAX_ITERATIONS (Clp_status's codes, but for the
 cap). Without crossover Clp may call an infeasible program optimal, so an answer that leaves a
 bound by more than FEASIBILITY (relative to 1 + |bound|) is reported infeasible.
+
+    status, bound, x = minimise(..., certify=True)
+
+asks for a lower bound on the minimum instead of an answer: the value any dual vector proves
+(weak duality, with the rounding of its own sums allowed for; Neumaier and Shcherbina, Math.
+Program. 99 (2004) 283), from Clp's row prices. It holds whatever the barrier's primal answer
+misses, and is taken once it lies within DUAL_GAP of the answer's value.
 """
 import ctypes
 import ctypes.util
+import math
+import os
+import pickle
+import select
+import signal
 import time
 
 import numpy as np
@@ -30,8 +42,15 @@ _BARRIER_NO_CROSSOVER = 4  # ClpSolve::useBarrierNoCross
 _PRESOLVE_OFF = 1  # ClpSolve::presolveOff
 OPTIMAL, INFEASIBLE, UNBOUNDED, STOPPED, DIFFICULT = range(5)
 FEASIBILITY = 1e-7  # the largest relative excess over a bound an answer may have
+# A certified bound is taken when it lies within this of the barrier's value (relative): on the
+# paper's (0, 0) packings the bound of the setting 96 lies 1e-8 to 5e-5 below it, the
+# regularised setting 128's up to 2e-3 (docs/lab/2026-12-02-bounds-by-their-duals.md)
+DUAL_GAP = 1e-4
+# Where no try's bound lies within DUAL_GAP, the best one within this is taken after the last
+# try (HiGHS would take 30–60 s for the program): a bound all the same, up to 1e-3 looser
+LOOSE_DUAL_GAP = 1e-2
 # Clp's default primal tolerance (1e-7, on its scaled program) leaves answers 3–4e-7 outside the
-# narrow balance ranges of a sign-fixed program at paper scale; 1e-8 keeps them within 5e-8.
+# narrow balance ranges of a sign-fixed program at paper scale; 1e-8 keeps most within 5e-8.
 PRIMAL_TOLERANCE = 1e-8
 # When its barrier ends short of the optimum, Clp cleans up with the primal simplex, which on these
 # programs can run for minutes (a (0, 0) packing: more than 3 min on a bound program). Capped
@@ -39,19 +58,25 @@ PRIMAL_TOLERANCE = 1e-8
 # At least 1 000: below that, Clp 1.17's initialSolve takes the value as the barrier's own cap
 # and lifts the simplex's to 10⁷.
 MAX_ITERATIONS = 1000
-# The barrier's settings tried in turn (ClpSolve's special option 4, -1 for Clp's own), until
-# one gives an answer that passes the check: Clp's barrier ends short of an admissible answer on
-# one program in five at paper scale, and each setting on other ones; a second setting costs
-# about one more barrier, HiGHS (the last resort) ten (docs/lab/2026-12-01-polygons-by-their-vertices.md).
-# 96: the regularisation δ = 1e-5 ("aggressive gamma" 3); 128: γ = δ = 1e-3 (4).
-# The order: on the paper's (0, 0) packings 128 answers the bound programs where 96 does not, in
-# 1–2 s, while Clp's own settings then end in the clean-up (docs/lab/2026-12-02-clp-answers-repaired.md).
-BARRIERS = (96, 128, -1)
+# The barrier's tries, (setting, primal tolerance) in turn (the setting: ClpSolve's special
+# option 4, -1 for Clp's own), until one gives an answer that passes the check: Clp's barrier
+# ends short of an admissible answer on one program in five at paper scale, and each try on
+# other ones; a second try costs about one more barrier, HiGHS (the last resort) ten
+# (docs/lab/2026-12-01-polygons-by-their-vertices.md). 96: the regularisation δ = 1e-5
+# ("aggressive gamma" 3); 128: γ = δ = 1e-3 (4). On the paper's (0, 0) packings the tolerances
+# 1e-8 and Clp's 1e-7 end different programs in a clean-up: the second try answers most of
+# those the first does not (a force set's balance then met by stress_bounds' repair, a bound
+# proved by its duals; docs/lab/2026-12-02-bounds-by-their-duals.md).
+BARRIERS = ((96, PRIMAL_TOLERANCE), (96, 1e-7), (128, PRIMAL_TOLERANCE), (-1, PRIMAL_TOLERANCE))
 # A setting whose clean-up runs long is stopped for the next one: after the first admissible
 # answers, each try is capped at TRY_FACTOR times the median time of the tries that gave one,
 # and at TRY_FLOOR seconds at least (stress_bounds.Program keeps the times; `tries`).
 TRY_FACTOR = 4.0
 TRY_FLOOR = 5.0
+# A capped try runs in a forked child, killed at its cap (Clp's own limit is not read in a
+# clean-up's values pass); HARD_GRACE: the wall seconds it has beyond the cap before that
+HARD_CAP = True
+HARD_GRACE = 1.0
 
 _library = None
 
@@ -88,6 +113,7 @@ def _load():
         "Clp_status": (ctypes.c_int, [model]),
         "Clp_getObjValue": (ctypes.c_double, [model]),
         "Clp_getColSolution": (doubles, [model]),
+        "Clp_getRowPrice": (doubles, [model]),
     }
     for function, (result, arguments) in prototypes.items():
         getattr(lib, function).restype = result
@@ -122,7 +148,7 @@ def _violation(values, low, high):
 
 
 def minimise(cost, matrix, row_lower, row_upper, lower, upper, seconds, admissible=None,
-             repair=None, tries=None):
+             repair=None, tries=None, certify=False):
     """Returns (status, cost·x, x) of min cost·x (module docstring); x is None unless optimal.
     `admissible`: (row_lower, row_upper, lower, upper) the answer is checked against, if not
     the program's own (a program solved with narrower rows or bounds than an answer must keep).
@@ -134,8 +160,13 @@ def minimise(cost, matrix, row_lower, row_upper, lower, upper, seconds, admissib
     holds any, each try is capped at try_cap(tries) seconds: a try stopped there goes on to the
     next setting, as one that ends short does.
 
-    The barrier runs with each of BARRIERS' settings in turn until one's answer passes the check;
-    the last one's status is returned when none does. Clp's time limit, `seconds`, covers them all.
+    `certify`: returns (OPTIMAL, a lower bound on the minimum, the barrier's x) instead, the
+    bound proved by Clp's row prices (dual_bound), once one lies within DUAL_GAP of the value
+    of its barrier's x (which is not checked: the bound holds whatever x misses), or after the
+    last try the best one within LOOSE_DUAL_GAP; `admissible` and `repair` are then not used.
+
+    The barrier runs with each of BARRIERS' tries in turn until one's answer passes the check
+    (or its bound, to certify); the last one's status is returned when none does. Clp's time limit, `seconds`, covers them all.
 
     Columns fixed by their bounds (lower = upper) are taken out before Clp sees the program,
     their part moved to the rows' bounds: a barrier without presolve keeps such a column as a
@@ -156,29 +187,92 @@ def minimise(cost, matrix, row_lower, row_upper, lower, upper, seconds, admissib
     if not (used.any() and len(free)):  # no row left on a free column: each at its cheaper bound
         status, x_free = _bounds_only(cost[free], lower[free], upper[free])
         return _checked(status, x_free, cost, matrix, lower, free, check, repair)
-    started = time.process_time()  # Clp's time limit is in CPU seconds
+    spent = 0.0  # CPU seconds of this call's tries: Clp's time limit is in CPU seconds
     answer = (DIFFICULT, None, None)
-    for barrier in BARRIERS:
-        left = seconds - (time.process_time() - started)
+    loose = (DIFFICULT, None, None)  # the best bound within LOOSE_DUAL_GAP (certify)
+    program = (cost[free], reduced[used], row_lower[used] - constant[used],
+               row_upper[used] - constant[used], lower[free], upper[free])
+    for barrier, tolerance in BARRIERS:
+        left = seconds - spent
         if left <= 0:
             return STOPPED, None, None
         cap = try_cap(tries)
         capped = cap is not None and cap < left
-        try_started = time.process_time()
-        status, _, x_free = _minimise_free(
-            cost[free], reduced[used], row_lower[used] - constant[used],
-            row_upper[used] - constant[used], lower[free], upper[free],
-            cap if capped else left, barrier)
+        status, x_free, prices, used_seconds = _try(program, cap if capped else left, barrier,
+                                                    tolerance, capped and HARD_CAP)
+        spent += used_seconds
         if status == STOPPED and capped:
             continue  # the try's cap, not the program's limit: the next setting
         if status in (STOPPED, INFEASIBLE, UNBOUNDED):
             return status, None, None
-        answer = _checked(status, x_free, cost, matrix, lower, free, check, repair)
+        if certify:
+            answer, gap = _certified(status, x_free, prices, program,
+                                     float(cost[fixed] @ lower[fixed]), lower, free)
+            if gap <= LOOSE_DUAL_GAP and (loose[1] is None or answer[1] > loose[1]):
+                loose = answer
+            if gap > DUAL_GAP:
+                answer = (DIFFICULT, None, None)
+        else:
+            answer = _checked(status, x_free, cost, matrix, lower, free, check, repair)
         if answer[0] == OPTIMAL:
             if tries is not None:
-                tries.append(time.process_time() - try_started)
+                tries.append(used_seconds)
             return answer
+    return loose if certify and loose[0] == OPTIMAL else answer
+
+
+def _try(program, seconds, barrier, tolerance, hard):
+    """(status, x, row prices, CPU seconds) of one barrier on the reduced program. Where `hard`,
+    in a forked child that is killed once `seconds` have passed on the wall clock (then
+    STOPPED): Clp reads its time limit only between the simplex's iterations, and a clean-up
+    ran 30–60 s past a cap of 5 s on the paper's (0, 0) packings
+    (docs/lab/2026-12-02-bounds-by-their-duals.md)."""
+    if not hard:
+        started = time.process_time()
+        status, _, x, prices = _minimise_free(*program, seconds, barrier, tolerance=tolerance)
+        return status, x, prices, time.process_time() - started
+    answer = _in_child(_timed_try, (program, seconds, barrier, tolerance), seconds + HARD_GRACE)
+    if answer is None:
+        return STOPPED, None, None, seconds
     return answer
+
+
+def _timed_try(program, seconds, barrier, tolerance):
+    return _try(program, seconds, barrier, tolerance, False)
+
+
+def _in_child(function, arguments, seconds):
+    """function(*arguments) in a forked child, its answer pickled back through a pipe; None when
+    the child has not answered within `seconds` (it is then killed) or died without an answer.
+    The child shares the parent's memory copy-on-write: nothing is sent to it."""
+    read, write = os.pipe()
+    pid = os.fork()
+    if pid == 0:  # the child: answer, and leave without running the parent's exit handlers
+        status = 1
+        try:
+            os.close(read)
+            with os.fdopen(write, "wb") as pipe:
+                pickle.dump(function(*arguments), pipe, protocol=pickle.HIGHEST_PROTOCOL)
+            status = 0
+        finally:
+            os._exit(status)
+    os.close(write)
+    deadline = time.monotonic() + seconds
+    chunks = []
+    try:
+        while True:
+            left = deadline - time.monotonic()
+            if left <= 0 or not select.select([read], [], [], left)[0]:
+                os.kill(pid, signal.SIGKILL)
+                return None
+            chunk = os.read(read, 1 << 20)
+            if not chunk:
+                break
+            chunks.append(chunk)
+    finally:
+        os.close(read)
+        os.waitpid(pid, 0)
+    return pickle.loads(b"".join(chunks)) if chunks else None
 
 
 def try_cap(tries):
@@ -203,6 +297,51 @@ def _checked(status, x_free, cost, matrix, lower, free, check, repair=None):
     return OPTIMAL, float(cost @ x), x
 
 
+def dual_bound(prices, cost, matrix, row_lower, row_upper, lower, upper):
+    """The lower bound on min cost·x over lower ≤ x ≤ upper, row_lower ≤ matrix x ≤ row_upper that
+    the row prices y prove, whatever y is (weak duality): for every such x,
+    cost·x = y·(matrix x) + d·x with d = cost − matrixᵀ y, and each term is at least its value
+    at the bound its sign picks. A price whose row has no bound on that side counts as 0. The
+    bound is lowered by a bound on the rounding of these sums in double precision (Higham,
+    Accuracy and Stability of Numerical Algorithms, §3.1: n u Σ|terms| for a sum of n terms),
+    so it holds as computed. −inf where a column with a reduced cost has no bound on that side."""
+    matrix = scipy.sparse.csc_matrix(matrix)
+    y = np.array(prices, float)
+    y[(y > 0) & ~np.isfinite(row_lower)] = 0.0
+    y[(y < 0) & ~np.isfinite(row_upper)] = 0.0
+    reduced = cost - matrix.T @ y
+    side = np.where(reduced > 0, lower, upper)
+    moving = reduced != 0
+    if not np.all(np.isfinite(side[moving])):
+        return -math.inf
+    row_side = np.where(y > 0, row_lower, row_upper)
+    row_terms = np.where(y != 0, y * np.where(np.isfinite(row_side), row_side, 0.0), 0.0)
+    column_terms = np.where(moving, reduced * np.where(moving, side, 0.0), 0.0)
+    # the reduced costs' own rounding: each is a sum of 1 + (its column's entries) products
+    sums = 1 + np.diff(matrix.indptr)
+    reduced_error = sums * np.finfo(float).eps * (np.abs(cost) + abs(matrix).T @ np.abs(y))
+    unit = np.finfo(float).eps
+    error = float(reduced_error @ np.where(np.isfinite(side), np.abs(side), 0.0)) + \
+        (len(row_terms) + len(column_terms)) * unit * float(np.abs(row_terms).sum() +
+                                                           np.abs(column_terms).sum())
+    return math.fsum(row_terms) + math.fsum(column_terms) - error
+
+
+def _certified(status, x_free, prices, program, fixed_cost, lower, free):
+    """((OPTIMAL, the bound the prices prove, x), the bound's gap below x's value, relative) of
+    an answer; ((DIFFICULT, None, None), inf) without one or a finite bound."""
+    if status != OPTIMAL or x_free is None:
+        return (DIFFICULT, None, None), math.inf
+    bound = dual_bound(prices, *program)
+    value = float(program[0] @ x_free)
+    if not math.isfinite(bound):
+        return (DIFFICULT, None, None), math.inf
+    gap = max(0.0, value - bound) / max(abs(value), abs(bound), np.finfo(float).tiny)
+    x = lower.copy()
+    x[free] = x_free
+    return (OPTIMAL, bound + fixed_cost, x), gap
+
+
 def _bounds_only(cost, lower, upper):
     """(status, x) of min cost·x over lower ≤ x ≤ upper alone."""
     # a column the cost does not weigh: the point of its bounds nearest 0
@@ -212,8 +351,10 @@ def _bounds_only(cost, lower, upper):
     return OPTIMAL, x
 
 
-def _minimise_free(cost, matrix, row_lower, row_upper, lower, upper, seconds, barrier):
-    """(status, cost·x, x) of Clp's barrier on a program handed as it is; minimise() checks x."""
+def _minimise_free(cost, matrix, row_lower, row_upper, lower, upper, seconds, barrier,
+                   tolerance=PRIMAL_TOLERANCE):
+    """(status, cost·x, x, row prices) of Clp's barrier on a program handed as it is; minimise()
+    checks x."""
     lib = _load()
     if lib is None:
         raise OSError("COIN-OR Clp (libClp.so.1, Debian's coinor-libclp1) was not found")
@@ -229,7 +370,7 @@ def _minimise_free(cost, matrix, row_lower, row_upper, lower, upper, seconds, ba
     try:
         lib.Clp_setLogLevel(model, 0)
         lib.Clp_setMaximumSeconds(model, float(seconds))
-        lib.Clp_setPrimalTolerance(model, PRIMAL_TOLERANCE)
+        lib.Clp_setPrimalTolerance(model, tolerance)
         lib.Clp_setMaximumIterations(model, MAX_ITERATIONS)
         lib.Clp_loadProblem(model, width, rows, _pointer(start, ctypes.c_int),
                             _pointer(index, ctypes.c_int), _pointer(value, ctypes.c_double),
@@ -245,9 +386,10 @@ def _minimise_free(cost, matrix, row_lower, row_upper, lower, upper, seconds, ba
                                   time.process_time() - started < seconds):
             status = DIFFICULT  # not the time limit: the clean-up's cap or the barrier's own
         if status != OPTIMAL:
-            return status, None, None
+            return status, None, None, None
         x = np.ctypeslib.as_array(lib.Clp_getColSolution(model), shape=(width,)).copy()
-        return status, float(lib.Clp_getObjValue(model)), x
+        prices = np.ctypeslib.as_array(lib.Clp_getRowPrice(model), shape=(rows,)).copy()
+        return status, float(lib.Clp_getObjValue(model)), x, prices
     finally:
         lib.ClpSolve_delete(options)
         lib.Clp_deleteModel(model)

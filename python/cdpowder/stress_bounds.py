@@ -51,7 +51,7 @@ try:
     import scipy.optimize
     import scipy.sparse
 
-    from cdpowder import clp, tables
+    from cdpowder import clp, force_set_repair, tables
 except ImportError as missing:  # the command's one message, not a traceback
     sys.exit(f"error: stress-bounds needs NumPy, pandas and SciPy ({missing}); Debian's "
              "python3-numpy, python3-pandas and python3-scipy (tools/install_deps.sh), or "
@@ -442,12 +442,16 @@ def _minimise(program, cost, ranges, lower, upper, scale, force_set=None, what="
     equalities at the loads: a subset of ranges a few 1e-7 wide, on which its barrier took the
     paper example's interval at (1, 1) from 285 s to 39 s (with the finite bounds of
     Program.bounds; docs/lab/2026-12-01-stress-bounds-in-a-minute.md). Its answer must keep the
-    ranges and these
-    bounds, not the program's: a sign-fixed program's R_n ≥ 0 or ≤ 0 is a choice of the search,
-    and a contact that crosses it by the solver's tolerance (up to 1e-6 at paper scale) is still
-    admissible, in the part its sign gives it (Program.parts). `scale`: the polygons' radius
-    (Program.constraints); Clp's answers are moved onto them (Program.onto_polygons) before
-    they are checked."""
+    ranges and these bounds, not the program's: a sign-fixed program's R_n ≥ 0 or ≤ 0 is a
+    choice of the search, and a contact that crosses it by the solver's tolerance (up to 1e-6 at
+    paper scale) is still admissible, in the part its sign gives it (Program.parts). `scale`:
+    the polygons' radius (Program.constraints); Clp's answers are moved onto them
+    (Program.onto_polygons) and onto the balance (force_set_repair.onto_balance) before they
+    are checked.
+
+    Without `force_set` the optimum is a bound (outer polygons): Clp's is the bound its row
+    prices prove (clp.dual_bound), which holds however far its answer misses the narrow
+    balance ranges; HiGHS's is its optimum's value."""
     cost = np.concatenate([cost, np.zeros(program.width - len(cost))])
     optimum = _solve(program, cost, ranges, lower, upper, scale, force_set)
     if optimum.x is not None:
@@ -466,14 +470,19 @@ def _solve(program, cost, ranges, lower, upper, scale, force_set):
         matrix = scipy.sparse.vstack([a for a, _, _ in ranges])
         row_lower = np.concatenate([low for _, low, _ in ranges])
         row_upper = np.concatenate([high for _, _, high in ranges])
-        given, admissible = (row_lower, row_upper), None
+        given, admissible, repair = (row_lower, row_upper), None, None
         if force_set is not None:
             given = tuple(np.concatenate([program.rhs, side[len(program.rhs):]]) for side in given)
             admissible = (row_lower, row_upper, *force_set)
+
+            def repair(x):
+                return force_set_repair.onto_balance(program, program.onto_polygons(x, scale),
+                                                     scale, row_lower, row_upper, *force_set)
+        # a bound program's optimum is a bound, proved by the barrier's duals; a force set's
+        # program needs an admissible answer, moved onto its polygons and balance and checked
         status, fun, x = clp.minimise(cost, matrix, *given, lower, upper, time_limit,
-                                      admissible=admissible,
-                                      repair=lambda x: program.onto_polygons(x, scale),
-                                      tries=program.clp_tries)
+                                      admissible=admissible, repair=repair,
+                                      tries=program.clp_tries, certify=force_set is None)
         if status in (clp.OPTIMAL, clp.STOPPED):
             return _Optimum(0 if status == clp.OPTIMAL else 1, fun, x)
         program.fallbacks += 1  # Clp found no answer it could stand by: HiGHS decides
@@ -595,10 +604,11 @@ _WORKER_PROGRAM = None
 def _task(task):
     """One independent piece of admissible_stress: ("total", i, j, sense, scale) is one linear
     program for σ_ij; ("search", i, j, sense, scale, starts, rounds) a whole search for σ⁺_ij.
-    Returns (σ's optimum or None, the force sets found, programs, stopped, fallbacks), the
-    counts of this task alone."""
+    Returns (σ's optimum or None, the force sets found, programs, stopped, fallbacks, Clp's
+    try times), the counts and times of this task alone."""
     program = _WORKER_PROGRAM
     program.solved = program.stopped = program.fallbacks = 0
+    known = len(program.clp_tries)
     found, value = [], None
     if task[0] == "total":
         _, i, j, sense, scale = task
@@ -607,7 +617,8 @@ def _task(task):
     else:
         _, i, j, sense, scale, starts, rounds = task
         _search(program, i, j, sense, scale, starts, found.append, rounds)
-    return value, found, program.solved, program.stopped, program.fallbacks
+    return value, found, program.solved, program.stopped, program.fallbacks, \
+        program.clp_tries[known:]
 
 
 def _tasks_in(tasks, program, jobs):
@@ -625,7 +636,11 @@ def _tasks_in(tasks, program, jobs):
         sys.stderr.flush()
         with concurrent.futures.ProcessPoolExecutor(
                 min(jobs, len(tasks)), mp_context=multiprocessing.get_context("fork")) as pool:
-            return list(pool.map(_task, tasks))
+            answers = list(pool.map(_task, tasks))
+        # the workers' try times cap later tries (clp.try_cap), also in the next pool's workers
+        for answer in answers:
+            program.clp_tries.extend(answer[-1])
+        return answers
     finally:
         _WORKER_PROGRAM = None
 
@@ -702,7 +717,7 @@ def admissible_stress(folder, components=("zz",), facets=16, force_cap_factor=10
                 reached[part] = [min(reached[part][0], value), max(reached[part][1], value)]
 
         def gather(answers):
-            for _, found, programs, stopped, fallbacks in answers:
+            for _, found, programs, stopped, fallbacks, _ in answers:
                 for x in found:
                     record(x)
                 totals["programs"] += programs
@@ -712,11 +727,13 @@ def admissible_stress(folder, components=("zz",), facets=16, force_cap_factor=10
 
         record(program.run_x)
         program.progress = lambda what, name=name: solved(name, what)
-        # σ's bound (outer polygons) and reached value (inner) on each side
-        sides = [(sense, scale) for sense in (1, -1) for scale in (outer, inner)]
+        # σ's reached value (inner polygons) and bound (outer) on each side; the reached ones
+        # first: their tries are quick, and their times cap the bound programs' tries (one ran
+        # 60 s in a clean-up on a paper packing as its process's first)
+        sides = [(sense, scale) for scale in (inner, outer) for sense in (1, -1)]
         answers = gather(_tasks_in([("total", i, j, sense, scale) for sense, scale in sides],
                                    program, jobs))
-        bound = {("total", 0): answers[0][0], ("total", 1): answers[2][0]}
+        bound = {("total", 0): answers[2][0], ("total", 1): answers[3][0]}
         # each start is the sign pattern of a force set (the run's, σ's extremes), and a round
         # turns over only contacts at R_n = 0, so a search's programs are feasible over the
         # balance's ranges (Clp, solving them at the loads, may not find them so; HiGHS then
