@@ -860,11 +860,12 @@ def main(argv=None):
         if not args.no_write:
             add_to_summary(folder, result)
         piston = summaries.read_summary(pathlib.Path(folder) / "summary.json").get("piston", {})
-        stopped = result["stopped_programs"]
+        stopped, fallbacks = result["stopped_programs"], result["highs_fallbacks"]
         print(f"{folder}: {result['contacts']['touching']} touching contacts, "
               f"{result['linear_programs']} linear programs on {result['jobs']} processes, "
               f"{result['seconds']:.1f} s" + (f", {stopped} linear programs stopped at the time "
-                                              "limit" if stopped else ""))
+                                              "limit" if stopped else "") +
+              (f", {fallbacks} solved again by HiGHS" if fallbacks else ""))
         print(line(result, piston.get("applied_pressure")))
     return status
 
