@@ -30,6 +30,7 @@ import ctypes.util
 import math
 import os
 import pickle
+import resource
 import select
 import signal
 import time
@@ -74,9 +75,11 @@ BARRIERS = ((96, PRIMAL_TOLERANCE), (96, 1e-7), (128, PRIMAL_TOLERANCE), (-1, PR
 TRY_FACTOR = 4.0
 TRY_FLOOR = 5.0
 # A capped try runs in a forked child, killed at its cap (Clp's own limit is not read in a
-# clean-up's values pass); HARD_GRACE: the wall seconds it has beyond the cap before that
+# clean-up's values pass): at HARD_GRACE CPU seconds past it, or at HARD_WALL_FACTOR times
+# that on the wall clock (a child that waits)
 HARD_CAP = True
 HARD_GRACE = 1.0
+HARD_WALL_FACTOR = 3.0
 
 _library = None
 
@@ -195,7 +198,7 @@ def minimise(cost, matrix, row_lower, row_upper, lower, upper, seconds, admissib
     for barrier, tolerance in BARRIERS:
         left = seconds - spent
         if left <= 0:
-            return STOPPED, None, None
+            return loose if loose[0] == OPTIMAL else (STOPPED, None, None)
         cap = try_cap(tries)
         capped = cap is not None and cap < left
         status, x_free, prices, used_seconds = _try(program, cap if capped else left, barrier,
@@ -204,14 +207,16 @@ def minimise(cost, matrix, row_lower, row_upper, lower, upper, seconds, admissib
         if status == STOPPED and capped:
             continue  # the try's cap, not the program's limit: the next setting
         if status in (STOPPED, INFEASIBLE, UNBOUNDED):
-            return status, None, None
+            # a bound already proved holds whatever a later try says (a barrier without
+            # crossover cannot prove infeasibility)
+            return loose if loose[0] == OPTIMAL else (status, None, None)
         if certify:
             answer, gap = _certified(status, x_free, prices, program,
                                      float(cost[fixed] @ lower[fixed]), lower, free)
+            tight = gap <= DUAL_GAP
             if gap <= LOOSE_DUAL_GAP and (loose[1] is None or answer[1] > loose[1]):
-                loose = answer
-            if gap > DUAL_GAP:
-                answer = (DIFFICULT, None, None)
+                loose = answer  # every proved bound holds: the largest is the best
+            answer = loose if tight else (DIFFICULT, None, None)
         else:
             answer = _checked(status, x_free, cost, matrix, lower, free, check, repair)
         if answer[0] == OPTIMAL:
@@ -223,15 +228,18 @@ def minimise(cost, matrix, row_lower, row_upper, lower, upper, seconds, admissib
 
 def _try(program, seconds, barrier, tolerance, hard):
     """(status, x, row prices, CPU seconds) of one barrier on the reduced program. Where `hard`,
-    in a forked child that is killed once `seconds` have passed on the wall clock (then
-    STOPPED): Clp reads its time limit only between the simplex's iterations, and a clean-up
-    ran 30–60 s past a cap of 5 s on the paper's (0, 0) packings
-    (docs/lab/2026-12-02-bounds-by-their-duals.md)."""
+    in a forked child whose CPU time the kernel limits to `seconds` (and HARD_GRACE), STOPPED
+    when it is killed there: Clp reads its own time limit only between the simplex's
+    iterations, and a clean-up ran 30–60 s past a cap of 5 s on the paper's (0, 0) packings
+    (docs/lab/2026-12-02-bounds-by-their-duals.md). A child that does not answer within
+    HARD_WALL_FACTOR times that on the wall clock (one that waits, not computes) is killed too."""
     if not hard:
         started = time.process_time()
         status, _, x, prices = _minimise_free(*program, seconds, barrier, tolerance=tolerance)
         return status, x, prices, time.process_time() - started
-    answer = _in_child(_timed_try, (program, seconds, barrier, tolerance), seconds + HARD_GRACE)
+    limit = seconds + HARD_GRACE
+    answer = _in_child(_timed_try, (program, seconds, barrier, tolerance), limit,
+                       HARD_WALL_FACTOR * limit)
     if answer is None:
         return STOPPED, None, None, seconds
     return answer
@@ -241,38 +249,62 @@ def _timed_try(program, seconds, barrier, tolerance):
     return _try(program, seconds, barrier, tolerance, False)
 
 
-def _in_child(function, arguments, seconds):
+def _in_child(function, arguments, cpu_seconds, wall_seconds):
     """function(*arguments) in a forked child, its answer pickled back through a pipe; None when
-    the child has not answered within `seconds` (it is then killed) or died without an answer.
-    The child shares the parent's memory copy-on-write: nothing is sent to it."""
+    the child is killed at its CPU limit (SIGXCPU past `cpu_seconds`, rounded up to a whole
+    second) or at `wall_seconds` on the wall clock, or dies without an answer. An exception in
+    the child is raised here. The child shares the parent's memory copy-on-write: nothing is
+    sent to it."""
     read, write = os.pipe()
-    pid = os.fork()
+    try:
+        pid = os.fork()
+    except OSError:
+        os.close(read)
+        os.close(write)
+        raise
     if pid == 0:  # the child: answer, and leave without running the parent's exit handlers
         status = 1
         try:
             os.close(read)
+            soft = math.ceil(cpu_seconds)
+            resource.setrlimit(resource.RLIMIT_CPU, (soft, soft + 1))
+            try:
+                message = ("answer", function(*arguments))
+            except Exception as error:  # noqa: BLE001 (raised again in the parent)
+                message = ("error", error)
             with os.fdopen(write, "wb") as pipe:
-                pickle.dump(function(*arguments), pipe, protocol=pickle.HIGHEST_PROTOCOL)
+                try:
+                    pickle.dump(message, pipe, protocol=pickle.HIGHEST_PROTOCOL)
+                except (pickle.PicklingError, TypeError, AttributeError):
+                    pickle.dump(("error", RuntimeError(repr(message[1]))), pipe)
             status = 0
         finally:
             os._exit(status)
     os.close(write)
-    deadline = time.monotonic() + seconds
-    chunks = []
+    deadline = time.monotonic() + wall_seconds
+    chunks, ended = [], False
     try:
         while True:
             left = deadline - time.monotonic()
             if left <= 0 or not select.select([read], [], [], left)[0]:
-                os.kill(pid, signal.SIGKILL)
                 return None
             chunk = os.read(read, 1 << 20)
             if not chunk:
+                ended = True
                 break
             chunks.append(chunk)
     finally:
         os.close(read)
+        if not ended:  # past the wall clock, or this process interrupted: the child goes too
+            os.kill(pid, signal.SIGKILL)
         os.waitpid(pid, 0)
-    return pickle.loads(b"".join(chunks)) if chunks else None
+    try:
+        kind, value = pickle.loads(b"".join(chunks))
+    except (pickle.UnpicklingError, EOFError, ValueError):
+        return None  # killed while it wrote
+    if kind == "error":
+        raise value
+    return value
 
 
 def try_cap(tries):
@@ -304,24 +336,28 @@ def dual_bound(prices, cost, matrix, row_lower, row_upper, lower, upper):
     at the bound its sign picks. A price whose row has no bound on that side counts as 0. The
     bound is lowered by a bound on the rounding of these sums in double precision (Higham,
     Accuracy and Stability of Numerical Algorithms, §3.1: n u Σ|terms| for a sum of n terms),
-    so it holds as computed. −inf where a column with a reduced cost has no bound on that side."""
+    so it holds as computed. −inf where a column whose reduced cost is not 0 to rounding has no
+    bound on a side it may take."""
     matrix = scipy.sparse.csc_matrix(matrix)
     y = np.array(prices, float)
     y[(y > 0) & ~np.isfinite(row_lower)] = 0.0
     y[(y < 0) & ~np.isfinite(row_upper)] = 0.0
     reduced = cost - matrix.T @ y
+    # the reduced costs' own rounding: each is a sum of 1 + (its column's entries) products;
+    # a column whose reduced cost may have either sign is charged at its farther bound
+    unit = np.finfo(float).eps
+    sums = 1 + np.diff(matrix.indptr)
+    reduced_error = sums * unit * (np.abs(cost) + abs(matrix).T @ np.abs(y))
     side = np.where(reduced > 0, lower, upper)
     moving = reduced != 0
-    if not np.all(np.isfinite(side[moving])):
+    farther = np.maximum(np.abs(lower), np.abs(upper))
+    if not np.all(np.isfinite(side[moving])) or \
+            not np.all(np.isfinite(farther[reduced_error > 0])):
         return -math.inf
     row_side = np.where(y > 0, row_lower, row_upper)
     row_terms = np.where(y != 0, y * np.where(np.isfinite(row_side), row_side, 0.0), 0.0)
     column_terms = np.where(moving, reduced * np.where(moving, side, 0.0), 0.0)
-    # the reduced costs' own rounding: each is a sum of 1 + (its column's entries) products
-    sums = 1 + np.diff(matrix.indptr)
-    reduced_error = sums * np.finfo(float).eps * (np.abs(cost) + abs(matrix).T @ np.abs(y))
-    unit = np.finfo(float).eps
-    error = float(reduced_error @ np.where(np.isfinite(side), np.abs(side), 0.0)) + \
+    error = float(reduced_error[reduced_error > 0] @ farther[reduced_error > 0]) + \
         (len(row_terms) + len(column_terms)) * unit * float(np.abs(row_terms).sum() +
                                                            np.abs(column_terms).sum())
     return math.fsum(row_terms) + math.fsum(column_terms) - error
@@ -336,7 +372,11 @@ def _certified(status, x_free, prices, program, fixed_cost, lower, free):
     value = float(program[0] @ x_free)
     if not math.isfinite(bound):
         return (DIFFICULT, None, None), math.inf
-    gap = max(0.0, value - bound) / max(abs(value), abs(bound), np.finfo(float).tiny)
+    # relative to the objective's terms at x as well, so that an optimum near 0 (terms that
+    # cancel) is judged on their size
+    size = max(abs(value), abs(bound), float(np.abs(program[0] * x_free).sum()),
+               np.finfo(float).tiny)
+    gap = max(0.0, value - bound) / size
     x = lower.copy()
     x[free] = x_free
     return (OPTIMAL, bound + fixed_cost, x), gap

@@ -1,5 +1,7 @@
 """cdpowder.clp (python/cdpowder/clp.py): COIN-OR Clp's barrier through its C interface, on linear
 programs whose answers are known. Run by ctest (python_module_test)."""
+import time
+
 import numpy as np
 import pytest
 import scipy.sparse
@@ -86,3 +88,31 @@ def test_a_loose_certified_bound_is_the_last_resort(monkeypatch):
             assert status == clp.DIFFICULT and bound is None
         else:
             assert status == clp.OPTIMAL and bound == pytest.approx(expected, abs=1e-12)
+
+
+def test_a_loose_bound_holds_when_a_later_try_stops(monkeypatch):
+    # a bound proved by one try is returned when a later try stops (not at a cap of its own)
+    program = ([1.0, 0.0], np.array([[1.0, 1.0]]), [1.0], [1.0], [0.5, 0.0], [1.0, 1.0], 10.0)
+    answers = iter([(clp.OPTIMAL, 0.5, np.array([0.5, 0.5]), np.array([0.001])),
+                    (clp.STOPPED, None, None, None)])
+    monkeypatch.setattr(clp, "_minimise_free", lambda *args, **options: next(answers))
+    status, bound, _ = clp.minimise(*program, certify=True)
+    assert status == clp.OPTIMAL and bound == pytest.approx(0.4995, abs=1e-12)
+
+
+def test_a_child_is_killed_at_its_cpu_limit_and_its_errors_are_raised():
+    # _in_child: a child that computes past its CPU limit is killed by the kernel (SIGXCPU),
+    # whatever the wall clock allows; an exception in the child is raised in the parent
+    def spin():
+        while True:
+            pass
+
+    def fail():
+        raise ValueError("the child's own")
+
+    started = time.monotonic()
+    assert clp._in_child(spin, (), 0.5, 60.0) is None
+    assert time.monotonic() - started < 30.0
+    with pytest.raises(ValueError, match="the child's own"):
+        clp._in_child(fail, (), 5.0, 60.0)
+    assert clp._in_child(sum, ([1, 2, 3],), 5.0, 60.0) == 6

@@ -298,7 +298,8 @@ def test_a_try_past_its_cap_goes_on_to_the_next_setting(monkeypatch):
 @pytest.mark.skipif(not clp.available(), reason="COIN-OR Clp (coinor-libclp1) is not installed")
 def test_a_capped_try_that_does_not_end_is_killed(monkeypatch):
     # Clp reads its time limit only between simplex iterations: a capped try runs in a child
-    # that is killed at its cap (and HARD_GRACE), and the next setting answers
+    # that is killed at its cap (here one that waits, at the wall clock's limit), and the next
+    # setting answers
     solve = clp._minimise_free
 
     def first_one_hangs(*args, **options):
@@ -307,8 +308,8 @@ def test_a_capped_try_that_does_not_end_is_killed(monkeypatch):
         return solve(*args, **options)
 
     monkeypatch.setattr(clp, "_minimise_free", first_one_hangs)
-    monkeypatch.setattr(clp, "TRY_FLOOR", 0.2)
-    monkeypatch.setattr(clp, "HARD_GRACE", 0.1)
+    monkeypatch.setattr(clp, "TRY_FLOOR", 0.5)  # a try's CPU limit 1 s, its wall clock 3 s
+    monkeypatch.setattr(clp, "HARD_GRACE", 0.5)
     program = ([1.0, 0.0], np.array([[1.0, 1.0]]), [1.0], [1.0], [0.0, 0.0], [1.0, 2.0], 100.0)
     tries = [0.01]
     started = time.monotonic()
