@@ -23,7 +23,8 @@ bound by more than FEASIBILITY (relative to 1 + |bound|) is reported infeasible.
 asks for a lower bound on the minimum instead of an answer: the value any dual vector proves
 (weak duality, with the rounding of its own sums allowed for; Neumaier and Shcherbina, Math.
 Program. 99 (2004) 283), from Clp's row prices. It holds whatever the barrier's primal answer
-misses, and is taken once it lies within DUAL_GAP of the answer's value.
+misses, and is taken once it lies within DUAL_GAP of the answer's value (or, after the last
+try, the best within LOOSE_DUAL_GAP).
 """
 import ctypes
 import ctypes.util
@@ -169,7 +170,8 @@ def minimise(cost, matrix, row_lower, row_upper, lower, upper, seconds, admissib
     last try the best one within LOOSE_DUAL_GAP; `admissible` and `repair` are then not used.
 
     The barrier runs with each of BARRIERS' tries in turn until one's answer passes the check
-    (or its bound, to certify); the last one's status is returned when none does. Clp's time limit, `seconds`, covers them all.
+    (or its bound, to certify); the last one's status is returned when none does. Clp's time
+    limit, `seconds`, covers them all.
 
     Columns fixed by their bounds (lower = upper) are taken out before Clp sees the program,
     their part moved to the rows' bounds: a barrier without presolve keeps such a column as a
@@ -238,15 +240,11 @@ def _try(program, seconds, barrier, tolerance, hard):
         status, _, x, prices = _minimise_free(*program, seconds, barrier, tolerance=tolerance)
         return status, x, prices, time.process_time() - started
     limit = seconds + HARD_GRACE
-    answer = _in_child(_timed_try, (program, seconds, barrier, tolerance), limit,
+    answer = _in_child(_try, (program, seconds, barrier, tolerance, False), limit,
                        HARD_WALL_FACTOR * limit)
     if answer is None:
         return STOPPED, None, None, seconds
     return answer
-
-
-def _timed_try(program, seconds, barrier, tolerance):
-    return _try(program, seconds, barrier, tolerance, False)
 
 
 def _in_child(function, arguments, cpu_seconds, wall_seconds):
@@ -354,9 +352,9 @@ def dual_bound(prices, cost, matrix, row_lower, row_upper, lower, upper):
     if not np.all(np.isfinite(side[moving])) or \
             not np.all(np.isfinite(farther[reduced_error > 0])):
         return -math.inf
-    row_side = np.where(y > 0, row_lower, row_upper)
-    row_terms = np.where(y != 0, y * np.where(np.isfinite(row_side), row_side, 0.0), 0.0)
-    column_terms = np.where(moving, reduced * np.where(moving, side, 0.0), 0.0)
+    # a price left is not 0 only where its side is finite; a reduced cost, where its side is
+    row_terms = y * np.where(y != 0, np.where(y > 0, row_lower, row_upper), 0.0)
+    column_terms = reduced * np.where(moving, side, 0.0)
     error = float(reduced_error[reduced_error > 0] @ farther[reduced_error > 0]) + \
         (len(row_terms) + len(column_terms)) * unit * float(np.abs(row_terms).sum() +
                                                            np.abs(column_terms).sum())
